@@ -1,0 +1,24 @@
+//! The `.spatch` container, version 1 (see `docs/format.md`).
+//!
+//! A 16-byte file header, then sections, each a 20-byte section header and a
+//! payload protected by a CRC-32: `SCNE` (scene fields), `FRAM` (frames and
+//! per-patch fields), `DISP` (displacement codes), and `COLR` (per-node
+//! colours, only when the scene stores them).
+
+mod atomic;
+mod layout;
+mod predictive;
+mod range_coder;
+mod read;
+mod write;
+
+pub use atomic::write_file_atomically;
+pub use read::{decode_scene, inspect, read_scene, ContainerInfo, SectionInfo};
+pub use write::{encode_scene, write_scene, Compression, WriteOptions};
+
+/// The first six bytes of every `.spatch` file.
+pub const MAGIC: [u8; 6] = *b"SPATCH";
+/// The major version this crate writes and reads. Readers refuse other majors.
+pub const VERSION_MAJOR: u8 = 1;
+/// The minor version this crate writes. Readers accept any minor of their major.
+pub const VERSION_MINOR: u8 = 0;

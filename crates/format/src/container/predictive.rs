@@ -1,0 +1,161 @@
+//! Codec 1 ("predictive"): lossless prediction over the grid followed by the
+//! adaptive range coder.
+//!
+//! Displacements: each stored code `v` at node `(i, j)` is predicted from its
+//! already coded neighbours (left `a`, up `b`, up-left `c`) by the
+//! parallelogram rule `a + b − c` (just `a` on the first row, `b` on the
+//! first column, 0 at the first node), all modulo `2^bits`, and the residual
+//! `(v − prediction) mod 2^bits` is range coded: 8-bit patches in one byte
+//! context, 16-bit patches as a low byte and a high byte in two more.
+//!
+//! Colours: each channel of each stored colour is predicted by the same
+//! channel of the previous stored colour in the section (0 at the start),
+//! and the residual byte is coded in that channel's context.
+//!
+//! Cost: one pass, O(nodes), a few hundred bytes of model state. Smooth
+//! surfaces give residuals of 0 or ±1 almost everywhere, about 1–2 bits per
+//! node instead of 8.
+
+use super::range_coder::{ByteModel, Decoder, Encoder, StreamEnded};
+
+/// What the displacement codec needs to know about one patch.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DisplacementLayout {
+    pub(crate) cols: usize,
+    pub(crate) rows: usize,
+    /// 1 or 2.
+    pub(crate) bytes_per_code: usize,
+}
+
+impl DisplacementLayout {
+    pub(crate) fn raw_len(&self) -> usize {
+        self.cols * self.rows * self.bytes_per_code
+    }
+}
+
+fn predict(values: &[u32], cols: usize, k: usize, modulus_mask: u32) -> u32 {
+    let (i, j) = (k % cols, k / cols);
+    match (i, j) {
+        (0, 0) => 0,
+        (_, 0) => values[k - 1],
+        (0, _) => values[k - cols],
+        _ => {
+            (values[k - 1]
+                .wrapping_add(values[k - cols])
+                .wrapping_sub(values[k - cols - 1]))
+                & modulus_mask
+        }
+    }
+}
+
+fn read_code(raw: &[u8], at: usize, bytes: usize) -> u32 {
+    if bytes == 1 {
+        u32::from(raw[at])
+    } else {
+        u32::from(u16::from_le_bytes([raw[at], raw[at + 1]]))
+    }
+}
+
+/// Codes a raw DISP payload (the layouts must describe it exactly).
+pub(crate) fn encode_displacements(raw: &[u8], layouts: &[DisplacementLayout]) -> Vec<u8> {
+    let mut encoder = Encoder::new();
+    let (mut model8, mut model_low, mut model_high) =
+        (ByteModel::new(), ByteModel::new(), ByteModel::new());
+    let mut values = Vec::new();
+    let mut at = 0;
+    for layout in layouts {
+        let mask = if layout.bytes_per_code == 1 {
+            0xFF
+        } else {
+            0xFFFF
+        };
+        values.clear();
+        for k in 0..layout.cols * layout.rows {
+            let v = read_code(raw, at, layout.bytes_per_code);
+            at += layout.bytes_per_code;
+            values.push(v);
+            let residual = v.wrapping_sub(predict(&values, layout.cols, k, mask)) & mask;
+            if layout.bytes_per_code == 1 {
+                encoder.encode_byte(&mut model8, residual as u8);
+            } else {
+                encoder.encode_byte(&mut model_low, (residual & 0xFF) as u8);
+                encoder.encode_byte(&mut model_high, (residual >> 8) as u8);
+            }
+        }
+    }
+    encoder.finish()
+}
+
+/// Decodes a DISP payload back to its raw bytes.
+pub(crate) fn decode_displacements(
+    coded: &[u8],
+    layouts: &[DisplacementLayout],
+    raw_len: usize,
+) -> Result<Vec<u8>, StreamEnded> {
+    let mut decoder = Decoder::new(coded)?;
+    let (mut model8, mut model_low, mut model_high) =
+        (ByteModel::new(), ByteModel::new(), ByteModel::new());
+    let mut raw = Vec::with_capacity(raw_len);
+    let mut values = Vec::new();
+    for layout in layouts {
+        let mask = if layout.bytes_per_code == 1 {
+            0xFF
+        } else {
+            0xFFFF
+        };
+        values.clear();
+        for k in 0..layout.cols * layout.rows {
+            // Push a placeholder so `predict` sees the same indices as the encoder.
+            values.push(0);
+            let prediction = predict(&values, layout.cols, k, mask);
+            let residual = if layout.bytes_per_code == 1 {
+                u32::from(decoder.decode_byte(&mut model8)?)
+            } else {
+                let low = u32::from(decoder.decode_byte(&mut model_low)?);
+                low | u32::from(decoder.decode_byte(&mut model_high)?) << 8
+            };
+            let v = prediction.wrapping_add(residual) & mask;
+            values[k] = v;
+            if layout.bytes_per_code == 1 {
+                raw.push(v as u8);
+            } else {
+                raw.extend_from_slice(&(v as u16).to_le_bytes());
+            }
+        }
+    }
+    Ok(raw)
+}
+
+/// Codes a raw COLR payload of `bytes_per_node`-byte colours.
+pub(crate) fn encode_colours(raw: &[u8], bytes_per_node: usize) -> Vec<u8> {
+    let mut encoder = Encoder::new();
+    let mut models = vec![ByteModel::new(); bytes_per_node];
+    let mut previous = [0u8; 4];
+    for colour in raw.chunks_exact(bytes_per_node) {
+        for (ch, &value) in colour.iter().enumerate() {
+            encoder.encode_byte(&mut models[ch], value.wrapping_sub(previous[ch]));
+            previous[ch] = value;
+        }
+    }
+    encoder.finish()
+}
+
+/// Decodes a COLR payload back to `raw_len` raw bytes.
+pub(crate) fn decode_colours(
+    coded: &[u8],
+    bytes_per_node: usize,
+    raw_len: usize,
+) -> Result<Vec<u8>, StreamEnded> {
+    let mut decoder = Decoder::new(coded)?;
+    let mut models = vec![ByteModel::new(); bytes_per_node];
+    let mut previous = [0u8; 4];
+    let mut raw = Vec::with_capacity(raw_len);
+    for _ in 0..raw_len / bytes_per_node {
+        for (ch, model) in models.iter_mut().enumerate() {
+            let value = previous[ch].wrapping_add(decoder.decode_byte(model)?);
+            raw.push(value);
+            previous[ch] = value;
+        }
+    }
+    Ok(raw)
+}

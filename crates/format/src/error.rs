@@ -1,0 +1,117 @@
+//! The one error type of the format crate.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while building, encoding or decoding a scene.
+///
+/// Variants are split by who is at fault: the caller's values
+/// (`Invalid*`), the bytes of a file (`Corrupt*`, `Truncated`, ...), the
+/// operating system (`Io`), or this crate (`Bug`).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FormatError {
+    /// A frame was built from non-finite numbers, zero lengths, or axes that
+    /// are not orthogonal and right-handed.
+    #[error("invalid frame: {reason}")]
+    InvalidFrame {
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// A grid side is outside 2..=257 nodes.
+    #[error("invalid grid {cols}x{rows}: each side must have 2..=257 nodes")]
+    InvalidGrid {
+        /// Nodes along the x axis.
+        cols: u32,
+        /// Nodes along the y axis.
+        rows: u32,
+    },
+    /// The displacement or colour arrays do not match the grid.
+    #[error("patch data has {found} {what}, the {cols}x{rows} grid needs {expected}")]
+    NodeCountMismatch {
+        /// `"displacements"` or `"colours"`.
+        what: &'static str,
+        /// Number of values given.
+        found: usize,
+        /// Number of nodes in the grid.
+        expected: usize,
+        /// Grid columns.
+        cols: u16,
+        /// Grid rows.
+        rows: u16,
+    },
+    /// Colour presence on a patch disagrees with the scene's colour channel.
+    #[error("patch {patch} {problem}")]
+    ColourMismatch {
+        /// Index of the patch in the scene.
+        patch: usize,
+        /// `"has colours but the scene has no colour channel"` or the reverse.
+        problem: &'static str,
+    },
+    /// The scene offset is not finite.
+    #[error("scene offset is not finite")]
+    InvalidOffset,
+    /// A quantizer was given a non-finite or non-positive step.
+    #[error("invalid quantizer: {reason}")]
+    InvalidQuantizer {
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// The file does not start with the spatch magic bytes.
+    #[error("not a .spatch file (magic bytes missing)")]
+    NotSpatch,
+    /// The file's major version is one this reader does not know.
+    #[error("unsupported .spatch major version {found} (this reader supports {supported}.x); a newer spatch wrote it")]
+    UnsupportedVersion {
+        /// Major version in the file.
+        found: u8,
+        /// Major version this reader supports.
+        supported: u8,
+    },
+    /// The file ends before a structure it announces.
+    #[error(
+        "file truncated: {what} needs {needed} bytes at offset {offset}, only {available} remain"
+    )]
+    Truncated {
+        /// The structure being read.
+        what: String,
+        /// Byte offset where it starts.
+        offset: usize,
+        /// Bytes it needs.
+        needed: usize,
+        /// Bytes left in the file.
+        available: usize,
+    },
+    /// A CRC-32 does not match: the bytes were changed after writing.
+    #[error("checksum mismatch in {section} section at offset {offset}: the file is corrupt")]
+    ChecksumMismatch {
+        /// Section tag (or `"header"`).
+        section: String,
+        /// Byte offset of the section header.
+        offset: usize,
+    },
+    /// A structural value in the file is impossible.
+    #[error("corrupt {section} section: {problem}")]
+    Corrupt {
+        /// Section tag (or `"header"`).
+        section: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A required section is absent.
+    #[error("missing required {0} section")]
+    MissingSection(&'static str),
+    /// Bytes follow the last section.
+    #[error("{0} unexpected bytes after the last section")]
+    TrailingBytes(usize),
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// An internal invariant failed; this is a bug in spatch.
+    #[error("internal error (this is a bug in spatch): {0}")]
+    Bug(&'static str),
+}

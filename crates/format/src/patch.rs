@@ -1,0 +1,191 @@
+//! One spatial patch: a frame, a grid of displacements and optional colours.
+
+use glam::Vec3;
+
+use crate::{FormatError, Frame, GridSize};
+
+/// The displacement code of an empty node (no surface there).
+///
+/// In memory every displacement is a `u16`; real codes are `0..=65534`.
+/// In a file, 8-bit patches store an empty node as 255 and 16-bit patches as
+/// 65535.
+pub const EMPTY: u16 = u16::MAX;
+
+/// Width of the stored displacement codes of one patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DisplacementWidth {
+    /// One byte per node: codes 0..=254, 255 = empty.
+    Bits8,
+    /// Two bytes per node (little-endian): codes 0..=65534, 65535 = empty.
+    Bits16,
+}
+
+impl DisplacementWidth {
+    /// Number of bits per stored code.
+    pub fn bits(self) -> u8 {
+        match self {
+            Self::Bits8 => 8,
+            Self::Bits16 => 16,
+        }
+    }
+
+    /// Largest real (non-empty) code.
+    pub fn max_code(self) -> u16 {
+        match self {
+            Self::Bits8 => 254,
+            Self::Bits16 => 65534,
+        }
+    }
+}
+
+/// A spatial patch. Node `(i, j)` is `P + i·ax + j·ay + d·az`.
+///
+/// # Guarantees
+/// `displacements.len() == grid.node_count()`; colours, when present, have
+/// the same length; the colour of an empty node is `[0, 0, 0, 0]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Patch {
+    frame: Frame,
+    grid: GridSize,
+    displacements: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+}
+
+impl Patch {
+    /// Builds a patch. `displacements` and `colours` are in row-major node
+    /// order (`j * cols + i`); [`EMPTY`] marks a node with no surface.
+    pub fn new(
+        frame: Frame,
+        grid: GridSize,
+        displacements: Vec<u16>,
+        colours: Option<Vec<[u8; 4]>>,
+    ) -> Result<Self, FormatError> {
+        let expected = grid.node_count();
+        let mismatch = |what, found| FormatError::NodeCountMismatch {
+            what,
+            found,
+            expected,
+            cols: grid.cols(),
+            rows: grid.rows(),
+        };
+        if displacements.len() != expected {
+            return Err(mismatch("displacements", displacements.len()));
+        }
+        let colours = match colours {
+            Some(mut c) => {
+                if c.len() != expected {
+                    return Err(mismatch("colours", c.len()));
+                }
+                for (colour, &d) in c.iter_mut().zip(&displacements) {
+                    if d == EMPTY {
+                        *colour = [0; 4];
+                    }
+                }
+                Some(c)
+            }
+            None => None,
+        };
+        Ok(Self {
+            frame,
+            grid,
+            displacements,
+            colours,
+        })
+    }
+
+    /// The frame.
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The grid size.
+    pub fn grid(&self) -> GridSize {
+        self.grid
+    }
+
+    /// Displacement codes in row-major order; [`EMPTY`] marks empty nodes.
+    pub fn displacements(&self) -> &[u16] {
+        &self.displacements
+    }
+
+    /// Per-node colours (RGBA; alpha is 255 in RGB scenes), if the patch has any.
+    pub fn colours(&self) -> Option<&[[u8; 4]]> {
+        self.colours.as_deref()
+    }
+
+    pub(crate) fn colours_mut(&mut self) -> Option<&mut Vec<[u8; 4]>> {
+        self.colours.as_mut()
+    }
+
+    pub(crate) fn set_frame(&mut self, frame: Frame) {
+        self.frame = frame;
+    }
+
+    /// The displacement code of node `(i, j)`, or `None` when it is empty.
+    pub fn displacement(&self, i: usize, j: usize) -> Option<u16> {
+        let d = self.displacements[self.grid.index(i, j)];
+        (d != EMPTY).then_some(d)
+    }
+
+    /// Number of non-empty nodes.
+    pub fn filled_count(&self) -> usize {
+        self.displacements.iter().filter(|&&d| d != EMPTY).count()
+    }
+
+    /// The narrowest width that stores every code of this patch exactly.
+    pub fn displacement_width(&self) -> DisplacementWidth {
+        let widest = self
+            .displacements
+            .iter()
+            .filter(|&&d| d != EMPTY)
+            .max()
+            .copied()
+            .unwrap_or(0);
+        if widest <= DisplacementWidth::Bits8.max_code() {
+            DisplacementWidth::Bits8
+        } else {
+            DisplacementWidth::Bits16
+        }
+    }
+
+    /// Position of node `(i, j)` relative to the scene offset, or `None`
+    /// when it is empty.
+    pub fn node_position(&self, i: usize, j: usize) -> Option<Vec3> {
+        let d = self.displacement(i, j)?;
+        let [ax, ay, az] = self.frame.axes();
+        Some(self.frame.origin() + ax * i as f32 + ay * j as f32 + az * d as f32)
+    }
+
+    /// Positions of all non-empty nodes, in node order, with their `(i, j)`.
+    pub fn filled_nodes(&self) -> impl Iterator<Item = (usize, usize, Vec3)> + '_ {
+        let [ax, ay, az] = self.frame.axes();
+        let origin = self.frame.origin();
+        let cols = self.grid.cols() as usize;
+        self.displacements
+            .iter()
+            .enumerate()
+            .filter(|(_, &d)| d != EMPTY)
+            .map(move |(k, &d)| {
+                let (i, j) = (k % cols, k / cols);
+                (i, j, origin + ax * i as f32 + ay * j as f32 + az * d as f32)
+            })
+    }
+
+    /// True when all four corners of cell `(i, j)` (nodes `i..=i+1`,
+    /// `j..=j+1`) are filled, so the cell is drawn.
+    pub fn cell_is_drawable(&self, i: usize, j: usize) -> bool {
+        let g = self.grid;
+        [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+            .iter()
+            .all(|&(a, b)| self.displacements[g.index(a, b)] != EMPTY)
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the filled nodes relative to the
+    /// scene offset, or `None` when every node is empty.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.filled_nodes().fold(None, |acc, (_, _, p)| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((lo.min(p), hi.max(p))),
+        })
+    }
+}

@@ -1,0 +1,219 @@
+//! A scene: patches in one model space, placed by an `f64` offset.
+
+use glam::DVec3;
+
+use crate::{FormatError, Patch};
+
+/// What colour each node carries, for the whole scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ColourChannel {
+    /// No colour: nothing is stored.
+    None,
+    /// Red, green, blue bytes (sRGB).
+    Rgb8,
+    /// Red, green, blue, alpha bytes (sRGB, straight alpha).
+    Rgba8,
+}
+
+impl ColourChannel {
+    /// `"none"`, `"rgb8"` or `"rgba8"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::Rgb8 => "rgb8",
+            Self::Rgba8 => "rgba8",
+        }
+    }
+
+    /// Bytes per node in the file (0, 3 or 4).
+    pub fn bytes_per_node(self) -> usize {
+        match self {
+            Self::None => 0,
+            Self::Rgb8 => 3,
+            Self::Rgba8 => 4,
+        }
+    }
+}
+
+/// A set of patches. Node positions are `offset + (patch-relative f32 point)`.
+///
+/// # Guarantees
+/// `offset` is finite; every patch has colours exactly when the channel is
+/// not [`ColourChannel::None`]; in an RGB scene every filled node's alpha is 255.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    offset: DVec3,
+    channel: ColourChannel,
+    patches: Vec<Patch>,
+}
+
+impl Scene {
+    /// Builds a scene. RGB scenes get alpha 255 on every filled node.
+    pub fn new(
+        offset: DVec3,
+        channel: ColourChannel,
+        mut patches: Vec<Patch>,
+    ) -> Result<Self, FormatError> {
+        if !offset.is_finite() {
+            return Err(FormatError::InvalidOffset);
+        }
+        for (index, patch) in patches.iter_mut().enumerate() {
+            let has = patch.colours().is_some();
+            match (channel, has) {
+                (ColourChannel::None, true) => {
+                    return Err(FormatError::ColourMismatch {
+                        patch: index,
+                        problem: "has colours but the scene has no colour channel",
+                    })
+                }
+                (ColourChannel::Rgb8 | ColourChannel::Rgba8, false) => {
+                    return Err(FormatError::ColourMismatch {
+                        patch: index,
+                        problem: "has no colours but the scene has a colour channel",
+                    })
+                }
+                _ => {}
+            }
+            if channel == ColourChannel::Rgb8 {
+                let displacements = patch.displacements().to_vec();
+                if let Some(colours) = patch.colours_mut() {
+                    for (c, d) in colours.iter_mut().zip(displacements) {
+                        if d != crate::EMPTY {
+                            c[3] = 255;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(Self {
+            offset,
+            channel,
+            patches,
+        })
+    }
+
+    /// The model-space position of the patches' local origin.
+    pub fn offset(&self) -> DVec3 {
+        self.offset
+    }
+
+    /// The colour channel.
+    pub fn channel(&self) -> ColourChannel {
+        self.channel
+    }
+
+    /// The patches.
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
+    }
+
+    /// Consumes the scene, returning its patches.
+    pub fn into_patches(self) -> Vec<Patch> {
+        self.patches
+    }
+
+    /// All grid nodes, filled or not.
+    pub fn node_count(&self) -> usize {
+        self.patches.iter().map(|p| p.grid().node_count()).sum()
+    }
+
+    /// Non-empty nodes.
+    pub fn filled_node_count(&self) -> usize {
+        self.patches.iter().map(Patch::filled_count).sum()
+    }
+
+    /// The one colour every filled node shares, if the scene has colour and
+    /// at least one filled node and all of them are equal.
+    pub fn flat_colour(&self) -> Option<[u8; 4]> {
+        let mut found: Option<[u8; 4]> = None;
+        for patch in &self.patches {
+            let colours = patch.colours()?;
+            for (c, &d) in colours.iter().zip(patch.displacements()) {
+                if d == crate::EMPTY {
+                    continue;
+                }
+                match found {
+                    None => found = Some(*c),
+                    Some(f) if f != *c => return None,
+                    Some(_) => {}
+                }
+            }
+        }
+        found
+    }
+
+    /// Model-space bounds `(min, max)` of the filled nodes (offset applied,
+    /// in f64), or `None` for a scene with no filled node.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let local = self
+            .patches
+            .iter()
+            .filter_map(Patch::bounds)
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))?;
+        Some((
+            self.offset + local.0.as_dvec3(),
+            self.offset + local.1.as_dvec3(),
+        ))
+    }
+
+    /// Concatenates scenes into one (see `spatch merge`).
+    ///
+    /// The result's offset is the first scene's; other scenes' patch origins
+    /// are moved by the difference of offsets (in f64, then rounded to f32).
+    /// All scenes must have the same colour channel, except that colourless
+    /// scenes may not be mixed with coloured ones.
+    pub fn merge(scenes: Vec<Scene>) -> Result<Scene, MergeError> {
+        let Some(first) = scenes.first() else {
+            return Err(MergeError::Empty);
+        };
+        let (offset, channel) = (first.offset, first.channel);
+        let mut patches = Vec::new();
+        for (index, scene) in scenes.into_iter().enumerate() {
+            if scene.channel != channel {
+                return Err(MergeError::ChannelMismatch {
+                    index,
+                    expected: channel,
+                    found: scene.channel,
+                });
+            }
+            let shift = scene.offset - offset;
+            for patch in scene.patches {
+                if shift == DVec3::ZERO {
+                    patches.push(patch);
+                    continue;
+                }
+                let origin = (patch.frame().origin().as_dvec3() + shift).as_vec3();
+                let frame = patch
+                    .frame()
+                    .with_origin(origin)
+                    .map_err(MergeError::Format)?;
+                let mut patch = patch;
+                patch.set_frame(frame);
+                patches.push(patch);
+            }
+        }
+        Scene::new(offset, channel, patches).map_err(MergeError::Format)
+    }
+}
+
+/// Why scenes could not be merged.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MergeError {
+    /// No scene was given.
+    #[error("nothing to merge")]
+    Empty,
+    /// Scenes disagree on colour.
+    #[error("scene {index} has colour channel {}, the first has {}: convert them with the same colour options", found.name(), expected.name())]
+    ChannelMismatch {
+        /// Index of the offending scene in the input list.
+        index: usize,
+        /// The first scene's channel.
+        expected: ColourChannel,
+        /// This scene's channel.
+        found: ColourChannel,
+    },
+    /// A moved frame became invalid (an offset so large the origin overflows f32).
+    #[error("{0}")]
+    Format(FormatError),
+}
