@@ -1,0 +1,43 @@
+//! Triangle meshes and point clouds for spatch: loading, preparation, adjacency and spatial
+//! queries.
+//!
+//! The main types:
+//!
+//! - [`TriangleMesh`]: f32 positions relative to an f64 origin, triangles, optional per-corner
+//!   UVs, vertex colours, vertex normals and [`Material`]s (with [`Texture`]s);
+//! - [`PointCloud`]: positions with optional colours and normals;
+//! - [`FaceAdjacency`]: faces sharing each edge, in CSR form ([`build_face_adjacency`]);
+//! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
+//! - [`MeshError`]: the one error type, naming the file and the element at fault.
+//!
+//! ```
+//! use glam::Vec3;
+//! use spatch_mesh::{build_face_adjacency, FaceId, TriangleMesh};
+//!
+//! let mesh = TriangleMesh::new(
+//!     vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)],
+//!     vec![[0, 1, 2], [2, 1, 3]],
+//! )?;
+//! let adjacency = build_face_adjacency(&mesh);
+//! assert_eq!(adjacency.neighbours(FaceId(0)), &[FaceId(1)]);
+//! assert_eq!(mesh.face_normal(FaceId(1)), Vec3::Z);
+//! # Ok::<(), spatch_mesh::MeshError>(())
+//! ```
+#![forbid(unsafe_code)]
+
+mod adjacency;
+mod error;
+mod ids;
+pub mod material;
+mod mesh;
+mod point_cloud;
+
+pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
+pub use error::{
+    Element, ElementKind, GltfAttribute, GltfProblem, LoadWarning, MeshArray, MeshError,
+    MeshProblem, PlyProblem, SyntaxProblem,
+};
+pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
+pub use material::{Material, Texture};
+pub use mesh::{Aabb, TriangleMesh};
+pub use point_cloud::PointCloud;
