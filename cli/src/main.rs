@@ -1,1 +1,38 @@
-fn main() {}
+//! The `spatch` command line: argument parsing, progress and reports.
+//! Every algorithm lives in a library crate; this binary only glues them.
+
+mod args;
+mod commands;
+mod failure;
+mod output;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use crate::args::{Cli, Command};
+use crate::failure::Failure;
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Sphere(args) => commands::sphere::run(&args),
+        Command::Stats(args) => commands::stats::run(&args),
+        Command::Export(args) => commands::export::run(&args),
+        Command::Merge(args) => commands::merge::run(&args),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            let failure = Failure::classify(&err);
+            if failure == Failure::BrokenPipe {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("spatch: error: {err:#}");
+            failure.exit_code()
+        }
+    }
+}

@@ -35,6 +35,7 @@ mod grid;
 mod patch;
 mod quantize;
 mod scene;
+mod summary;
 
 pub use container::{
     decode_scene, encode_scene, inspect, read_scene, write_file_atomically, write_scene,
@@ -46,3 +47,4 @@ pub use grid::GridSize;
 pub use patch::{DisplacementWidth, Patch, EMPTY};
 pub use quantize::Quantizer;
 pub use scene::{ColourChannel, MergeError, Scene};
+pub use summary::{Range, SceneSummary};

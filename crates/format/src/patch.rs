@@ -171,6 +171,34 @@ impl Patch {
             })
     }
 
+    /// The surface normal at node `(i, j)`, reconstructed from displacement
+    /// differences: central differences along each grid direction where
+    /// both neighbours are filled, one-sided where only one is, and no slope
+    /// where neither is. Unit length; `None` for an empty node.
+    pub fn node_normal(&self, i: usize, j: usize) -> Option<Vec3> {
+        let centre = f32::from(self.displacement(i, j)?);
+        let (cols, rows) = (usize::from(self.grid.cols()), usize::from(self.grid.rows()));
+        let height = |a: usize, b: usize| self.displacement(a, b).map(f32::from);
+        // Slope in displacement codes per node step along one grid direction.
+        let slope = |before: Option<f32>, after: Option<f32>| match (before, after) {
+            (Some(b), Some(a)) => (a - b) * 0.5,
+            (Some(b), None) => centre - b,
+            (None, Some(a)) => a - centre,
+            (None, None) => 0.0,
+        };
+        let di = slope(
+            (i > 0).then(|| height(i - 1, j)).flatten(),
+            (i + 1 < cols).then(|| height(i + 1, j)).flatten(),
+        );
+        let dj = slope(
+            (j > 0).then(|| height(i, j - 1)).flatten(),
+            (j + 1 < rows).then(|| height(i, j + 1)).flatten(),
+        );
+        let [ax, ay, az] = self.frame.axes();
+        let normal = (ax + az * di).cross(ay + az * dj);
+        Some(normal.normalize_or(self.frame.unit_axes()[2]))
+    }
+
     /// True when all four corners of cell `(i, j)` (nodes `i..=i+1`,
     /// `j..=j+1`) are filled, so the cell is drawn.
     pub fn cell_is_drawable(&self, i: usize, j: usize) -> bool {

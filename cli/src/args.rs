@@ -1,0 +1,38 @@
+//! Command-line arguments: one `Args` struct per subcommand.
+
+use clap::{Parser, Subcommand};
+
+use crate::commands;
+
+/// spatch turns 3D models into spatial patches (small range images of
+/// surface) and renders them on the CPU.
+#[derive(Debug, Parser)]
+#[command(name = "spatch", version, about, long_about = None, propagate_version = true)]
+pub(crate) struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Build the perfect sphere of the original work as patches.
+    #[command(
+        after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"
+    )]
+    Sphere(commands::sphere::SphereArgs),
+    /// Report what a .spatch file holds: counts, bytes per section, precision, bounds.
+    #[command(
+        after_help = "Example:\n  spatch stats sphere.spatch\n  spatch stats sphere.spatch --json"
+    )]
+    Stats(commands::stats::StatsArgs),
+    /// Write the nodes (or the cells) of a .spatch file as a standard PLY file.
+    #[command(
+        after_help = "Example:\n  spatch export sphere.spatch -o nodes.ply\n  spatch export sphere.spatch --cells -o cells.ply"
+    )]
+    Export(commands::export::ExportArgs),
+    /// Concatenate scenes into one file.
+    #[command(after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch")]
+    Merge(commands::merge::MergeArgs),
+}

@@ -1,0 +1,49 @@
+//! `spatch merge`: concatenation of scenes.
+
+use std::path::PathBuf;
+
+use spatch_format::{encode_scene, Scene, WriteOptions};
+
+use crate::output::{print_stdout, read_spatch, write_output};
+
+/// Arguments of `spatch merge`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct MergeArgs {
+    /// Input .spatch files (two or more).
+    #[arg(required = true, num_args = 2.., value_name = "FILE")]
+    inputs: Vec<PathBuf>,
+    /// Output .spatch file.
+    #[arg(short, long, value_name = "FILE")]
+    output: PathBuf,
+    /// Compress node data (grid prediction + range coding).
+    #[arg(long)]
+    compress: bool,
+}
+
+/// Reads every input, merges, writes.
+pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
+    let mut scenes = Vec::with_capacity(args.inputs.len());
+    for path in &args.inputs {
+        scenes.push(read_spatch(path)?.0);
+    }
+    let counts: Vec<usize> = scenes.iter().map(|s| s.patches().len()).collect();
+    let merged = Scene::merge(scenes).map_err(|e| match &e {
+        spatch_format::MergeError::ChannelMismatch { index, .. } => {
+            anyhow::anyhow!("{}: {e}", args.inputs[*index].display())
+        }
+        _ => anyhow::Error::new(e),
+    })?;
+    let bytes = encode_scene(
+        &merged,
+        &WriteOptions::with_compression(super::compression(args.compress)),
+    )?;
+    write_output(&args.output, &bytes)?;
+    let parts: Vec<String> = counts.iter().map(usize::to_string).collect();
+    print_stdout(&format!(
+        "{}: {} patches ({}), {} bytes\n",
+        args.output.display(),
+        merged.patches().len(),
+        parts.join(" + "),
+        bytes.len()
+    ))
+}

@@ -1,0 +1,18 @@
+//! One module per subcommand: arguments → library options → library call →
+//! report.
+
+pub(crate) mod export;
+pub(crate) mod merge;
+pub(crate) mod sphere;
+pub(crate) mod stats;
+
+use spatch_format::Compression;
+
+/// The container compression for a `--compress` flag.
+pub(crate) fn compression(compress: bool) -> Compression {
+    if compress {
+        Compression::Predictive
+    } else {
+        Compression::None
+    }
+}

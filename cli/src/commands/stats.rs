@@ -1,0 +1,153 @@
+//! `spatch stats`: what a .spatch file holds.
+
+use std::path::PathBuf;
+
+use serde_json::{json, Map, Value};
+use spatch_format::{ContainerInfo, Scene, SceneSummary};
+
+use crate::output::{print_stdout, read_spatch};
+
+/// Arguments of `spatch stats`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct StatsArgs {
+    /// Input .spatch file.
+    #[arg(value_name = "FILE")]
+    input: PathBuf,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+fn codec_name(codec: u8) -> &'static str {
+    match codec {
+        0 => "raw",
+        1 => "predictive",
+        _ => "unknown",
+    }
+}
+
+fn to_json(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> Value {
+    let mut sections = Map::new();
+    for section in &info.sections {
+        sections.insert(
+            section.tag.clone(),
+            json!({ "raw": section.raw_len, "stored": section.stored_len, "codec": codec_name(section.codec) }),
+        );
+    }
+    let bits: Map<String, Value> = s
+        .displacement_bits
+        .iter()
+        .map(|(b, n)| (b.to_string(), json!(n)))
+        .collect();
+    let grids: Map<String, Value> = s
+        .grids
+        .iter()
+        .map(|(g, n)| (g.to_string(), json!(n)))
+        .collect();
+    let bounds = s
+        .bounds
+        .map(|(lo, hi)| json!({ "min": lo.to_array(), "max": hi.to_array() }));
+    let lengths = s.frame_lengths.map(|[x, y, z]| {
+        json!({
+            "ax": { "min": x.min, "max": x.max },
+            "ay": { "min": y.min, "max": y.max },
+            "az": { "min": z.min, "max": z.max },
+        })
+    });
+    json!({
+        "file": path,
+        "version": format!("{}.{}", info.version_major, info.version_minor),
+        "patches": s.patches,
+        "nodes": s.nodes,
+        "filled_nodes": s.filled_nodes,
+        "drawable_cells": s.drawable_cells,
+        "bytes": info.file_len,
+        "sections": sections,
+        "colour": scene.channel().name(),
+        "flat_colour": info.flat_colour,
+        "displacement_bits": bits,
+        "displacement_bits_per_node": s.displacement_bits_per_node,
+        "colour_bits_per_node": s.colour_bits_per_node,
+        "grid": grids,
+        "offset": scene.offset().to_array(),
+        "bounds": bounds,
+        "frame_lengths": lengths,
+    })
+}
+
+fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> String {
+    let mut t = format!(
+        "{path}  (spatch {}.{})\n",
+        info.version_major, info.version_minor
+    );
+    let mut row = |k: &str, v: String| t.push_str(&format!("  {k:<22} {v}\n"));
+    row("patches", s.patches.to_string());
+    row(
+        "nodes",
+        format!(
+            "{} ({} filled, {} drawable cells)",
+            s.nodes, s.filled_nodes, s.drawable_cells
+        ),
+    );
+    row("bytes", info.file_len.to_string());
+    row(
+        "colour",
+        format!(
+            "{}{}",
+            scene.channel().name(),
+            if info.flat_colour {
+                " (one flat colour)"
+            } else {
+                ""
+            }
+        ),
+    );
+    let bits: Vec<String> = s
+        .displacement_bits
+        .iter()
+        .map(|(b, n)| format!("{b}-bit: {n}"))
+        .collect();
+    row("displacement widths", bits.join(", "));
+    let grids: Vec<String> = s.grids.iter().map(|(g, n)| format!("{g}: {n}")).collect();
+    row("grids", grids.join(", "));
+    row(
+        "bits per node",
+        format!(
+            "{:.3} displacement, {:.3} colour",
+            s.displacement_bits_per_node, s.colour_bits_per_node
+        ),
+    );
+    if let Some((lo, hi)) = s.bounds {
+        row("bounds min", format!("{:.6} {:.6} {:.6}", lo.x, lo.y, lo.z));
+        row("bounds max", format!("{:.6} {:.6} {:.6}", hi.x, hi.y, hi.z));
+    }
+    if let Some(lengths) = s.frame_lengths {
+        for (name, r) in ["|ax|", "|ay|", "|az|"].iter().zip(lengths) {
+            row(name, format!("{:.6} .. {:.6}", r.min, r.max));
+        }
+    }
+    t.push_str("  sections (tag codec stored raw):\n");
+    for section in &info.sections {
+        t.push_str(&format!(
+            "    {} {:<10} {:>10} {:>10}\n",
+            section.tag,
+            codec_name(section.codec),
+            section.stored_len,
+            section.raw_len
+        ));
+    }
+    t
+}
+
+/// Reads the file and prints the summary.
+pub(crate) fn run(args: &StatsArgs) -> anyhow::Result<()> {
+    let (scene, info) = read_spatch(&args.input)?;
+    let summary = SceneSummary::new(&scene, &info);
+    let text = if args.json {
+        let value = to_json(&args.input.display().to_string(), &scene, &info, &summary);
+        format!("{}\n", serde_json::to_string_pretty(&value)?)
+    } else {
+        table(&args.input.display().to_string(), &scene, &info, &summary)
+    };
+    print_stdout(&text)
+}

@@ -1,0 +1,49 @@
+//! Exit codes: what kind of failure an error is.
+
+use std::process::ExitCode;
+
+/// How a run ended, when it did not succeed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Failure {
+    /// Bad input or usage: exit code 2.
+    BadInput,
+    /// Spatch itself or the system failed (a bug, a full disk): exit code 1.
+    Internal,
+    /// The reader of our standard output went away: exit quietly with 0.
+    BrokenPipe,
+}
+
+/// Marks an error as spatch's own fault or the system's (exit code 1)
+/// rather than the input's.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub(crate) struct InternalFailure(pub(crate) String);
+
+impl Failure {
+    /// Looks through the error chain for what decides the exit code.
+    pub(crate) fn classify(err: &anyhow::Error) -> Self {
+        for cause in err.chain() {
+            if let Some(io) = cause.downcast_ref::<std::io::Error>() {
+                if io.kind() == std::io::ErrorKind::BrokenPipe {
+                    return Self::BrokenPipe;
+                }
+            }
+            if cause.downcast_ref::<InternalFailure>().is_some() {
+                return Self::Internal;
+            }
+            if let Some(spatch_format::FormatError::Bug(_)) = cause.downcast_ref() {
+                return Self::Internal;
+            }
+        }
+        Self::BadInput
+    }
+
+    /// The process exit code.
+    pub(crate) fn exit_code(self) -> ExitCode {
+        match self {
+            Self::BadInput => ExitCode::from(2),
+            Self::Internal => ExitCode::from(1),
+            Self::BrokenPipe => ExitCode::SUCCESS,
+        }
+    }
+}
