@@ -1,0 +1,90 @@
+//! A small helper to run `spatch` in a temporary folder.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The result of one run.
+pub(crate) struct Run {
+    pub(crate) code: i32,
+    pub(crate) stdout: String,
+    pub(crate) stderr: String,
+}
+
+impl Run {
+    /// Panics with the run's output unless it exited 0.
+    pub(crate) fn success(self) -> Self {
+        assert_eq!(
+            self.code, 0,
+            "spatch failed:\nstdout: {}\nstderr: {}",
+            self.stdout, self.stderr
+        );
+        self
+    }
+}
+
+/// A temporary folder to run `spatch` in.
+pub(crate) struct TestCommand {
+    dir: tempfile::TempDir,
+}
+
+impl TestCommand {
+    /// A new empty folder.
+    pub(crate) fn new() -> Self {
+        Self {
+            dir: tempfile::tempdir().expect("temporary folder"),
+        }
+    }
+
+    /// A path inside the folder.
+    pub(crate) fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+
+    /// The folder.
+    pub(crate) fn dir(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// Runs `spatch` with `args` in the folder, with extra environment.
+    pub(crate) fn run_with_env(&self, args: &[&str], env: &[(&str, &str)]) -> Run {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_spatch"));
+        command.args(args).current_dir(self.dir.path());
+        for (k, v) in env {
+            command.env(k, v);
+        }
+        let Output {
+            status,
+            stdout,
+            stderr,
+        } = command.output().expect("spatch runs");
+        Run {
+            code: status.code().unwrap_or(-1),
+            stdout: String::from_utf8_lossy(&stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&stderr).into_owned(),
+        }
+    }
+
+    /// Runs `spatch` with `args` in the folder.
+    pub(crate) fn run(&self, args: &[&str]) -> Run {
+        self.run_with_env(args, &[])
+    }
+
+    /// Writes a small sphere file and returns its name.
+    pub(crate) fn small_sphere(&self, name: &str) -> String {
+        self.run(&[
+            "sphere",
+            "--radius",
+            "10",
+            "--patches",
+            "200",
+            "--grid",
+            "9",
+            "--step",
+            "0.001",
+            "-o",
+            name,
+        ])
+        .success();
+        name.to_owned()
+    }
+}
