@@ -83,15 +83,6 @@ pub enum MeshError {
         /// How many there were (or would be).
         count: u64,
     },
-    /// The OBJ reader (tobj) rejected the file.
-    #[error("{}: not a readable OBJ file: {source}", path.display())]
-    Obj {
-        /// The file.
-        path: PathBuf,
-        /// The reader's reason.
-        #[source]
-        source: tobj::LoadError,
-    },
     /// The glTF reader rejected the file (syntax, validation, missing buffer, ...).
     #[error("{}: not a readable glTF file: {source}", path.display())]
     Gltf {
@@ -126,14 +117,15 @@ pub enum MeshError {
         /// What is wrong.
         problem: GltfProblem,
     },
-    /// The PLY reader (ply-rs-bw) rejected the header or body.
+    /// The PLY reader (ply-rs-bw) rejected the header or body (truncated data, bad numbers,
+    /// unknown format line, ...).
     #[error("{}: not a readable PLY file: {source}", path.display())]
     Ply {
         /// The file.
         path: PathBuf,
         /// The reader's reason.
         #[source]
-        source: std::io::Error,
+        source: ply_rs_bw::parser::ParseError,
     },
     /// The PLY file parsed but does not describe a mesh or cloud this crate understands.
     #[error("{}: {problem}", path.display())]
@@ -238,6 +230,12 @@ pub enum GltfProblem {
         /// The `POSITION` count.
         expected: usize,
     },
+    /// An accessor's element type, component type, count or byte range is invalid for its
+    /// attribute (or reaches past its buffer).
+    BadAccessor {
+        /// Which attribute.
+        attribute: GltfAttribute,
+    },
     /// An index is not below the vertex count.
     IndexOutOfRange {
         /// The index.
@@ -251,12 +249,28 @@ pub enum GltfProblem {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum GltfAttribute {
+    /// `POSITION`.
+    Position,
+    /// The index accessor.
+    Indices,
     /// `NORMAL`.
     Normal,
     /// `TEXCOORD_n` of the base colour texture.
     TexCoord,
     /// `COLOR_0`.
     Colour,
+}
+
+impl fmt::Display for GltfAttribute {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            GltfAttribute::Position => "POSITION",
+            GltfAttribute::Indices => "index",
+            GltfAttribute::Normal => "NORMAL",
+            GltfAttribute::TexCoord => "TEXCOORD",
+            GltfAttribute::Colour => "COLOR_0",
+        })
+    }
 }
 
 impl fmt::Display for GltfProblem {
@@ -270,11 +284,11 @@ impl fmt::Display for GltfProblem {
             } => write!(
                 f,
                 "{} has {count} values for {expected} positions",
-                match attribute {
-                    GltfAttribute::Normal => "NORMAL",
-                    GltfAttribute::TexCoord => "TEXCOORD",
-                    GltfAttribute::Colour => "COLOR_0",
-                }
+                attribute
+            ),
+            GltfProblem::BadAccessor { attribute } => write!(
+                f,
+                "the {attribute} accessor has a type, count or range the specification forbids"
             ),
             GltfProblem::IndexOutOfRange {
                 index,
@@ -342,6 +356,17 @@ impl fmt::Display for PlyProblem {
 pub enum SyntaxProblem {
     /// The OFF header line (`OFF`, `COFF`, `NOFF`, ...) is missing.
     MissingOffHeader,
+    /// An OBJ face refers to a texture coordinate or normal that does not exist.
+    AttributeIndexOutOfRange {
+        /// The index as resolved (0-based).
+        index: i64,
+        /// How many texture coordinates or normals there are at that point.
+        count: u64,
+    },
+    /// An OBJ face index is zero (OBJ indices start at 1; negative ones count back).
+    ZeroIndex,
+    /// The binary variant of a text format (`OFF BINARY`), which is not supported.
+    BinaryVariant,
     /// The OFF counts line (`vertices faces edges`) is missing or malformed.
     BadOffCounts,
     /// The file ended before all declared elements were read.
@@ -370,7 +395,7 @@ pub enum SyntaxProblem {
         /// Columns found.
         found: usize,
     },
-    /// An OFF face lists fewer than three vertices.
+    /// A face lists fewer than three vertices.
     FaceTooSmall {
         /// Vertices listed.
         len: usize,
@@ -381,6 +406,12 @@ impl fmt::Display for SyntaxProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SyntaxProblem::MissingOffHeader => f.write_str("expected an OFF header line"),
+            SyntaxProblem::AttributeIndexOutOfRange { index, count } => write!(
+                f,
+                "texture coordinate or normal index {index} is out of range ({count} defined)"
+            ),
+            SyntaxProblem::ZeroIndex => f.write_str("index 0 (OBJ indices start at 1)"),
+            SyntaxProblem::BinaryVariant => f.write_str("binary OFF is not supported"),
             SyntaxProblem::BadOffCounts => {
                 f.write_str("expected the counts line 'vertices faces edges'")
             }

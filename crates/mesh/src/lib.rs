@@ -28,6 +28,7 @@
 mod adjacency;
 mod error;
 mod ids;
+pub mod load;
 pub mod material;
 mod mesh;
 mod point_cloud;
@@ -38,6 +39,7 @@ pub use error::{
     MeshProblem, PlyProblem, SyntaxProblem,
 };
 pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
+pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud};
 pub use material::{Material, Texture};
 pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;

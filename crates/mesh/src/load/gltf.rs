@@ -1,0 +1,668 @@
+//! glTF 2.0 reader: `.gltf` (external or data-URI buffers) and `.glb`.
+//!
+//! Every triangle primitive (`TRIANGLES`, and `TRIANGLE_STRIP` / `TRIANGLE_FAN` converted to
+//! triangles) of every mesh instance reachable from the default scene (or from every scene,
+//! or every root node when there are no scenes) is merged into one [`TriangleMesh`]. Node
+//! transforms are composed in f64 and applied to positions (normals by the inverse transpose;
+//! mirroring transforms flip the winding back to counter-clockwise). Point and line primitives
+//! are skipped with a warning.
+//!
+//! Colour: each glTF material becomes a [`Material`] with `baseColorFactor` as the base colour
+//! and `baseColorTexture` as the texture (its `TEXCOORD_n` set, with `KHR_texture_transform`
+//! applied to the UVs); `COLOR_0` (any component type) becomes sRGB vertex colours. UVs are
+//! flipped to `v` up (`v' = 1 - v`), the convention of every mesh here.
+//!
+//! Refused with [`MeshError::GltfExtensionRequired`]: files that *require* an extension this
+//! reader cannot honour (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`,
+//! `KHR_mesh_quantization`, and any other required extension not known to affect only
+//! shading). Accessors are checked (type, component type, count and byte range) before they
+//! are read, so a malformed file gives an error, not a panic.
+//!
+//! Cost: O(vertices + indices) after the JSON parse; buffers are held in memory.
+//!
+//! Based on: the Khronos glTF 2.0 specification (2021), sections 3.6 (buffers, accessors),
+//! 3.7 (meshes), 3.9 (materials) and 3.5 (node hierarchy).
+
+use std::path::Path;
+
+use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+
+use super::texture::load_texture_bytes;
+use super::{parent_dir, read_file, LoadedMesh, MeshBuilder};
+use crate::error::{Element, GltfAttribute, GltfProblem};
+use crate::material::linear_to_srgb;
+use crate::{LoadWarning, Material, MaterialId, MeshError, Texture};
+
+/// Required extensions that change only shading or metadata, which this reader may ignore.
+const IGNORABLE_REQUIRED_EXTENSIONS: &[&str] = &[
+    "KHR_texture_transform",
+    "KHR_materials_unlit",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_variants",
+    "KHR_lights_punctual",
+];
+
+/// Geometry of one primitive instance, in world space.
+struct Piece {
+    positions: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    colours: Option<Vec<[u8; 4]>>,
+    material: Option<usize>,
+}
+
+/// Loads a `.gltf` or `.glb` file.
+pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
+    let bytes = read_file(path)?;
+    let gltf_err = |source| MeshError::Gltf {
+        path: path.to_path_buf(),
+        source,
+    };
+    // Check required extensions before validation, which would reject some of them with a
+    // less helpful message.
+    let unvalidated = gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
+    if let Some(ext) = unvalidated
+        .extensions_required()
+        .find(|e| !IGNORABLE_REQUIRED_EXTENSIONS.contains(e))
+    {
+        return Err(MeshError::GltfExtensionRequired {
+            path: path.to_path_buf(),
+            extension: ext.to_owned(),
+        });
+    }
+    drop(unvalidated);
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(gltf_err)?;
+    let dir = parent_dir(path);
+    let base = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir.as_path()
+    };
+    let buffers =
+        gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone()).map_err(gltf_err)?;
+    let document = &gltf.document;
+    let mut warnings = Vec::new();
+
+    // Materials and their textures.
+    let mut materials = Vec::new();
+    let mut material_uv_set = Vec::new();
+    let mut material_uv_transform = Vec::new();
+    let mut texture_cache: Vec<Option<Option<Texture>>> = vec![None; document.images().len()];
+    for (i, m) in document.materials().enumerate() {
+        let pbr = m.pbr_metallic_roughness();
+        let mut material = Material {
+            name: m
+                .name()
+                .map_or_else(|| format!("material_{i}"), str::to_owned),
+            base_colour: sanitise_factor(pbr.base_color_factor()),
+            texture: None,
+        };
+        let mut set = 0;
+        let mut transform = UvTransform::IDENTITY;
+        if let Some(info) = pbr.base_color_texture() {
+            set = info.tex_coord();
+            if let Some(t) = info.texture_transform() {
+                set = t.tex_coord().unwrap_or(set);
+                transform = UvTransform {
+                    offset: t.offset(),
+                    rotation: t.rotation(),
+                    scale: t.scale(),
+                };
+            }
+            let image = info.texture().source();
+            let slot = &mut texture_cache[image.index()];
+            if slot.is_none() {
+                *slot = Some(match decode_image(&image, base, &buffers, path) {
+                    Ok(t) => Some(t),
+                    Err(w) => {
+                        warnings.push(w);
+                        None
+                    }
+                });
+            }
+            material.texture = slot.clone().flatten();
+        }
+        materials.push(material);
+        material_uv_set.push(set);
+        material_uv_transform.push(transform);
+    }
+
+    // Walk the node hierarchy with an explicit stack (no recursion on file data).
+    let roots: Vec<gltf::Node> = match document.default_scene() {
+        Some(scene) => scene.nodes().collect(),
+        None if document.scenes().len() > 0 => document.scenes().flat_map(|s| s.nodes()).collect(),
+        None => {
+            let mut is_child = vec![false; document.nodes().len()];
+            for n in document.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            document.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let node_limit = document.nodes().len().max(1) * 64;
+    let mut stack: Vec<(gltf::Node, DMat4, usize)> =
+        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    let mut pieces = Vec::new();
+    let mut skipped = 0u64;
+    let mut visited = 0usize;
+    while let Some((node, parent, depth)) = stack.pop() {
+        visited += 1;
+        // A cyclic or absurdly shared hierarchy would never end; the limit stops it.
+        if visited > node_limit || depth > document.nodes().len() {
+            break;
+        }
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        if !world.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: path.to_path_buf(),
+                element: Element::Node(node.index() as u64),
+            });
+        }
+        if let Some(mesh) = node.mesh() {
+            for primitive in mesh.primitives() {
+                match read_primitive(
+                    path,
+                    &mesh,
+                    &primitive,
+                    &buffers,
+                    &world,
+                    &material_uv_set,
+                    &material_uv_transform,
+                )? {
+                    Some(piece) => pieces.push(piece),
+                    None => skipped += 1,
+                }
+            }
+        }
+        for child in node.children() {
+            stack.push((child, world, depth + 1));
+        }
+    }
+    if skipped > 0 {
+        warnings.push(LoadWarning::NonTrianglePrimitivesSkipped { count: skipped });
+    }
+    let builder = merge_pieces(pieces, materials, &mut warnings);
+    let mesh = builder.finish(path)?;
+    Ok(LoadedMesh { mesh, warnings })
+}
+
+/// `KHR_texture_transform` of a material's base colour texture.
+#[derive(Clone, Copy)]
+struct UvTransform {
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+}
+
+impl UvTransform {
+    const IDENTITY: UvTransform = UvTransform {
+        offset: [0.0; 2],
+        rotation: 0.0,
+        scale: [1.0; 2],
+    };
+
+    /// Applies the transform in glTF UV space (v down), as the extension defines:
+    /// translate * rotate * scale.
+    fn apply(&self, uv: Vec2) -> Vec2 {
+        let s = Vec2::new(uv.x * self.scale[0], uv.y * self.scale[1]);
+        let (sin, cos) = self.rotation.sin_cos();
+        let r = Vec2::new(cos * s.x + sin * s.y, -sin * s.x + cos * s.y);
+        r + Vec2::from_array(self.offset)
+    }
+}
+
+fn sanitise_factor(f: [f32; 4]) -> [f32; 4] {
+    f.map(|c| {
+        if c.is_finite() {
+            c.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    })
+}
+
+/// Whether an accessor has one of the allowed shapes, a non-zero count and a byte range inside
+/// its buffer view and buffer.
+fn accessor_ok(
+    accessor: &gltf::Accessor,
+    dimensions: &[Dimensions],
+    types: &[DataType],
+    buffers: &[gltf::buffer::Data],
+) -> bool {
+    if !dimensions.contains(&accessor.dimensions()) || !types.contains(&accessor.data_type()) {
+        return false;
+    }
+    let count = accessor.count();
+    if count == 0 {
+        return false;
+    }
+    if let Some(sparse) = accessor.sparse() {
+        if sparse.count() == 0 {
+            return false;
+        }
+    }
+    let Some(view) = accessor.view() else {
+        // Without a view the values are zeros (plus sparse substitutions): fine to read.
+        return accessor.sparse().is_some();
+    };
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return false;
+    }
+    let end = (count - 1)
+        .checked_mul(stride)
+        .and_then(|x| x.checked_add(size))
+        .and_then(|x| x.checked_add(accessor.offset()));
+    let Some(buffer) = buffers.get(view.buffer().index()) else {
+        return false;
+    };
+    matches!(end, Some(end) if end <= view.length())
+        && view
+            .offset()
+            .checked_add(view.length())
+            .is_some_and(|e| e <= buffer.len())
+}
+
+#[allow(clippy::too_many_arguments)] // reason: a private helper; the arguments are one call's context
+fn read_primitive(
+    path: &Path,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+    world: &DMat4,
+    material_uv_set: &[u32],
+    material_uv_transform: &[UvTransform],
+) -> Result<Option<Piece>, MeshError> {
+    let mode = primitive.mode();
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
+        return Ok(None);
+    }
+    let fail = |problem| MeshError::GltfPrimitive {
+        path: path.to_path_buf(),
+        mesh: mesh.index(),
+        primitive: primitive.index(),
+        problem,
+    };
+    let bad = |attribute| fail(GltfProblem::BadAccessor { attribute });
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+
+    let position_accessor = primitive
+        .get(&gltf::Semantic::Positions)
+        .ok_or_else(|| fail(GltfProblem::NoPositions))?;
+    if !accessor_ok(
+        &position_accessor,
+        &[Dimensions::Vec3],
+        &[DataType::F32],
+        buffers,
+    ) {
+        return Err(bad(GltfAttribute::Position));
+    }
+    let local: Vec<[f32; 3]> = reader
+        .read_positions()
+        .ok_or_else(|| bad(GltfAttribute::Position))?
+        .collect();
+    let n = local.len();
+    let mut positions = Vec::with_capacity(n);
+    for (i, p) in local.iter().enumerate() {
+        let p = DVec3::from_array(p.map(f64::from));
+        if !p.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: path.to_path_buf(),
+                element: Element::Vertex(i as u64),
+            });
+        }
+        positions.push(world.transform_point3(p));
+    }
+
+    let indices: Vec<u32> = match primitive.indices() {
+        Some(accessor) => {
+            if !accessor_ok(
+                &accessor,
+                &[Dimensions::Scalar],
+                &[DataType::U8, DataType::U16, DataType::U32],
+                buffers,
+            ) {
+                return Err(bad(GltfAttribute::Indices));
+            }
+            reader
+                .read_indices()
+                .ok_or_else(|| bad(GltfAttribute::Indices))?
+                .into_u32()
+                .collect()
+        }
+        None => (0..n as u32).collect(),
+    };
+    if let Some(&index) = indices.iter().find(|&&i| i as usize >= n) {
+        return Err(fail(GltfProblem::IndexOutOfRange {
+            index,
+            vertex_count: n,
+        }));
+    }
+    let mirrored = DMat3::from_mat4(*world).determinant() < 0.0;
+    let mut triangles = Vec::with_capacity(indices.len() / 3);
+    let mut push = |a: u32, b: u32, c: u32| {
+        triangles.push(if mirrored { [a, c, b] } else { [a, b, c] });
+    };
+    match mode {
+        Mode::Triangles => {
+            for t in indices.chunks_exact(3) {
+                push(t[0], t[1], t[2]);
+            }
+        }
+        Mode::TriangleStrip => {
+            for i in 0..indices.len().saturating_sub(2) {
+                let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                if i % 2 == 0 {
+                    push(a, b, c);
+                } else {
+                    push(b, a, c);
+                }
+            }
+        }
+        _ => {
+            for i in 1..indices.len().saturating_sub(1) {
+                push(indices[0], indices[i], indices[i + 1]);
+            }
+        }
+    }
+
+    let count_check = |attribute, count: usize| {
+        if count == n {
+            Ok(())
+        } else {
+            Err(fail(GltfProblem::AttributeCountMismatch {
+                attribute,
+                count,
+                expected: n,
+            }))
+        }
+    };
+
+    let normals = match primitive.get(&gltf::Semantic::Normals) {
+        Some(accessor) => {
+            if !accessor_ok(&accessor, &[Dimensions::Vec3], &[DataType::F32], buffers) {
+                return Err(bad(GltfAttribute::Normal));
+            }
+            let normal_matrix = DMat3::from_mat4(*world).inverse().transpose();
+            let mut out = Vec::with_capacity(n);
+            for (i, v) in reader
+                .read_normals()
+                .ok_or_else(|| bad(GltfAttribute::Normal))?
+                .enumerate()
+            {
+                let v = DVec3::from_array(v.map(f64::from));
+                if !v.is_finite() {
+                    return Err(MeshError::NonFinite {
+                        path: path.to_path_buf(),
+                        element: Element::Normal(i as u64),
+                    });
+                }
+                let t = (normal_matrix * v).normalize_or_zero();
+                out.push(if t.is_finite() {
+                    t.as_vec3()
+                } else {
+                    Vec3::ZERO
+                });
+            }
+            count_check(GltfAttribute::Normal, out.len())?;
+            Some(out)
+        }
+        None => None,
+    };
+
+    let material = primitive.material().index();
+    let set = material.map_or(0, |m| material_uv_set.get(m).copied().unwrap_or(0));
+    let transform = material
+        .and_then(|m| material_uv_transform.get(m).copied())
+        .unwrap_or(UvTransform::IDENTITY);
+    let uvs = match primitive.get(&gltf::Semantic::TexCoords(set)) {
+        Some(accessor) => {
+            if !accessor_ok(
+                &accessor,
+                &[Dimensions::Vec2],
+                &[DataType::F32, DataType::U8, DataType::U16],
+                buffers,
+            ) {
+                return Err(bad(GltfAttribute::TexCoord));
+            }
+            let mut out = Vec::with_capacity(n);
+            for (i, uv) in reader
+                .read_tex_coords(set)
+                .ok_or_else(|| bad(GltfAttribute::TexCoord))?
+                .into_f32()
+                .enumerate()
+            {
+                let uv = transform.apply(Vec2::from_array(uv));
+                if !uv.is_finite() {
+                    return Err(MeshError::NonFinite {
+                        path: path.to_path_buf(),
+                        element: Element::TexCoord(i as u64),
+                    });
+                }
+                out.push(Vec2::new(uv.x, 1.0 - uv.y));
+            }
+            count_check(GltfAttribute::TexCoord, out.len())?;
+            Some(out)
+        }
+        None => None,
+    };
+
+    let colours = match primitive.get(&gltf::Semantic::Colors(0)) {
+        Some(accessor) => {
+            if !accessor_ok(
+                &accessor,
+                &[Dimensions::Vec3, Dimensions::Vec4],
+                &[DataType::F32, DataType::U8, DataType::U16],
+                buffers,
+            ) {
+                return Err(bad(GltfAttribute::Colour));
+            }
+            // COLOR_0 is linear; vertex colours here are sRGB bytes.
+            let out: Vec<[u8; 4]> = reader
+                .read_colors(0)
+                .ok_or_else(|| bad(GltfAttribute::Colour))?
+                .into_rgba_f32()
+                .map(|c| {
+                    let a = if c[3].is_nan() {
+                        1.0
+                    } else {
+                        c[3].clamp(0.0, 1.0)
+                    };
+                    [
+                        linear_to_srgb(c[0]),
+                        linear_to_srgb(c[1]),
+                        linear_to_srgb(c[2]),
+                        (a * 255.0 + 0.5) as u8,
+                    ]
+                })
+                .collect();
+            count_check(GltfAttribute::Colour, out.len())?;
+            Some(out)
+        }
+        None => None,
+    };
+
+    Ok(Some(Piece {
+        positions,
+        triangles,
+        normals,
+        uvs,
+        colours,
+        material,
+    }))
+}
+
+/// Joins the primitive instances into one mesh: optional attributes are kept when at least
+/// one piece has them (normals only when all do), missing ones filled neutrally.
+fn merge_pieces(
+    pieces: Vec<Piece>,
+    mut materials: Vec<Material>,
+    warnings: &mut Vec<LoadWarning>,
+) -> MeshBuilder {
+    let any_uv = pieces.iter().any(|p| p.uvs.is_some());
+    let any_colour = pieces.iter().any(|p| p.colours.is_some());
+    let all_normals = pieces.iter().all(|p| p.normals.is_some());
+    if !all_normals && pieces.iter().any(|p| p.normals.is_some()) {
+        warnings.push(LoadWarning::NormalsDropped);
+    }
+    let any_material = pieces.iter().any(|p| p.material.is_some());
+    let default_material = materials.len() as u32;
+    if any_material && pieces.iter().any(|p| p.material.is_none()) {
+        materials.push(Material::white("default"));
+    }
+    let mut b = MeshBuilder {
+        face_uvs: any_uv.then(Vec::new),
+        vertex_colours: any_colour.then(Vec::new),
+        vertex_normals: all_normals.then(Vec::new),
+        ..MeshBuilder::default()
+    };
+    let mut faces_without_uv = 0u64;
+    for piece in pieces {
+        let offset = b.positions.len() as u32;
+        let n = piece.positions.len();
+        b.positions.extend_from_slice(&piece.positions);
+        for t in &piece.triangles {
+            b.triangles.push(t.map(|i| i + offset));
+        }
+        if let Some(face_uvs) = b.face_uvs.as_mut() {
+            match &piece.uvs {
+                Some(uvs) => {
+                    face_uvs.extend(piece.triangles.iter().map(|t| t.map(|i| uvs[i as usize])))
+                }
+                None => {
+                    faces_without_uv += piece.triangles.len() as u64;
+                    face_uvs.extend(std::iter::repeat_n([Vec2::ZERO; 3], piece.triangles.len()));
+                }
+            }
+        }
+        if let Some(colours) = b.vertex_colours.as_mut() {
+            match &piece.colours {
+                Some(c) => colours.extend_from_slice(c),
+                None => colours.extend(std::iter::repeat_n([255u8; 4], n)),
+            }
+        }
+        if let (Some(normals), Some(n)) = (b.vertex_normals.as_mut(), &piece.normals) {
+            normals.extend_from_slice(n);
+        }
+        if any_material {
+            let id = MaterialId(piece.material.map_or(default_material, |m| m as u32));
+            b.face_materials
+                .extend(std::iter::repeat_n(id, piece.triangles.len()));
+        }
+    }
+    if faces_without_uv > 0 {
+        warnings.push(LoadWarning::PartialTexCoords {
+            faces_without: faces_without_uv,
+        });
+    }
+    if any_material {
+        b.materials = materials;
+    }
+    b
+}
+
+/// Decodes a glTF image (buffer view bytes, data URI or external file) to a texture.
+fn decode_image(
+    image: &gltf::Image,
+    base: &Path,
+    buffers: &[gltf::buffer::Data],
+    gltf_path: &Path,
+) -> Result<Texture, LoadWarning> {
+    let label = gltf_path.join(format!("#image{}", image.index()));
+    match image.source() {
+        gltf::image::Source::View { view, .. } => {
+            let bytes = buffers
+                .get(view.buffer().index())
+                .and_then(|b| {
+                    b.0.get(view.offset()..view.offset().checked_add(view.length())?)
+                })
+                .ok_or_else(|| LoadWarning::TextureUnreadable {
+                    path: label.clone(),
+                    reason: "the image's buffer view is out of range".to_owned(),
+                })?;
+            load_texture_bytes(bytes, &label)
+        }
+        source @ gltf::image::Source::Uri { uri, .. } => {
+            let label = if uri.starts_with("data:") {
+                label
+            } else {
+                base.join(uri)
+            };
+            let data =
+                gltf::image::Data::from_source(source, Some(base), buffers).map_err(|e| {
+                    LoadWarning::TextureUnreadable {
+                        path: label.clone(),
+                        reason: e.to_string(),
+                    }
+                })?;
+            image_data_to_texture(&data).ok_or(LoadWarning::TextureUnreadable {
+                path: label,
+                reason: "unsupported pixel layout".to_owned(),
+            })
+        }
+    }
+}
+
+/// Converts gltf's decoded pixels to RGBA8.
+fn image_data_to_texture(data: &gltf::image::Data) -> Option<Texture> {
+    use gltf::image::Format;
+    let (channels, bytes_per_channel) = match data.format {
+        Format::R8 => (1, 1),
+        Format::R8G8 => (2, 1),
+        Format::R8G8B8 => (3, 1),
+        Format::R8G8B8A8 => (4, 1),
+        Format::R16 => (1, 2),
+        Format::R16G16 => (2, 2),
+        Format::R16G16B16 => (3, 2),
+        Format::R16G16B16A16 => (4, 2),
+        Format::R32G32B32FLOAT => (3, 4),
+        Format::R32G32B32A32FLOAT => (4, 4),
+    };
+    let pixel = channels * bytes_per_channel;
+    let count = data.width as usize * data.height as usize;
+    if data.pixels.len() < count * pixel {
+        return None;
+    }
+    let mut rgba = Vec::with_capacity(count * 4);
+    for px in data.pixels.chunks_exact(pixel).take(count) {
+        let channel = |k: usize| -> u8 {
+            let at = k * bytes_per_channel;
+            match bytes_per_channel {
+                1 => px[at],
+                2 => (u16::from_ne_bytes([px[at], px[at + 1]]) >> 8) as u8,
+                _ => {
+                    let v = f32::from_ne_bytes([px[at], px[at + 1], px[at + 2], px[at + 3]]);
+                    if v.is_nan() {
+                        0
+                    } else {
+                        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+                    }
+                }
+            }
+        };
+        let (r, g, b, a) = match channels {
+            1 => (channel(0), channel(0), channel(0), 255),
+            2 => (channel(0), channel(0), channel(0), channel(1)),
+            3 => (channel(0), channel(1), channel(2), 255),
+            _ => (channel(0), channel(1), channel(2), channel(3)),
+        };
+        rgba.extend_from_slice(&[r, g, b, a]);
+    }
+    Texture::new(data.width, data.height, rgba).ok()
+}

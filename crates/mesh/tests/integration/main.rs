@@ -1,0 +1,30 @@
+//! Integration tests of spatch-mesh, one binary (each test binary links separately, which
+//! matters on a 2-core machine).
+//!
+//! Modules:
+//! - `load_real`: the real files of `../shared/data` (skipped politely when absent);
+//! - `load_errors`: hostile and broken inputs written to a temporary folder: NaN, truncation,
+//!   bad indices, missing materials and textures; never a panic;
+//! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
+//! - `prepare`: welding and cleaning counts;
+//! - `queries`: BVH ray casts and closest points against brute force; surface sampling.
+
+mod adjacency;
+mod load_errors;
+mod load_real;
+
+use spatch_fixtures::Shape;
+use spatch_mesh::TriangleMesh;
+
+/// A generated shape as a mesh with origin zero.
+pub(crate) fn mesh_from_shape(shape: &Shape) -> TriangleMesh {
+    TriangleMesh::new(
+        shape
+            .positions
+            .iter()
+            .map(|&p| glam::Vec3::from_array(p))
+            .collect(),
+        shape.triangles.clone(),
+    )
+    .expect("generated shapes are valid meshes")
+}
