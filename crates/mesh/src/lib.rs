@@ -7,6 +7,10 @@
 //!   UVs, vertex colours, vertex normals and [`Material`]s (with [`Texture`]s);
 //! - [`PointCloud`]: positions with optional colours and normals;
 //! - [`FaceAdjacency`]: faces sharing each edge, in CSR form ([`build_face_adjacency`]);
+//! - [`Bvh`]: ray casting ([`Bvh::ray_cast`], [`Bvh::ray_cast_filtered`]) and closest-point
+//!   queries ([`Bvh::closest_point`]);
+//! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, XYZ), then
+//!   [`prepare_mesh`] to weld and clean; [`sample_surface`] for area-uniform samples;
 //! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
 //! - [`MeshError`]: the one error type, naming the file and the element at fault.
 //!
@@ -26,14 +30,21 @@
 #![forbid(unsafe_code)]
 
 mod adjacency;
+mod bvh;
+mod closest_point;
 mod error;
 mod ids;
 pub mod load;
 pub mod material;
 mod mesh;
 mod point_cloud;
+mod prepare;
+mod ray;
+mod sample;
 
 pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
+pub use bvh::{Bvh, BIN_COUNT, MAX_DEPTH, MAX_LEAF_SIZE};
+pub use closest_point::ClosestPoint;
 pub use error::{
     Element, ElementKind, GltfAttribute, GltfProblem, LoadWarning, MeshArray, MeshError,
     MeshProblem, PlyProblem, SyntaxProblem,
@@ -43,3 +54,6 @@ pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointC
 pub use material::{Material, Texture};
 pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;
+pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
+pub use ray::{RayHit, EDGE_TOLERANCE};
+pub use sample::{sample_surface, SplitMix64, SurfaceSample};

@@ -316,7 +316,11 @@ fn truncated_files_give_errors_not_panics() {
     for (name, bytes) in &cases {
         let path = dir.path().join(name);
         let mut errors = 0;
-        for len in 0..bytes.len() {
+        // Every prefix of small files; about 600 evenly spread prefixes of larger ones (each
+        // full-length glTF prefix decodes a PNG, which dominates the run time).
+        let step = (bytes.len() / 600).max(1);
+        let lengths: Vec<usize> = (0..bytes.len()).step_by(step).collect();
+        for &len in &lengths {
             std::fs::write(&path, &bytes[..len]).unwrap();
             if load_mesh(&path).is_err() {
                 errors += 1;
@@ -326,7 +330,7 @@ fn truncated_files_give_errors_not_panics() {
             }
         }
         assert!(
-            errors > bytes.len() / 2,
+            errors > lengths.len() / 2,
             "{name}: only {errors} prefixes failed"
         );
         std::fs::write(&path, bytes).unwrap();
@@ -353,7 +357,7 @@ fn garbage_bodies_do_not_panic() {
     ];
     for (name, header) in headers {
         let path = dir.path().join(name);
-        for round in 0..200 {
+        for round in 0..100 {
             let mut bytes = header.to_vec();
             let len = (next() % 200) as usize;
             for _ in 0..len {

@@ -12,6 +12,8 @@
 mod adjacency;
 mod load_errors;
 mod load_real;
+mod prepare;
+mod queries;
 
 use spatch_fixtures::Shape;
 use spatch_mesh::TriangleMesh;
