@@ -6,6 +6,7 @@
 //! colours, only when the scene stores them).
 
 mod atomic;
+mod bounded;
 mod layout;
 mod predictive;
 mod range_coder;

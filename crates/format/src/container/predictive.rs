@@ -87,15 +87,15 @@ pub(crate) fn encode_displacements(raw: &[u8], layouts: &[DisplacementLayout]) -
 }
 
 /// Decodes a DISP payload back to its raw bytes.
+/// `raw` must be empty; the caller sized it from a checked raw length.
 pub(crate) fn decode_displacements(
     coded: &[u8],
     layouts: &[DisplacementLayout],
-    raw_len: usize,
+    mut raw: Vec<u8>,
 ) -> Result<Vec<u8>, StreamEnded> {
     let mut decoder = Decoder::new(coded)?;
     let (mut model8, mut model_low, mut model_high) =
         (ByteModel::new(), ByteModel::new(), ByteModel::new());
-    let mut raw = Vec::with_capacity(raw_len);
     let mut values = Vec::new();
     for layout in layouts {
         let mask = if layout.bytes_per_code == 1 {
@@ -141,15 +141,17 @@ pub(crate) fn encode_colours(raw: &[u8], bytes_per_node: usize) -> Vec<u8> {
 }
 
 /// Decodes a COLR payload back to `raw_len` raw bytes.
+/// `raw` must be empty with capacity for the whole payload, whose length
+/// (`raw.capacity()` is not trusted for it) is `raw_len`.
 pub(crate) fn decode_colours(
     coded: &[u8],
     bytes_per_node: usize,
     raw_len: usize,
+    mut raw: Vec<u8>,
 ) -> Result<Vec<u8>, StreamEnded> {
     let mut decoder = Decoder::new(coded)?;
     let mut models = vec![ByteModel::new(); bytes_per_node];
     let mut previous = [0u8; 4];
-    let mut raw = Vec::with_capacity(raw_len);
     for _ in 0..raw_len / bytes_per_node {
         for (ch, model) in models.iter_mut().enumerate() {
             let value = previous[ch].wrapping_add(decoder.decode_byte(model)?);

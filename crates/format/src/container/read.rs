@@ -8,6 +8,7 @@ use std::path::Path;
 
 use glam::{DVec3, Quat, Vec3};
 
+use super::bounded::vec_for_count;
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
     FILE_HEADER_LEN, MAX_EXPANSION, MAX_EXPANSION_SLACK, SECTION_HEADER_LEN, TAG_COLOURS,
@@ -115,7 +116,7 @@ fn split_sections(bytes: &[u8]) -> Result<(u8, u8, Vec<RawSection<'_>>), FormatE
             available: remaining,
         });
     }
-    let mut sections = Vec::with_capacity(count);
+    let mut sections = vec_for_count(count, SECTION_HEADER_LEN, remaining, "sections")?;
     let mut at = FILE_HEADER_LEN;
     for _ in 0..count {
         let h = take(bytes, at, SECTION_HEADER_LEN, "section header")?;
@@ -162,7 +163,7 @@ fn split_sections(bytes: &[u8]) -> Result<(u8, u8, Vec<RawSection<'_>>), FormatE
 fn section_payload(
     section: &RawSection<'_>,
     expected_raw: usize,
-    decode: impl FnOnce(&[u8]) -> Option<Vec<u8>>,
+    decode: impl FnOnce(&[u8], Vec<u8>) -> Option<Vec<u8>>,
 ) -> Result<Vec<u8>, FormatError> {
     let info = &section.info;
     if info.raw_len != expected_raw {
@@ -198,7 +199,8 @@ fn section_payload(
                     ),
                 ));
             }
-            decode(section.payload)
+            let buffer = vec_for_count(info.raw_len, 1, limit, "decoded bytes")?;
+            decode(section.payload, buffer)
                 .ok_or_else(|| corrupt(&info.tag, "compressed stream ends early"))
         }
         other => Err(corrupt(&info.tag, format!("unknown codec {other}"))),
@@ -260,8 +262,9 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         ),
         GridStorage::PerPatch => None,
     };
-    let mut frames = Vec::with_capacity(patch_count);
-    let mut layouts = Vec::with_capacity(patch_count);
+    let frame_bytes = frame_section.payload.len();
+    let mut frames = vec_for_count(patch_count, record_len, frame_bytes, "frames")?;
+    let mut layouts = vec_for_count(patch_count, record_len, frame_bytes, "frames")?;
     for (k, record) in frame_section.payload.chunks_exact(record_len).enumerate() {
         let origin = Vec3::new(f32_at(record, 0), f32_at(record, 4), f32_at(record, 8));
         let rotation = Quat::from_xyzw(
@@ -307,10 +310,11 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
     }
 
     let disp_raw_len: usize = layouts.iter().map(DisplacementLayout::raw_len).sum();
-    let disp = section_payload(disp_section, disp_raw_len, |coded| {
-        decode_displacements(coded, &layouts, disp_raw_len).ok()
+    let disp = section_payload(disp_section, disp_raw_len, |coded, buffer| {
+        decode_displacements(coded, &layouts, buffer).ok()
     })?;
-    let mut displacements: Vec<Vec<u16>> = Vec::with_capacity(patch_count);
+    let mut displacements: Vec<Vec<u16>> =
+        vec_for_count(patch_count, record_len, frame_bytes, "patches")?;
     let mut at = 0;
     let mut filled = 0usize;
     for layout in &layouts {
@@ -335,8 +339,8 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
     let node_colours: Option<Vec<u8>> = match (fields.colour_storage, found[3]) {
         (ColourStorage::PerNode, Some(section)) => {
             let raw_len = filled * colour_bytes;
-            Some(section_payload(section, raw_len, |coded| {
-                decode_colours(coded, colour_bytes, raw_len).ok()
+            Some(section_payload(section, raw_len, |coded, buffer| {
+                decode_colours(coded, colour_bytes, raw_len, buffer).ok()
             })?)
         }
         (ColourStorage::PerNode, None) => return Err(FormatError::MissingSection("COLR")),
@@ -349,7 +353,7 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         (_, None) => None,
     };
 
-    let mut patches = Vec::with_capacity(patch_count);
+    let mut patches = vec_for_count(patch_count, record_len, frame_bytes, "patches")?;
     let mut colour_at = 0;
     for (k, ((frame, grid), codes)) in frames.into_iter().zip(displacements).enumerate() {
         let colours = match fields.colour_storage {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    FILE_HEADER_LEN, SECTION_HEADER_LEN, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_SCENE,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_SCENE,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::{write_file_atomically, MAGIC, VERSION_MAJOR, VERSION_MINOR};
@@ -127,8 +127,8 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         flat_colour: flat.unwrap_or([0; 4]),
     };
 
-    let mut frames = Vec::with_capacity(patches.len() * fields.frame_record_len());
-    let mut layouts = Vec::with_capacity(patches.len());
+    let mut frames = Vec::new();
+    let mut layouts = Vec::new();
     let mut displacements = Vec::new();
     let mut colours = Vec::new();
     let colour_bytes = scene.channel().bytes_per_node();
@@ -188,14 +188,7 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
     });
 
     let section_count: u32 = if colr.is_some() { 4 } else { 3 };
-    let mut out = Vec::with_capacity(
-        FILE_HEADER_LEN
-            + 4 * SECTION_HEADER_LEN
-            + 40
-            + frames.len()
-            + disp.2.len()
-            + colr.as_ref().map_or(0, |c| c.2.len()),
-    );
+    let mut out = Vec::new();
     out.extend_from_slice(&MAGIC);
     out.push(VERSION_MAJOR);
     out.push(VERSION_MINOR);
