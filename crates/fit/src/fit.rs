@@ -1,0 +1,376 @@
+//! Region → patches: the fitter's driver.
+//!
+//! Per region (in parallel, results collected in region order so the output never depends on
+//! the thread count):
+//! 1. frame: ẑ = the cone axis, x̂/ŷ along the minimum-area rectangle of the projected region
+//!    (`frame_fit`);
+//! 2. lattice: the rectangle cut into whole cells of about the target spacing, widened by the
+//!    overlap rings (`lattice`);
+//! 3. needed nodes and the neighbourhood that may fill them (`overlap`);
+//! 4. node heights by rays along −z onto region and neighbourhood (`node_cast`);
+//! 5. one quantizer for the region (`quantize`);
+//! 6. the filled part of the lattice cut into windows of at most `grid` nodes per side
+//!    sharing their boundary nodes, each cropped to its filled nodes and kept when it has a
+//!    drawable cell; colours sampled at the nodes' hits (`colour`).
+//!
+//! Windows of one region share the lattice and the quantizer, so their shared boundary nodes
+//! are the same points: splitting a region opens no crack.
+//!
+//! Cost per region: O(lattice nodes + Σ face footprints); memory O(lattice nodes).
+
+use glam::{DVec2, Vec3};
+use rayon::prelude::*;
+use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
+use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
+
+use crate::colour::{choose_channel, sample_colour};
+use crate::frame_fit::{basis_from_axis, min_area_rect};
+use crate::lattice::Lattice;
+use crate::node_cast::{cast_nodes, Hit};
+use crate::overlap::{needed_nodes, neighbourhood};
+use crate::quantize::{choose_quantizer, quantize_height};
+use crate::{default_spacing, FitError, FitOptions};
+
+/// One region to fit: its faces and the axis of its normal cone.
+#[derive(Debug, Clone, Copy)]
+pub struct FitRegion<'a> {
+    /// The region's faces, sorted by id, without duplicates.
+    pub faces: &'a [FaceId],
+    /// Axis of the region's normal cone (any non-zero length; normalized here). It becomes the
+    /// patches' z axis: the direction the region is seen from.
+    pub axis: Vec3,
+}
+
+/// Counts gathered while fitting.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FitStats {
+    /// Regions given.
+    pub regions: usize,
+    /// Regions that gave no patch (no face visible along their axis).
+    pub empty_regions: usize,
+    /// Regions split into more than one patch because they exceed the grid.
+    pub split_regions: usize,
+    /// Patches made.
+    pub patches: usize,
+    /// Patches that need 16-bit displacements.
+    pub wide_patches: usize,
+    /// Grid nodes of all patches, filled or not.
+    pub nodes: usize,
+    /// Filled nodes of all patches.
+    pub filled_nodes: usize,
+}
+
+/// What [`fit_regions`] returns.
+#[derive(Debug, Clone)]
+pub struct FitOutput {
+    /// The patches, region by region in input order.
+    pub patches: Vec<Patch>,
+    /// The colour channel the patches use (their colours match it).
+    pub channel: ColourChannel,
+    /// The node spacing used (the target; each patch may be slightly finer).
+    pub spacing: f32,
+    /// Counts.
+    pub stats: FitStats,
+}
+
+/// Fits every region of `mesh` with patches (see the module docs).
+///
+/// `adjacency` must be the face adjacency of `mesh`; regions must name faces of `mesh`.
+/// Regions need not cover the mesh, and may overlap. The result is deterministic: the same
+/// inputs give the same patches whatever the number of threads.
+pub fn fit_regions(
+    mesh: &TriangleMesh,
+    adjacency: &FaceAdjacency,
+    regions: &[FitRegion<'_>],
+    options: &FitOptions,
+) -> Result<FitOutput, FitError> {
+    options.validate()?;
+    let spacing = match options.spacing {
+        Some(s) => s,
+        None => default_spacing(mesh).ok_or(FitError::NoSurface)?,
+    };
+    let with_colour = options.colour && mesh.has_colour();
+    let fitted: Vec<Vec<Patch>> = regions
+        .par_iter()
+        .enumerate()
+        .map(|(index, region)| {
+            fit_region(
+                &RegionJob {
+                    mesh,
+                    adjacency,
+                    options,
+                    spacing,
+                    with_colour,
+                },
+                index,
+                region,
+            )
+        })
+        .collect::<Result<_, _>>()?;
+    let mut stats = FitStats {
+        regions: regions.len(),
+        ..FitStats::default()
+    };
+    let mut patches = Vec::new();
+    for region_patches in fitted {
+        match region_patches.len() {
+            0 => stats.empty_regions += 1,
+            1 => {}
+            _ => stats.split_regions += 1,
+        }
+        patches.extend(region_patches);
+    }
+    stats.patches = patches.len();
+    for p in &patches {
+        stats.nodes += p.grid().node_count();
+        stats.filled_nodes += p.filled_count();
+        if p.displacement_width() == spatch_format::DisplacementWidth::Bits16 {
+            stats.wide_patches += 1;
+        }
+    }
+    let channel = choose_channel(&patches);
+    Ok(FitOutput {
+        patches,
+        channel,
+        spacing,
+        stats,
+    })
+}
+
+/// What every region's fit shares.
+struct RegionJob<'a> {
+    mesh: &'a TriangleMesh,
+    adjacency: &'a FaceAdjacency,
+    options: &'a FitOptions,
+    spacing: f32,
+    with_colour: bool,
+}
+
+fn fit_region(
+    job: &RegionJob<'_>,
+    index: usize,
+    region: &FitRegion<'_>,
+) -> Result<Vec<Patch>, FitError> {
+    let mesh = job.mesh;
+    let axis = region.axis.normalize_or_zero();
+    if !axis.is_finite() || axis == Vec3::ZERO {
+        return Err(FitError::InvalidAxis { region: index });
+    }
+    if let Some(&bad) = region.faces.iter().find(|f| f.index() >= mesh.face_count()) {
+        return Err(FitError::FaceOutOfRange {
+            region: index,
+            face: bad.0,
+            face_count: mesh.face_count(),
+        });
+    }
+    // Faces edge-on or facing away from the axis cannot be seen by the patch.
+    let faces: Vec<FaceId> = region
+        .faces
+        .iter()
+        .copied()
+        .filter(|&f| mesh.face_area(f) > 0.0)
+        .collect();
+    if faces.is_empty() {
+        return Ok(Vec::new());
+    }
+
+    // 1. Frame.
+    let basis = basis_from_axis(axis);
+    let mut projected: Vec<DVec2> = Vec::with_capacity(faces.len() * 3);
+    for &f in &faces {
+        for p in mesh.face_positions(f) {
+            projected.push(DVec2::new(
+                f64::from(p.dot(basis.x)),
+                f64::from(p.dot(basis.y)),
+            ));
+        }
+    }
+    let rect = min_area_rect(basis, &mut projected);
+
+    // 2. Lattice.
+    let (lattice, count) = Lattice::over_rect(&rect, job.spacing, job.options.overlap);
+    if count > job.options.max_region_nodes as u64 {
+        return Err(FitError::TooManyNodes {
+            region: index,
+            nodes: count,
+            spacing: job.spacing,
+            limit: job.options.max_region_nodes,
+        });
+    }
+
+    // 3. Needed nodes, neighbourhood. 4. Rays.
+    let needed = needed_nodes(mesh, &faces, &lattice, job.options.overlap);
+    let mut hits = vec![Hit::NONE; lattice.cols * lattice.rows];
+    cast_nodes(mesh, &faces, &lattice, &needed, None, &mut hits);
+    let around = neighbourhood(
+        mesh,
+        job.adjacency,
+        &faces,
+        &lattice,
+        &needed,
+        job.options.neighbourhood_rings,
+    );
+    let locked: Vec<bool> = hits.iter().map(Hit::is_hit).collect();
+    cast_nodes(mesh, &around, &lattice, &needed, Some(&locked), &mut hits);
+
+    // 5. Quantizer.
+    let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
+    for h in hits.iter().filter(|h| h.is_hit()) {
+        h_min = h_min.min(h.height);
+        h_max = h_max.max(h.height);
+    }
+    if h_min > h_max {
+        return Ok(Vec::new());
+    }
+    let quantizer = choose_quantizer(
+        h_max - h_min,
+        job.spacing,
+        job.options.max_step_error * job.spacing,
+    )?;
+    let codes: Vec<u16> = hits
+        .iter()
+        .map(|h| {
+            if h.is_hit() {
+                quantize_height(&quantizer, h_min, h.height)
+            } else {
+                EMPTY
+            }
+        })
+        .collect();
+
+    // 6. Windows.
+    let Some(filled) = filled_bounds(
+        &codes,
+        &lattice,
+        (0, lattice.cols - 1),
+        (0, lattice.rows - 1),
+    ) else {
+        return Ok(Vec::new());
+    };
+    let max_cells = job.options.grid as usize - 1;
+    let mut patches = Vec::new();
+    for (ia, ib) in split_span(filled.0, max_cells) {
+        for (ja, jb) in split_span(filled.1, max_cells) {
+            let Some(window) = filled_bounds(&codes, &lattice, (ia, ib), (ja, jb)) else {
+                continue;
+            };
+            if let Some(patch) =
+                make_patch(job, &lattice, &hits, &codes, window, (&quantizer, h_min))?
+            {
+                patches.push(patch);
+            }
+        }
+    }
+    Ok(patches)
+}
+
+/// The inclusive node bounds `((i0, i1), (j0, j1))` of the filled nodes inside the window
+/// `is × js`, or `None` when it holds none.
+fn filled_bounds(
+    codes: &[u16],
+    lattice: &Lattice,
+    is: (usize, usize),
+    js: (usize, usize),
+) -> Option<((usize, usize), (usize, usize))> {
+    let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+    for j in js.0..=js.1 {
+        for i in is.0..=is.1 {
+            if codes[lattice.index(i, j)] != EMPTY {
+                i0 = i0.min(i);
+                i1 = i1.max(i);
+                j0 = j0.min(j);
+                j1 = j1.max(j);
+            }
+        }
+    }
+    (i0 <= i1).then_some(((i0, i1), (j0, j1)))
+}
+
+/// Splits the inclusive node span `[a, b]` into as few windows of at most `max_cells` cells as
+/// possible, of nearly equal size, each sharing its last node with the next window's first.
+fn split_span((a, b): (usize, usize), max_cells: usize) -> Vec<(usize, usize)> {
+    let cells = b - a;
+    let windows = cells.div_ceil(max_cells).max(1);
+    (0..windows)
+        .map(|k| (a + k * cells / windows, a + (k + 1) * cells / windows))
+        .collect()
+}
+
+/// The patch over the node window `((i0, i1), (j0, j1))`, or `None` when it has no drawable
+/// cell (a single row or column, or no cell with four filled corners).
+fn make_patch(
+    job: &RegionJob<'_>,
+    lattice: &Lattice,
+    hits: &[Hit],
+    codes: &[u16],
+    ((i0, i1), (j0, j1)): ((usize, usize), (usize, usize)),
+    (quantizer, h_min): (&spatch_format::Quantizer, f32),
+) -> Result<Option<Patch>, FitError> {
+    if i1 == i0 || j1 == j0 {
+        return Ok(None);
+    }
+    let (cols, rows) = (i1 - i0 + 1, j1 - j0 + 1);
+    let at = |i: usize, j: usize| lattice.index(i0 + i, j0 + j);
+    let drawable = (0..rows - 1).any(|j| {
+        (0..cols - 1).any(|i| {
+            [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
+                .iter()
+                .all(|&k| codes[k] != EMPTY)
+        })
+    });
+    if !drawable {
+        return Ok(None);
+    }
+    let mut base = u16::MAX;
+    for j in 0..rows {
+        for i in 0..cols {
+            let c = codes[at(i, j)];
+            if c != EMPTY {
+                base = base.min(c);
+            }
+        }
+    }
+    let mut displacements = Vec::with_capacity(cols * rows);
+    let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
+    for j in 0..rows {
+        for i in 0..cols {
+            let k = at(i, j);
+            let c = codes[k];
+            displacements.push(if c == EMPTY { EMPTY } else { c - base });
+            if let Some(colours) = colours.as_mut() {
+                colours.push(if c == EMPTY {
+                    [0; 4]
+                } else {
+                    sample_colour(job.mesh, hits[k].face, hits[k].bary)
+                });
+            }
+        }
+    }
+    let step = quantizer.step();
+    let origin = lattice.position(i0, j0, f64::from(h_min) + f64::from(base) * f64::from(step));
+    let b = &lattice.basis;
+    let frame = Frame::new(
+        origin,
+        b.x * lattice.spacing[0],
+        b.y * lattice.spacing[1],
+        b.z * step,
+    )?;
+    let grid = GridSize::new(cols as u32, rows as u32)?;
+    Ok(Some(Patch::new(frame, grid, displacements, colours)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_split_evenly_and_share_nodes() {
+        assert_eq!(split_span((0, 16), 16), vec![(0, 16)]);
+        assert_eq!(split_span((3, 3), 16), vec![(3, 3)]);
+        assert_eq!(split_span((0, 20), 16), vec![(0, 10), (10, 20)]);
+        let w = split_span((5, 45), 16);
+        assert_eq!(w.len(), 3);
+        assert!(w.windows(2).all(|p| p[0].1 == p[1].0));
+        assert!(w.iter().all(|&(a, b)| b - a <= 16));
+    }
+}
