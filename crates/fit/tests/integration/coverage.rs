@@ -1,0 +1,135 @@
+//! Planes come out exact, split regions share their seams, and a curved cap stays within the
+//! quantization bound.
+
+use glam::Vec3;
+use spatch_fit::FitOptions;
+use spatch_format::EMPTY;
+use spatch_mesh::Bvh;
+
+use crate::support::{faces_where, fit_one, mesh_of, nodes, square};
+
+#[test]
+fn a_square_is_covered_exactly_by_one_patch() {
+    let mesh = square(8, 0.5);
+    let faces = faces_where(&mesh, |_| true);
+    let out = fit_one(&mesh, &faces, Vec3::Z, 0.1, |_| {});
+    assert_eq!(out.patches.len(), 1);
+    let p = &out.patches[0];
+    assert_eq!((p.grid().cols(), p.grid().rows()), (11, 11));
+    assert!(p.displacements().iter().all(|&d| d != EMPTY));
+    for q in nodes(&out) {
+        assert!((q.z - 0.5).abs() < 1e-5, "{q}");
+        assert!(q.x > -1e-5 && q.x < 1.0 + 1e-5 && q.y > -1e-5 && q.y < 1.0 + 1e-5);
+    }
+    assert_eq!(out.stats.filled_nodes, 121);
+}
+
+#[test]
+fn a_wide_region_splits_on_one_lattice() {
+    let mesh = square(10, 0.0);
+    let faces = faces_where(&mesh, |_| true);
+    let out = fit_one(&mesh, &faces, Vec3::Z, 1.0 / 40.0, |_| {});
+    // 40 cells per side in windows of at most 16: 3 × 3 patches of 13-14 cells.
+    assert_eq!(out.patches.len(), 9);
+    assert_eq!(out.stats.split_regions, 1);
+    assert!(out
+        .patches
+        .iter()
+        .all(|p| p.grid().cols() <= 17 && p.grid().rows() <= 17));
+    // Windows share their boundary nodes: 43 = 14 + 15 + 14 nodes per side.
+    assert_eq!(out.stats.filled_nodes, 43 * 43);
+    // Every lattice point appears, and shared ones coincide exactly enough.
+    let mut pts: Vec<(i64, i64)> = nodes(&out)
+        .iter()
+        .map(|q| ((q.x * 40.0).round() as i64, (q.y * 40.0).round() as i64))
+        .collect();
+    pts.sort_unstable();
+    pts.dedup();
+    assert_eq!(pts.len(), 41 * 41);
+}
+
+#[test]
+fn a_spherical_cap_stays_within_half_a_step_of_the_surface() {
+    let mesh = mesh_of(&spatch_fixtures::shapes::icosphere(1.0, 4));
+    let cos = 35f32.to_radians().cos();
+    let faces = faces_where(&mesh, |n| n.z > cos);
+    let out = fit_one(&mesh, &faces, Vec3::Z, 0.05, |o| o.overlap = 1);
+    assert!(!out.patches.is_empty());
+    let bvh = Bvh::new(&mesh);
+    for p in &out.patches {
+        let half_step = p.frame().lengths()[2] * 0.5;
+        for (_, _, q) in p.filled_nodes() {
+            let d = bvh.closest_point(q, f32::INFINITY).unwrap().distance;
+            assert!(d <= half_step + 1e-5, "node {q} is {d} from the surface");
+        }
+    }
+    // The cap's every vertex lies under a drawable cell of some patch (no hole).
+    let cap_vertices: Vec<Vec3> = faces.iter().flat_map(|&f| mesh.face_positions(f)).collect();
+    for v in cap_vertices {
+        let covered = out.patches.iter().any(|p| {
+            let [ax, ay, _] = p.frame().axes();
+            let rel = v - p.frame().origin();
+            let (fi, fj) = (
+                rel.dot(ax) / ax.length_squared(),
+                rel.dot(ay) / ay.length_squared(),
+            );
+            let (i, j) = (fi.floor(), fj.floor());
+            let (cols, rows) = (p.grid().cols() as f32, p.grid().rows() as f32);
+            // A vertex exactly on the last node line belongs to the cell before it.
+            let i = if i == cols - 1.0 { i - 1.0 } else { i };
+            let j = if j == rows - 1.0 { j - 1.0 } else { j };
+            i >= 0.0
+                && j >= 0.0
+                && i < cols - 1.0
+                && j < rows - 1.0
+                && p.cell_is_drawable(i as usize, j as usize)
+        });
+        assert!(covered, "cap vertex {v} is not under any drawable cell");
+    }
+}
+
+#[test]
+fn a_steep_relief_gets_sixteen_bits_only_when_the_budget_needs_it() {
+    // A ramp rising 4 units over 1: range/254 ≈ 0.016, half of it 0.008.
+    let mut mesh = square(4, 0.0);
+    for p in &mut mesh.positions {
+        p.z = 4.0 * p.x;
+    }
+    let faces = faces_where(&mesh, |_| true);
+    let normal = mesh.face_normal(faces[0]);
+    let out = fit_one(&mesh, &faces, Vec3::Z, 0.1, |_| {});
+    assert_eq!(out.stats.wide_patches, 0, "8 bits meet a budget of 0.01");
+    let out = fit_one(&mesh, &faces, Vec3::Z, 0.1, |o| o.max_step_error = 0.01);
+    assert_eq!(out.stats.wide_patches, 1, "a budget of 0.001 needs 16 bits");
+    assert!(out.patches[0].frame().lengths()[2] <= 0.002 + 1e-6);
+    // Seen along its own normal the ramp is flat again.
+    let out = fit_one(&mesh, &faces, normal, 0.1, |o| o.max_step_error = 0.01);
+    assert_eq!(out.stats.wide_patches, 0);
+}
+
+#[test]
+fn options_are_checked() {
+    let mesh = square(2, 0.0);
+    let adjacency = spatch_mesh::build_face_adjacency(&mesh);
+    let faces = faces_where(&mesh, |_| true);
+    let region = spatch_fit::FitRegion {
+        faces: &faces,
+        axis: Vec3::Z,
+    };
+    let mut options = FitOptions::default();
+    options.grid = 1;
+    assert!(spatch_fit::fit_regions(&mesh, &adjacency, &[region], &options).is_err());
+    let bad_axis = spatch_fit::FitRegion {
+        faces: &faces,
+        axis: Vec3::NAN,
+    };
+    assert!(
+        spatch_fit::fit_regions(&mesh, &adjacency, &[bad_axis], &FitOptions::default()).is_err()
+    );
+    let mut tiny = FitOptions::default();
+    tiny.spacing = Some(1e-6);
+    assert!(matches!(
+        spatch_fit::fit_regions(&mesh, &adjacency, &[region], &tiny),
+        Err(spatch_fit::FitError::TooManyNodes { .. })
+    ));
+}

@@ -1,0 +1,11 @@
+//! Integration tests of the patch fitter, on generated shapes.
+//!
+//! - `support`: mesh builders shared by the test modules (sheets, folds, slabs).
+//! - `coverage`: exact planes, split regions sharing their seams, error bounds on a cap.
+//! - `layers`: a node never takes a layer of surface behind or in front of its region.
+//! - `colour`: colour only when the source has it; determinism across thread counts.
+
+mod colour;
+mod coverage;
+mod layers;
+mod support;
