@@ -2,7 +2,7 @@
 //!
 //! Every triangle primitive (`TRIANGLES`, and `TRIANGLE_STRIP` / `TRIANGLE_FAN` converted to
 //! triangles) of every mesh instance reachable from the default scene (or from every scene,
-//! or every root node when there are no scenes) is merged into one [`TriangleMesh`]. Node
+//! or every root node when there are no scenes) is merged into one [`TriangleMesh`](crate::TriangleMesh). Node
 //! transforms are composed in f64 and applied to positions (normals by the inverse transpose;
 //! mirroring transforms flip the winding back to counter-clockwise). Point and line primitives
 //! are skipped with a warning.

@@ -17,7 +17,7 @@
 //! one image named like the OBJ (`<stem>.png`, `<stem>.jpg`, ...) or `*_texture.*` takes that
 //! image as its texture (Keenan Crane's `spot` ships that way).
 //!
-//! Per-corner data: UVs stay per face corner ([`TriangleMesh::face_uvs`]); normals, given per
+//! Per-corner data: UVs stay per face corner ([`TriangleMesh::face_uvs`](crate::TriangleMesh::face_uvs)); normals, given per
 //! corner in OBJ, become per-vertex normals by averaging a vertex's corner normals (only when
 //! every corner has one).
 //!
