@@ -60,3 +60,25 @@ fn cells_export_as_a_triangle_mesh() {
     assert!(lines.contains(&"property list uchar int vertex_indices".to_owned()));
     assert_eq!(body, v * 24 + f * 13);
 }
+
+#[test]
+fn an_independent_ply_parser_reads_both_exports() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    t.run(&["export", &name, "-o", "nodes.ply"]).success();
+    t.run(&["export", &name, "--cells", "-o", "cells.ply"])
+        .success();
+    // spatch-mesh reads PLY through ply-rs-bw, a general PLY parser.
+    let cloud = spatch_mesh::load_point_cloud(t.path("nodes.ply"))
+        .unwrap()
+        .cloud;
+    assert_eq!(cloud.len(), 200 * 81);
+    assert!(cloud.normals.is_some());
+    let mesh = spatch_mesh::load_mesh(t.path("cells.ply")).unwrap().mesh;
+    assert_eq!(mesh.triangles.len(), 200 * 64 * 2);
+    // Outward winding: every triangle's normal points away from the centre.
+    for face in mesh.faces() {
+        let centre = mesh.world_position(mesh.face_vertex_ids(face)[0]);
+        assert!(mesh.face_normal(face).as_dvec3().dot(centre) > 0.0);
+    }
+}
