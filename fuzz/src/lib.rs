@@ -1,0 +1,17 @@
+//! Shared pieces of the fuzz targets.
+
+use std::path::{Path, PathBuf};
+
+/// A file path in a folder private to this fuzzing process (in memory under
+/// /dev/shm when it exists): the mesh loaders read paths, so each input is
+/// written there first.
+pub fn scratch_file(name: &str) -> PathBuf {
+    let base = if Path::new("/dev/shm").is_dir() {
+        PathBuf::from("/dev/shm")
+    } else {
+        std::env::temp_dir()
+    };
+    let dir = base.join(format!("spatch-fuzz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir.join(name)
+}
