@@ -1,0 +1,1 @@
+//! Generated clouds: planes, spheres.

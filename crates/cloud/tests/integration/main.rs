@@ -1,0 +1,3 @@
+//! Integration tests of spatch-cloud (one binary).
+
+mod generated;
