@@ -14,7 +14,7 @@
 //! ```
 //! use spatch_earth::{build_globe, heights_from_colour, ColourMap, GlobeOptions, HueLevels};
 //!
-//! let map = ColourMap::from_rgba(4, 2, vec![20, 40, 160, 255].repeat(8))?; // all ocean
+//! let map = ColourMap::from_rgba(4, 2, [20, 40, 160, 255].repeat(8))?; // all ocean
 //! let heights = heights_from_colour(&map, &HueLevels::default());
 //! let globe = build_globe(&map, &heights, &GlobeOptions::default())?;
 //! assert!(globe.mesh.triangles.len() > 39_000);

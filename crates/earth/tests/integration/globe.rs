@@ -2,7 +2,7 @@ use glam::DVec3;
 use spatch_earth::{build_globe, equirectangular_uv, ColourMap, GlobeOptions, HeightMap};
 
 fn flat_map() -> ColourMap {
-    ColourMap::from_rgba(8, 4, vec![30, 60, 150, 255].repeat(32)).unwrap()
+    ColourMap::from_rgba(8, 4, [30, 60, 150, 255].repeat(32)).unwrap()
 }
 
 #[test]
