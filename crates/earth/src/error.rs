@@ -1,0 +1,36 @@
+//! The error type of the Earth builder.
+
+use std::path::PathBuf;
+
+/// What can go wrong while building the Earth.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum EarthError {
+    /// An image could not be read or decoded.
+    #[error("{}: cannot read image: {source}", path.display())]
+    Image {
+        /// The file.
+        path: PathBuf,
+        /// What the decoder said.
+        source: image::ImageError,
+    },
+    /// An image has an unusable shape or pixel type.
+    #[error("{}: {problem}", path.display())]
+    UnusableImage {
+        /// The file (or `<built-in>`).
+        path: PathBuf,
+        /// What is wrong.
+        problem: String,
+    },
+    /// An option is out of range.
+    #[error("invalid --{name}: {reason}")]
+    InvalidOption {
+        /// Option name.
+        name: &'static str,
+        /// Valid range.
+        reason: &'static str,
+    },
+    /// The mesh crate refused the globe (a bug).
+    #[error("internal error building the globe mesh (this is a bug): {0}")]
+    Mesh(#[from] spatch_mesh::MeshError),
+}
