@@ -35,4 +35,9 @@ pub(crate) enum Command {
     /// Concatenate scenes into one file.
     #[command(after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch")]
     Merge(commands::merge::MergeArgs),
+    /// Render a .spatch file to a PNG on the CPU (patches or triangles).
+    #[command(
+        after_help = "Example:\n  spatch render sphere.spatch -o sphere.png\n  spatch render sphere.spatch -o near.png --eye 0,0,400 --target 0,0,0 --fov 30 --width 1000 --height 1000 --depth depth.png --stats stats.json\n  spatch render sphere.spatch --bench 50 --threads 2"
+    )]
+    Render(commands::render::RenderArgs),
 }

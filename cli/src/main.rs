@@ -19,6 +19,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Stats(args) => commands::stats::run(&args),
         Command::Export(args) => commands::export::run(&args),
         Command::Merge(args) => commands::merge::run(&args),
+        Command::Render(args) => commands::render::run(&args),
     }
 }
 

@@ -3,6 +3,7 @@
 
 pub(crate) mod export;
 pub(crate) mod merge;
+pub(crate) mod render;
 pub(crate) mod sphere;
 pub(crate) mod stats;
 
