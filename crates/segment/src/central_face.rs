@@ -27,17 +27,22 @@ use crate::face_geometry::FaceGeometry;
 use crate::priority::{priority_key, priority_value};
 use crate::RegionId;
 
-/// The central face of each of `region_count` regions (see the module docs).
+/// The central face of each of `region_count` regions (see the module docs). Faces of region
+/// `ignore`, if given, are not searched (its entry in the result is then its lowest face).
 pub(crate) fn find_central_faces(
     geometry: &FaceGeometry,
     adjacency: &FaceAdjacency,
     face_region: &[RegionId],
     region_count: usize,
+    ignore: Option<RegionId>,
 ) -> Vec<FaceId> {
     let face_count = face_region.len();
     let mut distance = vec![f32::INFINITY; face_count];
     let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
     for (f, &region) in face_region.iter().enumerate() {
+        if Some(region) == ignore {
+            continue;
+        }
         let face = FaceId(f as u32);
         let on_border = adjacency.face_edges(face).iter().any(|&e| {
             e.is_valid() && {

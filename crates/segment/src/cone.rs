@@ -35,6 +35,10 @@ use glam::Vec3;
 /// covers the rounding of the axis rotation.
 pub const ANGLE_PAD: f32 = 1e-5;
 
+/// Dot products within this of the smallest are re-measured exactly in [`fit_cone`] (a few
+/// units of f32 rounding for unit vectors).
+const DOT_MARGIN: f32 = 1e-6;
+
 /// Iterations of the Bădoiu–Clarkson refinement in [`fit_cone`].
 pub const FIT_ITERATIONS: usize = 12;
 
@@ -147,12 +151,21 @@ pub fn fit_cone(normals: &[Vec3], weights: &[f32], hint: Option<NormalCone>) -> 
         .try_normalize()
         .or_else(|| plain.try_normalize())
         .unwrap_or(first);
+    // The farthest normal by the smallest dot product (cheap), then the exact angle over the
+    // few normals whose dot product is within rounding of it (a dot product near 1 resolves
+    // angles only to about 3e-4 rad, so it cannot give the half-angle itself).
     let farthest = |axis: Vec3| {
+        let lowest = normals
+            .iter()
+            .map(|&n| axis.dot(n))
+            .fold(f32::INFINITY, f32::min);
         let mut best = (0.0f32, first);
         for &n in normals {
-            let a = angle_between(axis, n);
-            if a > best.0 {
-                best = (a, n);
+            if axis.dot(n) <= lowest + DOT_MARGIN {
+                let a = angle_between(axis, n);
+                if a > best.0 {
+                    best = (a, n);
+                }
             }
         }
         best

@@ -192,7 +192,7 @@ pub(crate) fn build_segmentation(
         cursor[r.index()] += 1;
     }
 
-    let seeds = find_central_faces(geometry, adjacency, &face_region, region_count);
+    let seeds = find_central_faces(geometry, adjacency, &face_region, region_count, None);
     let mut regions = Vec::with_capacity(region_count);
     let mut normals = Vec::new();
     let mut weights = Vec::new();

@@ -181,6 +181,12 @@ fn leftover_seeds(
         return Vec::new();
     }
     let face_region: Vec<RegionId> = scratch.iter().map(|&l| RegionId(l)).collect();
-    let centres = find_central_faces(geometry, adjacency, &face_region, cones.len());
+    let centres = find_central_faces(
+        geometry,
+        adjacency,
+        &face_region,
+        cones.len(),
+        Some(RegionId(done)),
+    );
     centres[1..].to_vec()
 }
