@@ -17,6 +17,14 @@ pub(crate) struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
+    /// Convert the built-in model (a textured cow) into a folder: source, scene and report.
+    #[command(after_help = "Example:\n  spatch demo\n  spatch demo -o my-demo --grid 9")]
+    Demo(commands::demo::DemoArgs),
+    /// Convert a mesh (.obj, .gltf, .glb, .ply, .off) into spatial patches.
+    #[command(
+        after_help = "Example:\n  spatch convert bunny.ply -o bunny.spatch\n  spatch convert duck.glb -o duck.spatch --report report.json --grid 9 --threads 2"
+    )]
+    Convert(commands::convert::ConvertArgs),
     /// Build the perfect sphere of the original work as patches.
     #[command(
         after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"

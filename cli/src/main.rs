@@ -15,6 +15,8 @@ use crate::failure::Failure;
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
+        Command::Demo(args) => commands::demo::run(&args),
+        Command::Convert(args) => commands::convert::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
         Command::Stats(args) => commands::stats::run(&args),
         Command::Export(args) => commands::export::run(&args),
