@@ -1,7 +1,5 @@
 //! The error type of the renderer.
 
-use std::path::PathBuf;
-
 /// What is wrong with a camera.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
@@ -90,14 +88,6 @@ pub enum RenderError {
         what: &'static str,
         /// The cause.
         source: image::ImageError,
-    },
-    /// Writing an output file failed.
-    #[error("could not write {path}: {source}")]
-    Write {
-        /// The output path.
-        path: PathBuf,
-        /// The cause.
-        source: spatch_format::FormatError,
     },
     /// An internal invariant failed: this is a bug in spatch-render.
     #[error("internal error in the renderer (this is a bug): {0}")]
