@@ -21,6 +21,8 @@
 
 use glam::Vec3;
 
+use crate::fixed::attr_to_fixed;
+
 /// Differences in `-RADIUS..=RADIUS` are cached; others are computed.
 const RADIUS: i32 = 32;
 const SIDE: usize = (2 * RADIUS + 1) as usize;
@@ -28,6 +30,8 @@ const SIDE: usize = (2 * RADIUS + 1) as usize;
 #[derive(Debug, Clone, Copy, Default)]
 struct Entry {
     normal: Vec3,
+    /// `normal` in attribute fixed point ([`attr_to_fixed`]).
+    fixed: [i32; 3],
     /// Table generation that wrote the entry.
     generation: u32,
     /// Patch that last used the entry.
@@ -81,11 +85,30 @@ impl NormalBuffer {
     /// The unit patch-space normal at a node of mip `level`.
     #[inline]
     pub(crate) fn normal(&mut self, level: usize, ratios: (f32, f32), gi: i32, gj: i32) -> Vec3 {
+        self.lookup(level, ratios, gi, gj).0
+    }
+
+    /// The unit normal of [`Self::normal`] in attribute fixed point (the
+    /// conversion is cached with the normal).
+    #[inline]
+    pub(crate) fn normal_fixed(
+        &mut self,
+        level: usize,
+        ratios: (f32, f32),
+        gi: i32,
+        gj: i32,
+    ) -> [i32; 3] {
+        self.lookup(level, ratios, gi, gj).1
+    }
+
+    #[inline]
+    fn lookup(&mut self, level: usize, ratios: (f32, f32), gi: i32, gj: i32) -> (Vec3, [i32; 3]) {
         self.counts.needed += 1;
         if gi.abs() > RADIUS || gj.abs() > RADIUS {
             self.counts.computed_per_patch_buffer += 1;
             self.counts.computed_ordered_buffer += 1;
-            return reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
+            let n = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
+            return (n, n.to_array().map(attr_to_fixed));
         }
         while self.tables.len() <= level {
             self.tables.push(Table {
@@ -110,8 +133,9 @@ impl NormalBuffer {
             self.counts.computed_ordered_buffer += 1;
             entry.generation = table.generation;
             entry.normal = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
+            entry.fixed = entry.normal.to_array().map(attr_to_fixed);
         }
-        entry.normal
+        (entry.normal, entry.fixed)
     }
 }
 

@@ -440,6 +440,10 @@ fn fill_attributes(
     frame: &ShadeFrame,
     setup: &FrameSetup<'_>,
 ) {
+    if setup.options.shading == Shading::Phong {
+        fill_phong_attributes(work, p, m, range, first, setup);
+        return;
+    }
     let level = &p.levels[m];
     let mut k = first;
     for j in range.j0..=range.j1 {
@@ -451,6 +455,63 @@ fn fill_attributes(
                 }
             }
             k += 1;
+        }
+    }
+}
+
+/// The Phong attributes (fixed-point normal, albedo) of the nodes of a
+/// piece, bit-identical to [`node_attributes`]. Why: interior nodes with
+/// four filled neighbours take central differences without the border
+/// logic, and the normal buffer hands out normals already in fixed point;
+/// normals went from 241 to ~40 instructions per node (callgrind,
+/// `profile_sphere 500 1`).
+fn fill_phong_attributes(
+    work: &mut ChunkWork,
+    p: &PreparedPatch,
+    m: usize,
+    range: NodeRange,
+    first: usize,
+    setup: &FrameSetup<'_>,
+) {
+    let level = &p.levels[m];
+    let ratios = p.ratios_at(m);
+    let (cols, rows) = (level.cols, level.rows);
+    let d = &level.displacements;
+    let base = setup.base_colour.to_array().map(attr_to_fixed);
+    let normals = &mut work.normals;
+    let mut k = first;
+    for j in range.j0..=range.j1 {
+        let row = j * cols;
+        let inner_row = j > 0 && j + 1 < rows;
+        for i in range.i0..=range.i1 {
+            let node = &mut work.nodes[k];
+            k += 1;
+            if node[0] == crate::fixed::EMPTY_NODE {
+                continue;
+            }
+            let c = row + i;
+            let (gi, gj) = if inner_row
+                && i > 0
+                && i + 1 < cols
+                && d[c - 1] != spatch_format::EMPTY
+                && d[c + 1] != spatch_format::EMPTY
+                && d[c - cols] != spatch_format::EMPTY
+                && d[c + cols] != spatch_format::EMPTY
+            {
+                (
+                    d[c + 1] as i32 - d[c - 1] as i32,
+                    d[c + cols] as i32 - d[c - cols] as i32,
+                )
+            } else {
+                node_differences(d, cols, rows, i, j, spatch_format::EMPTY)
+            };
+            let n = normals.normal_fixed(m, ratios, gi, gj);
+            let albedo = match &level.colours {
+                Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_fixed(v as f32)),
+                None => base,
+            };
+            node[3..6].copy_from_slice(&n);
+            node[6..9].copy_from_slice(&albedo);
         }
     }
 }
