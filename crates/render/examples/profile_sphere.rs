@@ -31,7 +31,11 @@ fn main() {
     // FNV-1a over colour and depth bits: equal hashes = identical images.
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     let bytes = out.image.pixels().iter().flatten().copied();
-    let depth = out.image.depth().iter().flat_map(|d| d.to_bits().to_le_bytes());
+    let depth = out
+        .image
+        .depth()
+        .iter()
+        .flat_map(|d| d.to_bits().to_le_bytes());
     for b in bytes.chain(depth) {
         h = (h ^ b as u64).wrapping_mul(0x100_0000_01b3);
     }

@@ -31,7 +31,7 @@
 
 use crate::fixed::EMPTY_NODE;
 use crate::framebuffer::{splat_sample, BandTarget};
-use crate::traverse::{cell_drawable, Node};
+use crate::traverse::{Node, CELL_DRAW, CELL_RIGHT, CELL_TOP};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
 /// rasterizer (cheaper per pixel at that size, and exact).
@@ -42,10 +42,13 @@ const EXT: u32 = 16;
 /// Reciprocal scale.
 const RECIP_BITS: u32 = 30;
 
-/// The sub-coordinate word of sub-node `(a, b)` of cell number `cell`.
+/// The sub-coordinate word of sub-node `(a, b)` of cell `(ci, cj)`:
+/// `ci << 24 | cj << 16 | a << 8 | b` (a grid has at most 256 cells per
+/// side and `a, b <= MAX_SUBDIVISION`). Why the cell's column and row rather
+/// than its number: the resolve pass then needs no division per pixel.
 #[inline(always)]
-pub(crate) fn sub_word(cell: usize, a: u32, b: u32) -> u32 {
-    (cell as u32) << 16 | a << 8 | b
+pub(crate) fn sub_word(ci: usize, cj: usize, a: u32, b: u32) -> u32 {
+    (ci as u32) << 24 | (cj as u32) << 16 | a << 8 | b
 }
 
 /// Places every used node of a `cols × rows` piece (the path for
@@ -72,7 +75,7 @@ pub(crate) fn draw_nodes(
                 continue;
             }
             let (ci, a) = if i + 1 < cols { (i, 0) } else { (i - 1, 1) };
-            let sub = sub_word(cj * (cols - 1) + ci, a, b);
+            let sub = sub_word(ci, cj, a, b);
             splat_sample(t, node[0] >> 16, py, node[2], sub, item);
         }
     }
@@ -86,11 +89,13 @@ struct Reciprocals {
     uv: i64,
 }
 
-/// Draws the drawable cells of a `cols × rows` piece cut into `nu × nv`.
+/// Draws the cells of a `cols × rows` piece cut into `nu × nv`, as their
+/// flags (see [`crate::traverse::measure_cells`]) say.
 #[allow(clippy::too_many_arguments)] // the piece's geometry and its two subdivisions
 pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     nodes: &[Node],
+    flags: &[u8],
     cols: usize,
     rows: usize,
     nu: u32,
@@ -103,12 +108,17 @@ pub(crate) fn draw_cells_bilinear(
         uv: (1i64 << RECIP_BITS) / (nu as i64 * nv as i64),
     };
     let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
+    // Why flags: drawability, back faces and the closing column/row are
+    // decided once per frame at plan time instead of per band (callgrind,
+    // `profile_sphere 500 1`).
+    let mut cells = flags.iter();
     for j in 0..rows - 1 {
         for i in 0..cols - 1 {
-            let k = j * cols + i;
-            if !cell_drawable(nodes, k, cols) {
+            let f = *cells.next().unwrap_or(&0);
+            if f & CELL_DRAW == 0 {
                 continue;
             }
+            let k = j * cols + i;
             let c = [
                 &nodes[k],
                 &nodes[k + 1],
@@ -119,10 +129,9 @@ pub(crate) fn draw_cells_bilinear(
             if ys.iter().all(|&y| y < y_lo) || ys.iter().all(|&y| y >= y_hi) {
                 continue;
             }
-            let right = (i + 2 >= cols || !cell_drawable(nodes, k + 1, cols)) as u32;
-            let top = (j + 2 >= rows || !cell_drawable(nodes, k + cols, cols)) as u32;
-            let cell = j * (cols - 1) + i;
-            draw_cell(t, c, r, nu + right, nv + top, sub_word(cell, 0, 0), item);
+            let right = (f & CELL_RIGHT != 0) as u32;
+            let top = (f & CELL_TOP != 0) as u32;
+            draw_cell(t, c, r, nu + right, nv + top, sub_word(i, j, 0, 0), item);
         }
     }
 }
@@ -223,7 +232,8 @@ mod tests {
             c2: &mut c2,
         };
         // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
-        draw_cells_bilinear(&mut t, &nodes, 2, 2, 24, 24, PATCH_SAMPLE);
+        let flags = [crate::traverse::CELL_DRAW | CELL_RIGHT | CELL_TOP];
+        draw_cells_bilinear(&mut t, &nodes, &flags, 2, 2, 24, 24, PATCH_SAMPLE);
         // Every pixel centre strictly inside the quad (two triangles) is drawn.
         let inside = |px: f32, py: f32| {
             let tri = |a: (f32, f32), b: (f32, f32), c: (f32, f32)| {

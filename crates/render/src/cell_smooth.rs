@@ -108,7 +108,6 @@ pub(crate) fn draw_cells_smooth(
             let right = (i + 2 >= cols || !cell_drawable(nodes, k + 1, cols)) as u32;
             let top = (j + 2 >= rows || !cell_drawable(nodes, k + cols, cols)) as u32;
             let g = gather(nodes, cols, rows, i, j);
-            let cell = j * (cols - 1) + i;
             for (b, wb) in wv[..(nv + top) as usize].iter().enumerate() {
                 // Collapse the rows: one cubic per column.
                 let mut q = [[0f32; 3]; 4];
@@ -125,7 +124,7 @@ pub(crate) fn draw_cells_smooth(
                         wa[0] * q[0][ch] + wa[1] * q[1][ch] + wa[2] * q[2][ch] + wa[3] * q[3][ch]
                     };
                     let (x, y) = (v(0) as i32, v(1) as i32);
-                    let sub = sub_word(cell, a as u32, b as u32);
+                    let sub = sub_word(i, j, a as u32, b as u32);
                     splat_sample(t, x >> 16, y >> 16, v(2) as i32, sub, item);
                 }
             }

@@ -7,7 +7,7 @@
 //!
 //! - A **patch sample** (a node or sub-node) is a visibility-buffer entry:
 //!   word 2 is the draw item's index with [`PATCH_SAMPLE`] set, word 0 the
-//!   cell and the sub-node's position in it (`cell << 16 | a << 8 | b`).
+//!   cell and the sub-node's position in it (`ci << 24 | cj << 16 | a << 8 | b`).
 //!   Placing a sample therefore interpolates only position and depth; the
 //!   attributes (normal, albedo or colour) are interpolated bilinearly from
 //!   the cell's corner nodes once per visible pixel, in the resolve pass.
@@ -240,8 +240,7 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
     let chunk = &r.chunks[c as usize];
     let item = &chunk.items[i as usize];
     let cols = item.cols as usize;
-    let cell = (sub >> 16) as usize;
-    let (ci, cj) = (cell % (cols - 1), cell / (cols - 1));
+    let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
     let k = item.first as usize + cj * cols + ci;
     let nodes = &chunk.nodes;
     let s = ((sub >> 8) & 0xff) as f32 / item.nu as f32;

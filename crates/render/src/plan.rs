@@ -68,6 +68,8 @@ pub(crate) struct Item {
     pub(crate) nu: u16,
     pub(crate) nv: u16,
     pub(crate) frame: u32,
+    /// Index of the piece's first cell flag in its chunk's `cell_flags`.
+    pub(crate) flags: u32,
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
@@ -92,6 +94,8 @@ pub(crate) struct ChunkWork {
     pub(crate) nodes: Vec<Node>,
     pub(crate) items: Vec<Item>,
     pub(crate) triangles: Vec<ScreenTriangle>,
+    /// One flag byte per cell of each item ([`crate::traverse::CELL_DRAW`], …).
+    pub(crate) cell_flags: Vec<u8>,
     pub(crate) counters: Counters,
     normals: NormalBuffer,
     stack: Vec<NodeRange>,
@@ -106,6 +110,7 @@ impl ChunkWork {
         self.nodes.clear();
         self.items.clear();
         self.triangles.clear();
+        self.cell_flags.clear();
         self.counters = Counters::default();
         self.normals.clear();
         self.normals.counts = Default::default();
@@ -299,9 +304,30 @@ fn plan_piece(
         Projection::Exact => project_nodes_exact(level, range, &proj, &mut work.nodes),
     }
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
-    let measure = measure_cells(&work.nodes[first..], cols, rows);
     // 4. Subdivision.
     let smooth = opts.cells == CellScheme::Smooth;
+    // Back faces of bilinear cells are skipped per cell (a Catmull-Rom cell
+    // is not bounded by its corners, so smooth cells keep them). Why: 12 %
+    // of the sphere's samples were on cells facing away (callgrind,
+    // `profile_sphere 500 1`).
+    let det = proj.map.determinant();
+    let back_sign = if opts.culling == Culling::Back && !smooth && det != 0.0 {
+        if det > 0.0 {
+            1
+        } else {
+            -1
+        }
+    } else {
+        0
+    };
+    let flags = work.cell_flags.len();
+    let measure = measure_cells(
+        &work.nodes[first..],
+        cols,
+        rows,
+        back_sign,
+        &mut work.cell_flags,
+    );
     let edges = measure.edges.map(|e| e as f32 / crate::fixed::XY_ONE);
     let mut split = choose_subdivision(edges, 1.0);
     if smooth && split != Some((1, 1)) {
@@ -313,10 +339,12 @@ fn plan_piece(
     let pad = if smooth { 2 } else { 0 };
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
+        work.cell_flags.truncate(flags);
         return;
     }
     let Some((nu, nv)) = split else {
         work.nodes.truncate(first);
+        work.cell_flags.truncate(flags);
         work.counters.oversized_pieces += 1;
         let start = Instant::now();
         emit_cell_triangles(work, p, m, range, map, t0, index, frame, setup);
@@ -342,6 +370,7 @@ fn plan_piece(
         nu: nu as u16,
         nv: nv as u16,
         frame: index,
+        flags: flags as u32,
         y0: y0 - pad,
         y1: y1 + pad,
     });

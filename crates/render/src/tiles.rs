@@ -154,7 +154,9 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
     } else if cells == CellScheme::Smooth {
         draw_cells_smooth(t, nodes, cols, rows, nu, nv, id);
     } else {
-        draw_cells_bilinear(t, nodes, cols, rows, nu, nv, id);
+        let f = item.flags as usize;
+        let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
+        draw_cells_bilinear(t, nodes, flags, cols, rows, nu, nv, id);
     }
 }
 

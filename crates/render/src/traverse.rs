@@ -151,18 +151,29 @@ pub(crate) fn project_nodes_trilinear(
     }
 }
 
+/// Cell flag: the cell is drawn (its four corners are used and, with
+/// back-face culling, it does not face away everywhere).
+pub(crate) const CELL_DRAW: u8 = 1;
+/// Cell flag: the cell also places its last column of sub-nodes (its right
+/// neighbour is not drawn).
+pub(crate) const CELL_RIGHT: u8 = 2;
+/// Cell flag: the cell also places its last row of sub-nodes.
+pub(crate) const CELL_TOP: u8 = 4;
+
 /// Projected size of a piece's cells and its screen box.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct CellMeasure {
-    /// Largest |x| and |y| of the cells' u edges and v edges (fixed point):
-    /// `[ux, uy, vx, vy]`.
+    /// Largest |x| and |y| of the drawn cells' u edges and v edges (fixed
+    /// point): `[ux, uy, vx, vy]`.
     pub(crate) edges: [i64; 4],
     pub(crate) drawable_cells: u64,
-    /// Cells that draw their right column / top row / both (see
+    /// Drawn cells that draw their right column / top row / both (see
     /// [`crate::cell_bilinear`]).
     pub(crate) right_edges: u64,
     pub(crate) top_edges: u64,
     pub(crate) both_edges: u64,
+    /// Cells left out because they face away from the eye everywhere.
+    pub(crate) backfacing_cells: u64,
     pub(crate) used_nodes: u64,
     /// Pixel box of the used nodes: x0, y0, x1, y1 (inclusive).
     pub(crate) bbox: [i32; 4],
@@ -187,14 +198,30 @@ pub(crate) fn cell_drawable(nodes: &[Node], k: usize, cols: usize) -> bool {
         && nodes[k + cols + 1][0] != EMPTY_NODE
 }
 
-/// Measures the projected cells of a `cols × rows` node array.
-pub(crate) fn measure_cells(nodes: &[Node], cols: usize, rows: usize) -> CellMeasure {
+/// Measures the projected cells of a `cols × rows` node array and appends
+/// one flag byte per cell (row-major, [`CELL_DRAW`], [`CELL_RIGHT`],
+/// [`CELL_TOP`]) to `flags`.
+///
+/// With `back_sign` ±1 (back-face culling on: the sign of the local map's
+/// determinant), a cell is left out when the screen cross product of its
+/// edges has that sign at all four corners: the Jacobian determinant of a
+/// bilinear cell is bilinear in `(s, t)`, so the whole drawn cell then faces
+/// away from the eye (a front-facing cell of the closed surface covers the
+/// same pixels). `back_sign = 0` keeps every cell with four used corners.
+pub(crate) fn measure_cells(
+    nodes: &[Node],
+    cols: usize,
+    rows: usize,
+    back_sign: i64,
+    flags: &mut Vec<u8>,
+) -> CellMeasure {
     let mut m = CellMeasure {
         edges: [0; 4],
         drawable_cells: 0,
         right_edges: 0,
         top_edges: 0,
         both_edges: 0,
+        backfacing_cells: 0,
         used_nodes: 0,
         bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
     };
@@ -211,8 +238,13 @@ pub(crate) fn measure_cells(nodes: &[Node], cols: usize, rows: usize) -> CellMea
     if m.used_nodes > 0 {
         m.bbox = [x0 >> 16, y0 >> 16, x1 >> 16, y1 >> 16];
     }
-    for j in 0..rows - 1 {
-        for i in 0..cols - 1 {
+    let (ccols, crows) = (cols - 1, rows - 1);
+    let base = flags.len();
+    flags.resize(base + ccols * crows, 0);
+    let cell_flags = &mut flags[base..];
+    // Pass 1: which cells are drawn, and the largest edges of those.
+    for j in 0..crows {
+        for i in 0..ccols {
             let k = j * cols + i;
             if !cell_drawable(nodes, k, cols) {
                 continue;
@@ -223,16 +255,34 @@ pub(crate) fn measure_cells(nodes: &[Node], cols: usize, rows: usize) -> CellMea
                 &nodes[k + cols],
                 &nodes[k + cols + 1],
             );
-            let edge = |p: &Node, q: &Node, axis: usize| (q[axis] as i64 - p[axis] as i64).abs();
-            for axis in 0..2 {
-                let u = edge(a, b, axis).max(edge(c, d, axis));
-                let v = edge(a, c, axis).max(edge(b, d, axis));
-                m.edges[axis] = m.edges[axis].max(u);
-                m.edges[2 + axis] = m.edges[2 + axis].max(v);
+            let diff = |p: &Node, q: &Node| (q[0] as i64 - p[0] as i64, q[1] as i64 - p[1] as i64);
+            let (u0, u1, v0, v1) = (diff(a, b), diff(c, d), diff(a, c), diff(b, d));
+            if back_sign != 0 {
+                let cross = |u: (i64, i64), v: (i64, i64)| (u.0 * v.1 - u.1 * v.0) * back_sign;
+                if cross(u0, v0) > 0 && cross(u0, v1) > 0 && cross(u1, v0) > 0 && cross(u1, v1) > 0
+                {
+                    m.backfacing_cells += 1;
+                    continue;
+                }
             }
+            cell_flags[j * ccols + i] = CELL_DRAW;
+            m.edges[0] = m.edges[0].max(u0.0.abs()).max(u1.0.abs());
+            m.edges[1] = m.edges[1].max(u0.1.abs()).max(u1.1.abs());
+            m.edges[2] = m.edges[2].max(v0.0.abs()).max(v1.0.abs());
+            m.edges[3] = m.edges[3].max(v0.1.abs()).max(v1.1.abs());
             m.drawable_cells += 1;
-            let right = i + 2 >= cols || !cell_drawable(nodes, k + 1, cols);
-            let top = j + 2 >= rows || !cell_drawable(nodes, k + cols, cols);
+        }
+    }
+    // Pass 2: which drawn cells close their right column / top row.
+    for j in 0..crows {
+        for i in 0..ccols {
+            let c = j * ccols + i;
+            if cell_flags[c] & CELL_DRAW == 0 {
+                continue;
+            }
+            let right = i + 1 == ccols || cell_flags[c + 1] & CELL_DRAW == 0;
+            let top = j + 1 == crows || cell_flags[c + ccols] & CELL_DRAW == 0;
+            cell_flags[c] |= (right as u8) * CELL_RIGHT | (top as u8) * CELL_TOP;
             m.right_edges += right as u64;
             m.top_edges += top as u64;
             m.both_edges += (right && top) as u64;
@@ -274,7 +324,9 @@ mod tests {
             );
             assert!((x[2] - y[2]).abs() <= 64);
         }
-        let m = measure_cells(&a, 5, 5);
+        let mut flags = Vec::new();
+        let m = measure_cells(&a, 5, 5, 0, &mut flags);
+        assert_eq!(flags.len(), 16);
         assert_eq!(m.drawable_cells, 16);
         assert_eq!(m.refined_nodes(1, 1), 25);
         assert_eq!(m.refined_nodes(2, 2), 81);
