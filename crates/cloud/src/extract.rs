@@ -157,40 +157,53 @@ pub(crate) fn extract_view(
     state: &mut ViewState,
     positions: &[Vec3],
     uncovered: &mut Vec<PointId>,
-    max_tan: f32,
+    pass: &PassLimits,
     settings: &ExtractSettings,
     counts: &mut ExtractCounts,
 ) -> Result<Vec<Patch>, CloudError> {
+    let max_tan = pass.max_tan;
     let image = &state.image;
     let geometry = image.geometry;
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
     let mut needed = vec![false; cw * ch];
     let mut needed_list = Vec::new();
-    let mut still = Vec::with_capacity(uncovered.len());
+    // Per uncovered point: the cell that would cover it, or NO_CELL.
+    let mut candidate = Vec::with_capacity(uncovered.len());
     for &id in uncovered.iter() {
         let (fx, fy, h) = geometry.project(positions[id.index()]);
         let (x, y) = (fx.floor(), fy.floor());
         if !(x >= 0.0 && y >= 0.0 && x < cw as f32 && y < ch as f32) {
-            still.push(id);
+            candidate.push(NO_CELL);
             continue;
         }
         let (cx, cy) = (x as usize, y as usize);
+        let c = cy * cw + cx;
         let Some(cell) = valid_cell(image, cx, cy, settings.jump, max_tan) else {
-            still.push(id);
+            candidate.push(NO_CELL);
             continue;
         };
         let (gx, gy) = cell.gradient;
         // Vertical distance × cos(slope) = distance along the cell normal.
         let vertical = (h - cell.height_at(fx - x, fy - y)).abs();
         if vertical > settings.tolerance * (1.0 + gx * gx + gy * gy).sqrt() {
-            still.push(id);
+            candidate.push(NO_CELL);
             continue;
         }
-        counts.covered += 1;
-        let c = cy * cw + cx;
+        candidate.push(c);
         if !needed[c] && !state.emitted[c] {
             needed[c] = true;
             needed_list.push(c);
+        }
+    }
+    if pass.min_cells > 1 {
+        drop_small_regions(&mut needed, &mut needed_list, cw, ch, pass.min_cells);
+    }
+    let mut still = Vec::with_capacity(uncovered.len());
+    for (&id, &c) in uncovered.iter().zip(&candidate) {
+        if c != NO_CELL && (needed[c] || state.emitted[c]) {
+            counts.covered += 1;
+        } else {
+            still.push(id);
         }
     }
     *uncovered = still;
@@ -236,6 +249,105 @@ pub(crate) fn extract_view(
         build_patches(&state.image, &cells, settings, true, counts, &mut patches)?;
     }
     Ok(patches)
+}
+
+/// Marks "no cell" in the per-point candidate list.
+const NO_CELL: usize = usize::MAX;
+
+/// The limits of one pass over the views.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PassLimits {
+    /// Tangent of the steepest accepted slope.
+    pub(crate) max_tan: f32,
+    /// Smallest region (8-connected needed cells) that becomes patches; smaller ones are
+    /// left for later views and passes.
+    pub(crate) min_cells: usize,
+}
+
+/// Unmarks the needed cells of 8-connected regions smaller than `min_cells`.
+fn drop_small_regions(
+    needed: &mut [bool],
+    needed_list: &mut Vec<usize>,
+    cw: usize,
+    ch: usize,
+    min_cells: usize,
+) {
+    let mut seen = vec![false; needed.len()];
+    let mut stack = Vec::new();
+    let mut region = Vec::new();
+    let mut dropped = Vec::new();
+    for &start in needed_list.iter() {
+        if seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        region.clear();
+        while let Some(c) = stack.pop() {
+            region.push(c);
+            let (cx, cy) = (c % cw, c / cw);
+            for ny in cy.saturating_sub(1)..=(cy + 1).min(ch - 1) {
+                for nx in cx.saturating_sub(1)..=(cx + 1).min(cw - 1) {
+                    let n = ny * cw + nx;
+                    if needed[n] && !seen[n] {
+                        seen[n] = true;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        if region.len() < min_cells {
+            dropped.extend_from_slice(&region);
+        }
+    }
+    for &c in &dropped {
+        needed[c] = false;
+    }
+    needed_list.retain(|&c| needed[c]);
+}
+
+/// Marks as covered the uncovered points that lie beside an emitted cell of this view, within
+/// one cell horizontally and `tolerance` of the cell's surface extended to them; such points
+/// sit at the border of a patch, within `sqrt(tolerance² + pixel²)` of its surface, and need
+/// no patch of their own. Returns how many were covered.
+pub(crate) fn absorb_border_points(
+    state: &ViewState,
+    positions: &[Vec3],
+    uncovered: &mut Vec<PointId>,
+    tolerance: f32,
+    settings: &ExtractSettings,
+) -> usize {
+    let image = &state.image;
+    let geometry = image.geometry;
+    let (cw, ch) = (geometry.width - 1, geometry.height - 1);
+    let before = uncovered.len();
+    uncovered.retain(|&id| {
+        let (fx, fy, h) = geometry.project(positions[id.index()]);
+        let (x, y) = (fx.floor(), fy.floor());
+        if !(x >= -1.0 && y >= -1.0 && x <= cw as f32 && y <= ch as f32) {
+            return true;
+        }
+        let (cx, cy) = (x as isize, y as isize);
+        for ny in (cy - 1).max(0)..=(cy + 1).min(ch as isize - 1) {
+            for nx in (cx - 1).max(0)..=(cx + 1).min(cw as isize - 1) {
+                let (ux, uy) = (nx as usize, ny as usize);
+                if !state.emitted[uy * cw + ux] {
+                    continue;
+                }
+                // Emitted cells were valid; re-read their surface without a slope limit.
+                let Some(cell) = valid_cell(image, ux, uy, settings.jump, f32::INFINITY) else {
+                    continue;
+                };
+                let (gx, gy) = cell.gradient;
+                let surface = cell.height_at(fx - nx as f32, fy - ny as f32);
+                if (h - surface).abs() <= tolerance * (1.0 + gx * gx + gy * gy).sqrt() {
+                    return false;
+                }
+            }
+        }
+        true
+    });
+    before - uncovered.len()
 }
 
 /// Builds the patch (or patches) over `cells` of one tile.

@@ -61,7 +61,9 @@ pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, Dis
 pub use ids::{PointId, ViewId};
 pub use normals::{estimate_normals, plane_normal, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
-pub use pipeline::{cloud_to_scene, CloudConversion, FRONT_BAND, PIXEL_BUDGET};
+pub use pipeline::{
+    cloud_to_scene, CloudConversion, BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,
+};
 pub use report::{CloudReport, StageTime};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,

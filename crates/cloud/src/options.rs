@@ -16,9 +16,10 @@ pub struct SmoothOptions {
     pub radius: u32,
     /// Passes of the filter, 1..=8. Default [`SmoothOptions::DEFAULT_ITERATIONS`] (2).
     pub iterations: u32,
-    /// Depth scale of the range weight, in multiples of the point spacing, > 0. Default
-    /// [`SmoothOptions::DEFAULT_RANGE`] (1.0). Depth differences well above it get little
-    /// weight (edges are kept); differences above the discontinuity threshold get none.
+    /// Cut-off of the range weight, in multiples of the noise estimated in each range image
+    /// (positive). Default [`SmoothOptions::DEFAULT_RANGE`] (3.0). Depth differences near it get
+    /// little weight and beyond it none (edges and curved detail are kept); larger values
+    /// average more but flatten curved surface.
     pub range: f32,
 }
 
@@ -28,7 +29,7 @@ impl SmoothOptions {
     /// Default [`SmoothOptions::iterations`].
     pub const DEFAULT_ITERATIONS: u32 = 2;
     /// Default [`SmoothOptions::range`].
-    pub const DEFAULT_RANGE: f32 = 1.0;
+    pub const DEFAULT_RANGE: f32 = 3.0;
 }
 
 impl Default for SmoothOptions {
@@ -54,10 +55,12 @@ pub struct CloudOptions {
     /// fewer views leave occluded or steep parts to the relaxed second pass.
     pub views: usize,
     /// Pixel (node) spacing in multiples of the point spacing, 0.25..=16. Default
-    /// [`CloudOptions::DEFAULT_PIXEL_FACTOR`] (1.4: about two points per pixel on a surface
-    /// facing the view, so sampling gaps are one or two pixels wide). Smaller pixels keep more
-    /// detail but leave more gaps and cost more nodes; larger pixels cost fewer nodes and
-    /// smooth detail away.
+    /// [`CloudOptions::DEFAULT_PIXEL_FACTOR`] (2.0: about four points per pixel on a surface
+    /// facing the view, so sampling gaps are rare and at most one or two pixels wide, and a
+    /// scene has about half as many nodes as the cloud has points). Smaller pixels keep more
+    /// detail but leave more gaps and cost more nodes (1.4 doubles them on the bunny scans
+    /// without lowering `cloud_to_patch`, which scanner noise dominates); larger pixels cost
+    /// fewer nodes and smooth detail away.
     pub pixel_factor: f32,
     /// Widest gap (in pixels, 0..=8) that is filled by interpolating the depths on both
     /// sides. Default [`CloudOptions::DEFAULT_MAX_GAP`] (2). Wider fills close more holes but
@@ -110,7 +113,7 @@ impl CloudOptions {
     /// Default [`CloudOptions::views`].
     pub const DEFAULT_VIEWS: usize = 20;
     /// Default [`CloudOptions::pixel_factor`].
-    pub const DEFAULT_PIXEL_FACTOR: f32 = 1.4;
+    pub const DEFAULT_PIXEL_FACTOR: f32 = 2.0;
     /// Default [`CloudOptions::max_gap`].
     pub const DEFAULT_MAX_GAP: u32 = 2;
     /// Default [`CloudOptions::jump_factor`].

@@ -33,10 +33,12 @@ use std::time::Instant;
 use glam::Vec3;
 use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Scene};
-use spatch_mesh::PointCloud;
+use spatch_mesh::{Aabb, PointCloud};
 
 use crate::directions::view_directions;
-use crate::extract::{extract_view, ExtractCounts, ExtractSettings, ViewState};
+use crate::extract::{
+    absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
+};
 use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
 use crate::range_image::{flush_points, FlushInput, ImageGeometry};
@@ -46,6 +48,14 @@ use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
 
 /// Largest total number of range-image pixels over all views (about 360 MB of images).
 pub const PIXEL_BUDGET: usize = 40_000_000;
+
+/// Needed cells a region must have to become patches in the first two passes (the third
+/// pass takes any size).
+pub const MIN_REGION_CELLS: usize = 4;
+
+/// Distance (in spacings) from a patch's extended surface within which a point just beside
+/// the patch counts as covered by it before the last pass.
+pub const BORDER_TOLERANCE: f32 = 1.0;
 
 /// Heights within this many spacings of a pixel's front-most point are averaged into it.
 pub const FRONT_BAND: f32 = 2.0;
@@ -148,11 +158,22 @@ pub fn cloud_to_scene(
     clock.lap("normals");
 
     let mut warnings = Vec::new();
+    let image_bounds = robust_bounds(positions, &bounds);
+    if image_bounds != bounds {
+        let outside = positions
+            .iter()
+            .filter(|p| !image_bounds.contains(**p))
+            .count();
+        warnings.push(format!(
+            "{outside} points lie far outside the bulk of the cloud (outliers?): the range \
+             images leave them out, so no patch covers them"
+        ));
+    }
     let bases = view_directions(options.views);
     let mut pixel = spacing * options.pixel_factor;
     let mut geometries: Vec<ImageGeometry> = bases
         .iter()
-        .map(|&b| ImageGeometry::covering(b, &bounds, pixel))
+        .map(|&b| ImageGeometry::covering(b, &image_bounds, pixel))
         .collect();
     let total: usize = geometries.iter().map(ImageGeometry::pixel_count).sum();
     if total > PIXEL_BUDGET {
@@ -166,7 +187,7 @@ pub fn cloud_to_scene(
         pixel *= grow;
         geometries = bases
             .iter()
-            .map(|&b| ImageGeometry::covering(b, &bounds, pixel))
+            .map(|&b| ImageGeometry::covering(b, &image_bounds, pixel))
             .collect();
     }
     let jump = options.jump_factor * pixel;
@@ -200,15 +221,35 @@ pub fn cloud_to_scene(
         target_step: options.displacement_step * spacing,
         max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
     };
-    let mut passes = vec![options.preferred_slope_degrees];
-    if options.max_slope_degrees > options.preferred_slope_degrees {
-        passes.push(options.max_slope_degrees);
-    }
+    let preferred = PassLimits {
+        max_tan: options.preferred_slope_degrees.to_radians().tan(),
+        min_cells: MIN_REGION_CELLS,
+    };
+    let relaxed = PassLimits {
+        max_tan: options.max_slope_degrees.to_radians().tan(),
+        min_cells: MIN_REGION_CELLS,
+    };
+    let last = PassLimits {
+        min_cells: 1,
+        ..relaxed
+    };
     let mut uncovered: Vec<PointId> = (0..n as u32).map(PointId).collect();
     let mut counts = ExtractCounts::default();
     let mut patches = Vec::new();
-    for degrees in passes {
-        let max_tan = degrees.to_radians().tan();
+    for (index, pass) in [preferred, relaxed, last].iter().enumerate() {
+        if index == 2 {
+            // Before small patches are made for the last points, let those at the border of
+            // an existing patch count as covered by it.
+            for view in &views {
+                counts.covered += absorb_border_points(
+                    view,
+                    positions,
+                    &mut uncovered,
+                    BORDER_TOLERANCE * spacing,
+                    &settings,
+                );
+            }
+        }
         for view in &mut views {
             if uncovered.is_empty() {
                 break;
@@ -217,7 +258,7 @@ pub fn cloud_to_scene(
                 view,
                 positions,
                 &mut uncovered,
-                max_tan,
+                pass,
                 &settings,
                 &mut counts,
             )?;
@@ -270,6 +311,27 @@ pub fn cloud_to_scene(
         bytes,
         report,
     })
+}
+
+/// The bounds the range images cover: per axis, the 0.1 % and 99.9 % quantiles of the
+/// coordinates widened by a quarter of their distance on each side, clipped to `full`. On a
+/// cloud without far outliers this is `full` itself; a handful of points thousands of
+/// spacings away no longer blow the images (and the pixel budget) up.
+fn robust_bounds(positions: &[Vec3], full: &Aabb) -> Aabb {
+    let n = positions.len();
+    let (lo_rank, hi_rank) = (n / 1000, n - 1 - n / 1000);
+    let mut values: Vec<f32> = Vec::with_capacity(n);
+    let mut bounds = *full;
+    for axis in 0..3 {
+        values.clear();
+        values.extend(positions.iter().map(|p| p[axis]));
+        let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
+        let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
+        let margin = 0.25 * (hi - lo);
+        bounds.min[axis] = (lo - margin).max(full.min[axis]);
+        bounds.max[axis] = (hi + margin).min(full.max[axis]);
+    }
+    bounds
 }
 
 /// The cloud without its non-finite points (borrowed when there are none), and how many were

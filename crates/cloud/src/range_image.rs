@@ -194,12 +194,13 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
             gx *= s;
             gy *= s;
         }
+        if !(ix >= 0.0 && iy >= 0.0 && ix < width as f32 && iy < height as f32) {
+            // Outside the image (a far outlier beyond the robust bounds).
+            drawn.push((u32::MAX, 0.0));
+            continue;
+        }
         let hc = h + (gx * (ix - fx) + gy * (iy - fy)) * pixel;
-        let (ix, iy) = (
-            (ix.max(0.0) as usize).min(width - 1),
-            (iy.max(0.0) as usize).min(height - 1),
-        );
-        let k = iy * width + ix;
+        let k = iy as usize * width + ix as usize;
         if hc > front[k] {
             front[k] = hc;
         }

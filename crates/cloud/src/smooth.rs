@@ -7,10 +7,18 @@
 //!
 //! Weights: spatial `exp(−d²/(2σ²))` with `σ = 0.6·r` pixels (precomputed once per call)
 //! times the Tukey biweight of the depth difference, `(1 − (Δ/c)²)²` for `|Δ| < c`, zero
-//! beyond, with `c = 3 · range · spacing`; a neighbour more than `jump` per step away gets no
-//! weight at all. So noise (small differences) is averaged while edges and the far side of a
-//! discontinuity are left alone. The biweight needs no `exp` per neighbour, which keeps the
-//! filter at a few multiply-adds per tap.
+//! beyond; a neighbour more than `jump` per step away gets no weight at all. So noise (small
+//! differences) is averaged while edges, creases and the far side of a discontinuity are left
+//! alone. The biweight needs no `exp` per neighbour, which keeps the filter at a few
+//! multiply-adds per tap.
+//!
+//! The range scale adapts to the data: `c = range · σ̂`, where `σ̂` is the image's noise,
+//! estimated robustly as `1.4826 · median |h − mean of its 4 neighbours| · √(4/5)` over the
+//! pixels whose 4 neighbours are filled (the factor `√(4/5)` undoes the variance the
+//! neighbour mean adds). Clean data has `σ̂ ≈ 0` and is left almost as it is; on noisy data the
+//! filter averages differences of a few `σ̂` but not the larger height changes of curved
+//! surface across the window, which a fixed scale would flatten (shrinking curved parts by
+//! about `κ·σ²`).
 //!
 //! Invariants: empty pixels stay empty, filled stay filled; each iteration reads only the
 //! previous one's output (order independent).
@@ -47,7 +55,8 @@ pub(crate) fn smooth_range_image(
             )
         })
         .collect();
-    let c = 3.0 * options.range * spacing;
+    // A floor far below any measurable noise keeps the weights finite on exact data.
+    let c = (options.range * estimate_noise(image)).max(1e-6 * spacing);
     let inv_c2 = 1.0 / (c * c);
     let mut source = image.depth.clone();
     for _ in 0..options.iterations {
@@ -84,6 +93,29 @@ pub(crate) fn smooth_range_image(
             }
         }
     }
+}
+
+/// Robust noise estimate of the heights (see the module documentation); 0 when fewer than
+/// 16 pixels have 4 filled neighbours.
+fn estimate_noise(image: &RangeImage) -> f32 {
+    let (w, h) = (image.geometry.width, image.geometry.height);
+    let d = &image.depth;
+    let mut residuals = Vec::new();
+    for j in 1..h.saturating_sub(1) {
+        for i in 1..w - 1 {
+            let k = j * w + i;
+            let around = [d[k - 1], d[k + 1], d[k - w], d[k + w]];
+            if d[k].is_finite() && around.iter().all(|v| v.is_finite()) {
+                residuals.push((d[k] - around.iter().sum::<f32>() * 0.25).abs());
+            }
+        }
+    }
+    if residuals.len() < 16 {
+        return 0.0;
+    }
+    let mid = residuals.len() / 2;
+    let (_, median, _) = residuals.select_nth_unstable_by(mid, f32::total_cmp);
+    1.4826 * *median * (4.0f32 / 5.0).sqrt()
 }
 
 #[cfg(test)]
@@ -128,6 +160,7 @@ mod tests {
         let before = rms(&img);
         let options = SmoothOptions::default();
         smooth_range_image(&mut img, &options, 1.0, 3.0);
+        assert!(estimate_noise(&img) < 0.1);
         assert!(rms(&img) < 0.5 * before, "{} vs {before}", rms(&img));
         assert_eq!(img.depth[3 * 30 + 3], EMPTY_DEPTH);
         for j in 0..20 {
