@@ -30,7 +30,7 @@
 //! E. Catmull's subdivision rendering (1974) for the recursive idea.
 
 use crate::fixed::EMPTY_NODE;
-use crate::framebuffer::{splat_sample, BandTarget};
+use crate::framebuffer::{splat_sample, splat_sample_inside, BandTarget};
 use crate::traverse::{Node, CELL_DRAW, CELL_RIGHT, CELL_TOP};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
@@ -131,7 +131,20 @@ pub(crate) fn draw_cells_bilinear(
             }
             let right = (f & CELL_RIGHT != 0) as u32;
             let top = (f & CELL_TOP != 0) as u32;
-            draw_cell(t, c, r, nu + right, nv + top, sub_word(i, j, 0, 0), item);
+            let (a_end, b_end, sub0) = (nu + right, nv + top, sub_word(i, j, 0, 0));
+            // A cell whose corners lie a pixel inside the band and the image
+            // cannot place a sample outside them (samples are convex
+            // combinations of the corners, up to 2^-12 px), so it skips the
+            // per-row and per-sample clipping. Why: most cells are inside;
+            // see the "why" in `draw_cell`.
+            let xs = c.map(|n| n[0] >> 16);
+            let inside = ys.iter().all(|&y| y > y_lo && y < y_hi - 1)
+                && xs.iter().all(|&x| x > 0 && x < t.width - 1);
+            if inside {
+                draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
+            } else {
+                draw_cell::<true>(t, c, r, a_end, b_end, sub0, item);
+            }
         }
     }
 }
@@ -150,8 +163,12 @@ fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
     ]
 }
 
+/// Places the sub-nodes of one cell; `CLIP = false` when the caller has
+/// checked that the cell lies inside the band and the image. Why: the
+/// unclipped variant drops the per-row band test and the per-sample bounds
+/// compares (callgrind, `profile_sphere 500 1`: see docs/performance.md).
 #[inline(always)]
-fn draw_cell(
+fn draw_cell<const CLIP: bool>(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     r: Reciprocals,
@@ -170,18 +187,20 @@ fn draw_cell(
         // Skip rows wholly outside the band.
         let y_first = start[1] >> xy_shift;
         let y_last = (start[1] + step[1] * (a_end as i64 - 1)) >> xy_shift;
-        if !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
+        if !CLIP || !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
             let mut v = start;
             let row_word = sub0 | b;
             for a in 0..a_end {
-                splat_sample(
-                    t,
+                let (px, py, z) = (
                     (v[0] >> xy_shift) as i32,
                     (v[1] >> xy_shift) as i32,
                     (v[2] >> EXT) as i32,
-                    row_word | a << 8,
-                    item,
                 );
+                if CLIP {
+                    splat_sample(t, px, py, z, row_word | a << 8, item);
+                } else {
+                    splat_sample_inside(t, px, py, z, row_word | a << 8, item);
+                }
                 v[0] += step[0];
                 v[1] += step[1];
                 v[2] += step[2];

@@ -72,6 +72,27 @@ pub(crate) fn splat_sample(t: &mut BandTarget<'_>, px: i32, py: i32, z: i32, sub
     }
 }
 
+/// [`splat_sample`] for a sample known to lie in the band and the image
+/// (the slice index still checks, so a broken caller panics, never writes
+/// elsewhere).
+#[inline(always)]
+pub(crate) fn splat_sample_inside(
+    t: &mut BandTarget<'_>,
+    px: i32,
+    py: i32,
+    z: i32,
+    sub: u32,
+    item: u32,
+) {
+    debug_assert!((px as u32) < t.width as u32 && ((py - t.y0) as u32) < t.rows as u32);
+    let idx = (py - t.y0) as usize * t.width as usize + px as usize;
+    if z < t.depth[idx] {
+        t.depth[idx] = z;
+        t.c0[idx] = sub;
+        t.c2[idx] = item;
+    }
+}
+
 /// Writes a triangle sample with its payload if it is in the band and
 /// passes the depth test.
 #[inline(always)]

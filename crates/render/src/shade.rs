@@ -86,11 +86,30 @@ impl Material {
         let nl = n.dot(frame.light).max(0.0);
         let nh = n.dot(frame.half).max(0.0);
         let spec = if nl > 0.0 {
-            self.specular * nh.powi(self.shininess)
+            self.specular * powi(nh, self.shininess as u32)
         } else {
             0.0
         };
         (albedo * (self.ambient + self.diffuse * nl) + Vec3::splat(spec)).min(Vec3::splat(255.0))
+    }
+}
+
+/// `x^n` by the same square-and-multiply sequence as `f32::powi` (so the
+/// result is bit-identical), inlined. Why: `powi` with a run-time exponent
+/// is an out-of-line `__powisf2` call per shaded pixel (5 M instructions
+/// per 500² sphere frame, callgrind `profile_sphere 500 1`).
+#[inline]
+fn powi(mut x: f32, mut n: u32) -> f32 {
+    let mut r = 1.0;
+    loop {
+        if n & 1 != 0 {
+            r *= x;
+        }
+        n >>= 1;
+        if n == 0 {
+            return r;
+        }
+        x *= x;
     }
 }
 

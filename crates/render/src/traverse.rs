@@ -282,7 +282,7 @@ pub(crate) fn measure_cells(
             }
             let right = i + 1 == ccols || cell_flags[c + 1] & CELL_DRAW == 0;
             let top = j + 1 == crows || cell_flags[c + ccols] & CELL_DRAW == 0;
-            cell_flags[c] |= (right as u8) * CELL_RIGHT | (top as u8) * CELL_TOP;
+            cell_flags[c] |= ((right as u8) * CELL_RIGHT) | ((top as u8) * CELL_TOP);
             m.right_edges += right as u64;
             m.top_edges += top as u64;
             m.both_edges += (right && top) as u64;
