@@ -2,7 +2,8 @@
 //!
 //! The model is Keenan Crane's "Spot" (public domain, see `cli/assets/spot/README.txt`): a
 //! textured cow of 5,856 triangles, embedded in the binary. The demo writes it out as the
-//! source, converts it, measures the geometric error and writes the scene and the report.
+//! source, converts it, measures the geometric error, renders the patches with the automatic
+//! camera and writes the scene, the picture and the report.
 
 use std::path::{Path, PathBuf};
 
@@ -28,6 +29,9 @@ pub(crate) struct DemoArgs {
     /// Folder to write everything into (created when missing).
     #[arg(short, long, value_name = "DIR", default_value = "spatch-demo")]
     output: PathBuf,
+    /// Side of the rendered square picture, in pixels.
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    size: u32,
     #[command(flatten)]
     pipeline: PipelineArgs,
 }
@@ -43,6 +47,32 @@ impl DemoArgs {
         );
         p
     }
+}
+
+/// Renders `scene` with the automatic camera into a PNG at `path`.
+fn render_picture(scene: &spatch_format::Scene, path: &Path, size: u32) -> anyhow::Result<()> {
+    use spatch_render::{render, Camera, PreparedScene, RenderOptions};
+    let internal = |what: &str, e: &dyn std::fmt::Display| {
+        anyhow::Error::new(InternalFailure(format!(
+            "cannot {what} the demo picture: {e}"
+        )))
+    };
+    let (centre, radius) = PreparedScene::new(scene)
+        .bounding_sphere()
+        .ok_or_else(|| internal("frame", &"the scene is empty"))?;
+    // The automatic framing distance, seen from the cow's front-left (the automatic camera's
+    // three-quarter direction mirrored in x and z: Spot faces +x).
+    let auto =
+        Camera::framing(centre, radius, 35.0, size, size).map_err(|e| internal("frame", &e))?;
+    let [x, y, z] = Camera::THREE_QUARTER_DIRECTION;
+    let distance = (auto.eye() - centre).length();
+    let eye = centre + glam::DVec3::new(-x, y, -z).normalize() * distance;
+    let camera = Camera::look_at(eye, centre, glam::DVec3::Y, 35.0, size, size)
+        .map_err(|e| internal("frame", &e))?;
+    let out =
+        render(scene, &camera, &RenderOptions::default()).map_err(|e| internal("render", &e))?;
+    let png = out.image.encode_png().map_err(|e| internal("encode", &e))?;
+    write_output(path, &png)
 }
 
 fn create_dir(dir: &Path) -> anyhow::Result<()> {
@@ -67,6 +97,8 @@ pub(crate) fn run(args: &DemoArgs) -> anyhow::Result<()> {
             "the built-in model lost its texture while loading (this is a bug)".to_owned(),
         )));
     }
+    let picture = args.output.join("spot.png");
+    render_picture(&outcome.conversion.scene, &picture, args.size)?;
     let report = pipeline
         .report
         .as_deref()
@@ -75,7 +107,8 @@ pub(crate) fn run(args: &DemoArgs) -> anyhow::Result<()> {
         "spatch demo: Keenan Crane's Spot (public domain), {} triangles, textured\n\
          {}\
          written to {}:\n  source/spot.obj, source/spot_texture.png   the source model\n  \
-         spot.spatch                                the patches\n  {report}\n\
+         spot.spatch                                the patches\n  \
+         spot.png                                   the patches rendered by spatch render\n  {report}\n\
          next: spatch stats {} | spatch export {} -o nodes.ply\n",
         outcome.conversion.report.triangles,
         outcome.text,

@@ -146,10 +146,12 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
 #[test]
 fn demo_needs_no_input_and_fills_its_folder() {
     let t = TestCommand::new();
-    let run = t.run(&["demo", "-o", "demo"]).success();
+    let run = t.run(&["demo", "-o", "demo", "--size", "64"]).success();
     assert!(run.stdout.contains("demo"), "{}", run.stdout);
     let scene = read_scene(&t.path("demo/spot.spatch")).unwrap();
     assert_ne!(scene.channel(), ColourChannel::None, "the cow is textured");
     assert!(t.path("demo/report.json").is_file());
     assert!(t.path("demo/source/spot.obj").is_file());
+    let png = std::fs::read(t.path("demo/spot.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
 }
