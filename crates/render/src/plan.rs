@@ -508,6 +508,7 @@ fn fill_phong_attributes(
     let d = &level.displacements;
     let base = setup.base_colour.to_array().map(attr_to_fixed);
     let normals = &mut work.normals;
+    normals.select(m, ratios);
     let mut k = first;
     for j in range.j0..=range.j1 {
         let row = j * cols;
@@ -534,7 +535,7 @@ fn fill_phong_attributes(
             } else {
                 node_differences(d, cols, rows, i, j, spatch_format::EMPTY)
             };
-            let n = normals.normal_fixed(m, ratios, gi, gj);
+            let n = normals.normal_fixed(m, gi, gj);
             let albedo = match &level.colours {
                 Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_fixed(v as f32)),
                 None => base,

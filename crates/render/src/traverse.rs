@@ -128,6 +128,13 @@ pub(crate) fn project_nodes_trilinear(
     } else {
         0.0
     };
+    // Why a pre-sized slice: writing nodes in place instead of pushing
+    // them one by one saves the per-node capacity check and the zeroing of
+    // the attribute words (callgrind, `profile_sphere 500 1`).
+    let cols = range.i1 - range.i0 + 1;
+    let base = out.len();
+    out.resize(base + cols * (range.j1 - range.j0 + 1), EMPTY);
+    let mut rows_out = out[base..].chunks_exact_mut(cols);
     for j in range.j0..=range.j1 {
         let v = (j - range.j0) as f32 * inv_j;
         // Corners of the bilinear slice at this row: bottom (d lo) and top (d hi).
@@ -138,12 +145,20 @@ pub(crate) fn project_nodes_trilinear(
         let (db, dt) = ((b1 - b0) * inv_i, (t1 - t0) * inv_i);
         let (mut bottom, mut top) = (b0, t0);
         let row = j * level.cols;
-        for k in row + range.i0..=row + range.i1 {
-            if level.used[k] {
-                let w = (level.displacements[k] - d.0) as f32 * inv_d;
-                out.push(fixed_node(bottom + (top - bottom) * w));
-            } else {
-                out.push(EMPTY);
+        let Some(dst) = rows_out.next() else {
+            return;
+        };
+        let (used, disp) = (
+            &level.used[row + range.i0..=row + range.i1],
+            &level.displacements[row + range.i0..=row + range.i1],
+        );
+        for ((node, &u), &dk) in dst.iter_mut().zip(used).zip(disp) {
+            if u {
+                let w = (dk - d.0) as f32 * inv_d;
+                let s = bottom + (top - bottom) * w;
+                node[0] = position_to_fixed(s.x);
+                node[1] = position_to_fixed(s.y);
+                node[2] = depth_to_fixed(s.z);
             }
             bottom += db;
             top += dt;
