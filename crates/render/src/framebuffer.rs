@@ -297,7 +297,7 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
 
 #[inline(always)]
 fn attr_to_f32f(v: i32) -> f32 {
-    v as f32 * (1.0 / crate::fixed::ATTR_ONE)
+    crate::fixed::attr_from_bits(v)
 }
 
 /// A rendered image: RGBA8 colour and linear eye depth per pixel, row 0 at

@@ -21,7 +21,7 @@
 
 use glam::Vec3;
 
-use crate::fixed::attr_to_fixed;
+use crate::fixed::attr_to_bits;
 
 /// Differences in `-RADIUS..=RADIUS` are cached; others are computed.
 const RADIUS: i32 = 32;
@@ -30,8 +30,8 @@ const SIDE: usize = (2 * RADIUS + 1) as usize;
 #[derive(Debug, Clone, Copy, Default)]
 struct Entry {
     normal: Vec3,
-    /// `normal` in attribute fixed point ([`attr_to_fixed`]).
-    fixed: [i32; 3],
+    /// `normal` as stored in projected nodes ([`attr_to_bits`]).
+    bits: [i32; 3],
     /// Table generation that wrote the entry.
     generation: u32,
     /// Patch that last used the entry.
@@ -89,7 +89,7 @@ impl NormalBuffer {
     }
 
     /// Selects the table of mip `level` for `ratios` (invalidating it when
-    /// the ratios changed) before a run of [`Self::normal_fixed`] calls.
+    /// the ratios changed) before a run of [`Self::normal_bits`] calls.
     pub(crate) fn select(&mut self, level: usize, ratios: (f32, f32)) {
         while self.tables.len() <= level {
             self.tables.push(Table {
@@ -105,13 +105,13 @@ impl NormalBuffer {
         }
     }
 
-    /// The unit normal of [`Self::normal`] in attribute fixed point, from
+    /// The unit normal of [`Self::normal`] as stored in projected nodes, from
     /// the table chosen by [`Self::select`] (the conversion is cached with
     /// the normal). Why a separate selection: the table and ratio checks
     /// run once per piece instead of once per node (callgrind,
     /// `profile_sphere 500 1`).
     #[inline]
-    pub(crate) fn normal_fixed(&mut self, level: usize, gi: i32, gj: i32) -> [i32; 3] {
+    pub(crate) fn normal_bits(&mut self, level: usize, gi: i32, gj: i32) -> [i32; 3] {
         self.counts.needed += 1;
         let table = &mut self.tables[level];
         let ratios = table.ratios;
@@ -119,7 +119,7 @@ impl NormalBuffer {
             self.counts.computed_per_patch_buffer += 1;
             self.counts.computed_ordered_buffer += 1;
             let n = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
-            return n.to_array().map(attr_to_fixed);
+            return n.to_array().map(attr_to_bits);
         }
         let index = (gj + RADIUS) as usize * SIDE + (gi + RADIUS) as usize;
         let entry = &mut table.entries[index];
@@ -131,22 +131,22 @@ impl NormalBuffer {
             self.counts.computed_ordered_buffer += 1;
             entry.generation = table.generation;
             entry.normal = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
-            entry.fixed = entry.normal.to_array().map(attr_to_fixed);
+            entry.bits = entry.normal.to_array().map(attr_to_bits);
         }
-        entry.fixed
+        entry.bits
     }
 
     #[inline]
     fn lookup(&mut self, level: usize, ratios: (f32, f32), gi: i32, gj: i32) -> (Vec3, [i32; 3]) {
         self.select(level, ratios);
-        let fixed = self.normal_fixed(level, gi, gj);
+        let bits = self.normal_bits(level, gi, gj);
         let table = &self.tables[level];
         if gi.abs() > RADIUS || gj.abs() > RADIUS {
             let n = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
-            return (n, fixed);
+            return (n, bits);
         }
         let index = (gj + RADIUS) as usize * SIDE + (gi + RADIUS) as usize;
-        (table.entries[index].normal, fixed)
+        (table.entries[index].normal, bits)
     }
 }
 

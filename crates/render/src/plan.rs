@@ -33,7 +33,7 @@ use glam::{Mat3, Vec3};
 use crate::camera::View;
 use crate::cell_bilinear::MAX_SUBDIVISION;
 use crate::cull::{cone_faces_away, BoxClass, Frustum};
-use crate::fixed::attr_to_fixed;
+use crate::fixed::attr_to_bits;
 use crate::mip::MipLevel;
 use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer};
 use crate::options::{CellScheme, Culling, Projection, RenderMode, RenderOptions, Shading};
@@ -480,7 +480,7 @@ fn fill_attributes(
             if work.nodes[k][0] != crate::fixed::EMPTY_NODE {
                 let a = node_attributes(&mut work.normals, p, m, level, i, j, frame, setup);
                 for (dst, src) in work.nodes[k][3..].iter_mut().zip(a) {
-                    *dst = attr_to_fixed(src);
+                    *dst = attr_to_bits(src);
                 }
             }
             k += 1;
@@ -489,9 +489,9 @@ fn fill_attributes(
 }
 
 /// The Phong attributes (fixed-point normal, albedo) of the nodes of a
-/// piece, bit-identical to [`node_attributes`]. Why: interior nodes with
+/// piece, identical to [`node_attributes`]. Why: interior nodes with
 /// four filled neighbours take central differences without the border
-/// logic, and the normal buffer hands out normals already in fixed point;
+/// logic, and the normal buffer hands out normals already in node format;
 /// normals went from 241 to ~40 instructions per node (callgrind,
 /// `profile_sphere 500 1`).
 fn fill_phong_attributes(
@@ -506,7 +506,7 @@ fn fill_phong_attributes(
     let ratios = p.ratios_at(m);
     let (cols, rows) = (level.cols, level.rows);
     let d = &level.displacements;
-    let base = setup.base_colour.to_array().map(attr_to_fixed);
+    let base = setup.base_colour.to_array().map(attr_to_bits);
     let normals = &mut work.normals;
     normals.select(m, ratios);
     let mut k = first;
@@ -535,9 +535,9 @@ fn fill_phong_attributes(
             } else {
                 node_differences(d, cols, rows, i, j, spatch_format::EMPTY)
             };
-            let n = normals.normal_fixed(m, gi, gj);
+            let n = normals.normal_bits(m, gi, gj);
             let albedo = match &level.colours {
-                Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_fixed(v as f32)),
+                Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_bits(v as f32)),
                 None => base,
             };
             node[3..6].copy_from_slice(&n);

@@ -27,7 +27,8 @@ use crate::fixed::{depth_to_fixed, position_to_fixed, EMPTY_NODE};
 use crate::mip::MipLevel;
 use crate::split::NodeRange;
 
-/// Values per projected node: x, y, depth, then up to 6 attributes.
+/// Values per projected node: x, y, depth (fixed point), then up to 6
+/// attributes (float bits, see [`crate::fixed::attr_to_bits`]).
 pub(crate) const NODE_WIDTH: usize = 9;
 /// A projected node (fixed point; see [`crate::fixed`]).
 pub(crate) type Node = [i32; NODE_WIDTH];
