@@ -258,20 +258,19 @@ pub(crate) fn measure_cells(
     let base = flags.len();
     flags.resize(base + ccols * crows, 0);
     let cell_flags = &mut flags[base..];
-    // Pass 1: which cells are drawn, and the largest edges of those.
-    for j in 0..crows {
-        for i in 0..ccols {
-            let k = j * cols + i;
-            if !cell_drawable(nodes, k, cols) {
+    // Pass 1: which cells are drawn, and the largest edges of those. Why
+    // row slices and windows: no index arithmetic or bounds check per
+    // corner (callgrind, `profile_sphere 500 1`).
+    let diff = |p: &Node, q: &Node| (q[0] as i64 - p[0] as i64, q[1] as i64 - p[1] as i64);
+    for (j, out) in cell_flags.chunks_exact_mut(ccols).enumerate() {
+        let below = &nodes[j * cols..(j + 1) * cols];
+        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
+        for ((f, lo), hi) in out.iter_mut().zip(below.windows(2)).zip(above.windows(2)) {
+            let (a, b, c, d) = (&lo[0], &lo[1], &hi[0], &hi[1]);
+            if a[0] == EMPTY_NODE || b[0] == EMPTY_NODE || c[0] == EMPTY_NODE || d[0] == EMPTY_NODE
+            {
                 continue;
             }
-            let (a, b, c, d) = (
-                &nodes[k],
-                &nodes[k + 1],
-                &nodes[k + cols],
-                &nodes[k + cols + 1],
-            );
-            let diff = |p: &Node, q: &Node| (q[0] as i64 - p[0] as i64, q[1] as i64 - p[1] as i64);
             let (u0, u1, v0, v1) = (diff(a, b), diff(c, d), diff(a, c), diff(b, d));
             if back_sign != 0 {
                 let cross = |u: (i64, i64), v: (i64, i64)| (u.0 * v.1 - u.1 * v.0) * back_sign;
@@ -281,7 +280,7 @@ pub(crate) fn measure_cells(
                     continue;
                 }
             }
-            cell_flags[j * ccols + i] = CELL_DRAW;
+            *f = CELL_DRAW;
             m.edges[0] = m.edges[0].max(u0.0.abs()).max(u1.0.abs());
             m.edges[1] = m.edges[1].max(u0.1.abs()).max(u1.1.abs());
             m.edges[2] = m.edges[2].max(v0.0.abs()).max(v1.0.abs());
