@@ -19,11 +19,7 @@ use crate::FitError;
 ///
 /// Public so that other producers (the sharp-edge patches of `spatch-edges`) quantize exactly
 /// as the fitter does.
-pub fn choose_quantizer(
-    range: f32,
-    spacing: f32,
-    max_error: f32,
-) -> Result<Quantizer, FitError> {
+pub fn choose_quantizer(range: f32, spacing: f32, max_error: f32) -> Result<Quantizer, FitError> {
     // A flat region still needs a positive step; this floor is far below f32 noise of heights.
     let floor = spacing * 1e-5;
     let eight = Quantizer::for_range(range, floor, DisplacementWidth::Bits8)?;
