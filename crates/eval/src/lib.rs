@@ -11,6 +11,11 @@
 //! Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
 //! source's bounding-box diagonal), serializable with serde.
 //!
+//! And the hole fraction of DESIGN §6 ([`holes`]): [`hole_fraction`] renders the source with
+//! the triangle rasterizer and the scene with the patch renderer from the same cameras
+//! ([`standard_views`]: 6 axes and 8 diagonals, 500 × 500) and counts the pixels the source
+//! covers that the patches leave empty.
+//!
 //! ```
 //! use glam::Vec3;
 //! use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
@@ -33,7 +38,12 @@
 
 mod cell_grid;
 pub mod geometric;
+pub mod holes;
 
 pub use geometric::{
     geometric_error, node_to_surface, sample_count, surface_to_patch, ErrorStats, GeometricError,
+};
+pub use holes::{
+    hole_fraction, hole_view_camera, standard_views, HoleOptions, HoleReport, ViewHoles,
+    HOLE_DEPTH_TOLERANCE, HOLE_VIEW_SIDE,
 };

@@ -1,0 +1,222 @@
+//! A rectangular node lattice in a given frame, cast against the source and turned into a
+//! patch: the step edge patches and corner patches share.
+//!
+//! Input: a [`NodeLattice`] (orthonormal basis, origin of node (0, 0) in the plane, node
+//! spacings, node counts, the height interval to search) and the faces the rays may hit.
+//! Output: one [`Patch`], or `None` when no cell has four filled corners.
+//!
+//! Steps, as the fitter does them (`spatch-fit`):
+//! 1. every node casts a ray along −z from above the searched interval; the first hit on an
+//!    allowed face that faces the patch (normal · z above [`MIN_FACING`]) gives the node its
+//!    height, face and barycentric coordinates; a node with no such hit is empty;
+//! 2. the heights get one quantizer ([`spatch_fit::choose_quantizer`]: 8-bit codes over the
+//!    patch's height range, 16-bit only beyond the error budget);
+//! 3. the lattice is cropped to its filled nodes, codes are rebased to the smallest, colours
+//!    are sampled at the hits ([`spatch_fit::sample_colour`]).
+//!
+//! Rays go through the mesh's BVH ([`Bvh::ray_cast_filtered`]) rather than the fitter's
+//! face-first z-buffer, whose lattice type is tied to its regions; an edge patch has a few
+//! hundred nodes, so a tree walk per node costs little.
+//!
+//! Invariant: a node's reconstructed point lies on the ray through it, within half a
+//! displacement step of the source surface.
+//!
+//! Cost: O(nodes × log F) ray casts; memory O(nodes).
+
+use glam::Vec3;
+use spatch_fit::{choose_quantizer, quantize_height, sample_colour};
+use spatch_format::{Frame, GridSize, Patch, EMPTY};
+use spatch_mesh::{Bvh, FaceId, TriangleMesh};
+
+use crate::EdgeError;
+
+/// Faces whose normal · z is at most this are edge-on or facing away and never hit.
+pub(crate) const MIN_FACING: f32 = 0.02;
+
+/// A lattice of nodes in a frame, with the interval its rays search.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NodeLattice {
+    /// Unit x axis.
+    pub(crate) x: Vec3,
+    /// Unit y axis.
+    pub(crate) y: Vec3,
+    /// Unit z axis (`x × y`): the direction the patch is seen from.
+    pub(crate) z: Vec3,
+    /// Coordinates of node (0, 0) along x and y (mesh coordinates projected).
+    pub(crate) start: [f32; 2],
+    /// Node spacing along x and y.
+    pub(crate) spacing: [f32; 2],
+    /// Nodes along x and y (each 2..=257).
+    pub(crate) cols: usize,
+    /// Nodes along y.
+    pub(crate) rows: usize,
+    /// The heights (along z) to search: rays start at `heights[1]` and stop at `heights[0]`.
+    pub(crate) heights: [f32; 2],
+}
+
+/// What casting needs besides the lattice.
+pub(crate) struct CastJob<'a> {
+    pub(crate) mesh: &'a TriangleMesh,
+    pub(crate) bvh: &'a Bvh,
+    /// Edge node spacing (for the quantizer's budget).
+    pub(crate) spacing: f32,
+    /// Half-step budget as a fraction of `spacing`.
+    pub(crate) max_step_error: f32,
+    pub(crate) with_colour: bool,
+}
+
+struct NodeHit {
+    height: f32,
+    face: FaceId,
+    bary: Vec3,
+}
+
+/// Casts `lattice` against the faces in `allowed` (sorted) and builds its patch (see the
+/// module docs). `index` names the patch in errors.
+pub(crate) fn cast_lattice(
+    job: &CastJob<'_>,
+    lattice: &NodeLattice,
+    allowed: &[FaceId],
+    index: usize,
+) -> Result<Option<Patch>, EdgeError> {
+    let mesh = job.mesh;
+    let accept = |f: FaceId| {
+        allowed.binary_search(&f).is_ok() && mesh.face_normal(f).dot(lattice.z) > MIN_FACING
+    };
+    let depth = lattice.heights[1] - lattice.heights[0];
+    let mut hits: Vec<Option<NodeHit>> = Vec::with_capacity(lattice.cols * lattice.rows);
+    for j in 0..lattice.rows {
+        for i in 0..lattice.cols {
+            let u = lattice.start[0] + i as f32 * lattice.spacing[0];
+            let v = lattice.start[1] + j as f32 * lattice.spacing[1];
+            let origin = lattice.x * u + lattice.y * v + lattice.z * lattice.heights[1];
+            let hit = job
+                .bvh
+                .ray_cast_filtered(origin, -lattice.z, 0.0, depth, accept)
+                .map(|h| NodeHit {
+                    height: lattice.heights[1] - h.t,
+                    face: h.face,
+                    bary: h.barycentric,
+                });
+            hits.push(hit);
+        }
+    }
+    let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
+    for h in hits.iter().flatten() {
+        h_min = h_min.min(h.height);
+        h_max = h_max.max(h.height);
+    }
+    if h_min > h_max {
+        return Ok(None);
+    }
+    let quantizer = choose_quantizer(h_max - h_min, job.spacing, job.max_step_error * job.spacing)
+        .map_err(|source| EdgeError::Quantize {
+            patch: index,
+            source,
+        })?;
+    let codes: Vec<u16> = hits
+        .iter()
+        .map(|h| match h {
+            Some(h) => quantize_height(&quantizer, h_min, h.height),
+            None => EMPTY,
+        })
+        .collect();
+    let at = |i: usize, j: usize| j * lattice.cols + i;
+
+    // Crop to the filled nodes.
+    let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+    for j in 0..lattice.rows {
+        for i in 0..lattice.cols {
+            if codes[at(i, j)] != EMPTY {
+                i0 = i0.min(i);
+                i1 = i1.max(i);
+                j0 = j0.min(j);
+                j1 = j1.max(j);
+            }
+        }
+    }
+    if i1 <= i0 || j1 <= j0 {
+        return Ok(None);
+    }
+    let drawable = (j0..j1).any(|j| {
+        (i0..i1).any(|i| {
+            [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
+                .iter()
+                .all(|&k| codes[k] != EMPTY)
+        })
+    });
+    if !drawable {
+        return Ok(None);
+    }
+    let base = (j0..=j1)
+        .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+        .map(|(i, j)| codes[at(i, j)])
+        .filter(|&c| c != EMPTY)
+        .min()
+        .unwrap_or(0);
+    let (cols, rows) = (i1 - i0 + 1, j1 - j0 + 1);
+    let mut displacements = Vec::with_capacity(cols * rows);
+    let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            let k = at(i, j);
+            let c = codes[k];
+            displacements.push(if c == EMPTY { EMPTY } else { c - base });
+            if let Some(colours) = colours.as_mut() {
+                colours.push(match &hits[k] {
+                    Some(h) if c != EMPTY => sample_colour(mesh, h.face, h.bary.to_array()),
+                    _ => [0; 4],
+                });
+            }
+        }
+    }
+    let build = |source| EdgeError::PatchBuild {
+        patch: index,
+        source,
+    };
+    let height = f64::from(h_min) + f64::from(base) * f64::from(quantizer.step());
+    let origin = lattice.x * (lattice.start[0] + i0 as f32 * lattice.spacing[0])
+        + lattice.y * (lattice.start[1] + j0 as f32 * lattice.spacing[1])
+        + lattice.z * height as f32;
+    let frame = Frame::new(
+        origin,
+        lattice.x * lattice.spacing[0],
+        lattice.y * lattice.spacing[1],
+        lattice.z * quantizer.step(),
+    )
+    .map_err(build)?;
+    let grid = GridSize::new(cols as u32, rows as u32).map_err(build)?;
+    Patch::new(frame, grid, displacements, colours)
+        .map(Some)
+        .map_err(build)
+}
+
+/// The faces reachable from `seeds` across shared edges whose bounding box meets the box
+/// `[lo, hi]`, sorted by id. Seeds are always included.
+pub(crate) fn faces_near(
+    mesh: &TriangleMesh,
+    adjacency: &spatch_mesh::FaceAdjacency,
+    seeds: &[FaceId],
+    lo: Vec3,
+    hi: Vec3,
+) -> Vec<FaceId> {
+    let mut found: Vec<FaceId> = seeds.to_vec();
+    found.sort_unstable();
+    found.dedup();
+    let mut stack = found.clone();
+    while let Some(f) = stack.pop() {
+        for &n in adjacency.neighbours(f) {
+            if found.binary_search(&n).is_ok() {
+                continue;
+            }
+            let [a, b, c] = mesh.face_positions(n);
+            let (flo, fhi) = (a.min(b).min(c), a.max(b).max(c));
+            if flo.cmple(hi).all() && fhi.cmpge(lo).all() {
+                let at = found.partition_point(|&x| x < n);
+                found.insert(at, n);
+                stack.push(n);
+            }
+        }
+    }
+    found
+}

@@ -1,0 +1,108 @@
+//! The generator's options, with documented defaults and what each trades.
+
+use spatch_fit::FitOptions;
+
+use crate::EdgeError;
+
+/// Default [`EdgeOptions::crease_angle_deg`]: 25°.
+///
+/// Below the 30° rim of the crease-angle sweep test, and well above the facet-to-facet angle
+/// of tessellated curved CAD faces (a 64-sided cylinder turns 5.6° per facet).
+pub const DEFAULT_CREASE_ANGLE_DEG: f32 = 25.0;
+/// Default [`EdgeOptions::resolution`]: edge patches have 1.5 times the surface patches' node
+/// density along each side. Measured on the shared CAD parts (docs/algorithms/edges.md):
+/// 2.0 closed no more holes and cost about 1.8 times the bytes.
+pub const DEFAULT_RESOLUTION: f32 = 1.5;
+/// Default [`EdgeOptions::strip_width`]: 1.2 surface node spacings on each face (the gap a
+/// surface patch leaves at a crease is under one cell; 1.5 and 2.5 closed no more holes).
+pub const DEFAULT_STRIP_WIDTH: f32 = 1.2;
+/// Default [`EdgeOptions::max_cols`]: 33 nodes (32 cells) along the edge per patch.
+pub const DEFAULT_MAX_COLS: u32 = 33;
+/// Default [`EdgeOptions::max_turn_deg`]: 15°.
+pub const DEFAULT_MAX_TURN_DEG: f32 = 15.0;
+
+/// How sharp edges are found and covered.
+///
+/// Build with `EdgeOptions::default()` and change the fields you need.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct EdgeOptions {
+    /// An edge shared by two faces is sharp when the angle between their normals is at least
+    /// this, in degrees (0° = flat, 90° = a cube's edge). Range `(0, 180)`, default
+    /// [`DEFAULT_CREASE_ANGLE_DEG`]. Lower: more edges covered (more bytes, fewer holes at
+    /// shallow creases, where holes are narrow anyway); higher: only the sharpest edges.
+    pub crease_angle_deg: f32,
+    /// Edge patch node density relative to the surface patches: edge spacing = surface
+    /// spacing / `resolution`. Range `[1, 16]`, default [`DEFAULT_RESOLUTION`]. Higher:
+    /// edge cells cut the crease's corner less and cover narrower gaps, at
+    /// `resolution²` times the nodes per unit of strip area.
+    pub resolution: f32,
+    /// Width of the strip covered on each face, measured on the face perpendicular to the
+    /// edge, in surface node spacings. Range `[0.5, 16]`, default [`DEFAULT_STRIP_WIDTH`].
+    /// The gap left by surface patches at a crease is at most one surface cell wide, so the
+    /// strip must exceed 1 to overlap the surface patches; wider costs bytes linearly.
+    pub strip_width: f32,
+    /// Largest number of nodes along the edge in one edge patch, `3..=257`. Default
+    /// [`DEFAULT_MAX_COLS`]. Longer patches: fewer frames (40 bytes each) but wider rows
+    /// where the edge curves.
+    pub max_cols: u32,
+    /// Largest turn of the edge direction, or of the faces' bisector, within one edge patch,
+    /// in degrees. Range `(0, 90]`, default [`DEFAULT_MAX_TURN_DEG`]. Smaller: more, shorter
+    /// patches that follow a curved rim closely; larger: fewer patches with more empty nodes.
+    pub max_turn_deg: f32,
+    /// Whether to add a corner patch where three or more sharp edges meet, seen along the
+    /// mean normal of the faces around the corner. Default `true`. A corner patch costs about
+    /// one edge patch per corner.
+    pub corners: bool,
+    /// Largest displacement reconstruction error (half a step) as a fraction of the edge
+    /// spacing before a patch gets 16-bit codes (as
+    /// [`FitOptions::max_step_error`](spatch_fit::FitOptions::max_step_error)). Default
+    /// [`FitOptions::DEFAULT_STEP_ERROR`].
+    pub max_step_error: f32,
+    /// Whether to sample colour when the source has any. Default `true`.
+    pub colour: bool,
+}
+
+impl Default for EdgeOptions {
+    fn default() -> Self {
+        Self {
+            crease_angle_deg: DEFAULT_CREASE_ANGLE_DEG,
+            resolution: DEFAULT_RESOLUTION,
+            strip_width: DEFAULT_STRIP_WIDTH,
+            max_cols: DEFAULT_MAX_COLS,
+            max_turn_deg: DEFAULT_MAX_TURN_DEG,
+            corners: true,
+            max_step_error: FitOptions::DEFAULT_STEP_ERROR,
+            colour: true,
+        }
+    }
+}
+
+impl EdgeOptions {
+    /// Checks the ranges documented on each field.
+    pub fn validate(&self) -> Result<(), EdgeError> {
+        let bad = |name, reason| Err(EdgeError::InvalidOption { name, reason });
+        let a = self.crease_angle_deg;
+        if !(a.is_finite() && a > 0.0 && a < 180.0) {
+            return bad("crease_angle_deg", "must be in (0, 180) degrees");
+        }
+        if !(self.resolution.is_finite() && (1.0..=16.0).contains(&self.resolution)) {
+            return bad("resolution", "must be in [1, 16]");
+        }
+        if !(self.strip_width.is_finite() && (0.5..=16.0).contains(&self.strip_width)) {
+            return bad("strip_width", "must be in [0.5, 16] surface spacings");
+        }
+        if !(3..=257).contains(&self.max_cols) {
+            return bad("max_cols", "must be in 3..=257");
+        }
+        let t = self.max_turn_deg;
+        if !(t.is_finite() && t > 0.0 && t <= 90.0) {
+            return bad("max_turn_deg", "must be in (0, 90] degrees");
+        }
+        let e = self.max_step_error;
+        if !(e.is_finite() && e > 0.0) {
+            return bad("max_step_error", "must be positive and finite");
+        }
+        Ok(())
+    }
+}

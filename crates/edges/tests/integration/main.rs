@@ -1,0 +1,15 @@
+//! Integration tests of spatch-edges (one binary, as the workspace's test layout asks).
+//!
+//! - `surface`: the surface patches of a mesh, fitted as `spatch convert` does (helper);
+//! - `detection`: sharp edges, chains and corners of a cube, a cylinder and a sphere;
+//! - `patches`: edge patches lie on the source and cover both faces of a crease;
+//! - `crease_sweep`: frustums whose rim angle runs from 30° to 150° keep no holes;
+//! - `cad_targets`: the targets on the shared CAD parts (skipped when missing);
+//! - `determinism`: same input, same patches, whatever the thread count.
+
+mod cad_targets;
+mod crease_sweep;
+mod detection;
+mod determinism;
+mod patches;
+mod surface;
