@@ -67,4 +67,5 @@ pub use pipeline::{
 pub use report::{CloudReport, StageTime};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,
+    SPACING_SUBSET,
 };

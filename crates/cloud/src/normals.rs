@@ -1,51 +1,175 @@
 //! Point normals by principal component analysis of each point's neighbourhood.
 //!
-//! Input: positions, their [`PointTree`], a neighbour count `k`. Output: one unit normal per
-//! point, the eigenvector of the smallest eigenvalue of the covariance of the `k` nearest
-//! points (the point included); a zero vector where the neighbourhood has no plane (all
-//! points coincide or lie on a line). Normals are *unoriented*: the sign is arbitrary, and
-//! the rest of the pipeline only uses them up to sign (depth extrapolation inside a pixel and
-//! grazing-angle tests).
+//! Input: positions and a voxel size `v`. Output: one unit normal per point, the eigenvector
+//! of the smallest eigenvalue of the covariance of the points in the 3×3×3 block of voxels
+//! around the point's voxel (a neighbourhood about `3v` wide); a zero vector where that
+//! neighbourhood has no plane (all points coincide or lie on a line). Normals are
+//! *unoriented*: the sign is arbitrary, and the pipeline only uses them up to sign (depth
+//! placement inside a pixel and grazing-angle tests).
+//!
+//! Method: points are binned into cubic voxels of side `v` (sorted by voxel key); each voxel
+//! keeps its point count and first and second moments (f64); each voxel's normal comes from
+//! the sum of the moments of its 27-voxel block (found through a hash map), and every point
+//! takes its voxel's normal. All points of a voxel share a normal, which is what the range
+//! images need (a tangent plane per pixel-sized area); a k-nearest query per point (the
+//! textbook method) gives the same normals on smooth surfaces at about 20 times the cost
+//! (measured 8.3 s against 0.4 s for 1M points on the loaded 2-core machine).
 //!
 //! The 3×3 symmetric eigenproblem is solved in closed form (trigonometric eigenvalues, then
 //! the eigenvector as the largest cross product of two rows of `A − λI`), in f64 on the
 //! centred and rescaled covariance.
 //!
-//! Invariants: deterministic; each normal depends only on its own neighbourhood.
+//! Invariants: deterministic (voxels in key order, parallel work collected in order).
 //!
-//! Cost: one k-nearest query per point, O(n log n), parallel over chunks of points.
+//! Cost: O(n log n) for the sort, O(voxels · 27) hash lookups and eigen solves.
 //!
 //! Based on: H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Surface
-//! reconstruction from unorganized points", SIGGRAPH 1992; O. K. Smith, "Eigenvalues of a
-//! symmetric 3×3 matrix", CACM 4(4), 1961.
+//! reconstruction from unorganized points", SIGGRAPH 1992 (PCA of a neighbourhood); O. K.
+//! Smith, "Eigenvalues of a symmetric 3×3 matrix", CACM 4(4), 1961.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::spacing::PointTree;
+/// Bits per axis of a voxel key (coordinates beyond are clamped to the edge voxels).
+const KEY_BITS: u32 = 21;
 
-/// Points per parallel work item.
-const CHUNK: usize = 4096;
+/// A multiplicative hash for voxel keys (the std SipHash is several times slower here and
+/// the keys come from our own coordinates, not from an adversary).
+#[derive(Default)]
+struct VoxelKeyHasher(u64);
 
-/// PCA normals of every point (see the module documentation).
-pub fn estimate_normals(positions: &[Vec3], tree: &PointTree, neighbours: usize) -> Vec<Vec3> {
-    let chunks: Vec<Vec<Vec3>> = positions
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut found = Vec::with_capacity(neighbours);
-            let mut local = Vec::with_capacity(neighbours);
-            chunk
-                .iter()
-                .map(|&p| {
-                    tree.nearest_k(p, neighbours, &mut found);
-                    local.clear();
-                    local.extend(found.iter().map(|&(_, id)| positions[id.index()]));
-                    plane_normal(&local)
-                })
-                .collect()
+impl Hasher for VoxelKeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+
+    fn write_u64(&mut self, key: u64) {
+        self.0 = (key ^ (key >> 29)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+/// Point count and moments of one voxel (or block of voxels).
+#[derive(Clone, Copy, Default)]
+struct Moments {
+    count: f64,
+    sum: DVec3,
+    /// xx xy xz yy yz zz
+    squares: [f64; 6],
+}
+
+impl Moments {
+    fn add_point(&mut self, p: DVec3) {
+        self.count += 1.0;
+        self.sum += p;
+        let s = &mut self.squares;
+        s[0] += p.x * p.x;
+        s[1] += p.x * p.y;
+        s[2] += p.x * p.z;
+        s[3] += p.y * p.y;
+        s[4] += p.y * p.z;
+        s[5] += p.z * p.z;
+    }
+
+    fn add(&mut self, other: &Moments) {
+        self.count += other.count;
+        self.sum += other.sum;
+        for (a, b) in self.squares.iter_mut().zip(other.squares) {
+            *a += b;
+        }
+    }
+
+    fn normal(&self) -> Vec3 {
+        if self.count < 3.0 {
+            return Vec3::ZERO;
+        }
+        let m = self.sum / self.count;
+        let s = self.squares.map(|v| v / self.count);
+        let c = [
+            s[0] - m.x * m.x,
+            s[1] - m.x * m.y,
+            s[2] - m.x * m.z,
+            s[3] - m.y * m.y,
+            s[4] - m.y * m.z,
+            s[5] - m.z * m.z,
+        ];
+        smallest_eigenvector(c).as_vec3()
+    }
+}
+
+/// PCA normals of every point over 3×3×3 blocks of voxels of side `voxel` (see the module
+/// documentation).
+pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
+    if positions.is_empty() || !(voxel.is_finite() && voxel > 0.0) {
+        return vec![Vec3::ZERO; positions.len()];
+    }
+    let lo = positions
+        .iter()
+        .fold(Vec3::splat(f32::INFINITY), |a, p| a.min(*p));
+    let max_index = f64::from((1u32 << KEY_BITS) - 1);
+    let inv = 1.0 / f64::from(voxel);
+    let cell = |p: Vec3| -> [u64; 3] {
+        let d = (p - lo).as_dvec3() * inv;
+        [d.x, d.y, d.z].map(|v| v.floor().clamp(0.0, max_index) as u64)
+    };
+    let key = |c: [u64; 3]| (c[0] << (2 * KEY_BITS)) | (c[1] << KEY_BITS) | c[2];
+    let mut order: Vec<(u64, u32)> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (key(cell(p)), i as u32))
+        .collect();
+    order.sort_unstable();
+    // Voxels as runs of equal keys.
+    let mut voxels: Vec<(u64, Moments)> = Vec::new();
+    let mut point_voxel = vec![0u32; positions.len()];
+    for &(k, i) in &order {
+        if voxels.last().is_none_or(|v| v.0 != k) {
+            voxels.push((k, Moments::default()));
+        }
+        let last = voxels.len() - 1;
+        voxels[last].1.add_point(positions[i as usize].as_dvec3());
+        point_voxel[i as usize] = last as u32;
+    }
+    drop(order);
+    let index: HashMap<u64, u32, BuildHasherDefault<VoxelKeyHasher>> = voxels
+        .iter()
+        .enumerate()
+        .map(|(v, &(k, _))| (k, v as u32))
+        .collect();
+    let mask = (1u64 << KEY_BITS) - 1;
+    let voxel_normals: Vec<Vec3> = voxels
+        .par_iter()
+        .map(|&(k, _)| {
+            let c = [k >> (2 * KEY_BITS), (k >> KEY_BITS) & mask, k & mask];
+            let mut block = Moments::default();
+            for dz in -1i64..=1 {
+                for dy in -1i64..=1 {
+                    for dx in -1i64..=1 {
+                        let n = [c[0] as i64 + dx, c[1] as i64 + dy, c[2] as i64 + dz];
+                        if n.iter().any(|&v| v < 0 || v > mask as i64) {
+                            continue;
+                        }
+                        if let Some(&v) = index.get(&key(n.map(|v| v as u64))) {
+                            block.add(&voxels[v as usize].1);
+                        }
+                    }
+                }
+            }
+            block.normal()
         })
         .collect();
-    chunks.concat()
+    point_voxel
+        .iter()
+        .map(|&v| voxel_normals[v as usize])
+        .collect()
 }
 
 /// The normal of the least-squares plane through `points`, or zero when there is none.
@@ -131,6 +255,25 @@ mod tests {
         let v = smallest_eigenvector(a);
         let expected = q * DVec3::Z;
         assert!(v.dot(expected).abs() > 1.0 - 1e-9, "{v} vs {expected}");
+    }
+
+    #[test]
+    fn voxel_normals_of_a_sphere_are_radial() {
+        let n = 20_000;
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        let points: Vec<Vec3> = (0..n)
+            .map(|k| {
+                let z = 1.0 - (2.0 * k as f64 + 1.0) / n as f64;
+                let r = (1.0 - z * z).sqrt();
+                let phi = golden * k as f64;
+                Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32)
+            })
+            .collect();
+        let spacing = (4.0 * std::f32::consts::PI / n as f32).sqrt();
+        let normals = estimate_normals(&points, 1.5 * spacing);
+        for (p, nrm) in points.iter().zip(&normals) {
+            assert!(nrm.dot(*p).abs() > 0.99, "{p} has normal {nrm}");
+        }
     }
 
     #[test]

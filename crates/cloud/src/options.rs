@@ -93,12 +93,13 @@ pub struct CloudOptions {
     /// original's 2^4 + 1). Larger patches cost fewer frames (bytes) but have a wider depth
     /// range to quantize and coarser culling.
     pub grid: u32,
-    /// Neighbours used for the PCA normal of each point (itself included), 3..=64. Default
-    /// [`CloudOptions::DEFAULT_NORMAL_NEIGHBOURS`] (10). More neighbours give smoother
-    /// normals on noisy scans, blur normals at creases and cost time.
-    pub normal_neighbours: usize,
+    /// Voxel side for the PCA normals, in multiples of the spacing, 0.5..=8. Default
+    /// [`CloudOptions::DEFAULT_NORMAL_VOXEL`] (1.5: each normal fits the points of a
+    /// 3×3×3-voxel block, about 20–40 points, about 4.5 spacings wide). Larger voxels give
+    /// smoother normals on noisy scans and blur them at creases.
+    pub normal_voxel: f32,
     /// Point spacing `s` in model units; `None` (default) estimates it from the 12 nearest
-    /// neighbours of up to 20,000 sampled points (see `spacing.rs`).
+    /// neighbours of up to 20,000 sample points (see `spacing.rs`).
     pub spacing: Option<f32>,
     /// Target quantization step of the 8-bit displacements, in multiples of the spacing, > 0.
     /// Default [`CloudOptions::DEFAULT_DISPLACEMENT_STEP`] (0.01). Patches whose depth range
@@ -126,8 +127,8 @@ impl CloudOptions {
     pub const DEFAULT_COVER_TOLERANCE: f32 = 1.5;
     /// Default [`CloudOptions::grid`].
     pub const DEFAULT_GRID: u32 = 17;
-    /// Default [`CloudOptions::normal_neighbours`].
-    pub const DEFAULT_NORMAL_NEIGHBOURS: usize = 10;
+    /// Default [`CloudOptions::normal_voxel`].
+    pub const DEFAULT_NORMAL_VOXEL: f32 = 1.5;
     /// Default [`CloudOptions::displacement_step`].
     pub const DEFAULT_DISPLACEMENT_STEP: f32 = 0.01;
     /// Coarsest 8-bit step (in spacings) accepted before a patch is split or widened.
@@ -177,9 +178,9 @@ impl CloudOptions {
         )?;
         check((2..=257).contains(&self.grid), "grid", "must be 2..=257")?;
         check(
-            (3..=64).contains(&self.normal_neighbours),
-            "normal_neighbours",
-            "must be 3..=64",
+            (0.5..=8.0).contains(&self.normal_voxel),
+            "normal_voxel",
+            "must be 0.5..=8",
         )?;
         check(
             self.spacing.is_none_or(|s| s.is_finite() && s > 0.0),
@@ -224,7 +225,7 @@ impl Default for CloudOptions {
             cover_tolerance: Self::DEFAULT_COVER_TOLERANCE,
             smooth: None,
             grid: Self::DEFAULT_GRID,
-            normal_neighbours: Self::DEFAULT_NORMAL_NEIGHBOURS,
+            normal_voxel: Self::DEFAULT_NORMAL_VOXEL,
             spacing: None,
             displacement_step: Self::DEFAULT_DISPLACEMENT_STEP,
             write: WriteOptions::default(),

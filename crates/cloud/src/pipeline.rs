@@ -6,16 +6,19 @@
 //!
 //! Stages:
 //! 1. `filter`: points with a non-finite coordinate or normal are dropped and counted.
-//! 2. `spacing`: a kd-tree over the points; the spacing `s` from 12 nearest neighbours
-//!    (`spacing.rs`), unless given.
-//! 3. `normals`: the file's normals when it has them, else PCA normals (`normals.rs`).
-//! 4. `range_images`: one orthographic z-buffer per view direction (`directions.rs`,
+//! 2. `sort`: the points are put in Morton order, so that every later pass over them (one
+//!    per view) reads and writes the images in a cache-friendly order.
+//! 3. `spacing`: a kd-tree over (a thinned subset of) the points; the spacing `s` from 12
+//!    nearest neighbours (`spacing.rs`), unless given.
+//! 4. `normals`: the file's normals when it has them, else PCA normals over voxel blocks
+//!    (`normals.rs`).
+//! 5. `range_images`: one orthographic z-buffer per view direction (`directions.rs`,
 //!    `range_image.rs`) with pixel size `pixel_factor · s`, then gap filling (`gap_fill.rs`)
 //!    and, if asked, smoothing (`smooth.rs`). Views are independent and built in parallel.
-//! 5. `extract`: two passes over the views in order, the first accepting surfaces within the
+//! 6. `extract`: two passes over the views in order, the first accepting surfaces within the
 //!    preferred slope, the second within the maximum slope; each view adds patches only where
 //!    points are still uncovered (`extract.rs`).
-//! 6. `encode`: the `.spatch` bytes.
+//! 7. `encode`: the `.spatch` bytes.
 //!
 //! Invariants: the output is byte-identical for any thread count (parallel work is per view
 //! or per chunk of points and collected in order; extraction is sequential).
@@ -43,7 +46,7 @@ use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
 use crate::range_image::{flush_points, FlushInput, ImageGeometry};
 use crate::smooth::smooth_range_image;
-use crate::spacing::{estimate_spacing, PointTree};
+use crate::spacing::estimate_spacing;
 use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
 
 /// Largest total number of range-image pixels over all views (about 360 MB of images).
@@ -129,12 +132,14 @@ pub fn cloud_to_scene(
     }
     clock.lap("filter");
 
+    let cloud = sort_spatially(&cloud, &bounds);
+    clock.lap("sort");
+
     let positions = &cloud.positions;
-    let tree = PointTree::build(positions)?;
     let (spacing, mean_nearest) = match options.spacing {
         Some(s) => (s, 0.0),
         None => {
-            let estimate = estimate_spacing(positions, &tree)?;
+            let estimate = estimate_spacing(positions)?;
             (estimate.spacing, estimate.mean_nearest)
         }
     };
@@ -146,15 +151,10 @@ pub fn cloud_to_scene(
             "file",
         ),
         None => (
-            Cow::Owned(estimate_normals(
-                positions,
-                &tree,
-                options.normal_neighbours,
-            )),
+            Cow::Owned(estimate_normals(positions, options.normal_voxel * spacing)),
             "pca",
         ),
     };
-    drop(tree);
     clock.lap("normals");
 
     let mut warnings = Vec::new();
@@ -311,6 +311,46 @@ pub fn cloud_to_scene(
         bytes,
         report,
     })
+}
+
+/// The cloud with its points in Morton (Z-order) order of their position in `bounds`, so
+/// that consecutive points are near each other: every later pass over the points (one per
+/// view) then touches the images and grids in a cache-friendly order.
+fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
+    let scale =
+        Vec3::splat(f32::from(u16::MAX)) / bounds.size().max(Vec3::splat(f32::MIN_POSITIVE));
+    let spread = |v: u64| {
+        // Interleave the low 16 bits with two zero bits between each.
+        let mut x = v & 0xFFFF;
+        x = (x | (x << 16)) & 0x0000_FF00_00FF;
+        x = (x | (x << 8)) & 0x00F0_0F00_F00F;
+        x = (x | (x << 4)) & 0x0C30_C30C_30C3;
+        (x | (x << 2)) & 0x2492_4924_9249
+    };
+    let mut order: Vec<(u64, u32)> = cloud
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let q = ((p - bounds.min) * scale).clamp(Vec3::ZERO, Vec3::splat(f32::from(u16::MAX)));
+            let code = spread(q.x as u64) | (spread(q.y as u64) << 1) | (spread(q.z as u64) << 2);
+            (code, i as u32)
+        })
+        .collect();
+    order.sort_unstable();
+    let pick = |i: &(u64, u32)| i.1 as usize;
+    PointCloud {
+        origin: cloud.origin,
+        positions: order.iter().map(|i| cloud.positions[pick(i)]).collect(),
+        colours: cloud
+            .colours
+            .as_ref()
+            .map(|c| order.iter().map(|i| c[pick(i)]).collect()),
+        normals: cloud
+            .normals
+            .as_ref()
+            .map(|v| order.iter().map(|i| v[pick(i)]).collect()),
+    }
 }
 
 /// The bounds the range images cover: per axis, the 0.1 % and 99.9 % quantiles of the

@@ -7,7 +7,8 @@ use crate::CloudErrorReport;
 /// Wall time of one stage.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StageTime {
-    /// Stage name: `filter`, `spacing`, `normals`, `range_images`, `extract`, `encode` (and
+    /// Stage name: `filter`, `sort`, `spacing`, `normals`, `range_images`, `extract`,
+    /// `encode` (and
     /// `load`, `write` when the CLI adds them).
     pub name: &'static str,
     /// Wall time in seconds.
