@@ -25,6 +25,12 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch convert bunny.ply -o bunny.spatch\n  spatch convert duck.glb -o duck.spatch --report report.json --grid 9 --threads 2"
     )]
     Convert(commands::convert::ConvertArgs),
+    /// Convert a point cloud (.ply, .xyz, .pts) into spatial patches through range images.
+    #[command(
+        name = "from-cloud",
+        after_help = "Example:\n  spatch from-cloud bun000.ply -o bun000.spatch\n  spatch from-cloud scan.ply -o scan.spatch --smooth --report report.json"
+    )]
+    FromCloud(commands::from_cloud::FromCloudArgs),
     /// Build the perfect sphere of the original work as patches.
     #[command(
         after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"

@@ -17,6 +17,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(args) => commands::demo::run(&args),
         Command::Convert(args) => commands::convert::run(&args),
+        Command::FromCloud(args) => commands::from_cloud::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
         Command::Stats(args) => commands::stats::run(&args),
         Command::Export(args) => commands::export::run(&args),

@@ -6,12 +6,15 @@
 //! - `merge`: patch counts add up; incompatible scenes refused.
 //! - `render`: PNG, depth and stats outputs, camera flags, `--bench`, bad input.
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
+//! - `from_cloud`: `spatch from-cloud` scene, report keys and error targets, determinism,
+//!   bad clouds.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
 mod bad_input;
 mod convert;
 mod export;
+mod from_cloud;
 mod merge;
 mod render;
 mod sphere;

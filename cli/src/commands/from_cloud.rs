@@ -1,0 +1,197 @@
+//! `spatch from-cloud`: a point cloud (PLY, XYZ) to patches through range images.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Context;
+use spatch_cloud::{
+    cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, SmoothOptions, StageTime,
+};
+use spatch_format::WriteOptions;
+use spatch_mesh::load_point_cloud;
+
+use crate::failure::InternalFailure;
+use crate::output::{print_stdout, write_output};
+
+/// Arguments of `spatch from-cloud`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct FromCloudArgs {
+    /// Input point cloud: .ply (ASCII or binary, optional colours and normals), .xyz, .txt
+    /// or .pts.
+    #[arg(value_name = "CLOUD")]
+    input: PathBuf,
+    /// Output .spatch file.
+    #[arg(short, long, value_name = "FILE")]
+    output: PathBuf,
+    /// Also write a JSON report (counts, stage times and the cloud error) to this file.
+    #[arg(long, value_name = "FILE")]
+    report: Option<PathBuf>,
+    /// Measure the error (cloud to patch, node to cloud) even without --report.
+    #[arg(long)]
+    error: bool,
+    /// Number of view directions, spread evenly over the sphere (1..=1000).
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_VIEWS)]
+    views: usize,
+    /// Pixel (node) spacing in multiples of the point spacing (0.25..=16): smaller keeps
+    /// more detail and costs more nodes.
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_PIXEL_FACTOR)]
+    pixel_factor: f32,
+    /// Widest sampling gap filled by interpolation, in pixels (0..=8).
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_MAX_GAP)]
+    max_gap: u32,
+    /// Depth step between neighbouring pixels that counts as a discontinuity, in pixels.
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_JUMP_FACTOR)]
+    jump: f32,
+    /// Steepest surface (degrees from the view direction) taken in the first pass.
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_PREFERRED_SLOPE)]
+    preferred_slope: f32,
+    /// Steepest surface (degrees) taken in the second pass.
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_MAX_SLOPE)]
+    max_slope: f32,
+    /// Distance (in point spacings) within which a patch covers a point.
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_COVER_TOLERANCE)]
+    cover_tolerance: f32,
+    /// Smooth the range images with an edge-preserving (bilateral) filter: for noisy scans.
+    #[arg(long)]
+    smooth: bool,
+    /// Smoothing radius in pixels (1..=8), with --smooth.
+    #[arg(long, default_value_t = SmoothOptions::DEFAULT_RADIUS, requires = "smooth")]
+    smooth_radius: u32,
+    /// Smoothing passes (1..=8), with --smooth.
+    #[arg(long, default_value_t = SmoothOptions::DEFAULT_ITERATIONS, requires = "smooth")]
+    smooth_iterations: u32,
+    /// Nodes per patch side (2..=257).
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_GRID)]
+    grid: u32,
+    /// Point spacing in model units (default: estimated from 12 nearest neighbours).
+    #[arg(long)]
+    spacing: Option<f32>,
+    /// Voxel side for PCA normals when the file has none, in point spacings (0.5..=8).
+    #[arg(long, default_value_t = CloudOptions::DEFAULT_NORMAL_VOXEL)]
+    normal_voxel: f32,
+    /// Compress node data (grid prediction + range coding).
+    #[arg(long)]
+    compress: bool,
+}
+
+impl FromCloudArgs {
+    /// The library options these arguments ask for.
+    fn options(&self) -> CloudOptions {
+        let mut options = CloudOptions::default();
+        options.views = self.views;
+        options.pixel_factor = self.pixel_factor;
+        options.max_gap = self.max_gap;
+        options.jump_factor = self.jump;
+        options.preferred_slope_degrees = self.preferred_slope.min(self.max_slope);
+        options.max_slope_degrees = self.max_slope;
+        options.cover_tolerance = self.cover_tolerance;
+        options.smooth = self.smooth.then(|| {
+            let mut smooth = SmoothOptions::default();
+            smooth.radius = self.smooth_radius;
+            smooth.iterations = self.smooth_iterations;
+            smooth
+        });
+        options.grid = self.grid;
+        options.spacing = self.spacing;
+        options.normal_voxel = self.normal_voxel;
+        options.write = WriteOptions::with_compression(super::compression(self.compress));
+        options
+    }
+}
+
+/// Loads the cloud, converts it, writes the scene (and the report).
+pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
+    let options = args.options();
+    let started = Instant::now();
+    let loaded = load_point_cloud(&args.input)?;
+    let load_seconds = started.elapsed().as_secs_f64();
+    let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {
+        CloudError::Bug(_) | CloudError::Internal { .. } => {
+            anyhow::Error::new(InternalFailure(format!("{}: {e}", args.input.display())))
+        }
+        e => anyhow::Error::new(e).context(format!("{}", args.input.display())),
+    })?;
+    let write_started = Instant::now();
+    write_output(&args.output, &conversion.bytes)?;
+    let write_seconds = write_started.elapsed().as_secs_f64();
+
+    let mut report = conversion.report;
+    report.input_points += loaded.dropped_non_finite as usize;
+    report.dropped_non_finite += loaded.dropped_non_finite;
+    report
+        .warnings
+        .splice(0..0, loaded.warnings.iter().map(ToString::to_string));
+    report.stages.insert(
+        0,
+        StageTime {
+            name: "load",
+            seconds: load_seconds,
+        },
+    );
+    report.stages.push(StageTime {
+        name: "write",
+        seconds: write_seconds,
+    });
+    report.seconds = report.stages.iter().map(|s| s.seconds).sum();
+    if args.error || args.report.is_some() {
+        let error = measure_cloud_error(&loaded.cloud, &conversion.scene, report.spacing)
+            .with_context(|| format!("{}: measuring the error", args.input.display()))?;
+        report.error = Some(error);
+    }
+
+    let mut text = format!(
+        "{}: {} patches, {} nodes ({} filled) from {} points, {} bytes\n",
+        args.output.display(),
+        report.patches,
+        report.nodes,
+        report.filled_nodes,
+        report.points,
+        report.bytes,
+    );
+    text.push_str(&format!(
+        "  spacing {:.4e} ({} normals), pixel {:.4e}, {} views, {} points uncovered\n",
+        report.spacing, report.normals, report.pixel, report.views, report.uncovered_points,
+    ));
+    if report.dropped_non_finite > 0 {
+        text.push_str(&format!(
+            "  dropped {} non-finite points\n",
+            report.dropped_non_finite
+        ));
+    }
+    for warning in &report.warnings {
+        text.push_str(&format!("  warning: {warning}\n"));
+    }
+    let stages: Vec<String> = report
+        .stages
+        .iter()
+        .map(|s| format!("{} {:.0} ms", s.name, s.seconds * 1e3))
+        .collect();
+    text.push_str(&format!(
+        "  time {:.2} s ({} threads): {}\n",
+        report.seconds,
+        report.threads,
+        stages.join(", ")
+    ));
+    if let Some(error) = &report.error {
+        let c = &error.cloud_to_patch;
+        text.push_str(&format!(
+            "  cloud_to_patch: rms {:.3e} ({:.2} spacings), max {:.3e}, p95 {:.3e}, {:.2} % beyond 2 spacings\n",
+            c.distance.rms,
+            c.distance.rms / error.spacing,
+            c.distance.max,
+            c.distance.p95,
+            c.share_beyond_2x_spacing * 100.0,
+        ));
+        let n = &error.node_to_cloud;
+        text.push_str(&format!(
+            "  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s)\n",
+            n.rms, n.max, n.p95, error.seconds
+        ));
+    }
+    if let Some(path) = &args.report {
+        let json = serde_json::to_vec_pretty(&report)
+            .map_err(|e| InternalFailure(format!("cannot serialise the report: {e}")))?;
+        write_output(path, &json)?;
+    }
+    print_stdout(&text)
+}

@@ -1,0 +1,130 @@
+//! `spatch from-cloud`: scenes from point clouds, the report, determinism, bad input.
+
+use spatch_format::read_scene;
+
+use crate::test_command::TestCommand;
+
+/// A jittered 120 × 120 grid on a gentle paraboloid, as XYZ text.
+fn write_xyz(t: &TestCommand, name: &str) {
+    let mut text = String::new();
+    for k in 0..120 * 120 {
+        let (i, j) = ((k % 120) as f64, (k / 120) as f64);
+        let jitter = ((k * 7919) % 97) as f64 / 97.0 * 0.3;
+        let (x, y) = ((i + jitter) * 0.01, (j - jitter) * 0.01);
+        let z = 0.2 * ((x - 0.6) * (x - 0.6) + (y - 0.6) * (y - 0.6));
+        text.push_str(&format!("{x} {y} {z}\n"));
+    }
+    std::fs::write(t.path(name), text).unwrap();
+}
+
+#[test]
+fn xyz_cloud_becomes_a_scene_with_a_report() {
+    let t = TestCommand::new();
+    write_xyz(&t, "sheet.xyz");
+    let run = t
+        .run(&[
+            "from-cloud",
+            "sheet.xyz",
+            "-o",
+            "sheet.spatch",
+            "--report",
+            "r.json",
+        ])
+        .success();
+    assert!(run.stdout.contains("patches"), "{}", run.stdout);
+    assert!(run.stdout.contains("cloud_to_patch"), "{}", run.stdout);
+    let scene = read_scene(&t.path("sheet.spatch")).unwrap();
+    assert!(!scene.patches().is_empty());
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    assert_eq!(report["patches"], scene.patches().len());
+    assert_eq!(report["points"], 14_400);
+    assert!(report["nodes"].as_u64().unwrap() < 14_400);
+    assert!(report["bytes"].as_u64().unwrap() > 0);
+    let stages: Vec<&str> = report["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(stages.first(), Some(&"load"));
+    assert!(stages.contains(&"range_images") && stages.contains(&"extract"));
+    let error = &report["error"];
+    let spacing = report["spacing"].as_f64().unwrap();
+    let rms = error["cloud_to_patch"]["rms"].as_f64().unwrap();
+    assert!(rms <= 0.5 * spacing, "rms {rms}, spacing {spacing}");
+    assert!(
+        error["cloud_to_patch"]["share_beyond_2x_spacing"]
+            .as_f64()
+            .unwrap()
+            <= 0.01
+    );
+    for key in ["max", "rms", "p95", "max_rel", "rms_rel"] {
+        assert!(error["cloud_to_patch"][key].is_number(), "{key}");
+        assert!(error["node_to_cloud"][key].is_number(), "{key}");
+    }
+}
+
+#[test]
+fn output_is_byte_identical_for_one_and_two_threads() {
+    let t = TestCommand::new();
+    write_xyz(&t, "sheet.xyz");
+    for (threads, name) in [("1", "one.spatch"), ("2", "two.spatch")] {
+        t.run_with_env(
+            &["from-cloud", "sheet.xyz", "--smooth", "-o", name],
+            &[("RAYON_NUM_THREADS", threads)],
+        )
+        .success();
+    }
+    assert_eq!(
+        std::fs::read(t.path("one.spatch")).unwrap(),
+        std::fs::read(t.path("two.spatch")).unwrap()
+    );
+}
+
+#[test]
+fn the_shared_scan_converts() {
+    let Some(scan) = spatch_fixtures_path("pointcloud/hoppe_distcap.ply") else {
+        return;
+    };
+    let t = TestCommand::new();
+    t.run(&["from-cloud", &scan, "-o", "distcap.spatch"])
+        .success();
+    assert!(read_scene(&t.path("distcap.spatch")).unwrap().node_count() < 12_745);
+}
+
+/// The shared data file, or `None` when ../shared/data is missing.
+fn spatch_fixtures_path(relative: &str) -> Option<String> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data");
+    let path = root.join(relative);
+    path.is_file().then(|| path.display().to_string())
+}
+
+#[test]
+fn bad_clouds_fail_cleanly_without_output() {
+    let t = TestCommand::new();
+    std::fs::write(t.path("one.xyz"), "1 2 3\n").unwrap();
+    std::fs::write(t.path("nan.xyz"), "nan 0 0\n0 inf 0\n").unwrap();
+    std::fs::write(
+        t.path("broken.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 5\n",
+    )
+    .unwrap();
+    for (file, expect) in [
+        ("missing.ply", "missing.ply"),
+        ("one.xyz", "at least 3"),
+        ("nan.xyz", "nan.xyz"),
+        ("broken.ply", "broken.ply"),
+    ] {
+        let run = t.run(&["from-cloud", file, "-o", "out.spatch"]);
+        assert_eq!(run.code, 2, "{file}: {}", run.stderr);
+        let lines: Vec<&str> = run.stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{file}: {}", run.stderr);
+        assert!(lines[0].starts_with("spatch: error: "), "{}", lines[0]);
+        assert!(lines[0].contains(expect), "{file}: {}", lines[0]);
+        assert!(!t.path("out.spatch").exists(), "{file}");
+    }
+    let run = t.run(&["from-cloud", "one.xyz", "-o", "out.spatch", "--views", "0"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("views"), "{}", run.stderr);
+}
