@@ -17,6 +17,14 @@ pub(crate) struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
+    /// Convert the built-in model (a textured cow) into a folder: source, scene and report.
+    #[command(after_help = "Example:\n  spatch demo\n  spatch demo -o my-demo --grid 9")]
+    Demo(commands::demo::DemoArgs),
+    /// Convert a mesh (.obj, .gltf, .glb, .ply, .off) into spatial patches.
+    #[command(
+        after_help = "Example:\n  spatch convert bunny.ply -o bunny.spatch\n  spatch convert duck.glb -o duck.spatch --report report.json --grid 9 --threads 2"
+    )]
+    Convert(commands::convert::ConvertArgs),
     /// Build the perfect sphere of the original work as patches.
     #[command(
         after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"
@@ -35,4 +43,9 @@ pub(crate) enum Command {
     /// Concatenate scenes into one file.
     #[command(after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch")]
     Merge(commands::merge::MergeArgs),
+    /// Render a .spatch file to a PNG on the CPU (patches or triangles).
+    #[command(
+        after_help = "Example:\n  spatch render sphere.spatch -o sphere.png\n  spatch render sphere.spatch -o near.png --eye 0,0,400 --target 0,0,0 --fov 30 --width 1000 --height 1000 --depth depth.png --stats stats.json\n  spatch render sphere.spatch --bench 50 --threads 2"
+    )]
+    Render(commands::render::RenderArgs),
 }

@@ -15,10 +15,13 @@ use crate::failure::Failure;
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
+        Command::Demo(args) => commands::demo::run(&args),
+        Command::Convert(args) => commands::convert::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
         Command::Stats(args) => commands::stats::run(&args),
         Command::Export(args) => commands::export::run(&args),
         Command::Merge(args) => commands::merge::run(&args),
+        Command::Render(args) => commands::render::run(&args),
     }
 }
 

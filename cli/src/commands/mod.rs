@@ -1,8 +1,11 @@
 //! One module per subcommand: arguments → library options → library call →
 //! report.
 
+pub(crate) mod convert;
+pub(crate) mod demo;
 pub(crate) mod export;
 pub(crate) mod merge;
+pub(crate) mod render;
 pub(crate) mod sphere;
 pub(crate) mod stats;
 

@@ -4,12 +4,16 @@
 //! - `stats`: the human table and the JSON keys.
 //! - `export`: standard PLY headers and counts.
 //! - `merge`: patch counts add up; incompatible scenes refused.
+//! - `render`: PNG, depth and stats outputs, camera flags, `--bench`, bad input.
+//! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
 mod bad_input;
+mod convert;
 mod export;
 mod merge;
+mod render;
 mod sphere;
 mod stats;
 mod test_command;

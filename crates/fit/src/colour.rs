@@ -12,14 +12,17 @@ use spatch_format::{ColourChannel, Patch};
 use spatch_mesh::{FaceId, TriangleMesh};
 
 /// The colour of a hit, or opaque black when the mesh has no colour there.
+///
+/// Public so that other producers (the sharp-edge patches of `spatch-edges`) colour nodes
+/// exactly as the fitter does.
 #[inline]
-pub(crate) fn sample_colour(mesh: &TriangleMesh, face: FaceId, bary: [f32; 3]) -> [u8; 4] {
+pub fn sample_colour(mesh: &TriangleMesh, face: FaceId, bary: [f32; 3]) -> [u8; 4] {
     mesh.colour_at(face, Vec3::from(bary))
         .unwrap_or([0, 0, 0, 255])
 }
 
 /// The narrowest colour channel that holds the colours of `patches`.
-pub(crate) fn choose_channel(patches: &[Patch]) -> ColourChannel {
+pub fn choose_channel(patches: &[Patch]) -> ColourChannel {
     let mut any = false;
     for patch in patches {
         let Some(colours) = patch.colours() else {

@@ -61,7 +61,7 @@ impl Lattice {
 
     /// `p` (mesh coordinates) as `(grid x, grid y, height)`.
     #[inline]
-    pub(crate) fn to_grid(&self, p: Vec3) -> Vec3 {
+    pub(crate) fn grid_point(&self, p: Vec3) -> Vec3 {
         let b = &self.basis;
         let u = (f64::from(p.dot(b.x)) - self.origin.x) as f32 / self.spacing[0];
         let v = (f64::from(p.dot(b.y)) - self.origin.y) as f32 / self.spacing[1];

@@ -64,7 +64,7 @@ pub(crate) fn cast_nodes(
     hits: &mut [Hit],
 ) {
     for &face in faces {
-        let g = mesh.face_positions(face).map(|p| lattice.to_grid(p));
+        let g = mesh.face_positions(face).map(|p| lattice.grid_point(p));
         cast_face(face, g, lattice, needed, locked, hits);
     }
 }
@@ -85,7 +85,7 @@ fn cast_face(
         .max((p[2] - p[0]).length_squared())
         .max((p[2] - p[1]).length_squared());
     // Edge-on in projection: a ray would graze it.
-    if !(area2.abs() > 1e-9 * scale) || !area2.is_finite() {
+    if area2.abs() <= 1e-9 * scale || !area2.is_finite() {
         return;
     }
     let inv = 1.0 / area2;

@@ -104,7 +104,7 @@ impl Default for FitOptions {
 ///
 /// Calibrated on the Stanford bunny (`bun_zipper.ply`, 69,451 triangles) so that it lands just
 /// under the original work's 441,014 nodes at 17 × 17 (see `docs/algorithms/fitter.md`).
-pub const SPACING_PER_TRIANGLE_SIZE: f32 = 0.62;
+pub const SPACING_PER_TRIANGLE_SIZE: f32 = 0.5;
 
 /// The default node spacing of `mesh`: [`SPACING_PER_TRIANGLE_SIZE`] × `sqrt(area / faces)`,
 /// counting only faces of non-zero area.

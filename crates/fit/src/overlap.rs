@@ -73,7 +73,7 @@ pub(crate) fn needed_nodes(
     let (cols, rows) = (lattice.cols, lattice.rows);
     let mut touched = vec![false; cols * rows];
     for &face in faces {
-        let g = mesh.face_positions(face).map(|p| lattice.to_grid(p));
+        let g = mesh.face_positions(face).map(|p| lattice.grid_point(p));
         let t = g.map(|p| Vec2::new(p.x, p.y));
         let lo = t[0].min(t[1]).min(t[2]);
         let hi = t[0].max(t[1]).max(t[2]);
@@ -164,7 +164,7 @@ pub(crate) fn neighbourhood(
                 if mesh.face_normal(n).dot(lattice.basis.z) <= MIN_FACING {
                     continue;
                 }
-                let g = mesh.face_positions(n).map(|p| lattice.to_grid(p));
+                let g = mesh.face_positions(n).map(|p| lattice.grid_point(p));
                 if covers_needed(g, lattice, needed) {
                     accepted.push(n);
                     next.push(n);

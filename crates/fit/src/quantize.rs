@@ -16,7 +16,10 @@ use crate::FitError;
 
 /// The step and code width of a region whose heights span `range` (≥ 0), with node spacing
 /// `spacing` and a budget of `max_error` (absolute) for half a step.
-pub(crate) fn choose_quantizer(
+///
+/// Public so that other producers (the sharp-edge patches of `spatch-edges`) quantize exactly
+/// as the fitter does.
+pub fn choose_quantizer(
     range: f32,
     spacing: f32,
     max_error: f32,
@@ -36,7 +39,7 @@ pub(crate) fn choose_quantizer(
 
 /// The code of height `h` above `h_min` (rounded, clamped to the quantizer's codes).
 #[inline]
-pub(crate) fn quantize_height(q: &Quantizer, h_min: f32, h: f32) -> u16 {
+pub fn quantize_height(q: &Quantizer, h_min: f32, h: f32) -> u16 {
     let code = ((h - h_min) / q.step()).round();
     code.clamp(0.0, f32::from(q.width().max_code())) as u16
 }

@@ -1,0 +1,326 @@
+//! `spatch convert`: a mesh file to a `.spatch` scene, with a report.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use serde_json::{json, Map, Value};
+use spatch_convert::{convert_with_progress, Conversion, ConvertInput, ConvertOptions};
+use spatch_eval::{geometric_error, GeometricError};
+use spatch_fit::FitOptions;
+use spatch_format::WriteOptions;
+
+use crate::failure::InternalFailure;
+use crate::output::{print_stdout, write_output};
+
+/// Arguments of `spatch convert`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct ConvertArgs {
+    /// Input mesh: .obj (with .mtl and textures), .gltf, .glb, .ply or .off.
+    #[arg(value_name = "MESH")]
+    input: PathBuf,
+    /// Output .spatch file.
+    #[arg(short, long, value_name = "FILE")]
+    output: PathBuf,
+    #[command(flatten)]
+    pipeline: PipelineArgs,
+}
+
+/// The pipeline options shared by `spatch convert` and `spatch demo`.
+#[derive(Debug, Clone, clap::Args)]
+pub(crate) struct PipelineArgs {
+    /// Write a JSON report (counts, bytes, stage timings, geometric error) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) report: Option<PathBuf>,
+    /// Node spacing in model units [default: derived from the source's triangle size].
+    #[arg(long, value_parser = positive_f32)]
+    pub(crate) spacing: Option<f32>,
+    /// Largest number of nodes per patch side (2..=257); larger regions are split.
+    #[arg(long, default_value_t = FitOptions::DEFAULT_GRID, value_parser = clap::value_parser!(u32).range(2..=257))]
+    pub(crate) grid: u32,
+    /// Extra rings of nodes each patch reaches into its neighbours.
+    #[arg(long, default_value_t = FitOptions::DEFAULT_OVERLAP, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub(crate) overlap: u32,
+    /// Half-angle in degrees of the normal cone of a region (0-89].
+    #[arg(long, value_name = "DEGREES", default_value_t = spatch_segment::DEFAULT_CONE_ANGLE_DEG)]
+    pub(crate) cone_angle: f32,
+    /// Leave colour out even when the source has it.
+    #[arg(long)]
+    pub(crate) no_colour: bool,
+    /// Compress node data (grid prediction + range coding).
+    #[arg(long)]
+    pub(crate) compress: bool,
+    /// Skip measuring the geometric error (it can take as long as the conversion).
+    #[arg(long)]
+    pub(crate) no_error: bool,
+    /// Worker threads [default: one per core].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub(crate) threads: Option<u32>,
+}
+
+fn positive_f32(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err("must be a positive number".to_owned())
+    }
+}
+
+impl PipelineArgs {
+    /// The library options these arguments ask for.
+    pub(crate) fn options(&self) -> ConvertOptions {
+        let mut options = ConvertOptions::default();
+        options.fit.spacing = self.spacing;
+        options.fit.grid = self.grid;
+        options.fit.overlap = self.overlap;
+        options.fit.colour = !self.no_colour;
+        options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
+        options.write = WriteOptions::with_compression(super::compression(self.compress));
+        options
+    }
+
+    /// Sets up the worker threads (once per process).
+    pub(crate) fn init_threads(&self) -> anyhow::Result<()> {
+        if let Some(n) = self.threads {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n as usize)
+                .build_global()
+                .map_err(|e| InternalFailure(format!("cannot start {n} worker threads: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+/// A spinner on standard error naming the current stage, only on a terminal.
+pub(crate) struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl Progress {
+    /// A spinner labelled `what`, or nothing when standard error is not a terminal.
+    pub(crate) fn new(what: &str) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let bar = indicatif::ProgressBar::new_spinner();
+            if let Ok(style) =
+                indicatif::ProgressStyle::with_template("{spinner} {prefix}: {msg} ({elapsed})")
+            {
+                bar.set_style(style);
+            }
+            bar.set_prefix(what.to_owned());
+            bar.enable_steady_tick(Duration::from_millis(100));
+            bar
+        });
+        Self { bar }
+    }
+
+    /// Shows `message` as the current step.
+    pub(crate) fn step(&self, message: &str) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(message.to_owned());
+        }
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// A finished conversion, written out.
+pub(crate) struct Outcome {
+    pub(crate) conversion: Conversion,
+    pub(crate) text: String,
+}
+
+/// Converts `input`, writes `output` (and the report when asked), and returns what happened.
+pub(crate) fn convert_and_write(
+    input: &Path,
+    output: &Path,
+    args: &PipelineArgs,
+) -> anyhow::Result<Outcome> {
+    let options = args.options();
+    let progress = Progress::new(&input.display().to_string());
+    let started = Instant::now();
+    let conversion = convert_with_progress(ConvertInput::Path(input), &options, &|stage| {
+        progress.step(stage.name())
+    })
+    .map_err(|e| classify(e, input))?;
+    progress.step("write");
+    let write_started = Instant::now();
+    write_output(output, &conversion.bytes)?;
+    let write_seconds = write_started.elapsed().as_secs_f64();
+    let seconds = started.elapsed().as_secs_f64();
+    let error = (!args.no_error).then(|| {
+        progress.step("measuring error");
+        geometric_error(&conversion.scene, &conversion.mesh, 1)
+    });
+    drop(progress);
+
+    let report = report_json(
+        input,
+        output,
+        &conversion,
+        error.as_ref(),
+        write_seconds,
+        seconds,
+    );
+    if let Some(path) = &args.report {
+        let mut text = serde_json::to_string_pretty(&report)
+            .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
+        text.push('\n');
+        write_output(path, text.as_bytes())?;
+    }
+    let text = summary(
+        output,
+        &conversion,
+        error.as_ref(),
+        seconds,
+        args.report.as_deref(),
+    );
+    Ok(Outcome { conversion, text })
+}
+
+/// Adds the file to the error and marks spatch's own failures as internal (exit code 1).
+fn classify(err: spatch_convert::ConvertError, input: &Path) -> anyhow::Error {
+    use spatch_convert::ConvertError;
+    let internal = matches!(
+        &err,
+        ConvertError::Encode(_) | ConvertError::Fit(spatch_fit::FitError::Bug(_))
+    );
+    if internal {
+        anyhow::Error::new(InternalFailure(format!("{}: {err}", input.display())))
+    } else if matches!(err, ConvertError::Load(_)) {
+        // Loader errors already name the file.
+        anyhow::Error::new(err)
+    } else {
+        anyhow::Error::new(err).context(format!("{}", input.display()))
+    }
+}
+
+/// The JSON report (keys as documented in `docs/models.md`).
+fn report_json(
+    input: &Path,
+    output: &Path,
+    c: &Conversion,
+    error: Option<&GeometricError>,
+    write_seconds: f64,
+    seconds: f64,
+) -> Value {
+    let r = &c.report;
+    let mut stages = Map::new();
+    for s in &r.stages {
+        stages.insert(s.name.to_owned(), json!(s.seconds));
+    }
+    stages.insert("write".to_owned(), json!(write_seconds));
+    let error = error.map(|e| {
+        json!({
+            "node_to_surface": e.node_to_surface,
+            "surface_to_patch": e.surface_to_patch,
+            "diagonal": e.diagonal,
+        })
+    });
+    json!({
+        "input": input.display().to_string(),
+        "output": output.display().to_string(),
+        "patches": r.patches,
+        "nodes": r.nodes,
+        "filled_nodes": r.filled_nodes,
+        "bytes": r.bytes,
+        "seconds": seconds,
+        "stages": stages,
+        "threads": r.threads,
+        "error": error,
+        "triangles": r.triangles,
+        "regions": r.regions,
+        "split_regions": r.split_regions,
+        "wide_patches": r.wide_patches,
+        "spacing": r.spacing,
+        "colour": r.colour,
+        "prepare": r.prepare,
+        "warnings": r.warnings,
+    })
+}
+
+/// The short human summary.
+fn summary(
+    output: &Path,
+    c: &Conversion,
+    error: Option<&GeometricError>,
+    seconds: f64,
+    report: Option<&Path>,
+) -> String {
+    let r = &c.report;
+    let mut text = format!(
+        "{}: {} patches, {} nodes ({} filled), {} bytes, colour {}\n",
+        output.display(),
+        r.patches,
+        r.nodes,
+        r.filled_nodes,
+        r.bytes,
+        r.colour
+    );
+    let stages: Vec<String> = r
+        .stages
+        .iter()
+        .filter(|s| s.name != "adjacency" || s.seconds >= 0.0005)
+        .map(|s| format!("{} {:.0} ms", s.name, s.seconds * 1e3))
+        .collect();
+    text.push_str(&format!(
+        "  time: {:.2} s with {} threads ({})\n",
+        seconds,
+        r.threads,
+        stages.join(", ")
+    ));
+    if let Some(e) = error {
+        text.push_str(&format!(
+            "  error (% of diagonal): nodes to surface max {:.4} rms {:.4}; surface to patches max {:.4} rms {:.4}\n",
+            e.node_to_surface.max_rel * 100.0,
+            e.node_to_surface.rms_rel * 100.0,
+            e.surface_to_patch.max_rel * 100.0,
+            e.surface_to_patch.rms_rel * 100.0,
+        ));
+    }
+    for w in &r.warnings {
+        text.push_str(&format!("  warning: {w}\n"));
+    }
+    if let Some(path) = report {
+        text.push_str(&format!("  report: {}\n", path.display()));
+    }
+    text
+}
+
+/// Converts a mesh and prints a summary.
+pub(crate) fn run(args: &ConvertArgs) -> anyhow::Result<()> {
+    args.pipeline.init_threads()?;
+    if !args.input.is_file() {
+        return Err(anyhow::anyhow!("{}: no such file", args.input.display()))
+            .context("cannot read the input mesh");
+    }
+    let outcome = convert_and_write(&args.input, &args.output, &args.pipeline)?;
+    print_stdout(&outcome.text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spatch_convert::Stage;
+
+    #[test]
+    fn every_stage_has_a_name() {
+        for s in Stage::ALL {
+            assert!(!s.name().is_empty());
+        }
+    }
+
+    #[test]
+    fn spacing_must_be_positive() {
+        assert!(positive_f32("0").is_err());
+        assert!(positive_f32("nan").is_err());
+        assert_eq!(positive_f32("0.5"), Ok(0.5));
+    }
+}

@@ -1,0 +1,361 @@
+//! `spatch render`: a scene to a PNG on the CPU, with depth, statistics
+//! and a frame-time benchmark.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::ValueEnum;
+use glam::DVec3;
+use serde_json::json;
+use spatch_render::{
+    measure_shortcuts, Camera, CellScheme, Culling, PreparedScene, Projection, RenderError,
+    RenderMode, RenderOptions, RenderStats, Renderer, Shading,
+};
+
+use crate::failure::InternalFailure;
+use crate::output::{print_stdout, read_spatch, write_output};
+
+/// What to rasterize.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ModeArg {
+    /// Patches: nodes projected, cells subdivided.
+    Patches,
+    /// Each cell as two triangles (scan-line baseline).
+    Triangles,
+}
+
+/// How nodes are projected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ProjectionArg {
+    /// Trilinear interpolation of the projected bounding-box corners (fast).
+    Trilinear,
+    /// Every node projected exactly.
+    Exact,
+}
+
+/// How magnified cells are filled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum CellsArg {
+    /// Bilinear subdivision in fixed point.
+    Bilinear,
+    /// C1 Catmull-Rom subdivision.
+    Smooth,
+}
+
+/// The shading model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum ShadingArg {
+    /// One colour per cell.
+    Flat,
+    /// Colours at nodes, interpolated.
+    Gouraud,
+    /// Normals interpolated, shaded per pixel.
+    Phong,
+}
+
+/// Back-face culling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum CullArg {
+    /// Drop patches facing away (closed surfaces).
+    Back,
+    /// Draw everything (open surfaces, camera inside).
+    None,
+}
+
+/// Arguments of `spatch render`.
+#[derive(Debug, clap::Args)]
+pub(crate) struct RenderArgs {
+    /// Input .spatch file.
+    #[arg(value_name = "FILE")]
+    input: PathBuf,
+    /// Output PNG (RGBA, transparent background unless --background).
+    #[arg(short, long, value_name = "FILE", required_unless_present = "bench")]
+    output: Option<PathBuf>,
+    /// Eye position x,y,z (default: a three-quarter view framing the scene).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    eye: Option<DVec3>,
+    /// Point looked at x,y,z (default: the centre of the scene).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    target: Option<DVec3>,
+    /// Up vector x,y,z.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    up: DVec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    #[arg(long, value_name = "DEG", default_value_t = Camera::DEFAULT_FOV_Y_DEGREES)]
+    fov: f64,
+    /// Near plane distance (default: from the scene bounds).
+    #[arg(long, value_name = "DIST")]
+    near: Option<f64>,
+    /// Far plane distance (default: from the scene bounds).
+    #[arg(long, value_name = "DIST")]
+    far: Option<f64>,
+    /// Image width in pixels.
+    #[arg(long, value_name = "PX", default_value_t = Camera::DEFAULT_WIDTH)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, value_name = "PX", default_value_t = Camera::DEFAULT_HEIGHT)]
+    height: u32,
+    /// Patches, or each cell as two triangles through the scan-line rasterizer.
+    #[arg(long, value_enum, default_value_t = ModeArg::Patches)]
+    mode: ModeArg,
+    /// Node projection: trilinear (fast, approximate) or exact.
+    #[arg(long, value_enum, default_value_t = ProjectionArg::Trilinear)]
+    projection: ProjectionArg,
+    /// Cell filling of magnified patches.
+    #[arg(long, value_enum, default_value_t = CellsArg::Bilinear)]
+    cells: CellsArg,
+    /// Shading model.
+    #[arg(long, value_enum, default_value_t = ShadingArg::Phong)]
+    shading: ShadingArg,
+    /// Back-face culling by normal cones.
+    #[arg(long, value_enum, default_value_t = CullArg::Back)]
+    cull: CullArg,
+    /// Worker threads (0 = all cores). The image does not depend on it.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    threads: usize,
+    /// Supersampling factor per axis, 1..=4.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    ssaa: u32,
+    /// Do not minify far patches through their mip pyramid.
+    #[arg(long)]
+    no_mip: bool,
+    /// Guard band beyond each viewport side, as a fraction of its size, 0..=1.
+    #[arg(long, value_name = "FRACTION", default_value_t = RenderOptions::DEFAULT_GUARD_BAND)]
+    guard_band: f32,
+    /// Background colour r,g,b or r,g,b,a (0..=255); default transparent.
+    #[arg(long, value_name = "R,G,B[,A]", value_parser = parse_colour)]
+    background: Option<[u8; 4]>,
+    /// Also write the depth as 16-bit greyscale PNG (0 = no surface, else
+    /// linear between near and far).
+    #[arg(long, value_name = "FILE")]
+    depth: Option<PathBuf>,
+    /// Also write statistics as JSON, with the cost of the shortcuts
+    /// (trilinear vs exact, bilinear vs smooth: time and PSNR).
+    #[arg(long, value_name = "FILE")]
+    stats: Option<PathBuf>,
+    /// Render N frames after a warm-up and print median and min ms per
+    /// frame and per stage.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    bench: Option<u32>,
+    /// Print the --bench report as JSON.
+    #[arg(long, requires = "bench")]
+    json: bool,
+}
+
+fn parse_vec3(s: &str) -> Result<DVec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three numbers x,y,z, found {s:?}"));
+    }
+    let mut v = [0.0; 3];
+    for (dst, part) in v.iter_mut().zip(&parts) {
+        *dst = part
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("{part:?} is not a finite number"))?;
+    }
+    Ok(DVec3::from_array(v))
+}
+
+fn parse_colour(s: &str) -> Result<[u8; 4], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if !(3..=4).contains(&parts.len()) {
+        return Err(format!("expected r,g,b or r,g,b,a, found {s:?}"));
+    }
+    let mut c = [255u8; 4];
+    for (dst, part) in c.iter_mut().zip(&parts) {
+        *dst = part
+            .parse::<u8>()
+            .map_err(|_| format!("{part:?} is not in 0..=255"))?;
+    }
+    Ok(c)
+}
+
+/// Converts the arguments into the library's options (one place).
+fn render_options(args: &RenderArgs) -> RenderOptions {
+    let mut o = RenderOptions::default();
+    o.mode = match args.mode {
+        ModeArg::Patches => RenderMode::Patches,
+        ModeArg::Triangles => RenderMode::Triangles,
+    };
+    o.projection = match args.projection {
+        ProjectionArg::Trilinear => Projection::Trilinear,
+        ProjectionArg::Exact => Projection::Exact,
+    };
+    o.cells = match args.cells {
+        CellsArg::Bilinear => CellScheme::Bilinear,
+        CellsArg::Smooth => CellScheme::Smooth,
+    };
+    o.shading = match args.shading {
+        ShadingArg::Flat => Shading::Flat,
+        ShadingArg::Gouraud => Shading::Gouraud,
+        ShadingArg::Phong => Shading::Phong,
+    };
+    o.culling = match args.cull {
+        CullArg::Back => Culling::Back,
+        CullArg::None => Culling::None,
+    };
+    o.threads = args.threads;
+    o.ssaa = args.ssaa;
+    o.mip = !args.no_mip;
+    o.guard_band = args.guard_band;
+    if let Some(bg) = args.background {
+        o.background = bg;
+    }
+    o
+}
+
+/// The camera from the flags; missing parts frame the scene.
+fn camera(args: &RenderArgs, scene: &PreparedScene) -> Result<Camera, RenderError> {
+    let (centre, radius) = scene.bounding_sphere().unwrap_or((DVec3::ZERO, 1.0));
+    let target = args.target.unwrap_or(centre);
+    let eye = match args.eye {
+        Some(eye) => eye,
+        None => Camera::framing(
+            target,
+            radius + (target - centre).length(),
+            args.fov,
+            args.width,
+            args.height,
+        )?
+        .eye(),
+    };
+    Ok(
+        Camera::look_at(eye, target, args.up, args.fov, args.width, args.height)?
+            .with_clip_planes(args.near, args.far)?,
+    )
+}
+
+/// A render-library error as an exit-code-aware error.
+fn classify(err: RenderError) -> anyhow::Error {
+    match err {
+        RenderError::Bug(_) | RenderError::ThreadPool { .. } | RenderError::Encode { .. } => {
+            anyhow::Error::new(InternalFailure(err.to_string()))
+        }
+        other => anyhow::Error::new(other),
+    }
+}
+
+/// Renders (and benchmarks) the scene and writes the requested files.
+pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let (scene, _) = read_spatch(&args.input)?;
+    let prepared = PreparedScene::new(&scene);
+    let camera = camera(args, &prepared).map_err(classify)?;
+    let options = render_options(args);
+    let mut renderer = Renderer::new(options).map_err(classify)?;
+    let out = renderer.render(&prepared, &camera).map_err(classify)?;
+    if let Some(frames) = args.bench {
+        bench(
+            &mut renderer,
+            &prepared,
+            &camera,
+            frames as usize,
+            args.json,
+        )?;
+    }
+    // Encode everything first, so a failure leaves no output behind.
+    let mut files = Vec::new();
+    if let Some(path) = &args.output {
+        files.push((path, out.image.encode_png().map_err(classify)?));
+    }
+    if let Some(path) = &args.depth {
+        files.push((path, out.image.encode_depth_png().map_err(classify)?));
+    }
+    if let Some(path) = &args.stats {
+        let shortcuts = measure_shortcuts(&prepared, &camera, &options, 3).map_err(classify)?;
+        let mut value = serde_json::to_value(&out.stats).context("statistics")?;
+        value["input"] = json!(args.input.display().to_string());
+        value["camera"] = json!({
+            "eye": camera.eye().to_array(),
+            "target": camera.target().to_array(),
+            "up": camera.up().to_array(),
+            "fov_y_degrees": camera.fov_y_degrees(),
+        });
+        value["shortcuts"] = serde_json::to_value(shortcuts).context("statistics")?;
+        let mut text = serde_json::to_string_pretty(&value).context("statistics")?;
+        text.push('\n');
+        files.push((path, text.into_bytes()));
+    }
+    for (path, bytes) in &files {
+        write_output(path, bytes)?;
+    }
+    if let Some(path) = &args.output {
+        if args.bench.is_none() {
+            let s = &out.stats;
+            print_stdout(&format!(
+                "{}: {}x{}, {} of {} patches drawn, {:.2} ms\n",
+                path.display(),
+                s.image[0],
+                s.image[1],
+                s.patches - s.patches_culled_frustum - s.patches_culled_backface,
+                s.patches,
+                s.times_ms.total_wall
+            ))?;
+        }
+    }
+    Ok(())
+}
+
+/// Median and minimum of a list of times.
+fn median_min(mut v: Vec<f64>) -> (f64, f64) {
+    v.sort_by(f64::total_cmp);
+    (v[v.len() / 2], v[0])
+}
+
+fn bench(
+    renderer: &mut Renderer,
+    scene: &PreparedScene,
+    camera: &Camera,
+    frames: usize,
+    as_json: bool,
+) -> anyhow::Result<()> {
+    // Warm-up: the first frame above, and one more.
+    renderer.render(scene, camera).map_err(classify)?;
+    let mut all: Vec<RenderStats> = Vec::with_capacity(frames);
+    for _ in 0..frames {
+        all.push(renderer.render(scene, camera).map_err(classify)?.stats);
+    }
+    type Pick = fn(&RenderStats) -> f64;
+    let stages: [(&str, Pick); 13] = [
+        ("frame", |s| s.times_ms.total_wall),
+        ("plan_wall", |s| s.times_ms.plan_wall),
+        ("bin_wall", |s| s.times_ms.bin_wall),
+        ("raster_wall", |s| s.times_ms.raster_wall),
+        ("gather_wall", |s| s.times_ms.gather_wall),
+        ("cull_cpu", |s| s.times_ms.cull),
+        ("split_cpu", |s| s.times_ms.split),
+        ("traverse_cpu", |s| s.times_ms.traverse),
+        ("normals_cpu", |s| s.times_ms.normals),
+        ("triangle_setup_cpu", |s| s.times_ms.triangle_setup),
+        ("cells_cpu", |s| s.times_ms.cells),
+        ("triangles_cpu", |s| s.times_ms.triangles),
+        ("resolve_cpu", |s| s.times_ms.resolve),
+    ];
+    let rows: Vec<(&str, f64, f64)> = stages
+        .iter()
+        .map(|(name, pick)| {
+            let (med, min) = median_min(all.iter().map(pick).collect());
+            (*name, med, min)
+        })
+        .collect();
+    let threads = renderer.threads();
+    let size = camera.width().to_string() + "x" + &camera.height().to_string();
+    if as_json {
+        let mut stages = serde_json::Map::new();
+        for (name, med, min) in &rows {
+            stages.insert(name.to_string(), json!({ "median_ms": med, "min_ms": min }));
+        }
+        let value = json!({ "frames": frames, "threads": threads, "size": size, "ms": stages });
+        print_stdout(&(serde_json::to_string_pretty(&value)? + "\n"))
+    } else {
+        let mut text = format!(
+            "{frames} frames at {size}, {threads} threads (ms; *_cpu summed over threads)\n"
+        );
+        text += &format!("{:<20} {:>10} {:>10}\n", "stage", "median", "min");
+        for (name, med, min) in rows {
+            text += &format!("{name:<20} {med:>10.3} {min:>10.3}\n");
+        }
+        print_stdout(&text)
+    }
+}

@@ -1,0 +1,155 @@
+//! `spatch convert` and `spatch demo`: outputs, report keys, colour, bad input.
+
+use spatch_format::{read_scene, ColourChannel};
+
+use crate::test_command::TestCommand;
+
+/// Writes a small closed mesh (an octahedron-like sphere) as an OBJ file.
+fn write_sphere_obj(t: &TestCommand, name: &str) -> String {
+    let mut text = String::new();
+    let (segments, rings) = (24u32, 12u32);
+    text.push_str("v 0 0 1\n");
+    for r in 1..rings {
+        let theta = std::f64::consts::PI * f64::from(r) / f64::from(rings);
+        for s in 0..segments {
+            let phi = std::f64::consts::TAU * f64::from(s) / f64::from(segments);
+            text.push_str(&format!(
+                "v {} {} {}\n",
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos()
+            ));
+        }
+    }
+    text.push_str("v 0 0 -1\n");
+    let ring = |r: u32, s: u32| 2 + (r - 1) * segments + s % segments;
+    for s in 0..segments {
+        text.push_str(&format!("f 1 {} {}\n", ring(1, s), ring(1, s + 1)));
+    }
+    for r in 1..rings - 1 {
+        for s in 0..segments {
+            let (a, b, c, d) = (
+                ring(r, s),
+                ring(r, s + 1),
+                ring(r + 1, s),
+                ring(r + 1, s + 1),
+            );
+            text.push_str(&format!("f {a} {c} {d}\nf {a} {d} {b}\n"));
+        }
+    }
+    let south = 2 + (rings - 1) * segments;
+    for s in 0..segments {
+        text.push_str(&format!(
+            "f {south} {} {}\n",
+            ring(rings - 1, s + 1),
+            ring(rings - 1, s)
+        ));
+    }
+    std::fs::write(t.path(name), text).unwrap();
+    name.to_owned()
+}
+
+#[test]
+fn convert_writes_the_scene_and_a_report_with_every_key() {
+    let t = TestCommand::new();
+    let obj = write_sphere_obj(&t, "ball.obj");
+    let run = t
+        .run(&[
+            "convert",
+            &obj,
+            "-o",
+            "ball.spatch",
+            "--report",
+            "report.json",
+        ])
+        .success();
+    assert!(run.stdout.contains("patches"), "{}", run.stdout);
+    let scene = read_scene(&t.path("ball.spatch")).unwrap();
+    assert_eq!(scene.channel(), ColourChannel::None);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path("report.json")).unwrap()).unwrap();
+    for key in [
+        "patches",
+        "nodes",
+        "filled_nodes",
+        "bytes",
+        "seconds",
+        "stages",
+        "threads",
+        "error",
+    ] {
+        assert!(report.get(key).is_some(), "report lacks {key}: {report}");
+    }
+    assert_eq!(report["patches"], scene.patches().len());
+    assert_eq!(
+        report["bytes"],
+        std::fs::metadata(t.path("ball.spatch")).unwrap().len()
+    );
+    for stage in ["load", "segment", "fit", "write"] {
+        assert!(report["stages"][stage].is_number(), "{report}");
+    }
+    for side in ["node_to_surface", "surface_to_patch"] {
+        for stat in ["max", "rms", "max_rel", "rms_rel"] {
+            assert!(report["error"][side][stat].is_number(), "{report}");
+        }
+    }
+    assert!(
+        report["error"]["surface_to_patch"]["max_rel"]
+            .as_f64()
+            .unwrap()
+            < 0.01
+    );
+}
+
+#[test]
+fn thread_count_does_not_change_the_file() {
+    let t = TestCommand::new();
+    let obj = write_sphere_obj(&t, "ball.obj");
+    for (threads, out) in [("1", "one.spatch"), ("2", "two.spatch")] {
+        t.run(&[
+            "convert",
+            &obj,
+            "-o",
+            out,
+            "--threads",
+            threads,
+            "--no-error",
+        ])
+        .success();
+    }
+    assert_eq!(
+        std::fs::read(t.path("one.spatch")).unwrap(),
+        std::fs::read(t.path("two.spatch")).unwrap()
+    );
+}
+
+#[test]
+fn bad_input_gives_one_line_exit_2_and_no_output() {
+    let t = TestCommand::new();
+    let run = t.run(&["convert", "missing.obj", "-o", "out.spatch"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("missing.obj"), "{}", run.stderr);
+    assert_eq!(run.stderr.trim().lines().count(), 1, "{}", run.stderr);
+    std::fs::write(
+        t.path("broken.obj"),
+        "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let run = t.run(&["convert", "broken.obj", "-o", "out.spatch"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("broken.obj"), "{}", run.stderr);
+    assert!(!t.path("out.spatch").exists());
+    let run = t.run(&["convert", "broken.obj", "-o", "out.spatch", "--grid", "1"]);
+    assert_eq!(run.code, 2);
+}
+
+#[test]
+fn demo_needs_no_input_and_fills_its_folder() {
+    let t = TestCommand::new();
+    let run = t.run(&["demo", "-o", "demo"]).success();
+    assert!(run.stdout.contains("demo"), "{}", run.stdout);
+    let scene = read_scene(&t.path("demo/spot.spatch")).unwrap();
+    assert_ne!(scene.channel(), ColourChannel::None, "the cow is textured");
+    assert!(t.path("demo/report.json").is_file());
+    assert!(t.path("demo/source/spot.obj").is_file());
+}

@@ -1,0 +1,171 @@
+//! `spatch render`: PNG, depth and statistics outputs, camera flags, the
+//! benchmark report, and bad input (one error line, exit code 2, no file).
+
+use crate::test_command::TestCommand;
+
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[1..4], b"PNG");
+    let be = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn renders_png_depth_and_stats() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    let run = t
+        .run(&[
+            "render",
+            &name,
+            "-o",
+            "s.png",
+            "--width",
+            "120",
+            "--height",
+            "90",
+            "--depth",
+            "d.png",
+            "--stats",
+            "stats.json",
+        ])
+        .success();
+    assert!(run.stdout.contains("s.png"));
+    let png = std::fs::read(t.path("s.png")).unwrap();
+    assert_eq!(png_size(&png), (120, 90));
+    let depth = std::fs::read(t.path("d.png")).unwrap();
+    assert_eq!(png_size(&depth), (120, 90));
+    assert_eq!(depth[24], 16, "16-bit depth");
+    assert_eq!(depth[25], 0, "greyscale");
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path("stats.json")).unwrap()).unwrap();
+    for key in [
+        "patch_nodes",
+        "interpolated_nodes",
+        "normals_computed_with_buffer_percent",
+        "normals_computed_with_ordering_percent",
+        "patches_culled_backface",
+        "patches_split",
+        "patches_optimized",
+        "mip_levels",
+        "times_ms",
+    ] {
+        assert!(stats.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(stats["patches"], 200);
+    assert!(stats["covered_pixels"].as_u64().unwrap() > 1000);
+    let shortcuts = &stats["shortcuts"];
+    assert!(
+        shortcuts["trilinear_vs_exact"]["shortcut_ms"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(shortcuts["bilinear_vs_smooth"].get("psnr_db").is_some());
+}
+
+#[test]
+fn camera_flags_and_modes_are_honoured() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    for extra in [
+        vec!["--mode", "triangles", "--shading", "gouraud"],
+        vec![
+            "--projection",
+            "exact",
+            "--cells",
+            "smooth",
+            "--shading",
+            "flat",
+            "--ssaa",
+            "2",
+        ],
+        vec![
+            "--eye", "0,0,-40", "--target", "0,0,0", "--up", "0,1,0", "--fov", "30", "--near", "1",
+            "--far", "100",
+        ],
+        vec![
+            "--eye",
+            "0,0,0",
+            "--target",
+            "1,0,0",
+            "--cull",
+            "none",
+            "--threads",
+            "1",
+            "--background",
+            "10,20,30",
+        ],
+    ] {
+        let mut args = vec![
+            "render", &name, "-o", "v.png", "--width", "64", "--height", "48",
+        ];
+        args.extend(extra.iter().copied());
+        t.run(&args).success();
+        assert_eq!(png_size(&std::fs::read(t.path("v.png")).unwrap()), (64, 48));
+    }
+}
+
+#[test]
+fn bench_prints_median_and_min_per_stage() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    let run = t
+        .run(&[
+            "render", &name, "--bench", "3", "--width", "64", "--height", "64",
+        ])
+        .success();
+    assert!(
+        run.stdout.contains("median") && run.stdout.contains("frame"),
+        "{}",
+        run.stdout
+    );
+    let run = t
+        .run(&[
+            "render", &name, "--bench", "3", "--json", "--width", "64", "--height", "64",
+        ])
+        .success();
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    assert!(v["ms"]["frame"]["median_ms"].as_f64().unwrap() > 0.0);
+    assert_eq!(v["frames"], 3);
+}
+
+#[test]
+fn bad_input_gives_one_line_exit_2_and_no_output() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
+    let cases: [&[&str]; 5] = [
+        &["render", "missing.spatch", "-o", "out.png"],
+        &["render", "junk.spatch", "-o", "out.png"],
+        &[
+            "render", &name, "-o", "out.png", "--eye", "1,2,3", "--target", "1,2,3",
+        ],
+        &["render", &name, "-o", "out.png", "--width", "0"],
+        &[
+            "render", &name, "-o", "out.png", "--near", "5", "--far", "2",
+        ],
+    ];
+    for args in cases {
+        let run = t.run(args);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr.trim().lines().count(),
+            1,
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(!t.path("out.png").exists(), "{args:?} left an output file");
+    }
+    // A malformed flag is a usage error (clap prints usage too).
+    let run = t.run(&["render", &name, "-o", "out.png", "--eye", "1,2"]);
+    assert_eq!(run.code, 2);
+    assert!(run.stderr.contains("three numbers") && !t.path("out.png").exists());
+    let run = t.run(&[
+        "render", &name, "-o", "out.png", "--eye", "1,2,3", "--target", "1,2,3",
+    ]);
+    assert!(
+        run.stderr.starts_with("spatch: error:") && run.stderr.contains("eye and target"),
+        "{}",
+        run.stderr
+    );
+}

@@ -1,0 +1,70 @@
+//! Point clouds to spatial patches.
+//!
+//! A point cloud has no surface, so this crate makes one the way the spatial-patch paper did:
+//! it takes orthographic range images of the cloud from view directions spread evenly over
+//! the sphere (flushing the points into a z-buffer per view), fills the one- or two-pixel
+//! sampling gaps by interpolating depth (never across a depth discontinuity), optionally
+//! smooths noisy scans with an edge-preserving filter, and cuts rectangular, continuous,
+//! not-too-steep regions into patches. Each view only adds patches where points are not yet
+//! covered by an earlier one.
+//!
+//! The main items:
+//! - [`cloud_to_scene`] with [`CloudOptions`] (and [`SmoothOptions`]) → [`CloudConversion`]
+//!   (the [`Scene`](spatch_format::Scene), its bytes and a [`CloudReport`] with per-stage
+//!   wall times);
+//! - [`measure_cloud_error`] → [`CloudErrorReport`]: `cloud_to_patch` (every point to the
+//!   patch surface) and `node_to_cloud` (every node to the nearest point);
+//! - the stages on their own: [`PointTree`] and [`estimate_spacing`], [`estimate_normals`],
+//!   [`view_directions`];
+//! - typed ids [`PointId`], [`ViewId`]; the error type [`CloudError`].
+//!
+//! Algorithms, parameters and measured figures: `docs/algorithms/cloud.md`.
+//!
+//! ```
+//! use glam::{DVec3, Vec3};
+//! use spatch_cloud::{cloud_to_scene, measure_cloud_error, CloudOptions};
+//! use spatch_mesh::PointCloud;
+//!
+//! // A gently curved sheet sampled on a 60 x 60 grid.
+//! let positions: Vec<Vec3> = (0..3600)
+//!     .map(|k| {
+//!         let (x, y) = ((k % 60) as f32 * 0.1, (k / 60) as f32 * 0.1);
+//!         Vec3::new(x, y, 0.02 * (x - 3.0) * (x - 3.0))
+//!     })
+//!     .collect();
+//! let cloud = PointCloud { origin: DVec3::ZERO, positions, colours: None, normals: None };
+//! let conversion = cloud_to_scene(&cloud, &CloudOptions::default())?;
+//! assert!(conversion.report.filled_nodes < cloud.len());
+//! let error = measure_cloud_error(&cloud, &conversion.scene, conversion.report.spacing)?;
+//! assert!(error.cloud_to_patch.distance.rms < 0.5 * f64::from(conversion.report.spacing));
+//! # Ok::<(), spatch_cloud::CloudError>(())
+//! ```
+#![forbid(unsafe_code)]
+
+mod directions;
+mod error;
+mod error_metrics;
+mod extract;
+mod gap_fill;
+mod ids;
+mod normals;
+mod options;
+mod pipeline;
+mod range_image;
+mod report;
+mod smooth;
+mod spacing;
+
+pub use directions::{view_directions, ViewBasis};
+pub use error::CloudError;
+pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, DistanceStats};
+pub use ids::{PointId, ViewId};
+pub use normals::{estimate_normals, plane_normal, smallest_eigenvector};
+pub use options::{CloudOptions, SmoothOptions};
+pub use pipeline::{
+    cloud_to_scene, CloudConversion, BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,
+};
+pub use report::{CloudReport, StageTime};
+pub use spacing::{
+    estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,
+};

@@ -1,0 +1,233 @@
+//! The options of [`cloud_to_scene`](crate::cloud_to_scene), with their defaults and what each
+//! one trades.
+
+use spatch_format::WriteOptions;
+
+/// Edge-preserving smoothing of the range images (a bilateral filter, see `smooth.rs`).
+///
+/// Smoothing lowers noise on scans at the cost of rounding fine detail (features smaller than
+/// the filter radius) and a little time (one pass over the pixels of every view per
+/// iteration).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SmoothOptions {
+    /// Filter radius in pixels, 1..=8. Default [`SmoothOptions::DEFAULT_RADIUS`] (2, a 5×5
+    /// window). A larger radius removes more noise and more detail.
+    pub radius: u32,
+    /// Passes of the filter, 1..=8. Default [`SmoothOptions::DEFAULT_ITERATIONS`] (2).
+    pub iterations: u32,
+    /// Cut-off of the range weight, in multiples of the noise estimated in each range image
+    /// (positive). Default [`SmoothOptions::DEFAULT_RANGE`] (3.0). Depth differences near it get
+    /// little weight and beyond it none (edges and curved detail are kept); larger values
+    /// average more but flatten curved surface.
+    pub range: f32,
+}
+
+impl SmoothOptions {
+    /// Default [`SmoothOptions::radius`].
+    pub const DEFAULT_RADIUS: u32 = 2;
+    /// Default [`SmoothOptions::iterations`].
+    pub const DEFAULT_ITERATIONS: u32 = 2;
+    /// Default [`SmoothOptions::range`].
+    pub const DEFAULT_RANGE: f32 = 3.0;
+}
+
+impl Default for SmoothOptions {
+    fn default() -> Self {
+        SmoothOptions {
+            radius: Self::DEFAULT_RADIUS,
+            iterations: Self::DEFAULT_ITERATIONS,
+            range: Self::DEFAULT_RANGE,
+        }
+    }
+}
+
+/// Options of the point cloud → patches pipeline.
+///
+/// Lengths are given in multiples of the point spacing `s` (estimated from the cloud, see
+/// [`CloudOptions::spacing`]) so that one set of defaults serves clouds of any scale.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CloudOptions {
+    /// Number of view directions, 1..=1000. Default [`CloudOptions::DEFAULT_VIEWS`] (20,
+    /// every surface normal within about 27° of a view). More views cost time (one range
+    /// image each) and let more surface be seen nearly head-on (denser nodes on steep parts);
+    /// fewer views leave occluded or steep parts to the relaxed second pass.
+    pub views: usize,
+    /// Pixel (node) spacing in multiples of the point spacing, 0.25..=16. Default
+    /// [`CloudOptions::DEFAULT_PIXEL_FACTOR`] (2.0: about four points per pixel on a surface
+    /// facing the view, so sampling gaps are rare and at most one or two pixels wide, and a
+    /// scene has about half as many nodes as the cloud has points). Smaller pixels keep more
+    /// detail but leave more gaps and cost more nodes (1.4 doubles them on the bunny scans
+    /// without lowering `cloud_to_patch`, which scanner noise dominates); larger pixels cost
+    /// fewer nodes and smooth detail away.
+    pub pixel_factor: f32,
+    /// Widest gap (in pixels, 0..=8) that is filled by interpolating the depths on both
+    /// sides. Default [`CloudOptions::DEFAULT_MAX_GAP`] (2). Wider fills close more holes but
+    /// may bridge real openings narrower than the fill.
+    pub max_gap: u32,
+    /// Depth discontinuity threshold between neighbouring pixels, in pixels, > 0. Default
+    /// [`CloudOptions::DEFAULT_JUMP_FACTOR`] (3: a step of more than 3 pixel widths in depth
+    /// between neighbours separates two surfaces). Lower values split steep surfaces; higher
+    /// values join layers (the two sides of a thin sheet) into one patch.
+    pub jump_factor: f32,
+    /// Steepest surface accepted in the first pass over the views, in degrees between the
+    /// surface normal and the view direction, 1..=89. Default
+    /// [`CloudOptions::DEFAULT_PREFERRED_SLOPE`] (40). Every surface is first given to a view
+    /// that sees it nearly head-on (dense, accurate nodes).
+    pub preferred_slope_degrees: f32,
+    /// Steepest surface accepted in the second pass, which covers what the first pass left
+    /// (occluded from the good views), in degrees, ≥ the preferred slope, ≤ 89. Default
+    /// [`CloudOptions::DEFAULT_MAX_SLOPE`] (70). Steeper patches have nodes farther apart on
+    /// the surface (`pixel / cos(angle)`), so they are less accurate.
+    pub max_slope_degrees: f32,
+    /// How far a point may be from a patch surface and still count as covered by it, in
+    /// multiples of the spacing, > 0. Default [`CloudOptions::DEFAULT_COVER_TOLERANCE`]
+    /// (1.5). Points farther away stay uncovered and are offered to later views. Raise it for
+    /// noisy scans whose noise exceeds the spacing.
+    pub cover_tolerance: f32,
+    /// Edge-preserving smoothing of the range images, off by default (`None`). Use it for
+    /// noisy scans.
+    pub smooth: Option<SmoothOptions>,
+    /// Nodes per patch side, 2..=257. Default [`CloudOptions::DEFAULT_GRID`] (17, the
+    /// original's 2^4 + 1). Larger patches cost fewer frames (bytes) but have a wider depth
+    /// range to quantize and coarser culling.
+    pub grid: u32,
+    /// Neighbours used for the PCA normal of each point (itself included), 3..=64. Default
+    /// [`CloudOptions::DEFAULT_NORMAL_NEIGHBOURS`] (10). More neighbours give smoother
+    /// normals on noisy scans, blur normals at creases and cost time.
+    pub normal_neighbours: usize,
+    /// Point spacing `s` in model units; `None` (default) estimates it from the 12 nearest
+    /// neighbours of up to 20,000 sampled points (see `spacing.rs`).
+    pub spacing: Option<f32>,
+    /// Target quantization step of the 8-bit displacements, in multiples of the spacing, > 0.
+    /// Default [`CloudOptions::DEFAULT_DISPLACEMENT_STEP`] (0.01). Patches whose depth range
+    /// needs a coarser step than [`CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP`] × spacing
+    /// are split by surface component and, if still too deep, stored with 16-bit codes.
+    pub displacement_step: f32,
+    /// Container options (compression of node data). Default: uncompressed.
+    pub write: WriteOptions,
+}
+
+impl CloudOptions {
+    /// Default [`CloudOptions::views`].
+    pub const DEFAULT_VIEWS: usize = 20;
+    /// Default [`CloudOptions::pixel_factor`].
+    pub const DEFAULT_PIXEL_FACTOR: f32 = 2.0;
+    /// Default [`CloudOptions::max_gap`].
+    pub const DEFAULT_MAX_GAP: u32 = 2;
+    /// Default [`CloudOptions::jump_factor`].
+    pub const DEFAULT_JUMP_FACTOR: f32 = 3.0;
+    /// Default [`CloudOptions::preferred_slope_degrees`].
+    pub const DEFAULT_PREFERRED_SLOPE: f32 = 40.0;
+    /// Default [`CloudOptions::max_slope_degrees`].
+    pub const DEFAULT_MAX_SLOPE: f32 = 70.0;
+    /// Default [`CloudOptions::cover_tolerance`].
+    pub const DEFAULT_COVER_TOLERANCE: f32 = 1.5;
+    /// Default [`CloudOptions::grid`].
+    pub const DEFAULT_GRID: u32 = 17;
+    /// Default [`CloudOptions::normal_neighbours`].
+    pub const DEFAULT_NORMAL_NEIGHBOURS: usize = 10;
+    /// Default [`CloudOptions::displacement_step`].
+    pub const DEFAULT_DISPLACEMENT_STEP: f32 = 0.01;
+    /// Coarsest 8-bit step (in spacings) accepted before a patch is split or widened.
+    pub const DEFAULT_MAX_DISPLACEMENT_STEP: f32 = 0.05;
+
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<(), crate::CloudError> {
+        use crate::CloudError::InvalidOption;
+        let check = |ok: bool, option: &'static str, reason: &'static str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(InvalidOption { option, reason })
+            }
+        };
+        check(
+            (1..=1000).contains(&self.views),
+            "views",
+            "must be 1..=1000",
+        )?;
+        check(
+            (0.25..=16.0).contains(&self.pixel_factor),
+            "pixel_factor",
+            "must be 0.25..=16",
+        )?;
+        check(self.max_gap <= 8, "max_gap", "must be 0..=8 pixels")?;
+        check(
+            self.jump_factor.is_finite() && self.jump_factor > 0.0,
+            "jump_factor",
+            "must be a positive number",
+        )?;
+        check(
+            (1.0..=89.0).contains(&self.preferred_slope_degrees),
+            "preferred_slope_degrees",
+            "must be 1..=89",
+        )?;
+        check(
+            self.max_slope_degrees >= self.preferred_slope_degrees
+                && self.max_slope_degrees <= 89.0,
+            "max_slope_degrees",
+            "must be between the preferred slope and 89",
+        )?;
+        check(
+            self.cover_tolerance.is_finite() && self.cover_tolerance > 0.0,
+            "cover_tolerance",
+            "must be a positive number",
+        )?;
+        check((2..=257).contains(&self.grid), "grid", "must be 2..=257")?;
+        check(
+            (3..=64).contains(&self.normal_neighbours),
+            "normal_neighbours",
+            "must be 3..=64",
+        )?;
+        check(
+            self.spacing.is_none_or(|s| s.is_finite() && s > 0.0),
+            "spacing",
+            "must be a positive number",
+        )?;
+        check(
+            self.displacement_step.is_finite() && self.displacement_step > 0.0,
+            "displacement_step",
+            "must be a positive number",
+        )?;
+        if let Some(smooth) = self.smooth {
+            check(
+                (1..=8).contains(&smooth.radius),
+                "smooth.radius",
+                "must be 1..=8",
+            )?;
+            check(
+                (1..=8).contains(&smooth.iterations),
+                "smooth.iterations",
+                "must be 1..=8",
+            )?;
+            check(
+                smooth.range.is_finite() && smooth.range > 0.0,
+                "smooth.range",
+                "must be a positive number",
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl Default for CloudOptions {
+    fn default() -> Self {
+        CloudOptions {
+            views: Self::DEFAULT_VIEWS,
+            pixel_factor: Self::DEFAULT_PIXEL_FACTOR,
+            max_gap: Self::DEFAULT_MAX_GAP,
+            jump_factor: Self::DEFAULT_JUMP_FACTOR,
+            preferred_slope_degrees: Self::DEFAULT_PREFERRED_SLOPE,
+            max_slope_degrees: Self::DEFAULT_MAX_SLOPE,
+            cover_tolerance: Self::DEFAULT_COVER_TOLERANCE,
+            smooth: None,
+            grid: Self::DEFAULT_GRID,
+            normal_neighbours: Self::DEFAULT_NORMAL_NEIGHBOURS,
+            spacing: None,
+            displacement_step: Self::DEFAULT_DISPLACEMENT_STEP,
+            write: WriteOptions::default(),
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! Integration tests of spatch-cloud (one binary; each module one area).
+//!
+//! - `clouds`: generators shared by the tests (planes, spheres, the sampled bunny, noise).
+//! - `generated`: planes and spheres: coverage, accuracy, colour, far-from-origin clouds.
+//! - `degenerate`: empty, single-point, duplicate, collinear and non-finite input; options.
+//! - `determinism`: byte-identical output for 1 and 2 threads.
+//! - `real_scans`: the raw bunny scans (alone and registered together) and Hoppe's distcap.
+//! - `sampled_bunny`: points sampled from `bun_zipper.ply`, clean and noisy with smoothing.
+
+mod clouds;
+mod degenerate;
+mod determinism;
+mod generated;
+mod real_scans;
+mod sampled_bunny;

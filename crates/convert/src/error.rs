@@ -1,0 +1,32 @@
+//! The error type of the pipeline: one variant per stage, each wrapping that stage's error.
+
+use spatch_fit::FitError;
+use spatch_format::FormatError;
+use spatch_mesh::MeshError;
+use spatch_segment::SegmentError;
+
+/// Why a conversion failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ConvertError {
+    /// The mesh could not be loaded (the file's fault or the system's; the error names the
+    /// file).
+    #[error(transparent)]
+    Load(#[from] MeshError),
+    /// Nothing is left to convert once degenerate and zero-area faces are dropped.
+    #[error("the mesh has no surface: all {faces} faces are degenerate or have zero area")]
+    NoSurface {
+        /// Faces before preparation.
+        faces: usize,
+    },
+    /// The segmenter refused its input or options.
+    #[error("segmentation failed: {0}")]
+    Segment(#[from] SegmentError),
+    /// The fitter refused its input or options.
+    #[error("fitting failed: {0}")]
+    Fit(#[from] FitError),
+    /// The scene could not be built or encoded (a bug: the fitter's patches are valid by
+    /// construction).
+    #[error("encoding failed (this is a bug): {0}")]
+    Encode(#[from] FormatError),
+}

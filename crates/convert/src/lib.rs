@@ -1,0 +1,31 @@
+//! The mesh → spatial-patch pipeline of spatch, with per-stage timings.
+//!
+//! [`convert`] runs, in order: load (from a file, or take a [`TriangleMesh`] as given),
+//! prepare (weld duplicate vertices, drop degenerate faces), adjacency, segment (the
+//! three-stage segmenter of `spatch-segment`), fit (`spatch-fit`) and encode (the `.spatch`
+//! bytes). It returns a [`Conversion`]: the [`Scene`](spatch_format::Scene), the encoded
+//! bytes, the prepared mesh (for measuring error against it) and a [`ConvertReport`] with the
+//! wall time of every stage and the counts of every step.
+//!
+//! The CLI (`spatch convert`, `spatch demo`) and the evaluation sweeps share this crate, so
+//! they always measure the same pipeline.
+//!
+//! ```no_run
+//! use spatch_convert::{convert, ConvertInput, ConvertOptions};
+//!
+//! let conversion = convert(ConvertInput::Path("bunny.ply".as_ref()), &ConvertOptions::default())?;
+//! println!("{} patches in {:.2} s", conversion.report.patches, conversion.report.seconds);
+//! std::fs::write("bunny.spatch", &conversion.bytes)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![forbid(unsafe_code)]
+
+mod error;
+mod options;
+mod pipeline;
+mod report;
+
+pub use error::ConvertError;
+pub use options::ConvertOptions;
+pub use pipeline::{convert, convert_with_progress, Conversion, ConvertInput, Stage};
+pub use report::{ConvertReport, PrepareCounts, StageTime};

@@ -1,0 +1,204 @@
+//! The pipeline: load → prepare → adjacency → segment → fit → encode, each stage timed.
+//!
+//! Every stage is a call into the crate that owns it; this file only wires them together and
+//! keeps the clock. The sharp-edge patch generator (a later stage) slots in between fit and
+//! encode: its patches join the fitter's before the scene is built.
+
+use std::path::Path;
+use std::time::Instant;
+
+use spatch_fit::{default_spacing, fit_regions, FitRegion};
+use spatch_format::{encode_scene, Scene};
+use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
+use spatch_segment::segment;
+
+use crate::{ConvertError, ConvertOptions, ConvertReport, PrepareCounts, StageTime};
+
+/// What to convert.
+#[derive(Debug, Clone)]
+pub enum ConvertInput<'a> {
+    /// A mesh file (`.obj`, `.gltf`, `.glb`, `.ply`, `.off`), loaded by `spatch-mesh`.
+    Path(&'a Path),
+    /// A mesh already in memory (the load stage then takes no time).
+    Mesh(TriangleMesh),
+}
+
+/// A pipeline stage, announced to the progress callback as it starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Stage {
+    /// Reading the file.
+    Load,
+    /// Welding and cleaning.
+    Prepare,
+    /// Face adjacency.
+    Adjacency,
+    /// Segmentation into regions.
+    Segment,
+    /// Fitting patches to regions.
+    Fit,
+    /// Encoding the container bytes.
+    Encode,
+}
+
+impl Stage {
+    /// The stage's name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Load => "load",
+            Stage::Prepare => "prepare",
+            Stage::Adjacency => "adjacency",
+            Stage::Segment => "segment",
+            Stage::Fit => "fit",
+            Stage::Encode => "encode",
+        }
+    }
+
+    /// All stages in pipeline order.
+    pub const ALL: [Stage; 6] = [
+        Stage::Load,
+        Stage::Prepare,
+        Stage::Adjacency,
+        Stage::Segment,
+        Stage::Fit,
+        Stage::Encode,
+    ];
+}
+
+/// The result of a conversion.
+#[derive(Debug, Clone)]
+pub struct Conversion {
+    /// The patches.
+    pub scene: Scene,
+    /// The scene encoded as a `.spatch` file.
+    pub bytes: Vec<u8>,
+    /// The prepared source mesh the scene was fitted to (error is measured against it).
+    pub mesh: TriangleMesh,
+    /// What the loader worked around (typed; the report holds them as sentences).
+    pub load_warnings: Vec<LoadWarning>,
+    /// Timings and counts.
+    pub report: ConvertReport,
+}
+
+/// Converts a mesh to patches with `options` (see the crate docs).
+pub fn convert(
+    input: ConvertInput<'_>,
+    options: &ConvertOptions,
+) -> Result<Conversion, ConvertError> {
+    convert_with_progress(input, options, &|_| {})
+}
+
+/// [`convert`], calling `on_stage` as each stage starts (for a progress display).
+pub fn convert_with_progress(
+    input: ConvertInput<'_>,
+    options: &ConvertOptions,
+    on_stage: &dyn Fn(Stage),
+) -> Result<Conversion, ConvertError> {
+    let mut stages = Vec::with_capacity(Stage::ALL.len());
+    let mut clock = Clock {
+        stages: &mut stages,
+        on_stage,
+    };
+
+    let (raw, load_warnings) = clock.run(Stage::Load, || match input {
+        ConvertInput::Path(path) => load_mesh(path).map(|l| (l.mesh, l.warnings)),
+        ConvertInput::Mesh(mesh) => Ok((mesh, Vec::new())),
+    })?;
+    let (mesh, prepared) = clock.run(Stage::Prepare, || prepare_mesh(&raw, &options.prepare));
+    drop(raw);
+    if mesh.face_count() == 0 {
+        return Err(ConvertError::NoSurface {
+            faces: prepared.input_faces,
+        });
+    }
+    let spacing = match options.fit.spacing {
+        Some(s) => s,
+        None => default_spacing(&mesh).ok_or(ConvertError::NoSurface {
+            faces: prepared.input_faces,
+        })?,
+    };
+    let adjacency = clock.run(Stage::Adjacency, || build_face_adjacency(&mesh));
+
+    let mut segment_options = options.segment.clone();
+    if segment_options.max_extent.is_infinite() {
+        segment_options.max_extent = (options.fit.grid.saturating_sub(1)) as f32 * spacing;
+    }
+    let (segmentation, _) = clock.run(Stage::Segment, || {
+        segment(&mesh, &adjacency, &segment_options)
+    })?;
+
+    let mut fit_options = options.fit;
+    fit_options.spacing = Some(spacing);
+    let fitted = clock.run(Stage::Fit, || {
+        let regions: Vec<FitRegion<'_>> = segmentation
+            .regions
+            .iter()
+            .map(|r| FitRegion {
+                faces: &r.faces,
+                axis: r.axis,
+            })
+            .collect();
+        fit_regions(&mesh, &adjacency, &regions, &fit_options)
+    })?;
+    let stats = fitted.stats;
+    let channel = fitted.channel;
+
+    let (scene, bytes) = clock.run(Stage::Encode, || {
+        let scene = Scene::new(mesh.origin, channel, fitted.patches)?;
+        let bytes = encode_scene(&scene, &options.write)?;
+        Ok::<_, ConvertError>((scene, bytes))
+    })?;
+
+    let report = ConvertReport {
+        patches: scene.patches().len(),
+        nodes: scene.node_count(),
+        filled_nodes: scene.filled_node_count(),
+        bytes: bytes.len(),
+        seconds: stages.iter().map(|s| s.seconds).sum(),
+        stages,
+        threads: rayon::current_num_threads(),
+        spacing,
+        triangles: mesh.face_count(),
+        regions: segmentation.regions.len(),
+        split_regions: stats.split_regions,
+        wide_patches: stats.wide_patches,
+        colour: channel.name(),
+        diagonal: f64::from(mesh.diagonal()),
+        prepare: PrepareCounts {
+            input_vertices: prepared.input_vertices,
+            input_faces: prepared.input_faces,
+            welded_vertices: prepared.welded_vertices,
+            dropped_degenerate: prepared.dropped_degenerate,
+            dropped_zero_area: prepared.dropped_zero_area,
+            output_vertices: prepared.output_vertices,
+            output_faces: prepared.output_faces,
+        },
+        warnings: load_warnings.iter().map(ToString::to_string).collect(),
+    };
+    Ok(Conversion {
+        scene,
+        bytes,
+        mesh,
+        load_warnings,
+        report,
+    })
+}
+
+/// Times stages and announces them.
+struct Clock<'a> {
+    stages: &'a mut Vec<StageTime>,
+    on_stage: &'a dyn Fn(Stage),
+}
+
+impl Clock<'_> {
+    fn run<T>(&mut self, stage: Stage, work: impl FnOnce() -> T) -> T {
+        (self.on_stage)(stage);
+        let start = Instant::now();
+        let out = work();
+        self.stages.push(StageTime {
+            name: stage.name(),
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        out
+    }
+}

@@ -1,0 +1,78 @@
+//! What a conversion reports: stage timings and counts.
+
+use serde::Serialize;
+
+/// Wall time of one stage.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StageTime {
+    /// Stage name: `load`, `prepare`, `adjacency`, `segment`, `fit` or `encode`.
+    pub name: &'static str,
+    /// Wall time in seconds.
+    pub seconds: f64,
+}
+
+/// What preparation changed (see `spatch_mesh::PrepareReport`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct PrepareCounts {
+    /// Vertices and faces before.
+    pub input_vertices: usize,
+    /// Faces before.
+    pub input_faces: usize,
+    /// Vertices merged into an identical one.
+    pub welded_vertices: usize,
+    /// Faces dropped for a repeated vertex.
+    pub dropped_degenerate: usize,
+    /// Faces dropped for zero area.
+    pub dropped_zero_area: usize,
+    /// Vertices after.
+    pub output_vertices: usize,
+    /// Faces after.
+    pub output_faces: usize,
+}
+
+/// Timings and counts of one conversion.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConvertReport {
+    /// Patches in the scene.
+    pub patches: usize,
+    /// Grid nodes of all patches, filled or not.
+    pub nodes: usize,
+    /// Non-empty nodes.
+    pub filled_nodes: usize,
+    /// Bytes of the encoded `.spatch`.
+    pub bytes: usize,
+    /// Total wall time of the stages, in seconds.
+    pub seconds: f64,
+    /// Each stage's wall time, in pipeline order.
+    pub stages: Vec<StageTime>,
+    /// Worker threads available to the parallel stages.
+    pub threads: usize,
+    /// Node spacing used (model units).
+    pub spacing: f32,
+    /// Source triangles (after preparation).
+    pub triangles: usize,
+    /// Regions found by the segmenter.
+    pub regions: usize,
+    /// Regions split into several patches by the fitter.
+    pub split_regions: usize,
+    /// Patches with 16-bit displacements.
+    pub wide_patches: usize,
+    /// Colour channel of the scene: `none`, `rgb8` or `rgba8`.
+    pub colour: &'static str,
+    /// Length of the source's bounding-box diagonal (model units).
+    pub diagonal: f64,
+    /// What preparation changed.
+    pub prepare: PrepareCounts,
+    /// What the loader worked around, as readable sentences.
+    pub warnings: Vec<String>,
+}
+
+impl ConvertReport {
+    /// The seconds of the stage called `name`, if it ran.
+    pub fn stage_seconds(&self, name: &str) -> Option<f64> {
+        self.stages
+            .iter()
+            .find(|s| s.name == name)
+            .map(|s| s.seconds)
+    }
+}

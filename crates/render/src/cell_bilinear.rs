@@ -1,0 +1,279 @@
+//! Cell rendering by bilinear subdivision in fixed point, and the
+//! node-placing path of patches that need no interpolation.
+//!
+//! A piece of patch is drawn as a refined grid: each drawable cell is cut
+//! into `nu × nv` sub-cells, chosen per piece (fewest sub-cells, so
+//! foreshortened patches are cut less across) so that every sub-cell's
+//! extent `max(|u_x| + |v_x|, |u_y| + |v_y|)` (u, v its edges) is below one
+//! pixel. Then every point of a cell lies within half a pixel (max norm) of
+//! one of its sub-nodes, so writing each sub-node to the pixel that holds
+//! it covers every pixel centre inside the cell: no holes, with no
+//! per-pixel edge tests. This is recursive midpoint subdivision down to
+//! sub-pixel size, evaluated non-recursively at a depth chosen in advance.
+//! When `nu = nv = 1` (no magnification) only the nodes themselves are
+//! placed ([`draw_nodes`]), the original work's optimized path.
+//!
+//! Each cell places sub-nodes `(a, b)` for `a < nu`, `b < nv`, plus its
+//! last column or row when the neighbouring cell on that side is not drawn,
+//! so each sub-node of a piece is placed once. A sample carries only its
+//! position and depth, plus the cell and `(a, b)` so that the resolve pass
+//! interpolates attributes for visible pixels only ([`crate::framebuffer`]).
+//!
+//! Arithmetic: positions, depth and attributes are evaluated by forward
+//! differences on `i64` values carrying 16 extra fractional bits; the
+//! divisions by `nu`, `nv` and `nu · nv` are multiplications by `2^30 / n`.
+//! Per sub-node: three adds and one depth test. Error: below 2^-12 pixel
+//! for `n ≤ 64`.
+//!
+//! Based on: the spatial patch rendering of the original work (nodes placed
+//! directly when a patch is not magnified, cells subdivided otherwise);
+//! E. Catmull's subdivision rendering (1974) for the recursive idea.
+
+use crate::fixed::EMPTY_NODE;
+use crate::framebuffer::{splat_sample, splat_sample_inside, BandTarget};
+use crate::traverse::{Node, CELL_DRAW, CELL_RIGHT, CELL_TOP};
+
+/// Largest subdivision per cell side; bigger cells go to the triangle
+/// rasterizer (cheaper per pixel at that size, and exact).
+pub(crate) const MAX_SUBDIVISION: u32 = 64;
+
+/// Extra fractional bits carried by the forward differences.
+const EXT: u32 = 16;
+/// Reciprocal scale.
+const RECIP_BITS: u32 = 30;
+
+/// The sub-coordinate word of sub-node `(a, b)` of cell `(ci, cj)`:
+/// `ci << 24 | cj << 16 | a << 8 | b` (a grid has at most 256 cells per
+/// side and `a, b <= MAX_SUBDIVISION`). Why the cell's column and row rather
+/// than its number: the resolve pass then needs no division per pixel.
+#[inline(always)]
+pub(crate) fn sub_word(ci: usize, cj: usize, a: u32, b: u32) -> u32 {
+    (ci as u32) << 24 | (cj as u32) << 16 | a << 8 | b
+}
+
+/// Places every used node of a `cols × rows` piece (the path for
+/// `nu = nv = 1`). Each node is recorded as a corner of a cell it belongs to.
+pub(crate) fn draw_nodes(
+    t: &mut BandTarget<'_>,
+    nodes: &[Node],
+    cols: usize,
+    rows: usize,
+    item: u32,
+) {
+    let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
+    let mut k = 0;
+    for j in 0..rows {
+        let (cj, b) = if j + 1 < rows { (j, 0) } else { (j - 1, 1) };
+        for i in 0..cols {
+            let node = &nodes[k];
+            k += 1;
+            if node[0] == EMPTY_NODE {
+                continue;
+            }
+            let py = node[1] >> 16;
+            if py < y_lo || py >= y_hi {
+                continue;
+            }
+            let (ci, a) = if i + 1 < cols { (i, 0) } else { (i - 1, 1) };
+            let sub = sub_word(ci, cj, a, b);
+            splat_sample(t, node[0] >> 16, py, node[2], sub, item);
+        }
+    }
+}
+
+/// Reciprocals for dividing by `nu`, `nv` and `nu · nv`.
+#[derive(Debug, Clone, Copy)]
+struct Reciprocals {
+    u: i64,
+    v: i64,
+    uv: i64,
+}
+
+/// Draws the cells of a `cols × rows` piece cut into `nu × nv`, as their
+/// flags (see [`crate::traverse::measure_cells`]) say.
+#[allow(clippy::too_many_arguments)] // the piece's geometry and its two subdivisions
+pub(crate) fn draw_cells_bilinear(
+    t: &mut BandTarget<'_>,
+    nodes: &[Node],
+    flags: &[u8],
+    cols: usize,
+    rows: usize,
+    nu: u32,
+    nv: u32,
+    item: u32,
+) {
+    let r = Reciprocals {
+        u: (1i64 << RECIP_BITS) / nu as i64,
+        v: (1i64 << RECIP_BITS) / nv as i64,
+        uv: (1i64 << RECIP_BITS) / (nu as i64 * nv as i64),
+    };
+    let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
+    // Why flags: drawability, back faces and the closing column/row are
+    // decided once per frame at plan time instead of per band (callgrind,
+    // `profile_sphere 500 1`).
+    let mut cells = flags.iter();
+    for j in 0..rows - 1 {
+        for i in 0..cols - 1 {
+            let f = *cells.next().unwrap_or(&0);
+            if f & CELL_DRAW == 0 {
+                continue;
+            }
+            let k = j * cols + i;
+            let c = [
+                &nodes[k],
+                &nodes[k + 1],
+                &nodes[k + cols],
+                &nodes[k + cols + 1],
+            ];
+            let ys = c.map(|n| n[1] >> 16);
+            if ys.iter().all(|&y| y < y_lo) || ys.iter().all(|&y| y >= y_hi) {
+                continue;
+            }
+            let right = (f & CELL_RIGHT != 0) as u32;
+            let top = (f & CELL_TOP != 0) as u32;
+            let (a_end, b_end, sub0) = (nu + right, nv + top, sub_word(i, j, 0, 0));
+            // A cell whose corners lie a pixel inside the band and the image
+            // cannot place a sample outside them (samples are convex
+            // combinations of the corners, up to 2^-12 px), so it skips the
+            // per-row and per-sample clipping. Why: most cells are inside;
+            // see the "why" in `draw_cell`.
+            let xs = c.map(|n| n[0] >> 16);
+            let inside = ys.iter().all(|&y| y > y_lo && y < y_hi - 1)
+                && xs.iter().all(|&x| x > 0 && x < t.width - 1);
+            if inside {
+                draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
+            } else {
+                draw_cell::<true>(t, c, r, a_end, b_end, sub0, item);
+            }
+        }
+    }
+}
+
+/// Forward-difference set-up of one channel: start, row step, column step
+/// and its change per row.
+#[inline(always)]
+fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
+    let shift = RECIP_BITS - EXT;
+    let (a, b, c, d) = (c00 as i64, c10 as i64, c01 as i64, c11 as i64);
+    [
+        a << EXT,
+        ((c - a) * r.v) >> shift,
+        ((b - a) * r.u) >> shift,
+        ((d - b - c + a) * r.uv) >> shift,
+    ]
+}
+
+/// Places the sub-nodes of one cell; `CLIP = false` when the caller has
+/// checked that the cell lies inside the band and the image. Why: the
+/// unclipped variant drops the per-row band test and the per-sample bounds
+/// compares (callgrind, `profile_sphere 500 1`: see docs/performance.md).
+#[inline(always)]
+fn draw_cell<const CLIP: bool>(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    r: Reciprocals,
+    a_end: u32,
+    b_end: u32,
+    sub0: u32,
+    item: u32,
+) {
+    let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
+    let (sx, sy, sz) = (s(0), s(1), s(2));
+    let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
+    let mut start = [sx[0], sy[0], sz[0]];
+    let mut step = [sx[2], sy[2], sz[2]];
+    let xy_shift = 16 + EXT;
+    for b in 0..b_end {
+        // Skip rows wholly outside the band.
+        let y_first = start[1] >> xy_shift;
+        let y_last = (start[1] + step[1] * (a_end as i64 - 1)) >> xy_shift;
+        if !CLIP || !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
+            let mut v = start;
+            let row_word = sub0 | b;
+            for a in 0..a_end {
+                let (px, py, z) = (
+                    (v[0] >> xy_shift) as i32,
+                    (v[1] >> xy_shift) as i32,
+                    (v[2] >> EXT) as i32,
+                );
+                if CLIP {
+                    splat_sample(t, px, py, z, row_word | a << 8, item);
+                } else {
+                    splat_sample_inside(t, px, py, z, row_word | a << 8, item);
+                }
+                v[0] += step[0];
+                v[1] += step[1];
+                v[2] += step[2];
+            }
+        }
+        start[0] += sx[1];
+        start[1] += sy[1];
+        start[2] += sz[1];
+        step[0] += sx[3];
+        step[1] += sy[3];
+        step[2] += sz[3];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixed::Z_FAR;
+    use crate::framebuffer::PATCH_SAMPLE;
+
+    fn node(x: f32, y: f32) -> Node {
+        let mut n = [0; 9];
+        n[0] = (x * 65536.0) as i32;
+        n[1] = (y * 65536.0) as i32;
+        n[2] = 1000;
+        n
+    }
+
+    #[test]
+    fn a_magnified_cell_covers_every_pixel_centre_inside_it() {
+        // One skewed cell spanning about 20 pixels.
+        let nodes = [
+            node(2.3, 3.1),
+            node(21.7, 5.2),
+            node(4.0, 19.9),
+            node(18.2, 22.4),
+        ];
+        let (w, h) = (32, 32);
+        let mut depth = vec![Z_FAR; w * h];
+        let (mut c0, mut c1, mut c2) = (vec![0; w * h], vec![0; w * h], vec![0; w * h]);
+        let mut t = BandTarget {
+            width: w as i32,
+            y0: 0,
+            rows: h as i32,
+            depth: &mut depth,
+            c0: &mut c0,
+            c1: &mut c1,
+            c2: &mut c2,
+        };
+        // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
+        let flags = [crate::traverse::CELL_DRAW | CELL_RIGHT | CELL_TOP];
+        draw_cells_bilinear(&mut t, &nodes, &flags, 2, 2, 24, 24, PATCH_SAMPLE);
+        // Every pixel centre strictly inside the quad (two triangles) is drawn.
+        let inside = |px: f32, py: f32| {
+            let tri = |a: (f32, f32), b: (f32, f32), c: (f32, f32)| {
+                let e = |p: (f32, f32), q: (f32, f32)| {
+                    (q.0 - p.0) * (py - p.1) - (q.1 - p.1) * (px - p.0)
+                };
+                let (s0, s1, s2) = (e(a, b), e(b, c), e(c, a));
+                (s0 > 0.2 && s1 > 0.2 && s2 > 0.2) || (s0 < -0.2 && s1 < -0.2 && s2 < -0.2)
+            };
+            let p = |k: usize| (nodes[k][0] as f32 / 65536.0, nodes[k][1] as f32 / 65536.0);
+            tri(p(0), p(1), p(3)) || tri(p(0), p(3), p(2))
+        };
+        let mut checked = 0;
+        for y in 0..h {
+            for x in 0..w {
+                if inside(x as f32 + 0.5, y as f32 + 0.5) {
+                    checked += 1;
+                    assert!(depth[y * w + x] < Z_FAR, "hole at {x},{y}");
+                }
+            }
+        }
+        assert!(checked > 250);
+    }
+}

@@ -1,0 +1,223 @@
+//! Arbitrary triangle meshes through the scan-line rasterizer, with the
+//! same camera, shading and framebuffer as patches (so a source mesh and
+//! its patches can be compared pixel for pixel).
+//!
+//! Input is plain data: `f32` positions relative to an `f64` origin, index
+//! triples, optional per-vertex or per-corner colours. Smooth vertex normals
+//! (area-weighted face normals) serve Gouraud and Phong shading; flat
+//! shading uses face normals. Triangles are counter-clockwise when seen
+//! from their front (OpenGL). With back-face culling on, triangles facing
+//! away are dropped; otherwise they are lit from their back side.
+//!
+//! Cost: O(vertices + triangles) to set up, then the rasterizer.
+
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+
+use crate::error::RenderError;
+use crate::options::{Culling, Shading};
+use crate::plan::{ChunkWork, FrameSetup};
+use crate::shade::{pack_colour, ShadeFrame};
+use crate::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
+
+/// Colours of a mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum MeshColours<'a> {
+    /// No colours: the lighting's base colour.
+    None,
+    /// One RGBA colour per vertex.
+    PerVertex(&'a [[u8; 4]]),
+    /// One RGBA colour per triangle corner (`3 × triangles`).
+    PerCorner(&'a [[u8; 4]]),
+}
+
+/// A triangle mesh to rasterize.
+///
+/// # Guarantees
+/// Positions are finite, every index is in range, colour counts match.
+#[derive(Debug, Clone, Copy)]
+pub struct TriangleMesh<'a> {
+    origin: DVec3,
+    positions: &'a [Vec3],
+    triangles: &'a [[u32; 3]],
+    colours: MeshColours<'a>,
+}
+
+impl<'a> TriangleMesh<'a> {
+    /// Checks and wraps mesh data. Positions are relative to `origin`.
+    pub fn new(
+        origin: DVec3,
+        positions: &'a [Vec3],
+        triangles: &'a [[u32; 3]],
+        colours: MeshColours<'a>,
+    ) -> Result<Self, RenderError> {
+        if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(RenderError::NonFiniteVertex { vertex });
+        }
+        if !origin.is_finite() {
+            return Err(RenderError::InvalidOption {
+                name: "origin",
+                reason: "must be finite",
+            });
+        }
+        for (triangle, t) in triangles.iter().enumerate() {
+            if let Some(&vertex) = t.iter().find(|&&v| v as usize >= positions.len()) {
+                return Err(RenderError::TriangleIndexOutOfRange {
+                    triangle,
+                    vertex,
+                    vertex_count: positions.len(),
+                });
+            }
+        }
+        let check = |what, expected: usize, found: usize| {
+            if expected == found {
+                Ok(())
+            } else {
+                Err(RenderError::MeshColourCount {
+                    what,
+                    expected,
+                    found,
+                })
+            }
+        };
+        match colours {
+            MeshColours::None => {}
+            MeshColours::PerVertex(c) => check("one per vertex", positions.len(), c.len())?,
+            MeshColours::PerCorner(c) => {
+                check("one per triangle corner", 3 * triangles.len(), c.len())?
+            }
+        }
+        Ok(Self {
+            origin,
+            positions,
+            triangles,
+            colours,
+        })
+    }
+
+    /// The origin of the positions.
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// Model-space box of the vertices used by triangles, or `None`.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let mut it = self
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&v| self.positions[v as usize]);
+        let first = it.next()?;
+        let (lo, hi) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        Some((self.origin + lo.as_dvec3(), self.origin + hi.as_dvec3()))
+    }
+
+    /// A bounding sphere `(centre, radius)`: the box centre and the farthest
+    /// vertex from it.
+    pub fn bounding_sphere(&self) -> Option<(DVec3, f64)> {
+        let (lo, hi) = self.bounds()?;
+        let c = (lo + hi) * 0.5;
+        let local = (c - self.origin).as_vec3();
+        let r = self
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&v| (self.positions[v as usize] - local).length())
+            .fold(0.0f32, f32::max);
+        Some((c, r as f64))
+    }
+
+    /// Area-weighted vertex normals (unit, or zero for unused vertices).
+    pub(crate) fn vertex_normals(&self) -> Vec<Vec3> {
+        let mut normals = vec![Vec3::ZERO; self.positions.len()];
+        for t in self.triangles {
+            let [a, b, c] = t.map(|v| self.positions[v as usize]);
+            let n = (b - a).cross(c - a);
+            for &v in t {
+                normals[v as usize] += n;
+            }
+        }
+        for n in &mut normals {
+            *n = n.normalize_or_zero();
+        }
+        normals
+    }
+
+    pub(crate) fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+}
+
+/// Sets up triangles `first..first + count` of `mesh` into `work`.
+pub(crate) fn plan_mesh_chunk(
+    work: &mut ChunkWork,
+    mesh: &TriangleMesh<'_>,
+    normals: &[Vec3],
+    range: std::ops::Range<usize>,
+    world: &ShadeFrame,
+    setup: &FrameSetup<'_>,
+) {
+    work.reset();
+    let start = Instant::now();
+    let view = setup.view;
+    let eye_local = (view.eye - mesh.origin).as_vec3();
+    let (map, t0) = view.local_map(mesh.origin, [DVec3::X, DVec3::Y, DVec3::Z]);
+    let near = view.near as f32;
+    let size = (view.width as f32, view.height as f32);
+    let shading = setup.options.shading;
+    let cull = setup.options.culling == Culling::Back;
+    for k in range {
+        let t = mesh.triangles[k];
+        let p = t.map(|v| mesh.positions[v as usize]);
+        let face = (p[1] - p[0]).cross(p[2] - p[0]);
+        let front = face.dot(eye_local - p[0]) > 0.0;
+        if cull && !front {
+            work.counters.triangles_culled += 1;
+            continue;
+        }
+        let sign = if front { 1.0 } else { -1.0 };
+        let albedo = |corner: usize| -> Vec3 {
+            let c = match mesh.colours {
+                MeshColours::None => return setup.base_colour,
+                MeshColours::PerVertex(c) => c[t[corner] as usize],
+                MeshColours::PerCorner(c) => c[3 * k + corner],
+            };
+            Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)
+        };
+        let face_n = face.normalize_or_zero() * sign;
+        let vertex = |corner: usize| -> ClipVertex {
+            let n = normals[t[corner] as usize] * sign;
+            let a = albedo(corner);
+            let attrs: [f32; TRI_ATTRS] = match shading {
+                Shading::Phong => [n.x, n.y, n.z, a.x, a.y, a.z],
+                Shading::Gouraud => {
+                    let c = setup.material.shade(n, world, a);
+                    [c.x, c.y, c.z, 0.0, 0.0, 0.0]
+                }
+                Shading::Flat => [0.0; TRI_ATTRS],
+            };
+            ClipVertex {
+                clip: map * p[corner] + t0,
+                attrs,
+            }
+        };
+        let flat = if shading == Shading::Flat {
+            let mean = (albedo(0) + albedo(1) + albedo(2)) / 3.0;
+            pack_colour(setup.material.shade(face_n, world, mean))
+        } else {
+            0
+        };
+        let tri = [vertex(0), vertex(1), vertex(2)];
+        match clip_and_project(&tri, near, size, 0, flat, &mut work.triangles) {
+            ClipOutcome::Dropped => {}
+            ClipOutcome::Whole => work.counters.triangles += 1,
+            ClipOutcome::Clipped(c) => {
+                work.counters.triangles += c as u64;
+                work.counters.triangles_clipped += 1;
+            }
+        }
+    }
+    work.counters.setup_ns += start.elapsed().as_nanos() as u64;
+}

@@ -1,0 +1,204 @@
+//! Typed render options with documented defaults.
+
+use crate::error::RenderError;
+
+/// What is rasterized.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum RenderMode {
+    /// Patches: nodes projected, cells drawn by subdivision (the real thing).
+    #[default]
+    Patches,
+    /// Each drawable cell as two triangles through the scan-line rasterizer
+    /// (the baseline and the reference for image error).
+    Triangles,
+}
+
+/// How patch nodes are projected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Projection {
+    /// Trilinear interpolation of the 8 projected corners of the patch's
+    /// bounding box (no division per node; not perspective-correct).
+    #[default]
+    Trilinear,
+    /// Each node projected exactly (one division per node).
+    Exact,
+}
+
+/// How magnified cells are filled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum CellScheme {
+    /// Bilinear subdivision in integer fixed point (cheap).
+    #[default]
+    Bilinear,
+    /// Catmull-Rom (C1) subdivision over the 4×4 neighbouring nodes, in f32.
+    Smooth,
+}
+
+/// Shading model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Shading {
+    /// One colour per cell (or triangle).
+    Flat,
+    /// Colours computed at nodes and interpolated.
+    Gouraud,
+    /// Normals interpolated and shaded once per pixel (deferred).
+    #[default]
+    Phong,
+}
+
+/// Back-face culling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum Culling {
+    /// Drop patches whose normal cone faces away from the eye (and, for
+    /// meshes, triangles facing away). Right for closed surfaces.
+    #[default]
+    Back,
+    /// Draw everything (open surfaces, camera inside a closed one).
+    None,
+}
+
+/// A directional light with Blinn-Phong terms. The viewer is at infinity
+/// (as OpenGL's default light model), so the half vector is constant.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[non_exhaustive]
+pub struct Lighting {
+    /// Direction towards the light in eye space (x right, y up, z towards
+    /// the viewer). Default [`Lighting::DEFAULT_DIRECTION`] (upper left front).
+    pub direction: [f32; 3],
+    /// Ambient term, 0..=1. Default 0.15.
+    pub ambient: f32,
+    /// Diffuse term, 0..=1. Default 0.8.
+    pub diffuse: f32,
+    /// Specular term, 0..=1. Default 0.25.
+    pub specular: f32,
+    /// Specular exponent, 1..=256. Default 32.
+    pub shininess: u32,
+    /// Albedo of scenes without colour (RGB). Default light grey.
+    pub base_colour: [u8; 3],
+}
+
+impl Lighting {
+    /// Default light direction (eye space, not normalized).
+    pub const DEFAULT_DIRECTION: [f32; 3] = [-0.4, 0.5, 0.75];
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Self {
+            direction: Self::DEFAULT_DIRECTION,
+            ambient: 0.15,
+            diffuse: 0.8,
+            specular: 0.25,
+            shininess: 32,
+            base_colour: [220, 220, 220],
+        }
+    }
+}
+
+/// Options of [`crate::render`] and [`crate::rasterize_triangles`].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[non_exhaustive]
+pub struct RenderOptions {
+    /// Patches or triangles. Default patches.
+    pub mode: RenderMode,
+    /// Node projection. Default trilinear (faster; see `--stats` for its error).
+    pub projection: Projection,
+    /// Cell filling of magnified patches. Default bilinear.
+    pub cells: CellScheme,
+    /// Shading model. Default Phong.
+    pub shading: Shading,
+    /// Back-face culling. Default back.
+    pub culling: Culling,
+    /// Worker threads; 0 means all cores. Default 0. The image does not
+    /// depend on it.
+    pub threads: usize,
+    /// Supersampling factor per axis, 1..=4 (K² samples per pixel, box
+    /// filter). Default 1. Costs about K² in time.
+    pub ssaa: u32,
+    /// Minify far patches through their mip pyramid. Default true: far views
+    /// place 4× fewer nodes per level, at the cost of detail below a pixel.
+    pub mip: bool,
+    /// Guard band beyond each side of the viewport, as a fraction of its
+    /// size, 0..=1. Default 0.1. Patches inside it are drawn without
+    /// splitting (pixels outside the image are discarded); wider bands split
+    /// less but project and discard more.
+    pub guard_band: f32,
+    /// Rows per framebuffer tile (the unit of parallel work), 4..=256.
+    /// Default 32.
+    pub tile_rows: u32,
+    /// Colour of pixels with no surface (RGBA). Default transparent black.
+    pub background: [u8; 4],
+    /// The light and material.
+    pub lighting: Lighting,
+}
+
+impl RenderOptions {
+    /// Default guard band.
+    pub const DEFAULT_GUARD_BAND: f32 = 0.1;
+    /// Default tile height.
+    pub const DEFAULT_TILE_ROWS: u32 = 32;
+    /// Largest supersampling factor.
+    pub const MAX_SSAA: u32 = 4;
+
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), RenderError> {
+        let bad = |name, reason| Err(RenderError::InvalidOption { name, reason });
+        if !(1..=Self::MAX_SSAA).contains(&self.ssaa) {
+            return bad("ssaa", "must be in 1..=4");
+        }
+        if !(self.guard_band.is_finite() && (0.0..=1.0).contains(&self.guard_band)) {
+            return bad("guard_band", "must be in 0..=1");
+        }
+        if !(4..=256).contains(&self.tile_rows) {
+            return bad("tile_rows", "must be in 4..=256");
+        }
+        if self.threads > 1024 {
+            return bad("threads", "must be in 0..=1024 (0 = all cores)");
+        }
+        let l = &self.lighting;
+        let unit = |v: f32| v.is_finite() && (0.0..=1.0).contains(&v);
+        if !(unit(l.ambient) && unit(l.diffuse) && unit(l.specular)) {
+            return bad("lighting", "ambient, diffuse and specular must be in 0..=1");
+        }
+        if !(1..=256).contains(&l.shininess) {
+            return bad("lighting", "shininess must be in 1..=256");
+        }
+        let d = l.direction;
+        if !d.iter().all(|v| v.is_finite()) || d.iter().all(|v| *v == 0.0) {
+            return bad(
+                "lighting",
+                "the light direction must be finite and non-zero",
+            );
+        }
+        Ok(())
+    }
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            mode: RenderMode::default(),
+            projection: Projection::default(),
+            cells: CellScheme::default(),
+            shading: Shading::default(),
+            culling: Culling::default(),
+            threads: 0,
+            ssaa: 1,
+            mip: true,
+            guard_band: Self::DEFAULT_GUARD_BAND,
+            tile_rows: Self::DEFAULT_TILE_ROWS,
+            background: [0, 0, 0, 0],
+            lighting: Lighting::default(),
+        }
+    }
+}

@@ -1,0 +1,278 @@
+//! The frame driver: resolves the camera, runs the planning stage over
+//! chunks of patches (or triangles), bins the work into bands, rasterizes
+//! the bands on the thread pool, and assembles the image and statistics.
+//!
+//! A [`Renderer`] owns its thread pool and every scratch buffer, so
+//! rendering frame after frame allocates almost nothing.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use rayon::prelude::*;
+use spatch_format::Scene;
+
+use crate::camera::{Camera, View};
+use crate::cull::Frustum;
+use crate::error::RenderError;
+use crate::framebuffer::{Band, RenderedImage, Resolve};
+use crate::mesh::{plan_mesh_chunk, TriangleMesh};
+use crate::options::RenderOptions;
+use crate::plan::{plan_chunk, ChunkWork, FrameSetup, PATCH_CHUNK};
+use crate::prepare::PreparedScene;
+use crate::shade::{Material, ShadeFrame, WorldLight};
+use crate::stats::{Counters, RenderStats};
+use crate::tiles::{render_band, BandJob, Bins};
+
+/// Triangles per unit of parallel set-up work for meshes.
+const TRIANGLE_CHUNK: usize = 4096;
+
+/// An image and what it took to render it.
+#[derive(Debug, Clone)]
+pub struct RenderOutput {
+    /// The image.
+    pub image: RenderedImage,
+    /// Counts and timings.
+    pub stats: RenderStats,
+}
+
+/// A renderer with its thread pool and scratch buffers.
+pub struct Renderer {
+    options: RenderOptions,
+    pool: rayon::ThreadPool,
+    chunks: Vec<ChunkWork>,
+    frames: Vec<ShadeFrame>,
+    bins: Bins,
+    bands: Vec<Band>,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("options", &self.options)
+            .field("threads", &self.pool.current_num_threads())
+            .finish()
+    }
+}
+
+impl Renderer {
+    /// A renderer with `options` (checked) and its own thread pool.
+    pub fn new(options: RenderOptions) -> Result<Self, RenderError> {
+        options.validate()?;
+        let threads = if options.threads == 0 {
+            std::thread::available_parallelism().map_or(1, |n| n.get())
+        } else {
+            options.threads
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|source| RenderError::ThreadPool { threads, source })?;
+        Ok(Self {
+            options,
+            pool,
+            chunks: Vec::new(),
+            frames: Vec::new(),
+            bins: Bins::default(),
+            bands: Vec::new(),
+        })
+    }
+
+    /// The options.
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    /// Worker threads in the pool.
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    fn setup<'a>(&self, view: &'a View, options: &'a RenderOptions) -> FrameSetup<'a> {
+        let (z_scale, z_offset) = view.depth_scale();
+        let [r, g, b] = options.lighting.base_colour;
+        FrameSetup {
+            view,
+            frustum: Frustum {
+                width: view.width as f32,
+                height: view.height as f32,
+                near: view.near as f32,
+                far: view.far as f32,
+                guard: options.guard_band,
+            },
+            light: WorldLight::new(&options.lighting, view.basis),
+            material: Material::new(&options.lighting),
+            options,
+            z_scale,
+            z_offset,
+            base_colour: Vec3::new(r as f32, g as f32, b as f32),
+        }
+    }
+
+    /// Renders a prepared scene.
+    pub fn render(
+        &mut self,
+        scene: &PreparedScene,
+        camera: &Camera,
+    ) -> Result<RenderOutput, RenderError> {
+        let start = Instant::now();
+        let options = self.options;
+        let view = View::new(camera, options.ssaa, scene.bounds)?;
+        let setup = self.setup(&view, &options);
+        let count = scene.patches.len();
+        let chunk_count = count.div_ceil(PATCH_CHUNK);
+        self.chunks.resize_with(chunk_count, ChunkWork::default);
+        self.frames.resize(
+            count.max(1),
+            ShadeFrame {
+                light: Vec3::Z,
+                half: Vec3::Z,
+            },
+        );
+        let chunks = &mut self.chunks;
+        let frames = &mut self.frames;
+        self.pool.install(|| {
+            chunks
+                .par_iter_mut()
+                .zip(frames.par_chunks_mut(PATCH_CHUNK))
+                .zip(scene.patches.par_chunks(PATCH_CHUNK))
+                .enumerate()
+                .for_each(|(c, ((work, frames), patches))| {
+                    plan_chunk(work, patches, (c * PATCH_CHUNK) as u32, frames, &setup);
+                });
+        });
+        let plan_wall = start.elapsed();
+        self.finish(start, plan_wall, &view, &setup, camera)
+    }
+
+    /// Rasterizes a triangle mesh with the same camera, shading and
+    /// framebuffer as patches.
+    pub fn rasterize(
+        &mut self,
+        mesh: &TriangleMesh<'_>,
+        camera: &Camera,
+    ) -> Result<RenderOutput, RenderError> {
+        let start = Instant::now();
+        let options = self.options;
+        let view = View::new(camera, options.ssaa, mesh.bounds())?;
+        let setup = self.setup(&view, &options);
+        let normals = mesh.vertex_normals();
+        let world = setup.light.frame_in(&glam::DMat3::IDENTITY, false);
+        self.frames.clear();
+        self.frames.push(world);
+        let count = mesh.triangle_count();
+        self.chunks
+            .resize_with(count.div_ceil(TRIANGLE_CHUNK), ChunkWork::default);
+        let chunks = &mut self.chunks;
+        self.pool.install(|| {
+            chunks.par_iter_mut().enumerate().for_each(|(c, work)| {
+                let lo = c * TRIANGLE_CHUNK;
+                let range = lo..(lo + TRIANGLE_CHUNK).min(count);
+                plan_mesh_chunk(work, mesh, &normals, range, &world, &setup);
+            });
+        });
+        let plan_wall = start.elapsed();
+        self.finish(start, plan_wall, &view, &setup, camera)
+    }
+
+    fn finish(
+        &mut self,
+        start: Instant,
+        plan_wall: std::time::Duration,
+        view: &View,
+        setup: &FrameSetup<'_>,
+        camera: &Camera,
+    ) -> Result<RenderOutput, RenderError> {
+        let options = setup.options;
+        let bin_start = Instant::now();
+        let tile_rows = options.tile_rows;
+        let band_count = view.height.div_ceil(tile_rows) as usize;
+        self.bins.fill(&self.chunks, tile_rows, band_count);
+        let bin_wall = bin_start.elapsed();
+
+        let raster_start = Instant::now();
+        self.bands.resize_with(band_count, Band::default);
+        let job = BandJob {
+            chunks: &self.chunks,
+            bins: &self.bins,
+            shading: options.shading,
+            cells: options.cells,
+            depth_map: (setup.z_scale, setup.z_offset),
+            resolve: Resolve {
+                shading: options.shading,
+                items: &self.bins.all_items,
+                chunks: &self.chunks,
+                frames: &self.frames,
+                material: setup.material,
+                background: options.background,
+                near: view.near as f32,
+                far: view.far as f32,
+            },
+        };
+        let (width, height) = (view.width as i32, view.height as i32);
+        let bands = &mut self.bands;
+        self.pool.install(|| {
+            bands.par_iter_mut().enumerate().for_each(|(b, band)| {
+                let y0 = b as i32 * tile_rows as i32;
+                band.reset(y0, (height - y0).min(tile_rows as i32), width);
+                render_band(band, b, &job);
+            });
+        });
+        let raster_wall = raster_start.elapsed();
+
+        let gather_start = Instant::now();
+        let image = RenderedImage::from_bands(
+            &self.bands,
+            camera.width(),
+            camera.height(),
+            options.ssaa,
+            view.near,
+            view.far,
+        );
+        let gather_wall = gather_start.elapsed();
+
+        let mut counters = Counters::default();
+        for chunk in &self.chunks {
+            counters += &chunk.counters;
+        }
+        let mut stats = RenderStats::default();
+        stats.set_counters(&counters);
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        let sum = |f: fn(&Band) -> u64| self.bands.iter().map(f).sum::<u64>() as f64 / 1e6;
+        stats.times_ms.cells = sum(|b| b.times.cells);
+        stats.times_ms.triangles = sum(|b| b.times.triangles);
+        stats.times_ms.resolve = sum(|b| b.times.resolve);
+        stats.times_ms.plan_wall = ms(plan_wall);
+        stats.times_ms.bin_wall = ms(bin_wall);
+        stats.times_ms.raster_wall = ms(raster_wall);
+        stats.times_ms.gather_wall = ms(gather_wall);
+        stats.times_ms.total_wall = ms(start.elapsed());
+        stats.image = [camera.width(), camera.height()];
+        stats.internal = [view.width, view.height];
+        stats.near_far = [view.near, view.far];
+        stats.threads = self.pool.current_num_threads();
+        stats.tiles = band_count;
+        stats.covered_pixels = image.covered_count() as u64;
+        stats.options = Some(*options);
+        Ok(RenderOutput { image, stats })
+    }
+}
+
+/// Renders `scene` once (prepares it, builds a thread pool). For repeated
+/// frames, keep a [`PreparedScene`] and a [`Renderer`].
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<RenderOutput, RenderError> {
+    let prepared = PreparedScene::new(scene);
+    Renderer::new(*options)?.render(&prepared, camera)
+}
+
+/// Rasterizes a triangle mesh once with the scan-line rasterizer.
+pub fn rasterize_triangles(
+    mesh: &TriangleMesh<'_>,
+    camera: &Camera,
+    options: &RenderOptions,
+) -> Result<RenderOutput, RenderError> {
+    Renderer::new(*options)?.rasterize(mesh, camera)
+}

@@ -1,0 +1,91 @@
+//! What the rendering shortcuts save and cost: the same frame rendered with
+//! trilinear and with exact projection, and with bilinear and with smooth
+//! cells, timed (median of a few runs) and compared by PSNR.
+//!
+//! The reference of each pair is the costlier variant (exact projection,
+//! smooth cells); every other option is kept. Cost: `2 × 2 × runs` frames.
+
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::error::RenderError;
+use crate::options::{CellScheme, Projection, RenderOptions};
+use crate::prepare::PreparedScene;
+use crate::render::Renderer;
+
+/// One shortcut against its reference.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ShortcutCost {
+    /// Median frame time with the shortcut, ms.
+    pub shortcut_ms: f64,
+    /// Median frame time with the reference, ms.
+    pub reference_ms: f64,
+    /// PSNR of the shortcut's image against the reference's, dB; `None`
+    /// (JSON null) when the images are identical.
+    pub psnr_db: Option<f64>,
+}
+
+/// The costs of the two shortcuts.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ShortcutCosts {
+    /// Trilinear (shortcut) versus exact (reference) node projection.
+    pub trilinear_vs_exact: ShortcutCost,
+    /// Bilinear (shortcut) versus smooth (reference) cells.
+    pub bilinear_vs_smooth: ShortcutCost,
+    /// Frames timed per variant.
+    pub runs: usize,
+}
+
+fn time_variant(
+    scene: &PreparedScene,
+    camera: &Camera,
+    options: RenderOptions,
+    runs: usize,
+) -> Result<(f64, crate::RenderedImage), RenderError> {
+    let mut renderer = Renderer::new(options)?;
+    let mut image = renderer.render(scene, camera)?.image; // warm-up
+    let mut times = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        let out = renderer.render(scene, camera)?;
+        times.push(out.stats.times_ms.total_wall);
+        image = out.image;
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((times[times.len() / 2], image))
+}
+
+/// Measures both shortcuts on `scene` from `camera`, `runs` (≥ 1) frames each.
+pub fn measure_shortcuts(
+    scene: &PreparedScene,
+    camera: &Camera,
+    options: &RenderOptions,
+    runs: usize,
+) -> Result<ShortcutCosts, RenderError> {
+    let runs = runs.max(1);
+    let pair =
+        |shortcut: RenderOptions, reference: RenderOptions| -> Result<ShortcutCost, RenderError> {
+            let (shortcut_ms, a) = time_variant(scene, camera, shortcut, runs)?;
+            let (reference_ms, b) = time_variant(scene, camera, reference, runs)?;
+            Ok(ShortcutCost {
+                shortcut_ms,
+                reference_ms,
+                psnr_db: a.psnr(&b),
+            })
+        };
+    let with = |p: Projection, c: CellScheme| RenderOptions {
+        projection: p,
+        cells: c,
+        ..*options
+    };
+    Ok(ShortcutCosts {
+        trilinear_vs_exact: pair(
+            with(Projection::Trilinear, options.cells),
+            with(Projection::Exact, options.cells),
+        )?,
+        bilinear_vs_smooth: pair(
+            with(options.projection, CellScheme::Bilinear),
+            with(options.projection, CellScheme::Smooth),
+        )?,
+        runs,
+    })
+}

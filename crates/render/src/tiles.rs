@@ -1,0 +1,203 @@
+//! The tiled framebuffer: work sorted into bands of rows, each band
+//! rasterized and resolved by one thread of the pool.
+//!
+//! Binning: each draw item and triangle goes to every band its rows touch,
+//! in planning order, so every band draws its work in the same order
+//! whatever the number of threads — the image is identical for 1 and N
+//! threads. A band clears its own small buffers (which stay in cache),
+//! draws, then shades its pixels; bands share nothing mutable.
+//!
+//! Cost: O(items + triangles) for binning (counting sort into CSR arrays),
+//! plus the drawing itself; cells straddling a band edge are visited by
+//! both bands, rows outside a band are skipped before any sample.
+
+use std::time::Instant;
+
+use crate::cell_bilinear::{draw_cells_bilinear, draw_nodes};
+use crate::cell_smooth::draw_cells_smooth;
+use crate::framebuffer::{
+    Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, Resolve, PATCH_SAMPLE,
+};
+use crate::options::{CellScheme, Shading};
+use crate::plan::{ChunkWork, Item};
+use crate::triangle_raster::{draw_triangle, ScreenTriangle};
+
+/// Work per band in CSR form: `(chunk, index)` references.
+#[derive(Debug, Default)]
+pub(crate) struct Bins {
+    /// Every draw item, in planning order (a patch sample's item index).
+    pub(crate) all_items: Vec<(u32, u32)>,
+    item_starts: Vec<u32>,
+    items: Vec<(u32, u32)>,
+    tri_starts: Vec<u32>,
+    tris: Vec<(u32, u32)>,
+}
+
+fn band_range(y0: i32, y1: i32, rows: i32, bands: usize) -> std::ops::Range<usize> {
+    let last = bands as i32 - 1;
+    let a = (y0.max(0) / rows).min(last);
+    let b = (y1.max(0) / rows).min(last);
+    if y1 < 0 || a > b {
+        0..0
+    } else {
+        a as usize..b as usize + 1
+    }
+}
+
+fn fill_csr<T>(
+    chunks: &[ChunkWork],
+    list: impl Fn(&ChunkWork) -> &[T],
+    rows_of: impl Fn(&T) -> (i32, i32),
+    tile_rows: i32,
+    bands: usize,
+    starts: &mut Vec<u32>,
+    refs: &mut Vec<(u32, u32)>,
+) {
+    // Each reference is (chunk, index) here; items are renumbered below.
+    starts.clear();
+    starts.resize(bands + 1, 0);
+    for chunk in chunks {
+        for x in list(chunk) {
+            let (y0, y1) = rows_of(x);
+            for b in band_range(y0, y1, tile_rows, bands) {
+                starts[b + 1] += 1;
+            }
+        }
+    }
+    for b in 0..bands {
+        starts[b + 1] += starts[b];
+    }
+    refs.clear();
+    refs.resize(starts[bands] as usize, (0, 0));
+    let mut cursor: Vec<u32> = starts[..bands].to_vec();
+    for (c, chunk) in chunks.iter().enumerate() {
+        for (k, x) in list(chunk).iter().enumerate() {
+            let (y0, y1) = rows_of(x);
+            for b in band_range(y0, y1, tile_rows, bands) {
+                refs[cursor[b] as usize] = (c as u32, k as u32);
+                cursor[b] += 1;
+            }
+        }
+    }
+}
+
+impl Bins {
+    /// Sorts the work of `chunks` into `bands` bands of `tile_rows` rows.
+    pub(crate) fn fill(&mut self, chunks: &[ChunkWork], tile_rows: u32, bands: usize) {
+        let rows = tile_rows as i32;
+        self.all_items.clear();
+        for (c, chunk) in chunks.iter().enumerate() {
+            self.all_items
+                .extend((0..chunk.items.len() as u32).map(|k| (c as u32, k)));
+        }
+        fill_csr(
+            chunks,
+            |c| &c.items,
+            |i: &Item| (i.y0, i.y1),
+            rows,
+            bands,
+            &mut self.item_starts,
+            &mut self.items,
+        );
+        // Renumber item references as indices into `all_items`.
+        let mut first = Vec::with_capacity(chunks.len());
+        let mut total = 0u32;
+        for chunk in chunks {
+            first.push(total);
+            total += chunk.items.len() as u32;
+        }
+        for r in &mut self.items {
+            *r = (0, first[r.0 as usize] + r.1);
+        }
+        fill_csr(
+            chunks,
+            |c| &c.triangles,
+            |t: &ScreenTriangle| (t.y0, t.y1),
+            rows,
+            bands,
+            &mut self.tri_starts,
+            &mut self.tris,
+        );
+    }
+
+    /// Indices into `all_items` of the items touching `band`.
+    fn items_of(&self, band: usize) -> impl Iterator<Item = &u32> + '_ {
+        self.items[self.item_starts[band] as usize..self.item_starts[band + 1] as usize]
+            .iter()
+            .map(|(_, id)| id)
+    }
+
+    fn tris_of(&self, band: usize) -> &[(u32, u32)] {
+        &self.tris[self.tri_starts[band] as usize..self.tri_starts[band + 1] as usize]
+    }
+}
+
+/// What every band needs to draw.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BandJob<'a> {
+    pub(crate) chunks: &'a [ChunkWork],
+    pub(crate) bins: &'a Bins,
+    pub(crate) shading: Shading,
+    pub(crate) cells: CellScheme,
+    pub(crate) depth_map: (f32, f32),
+    pub(crate) resolve: Resolve<'a>,
+}
+
+fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, cells: CellScheme) {
+    let (cols, rows) = (item.cols as usize, item.rows as usize);
+    let first = item.first as usize;
+    let nodes = &chunk.nodes[first..first + cols * rows];
+    let (nu, nv) = (item.nu as u32, item.nv as u32);
+    let id = id | PATCH_SAMPLE;
+    if nu == 1 && nv == 1 {
+        draw_nodes(t, nodes, cols, rows, id);
+    } else if cells == CellScheme::Smooth {
+        draw_cells_smooth(t, nodes, cols, rows, nu, nv, id);
+    } else {
+        let f = item.flags as usize;
+        let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
+        draw_cells_bilinear(t, nodes, flags, cols, rows, nu, nv, id);
+    }
+}
+
+fn draw_triangles<const N: usize, P: Payload<N>>(
+    t: &mut BandTarget<'_>,
+    job: &BandJob<'_>,
+    refs: &[(u32, u32)],
+    payload_of: impl Fn(&ScreenTriangle) -> P,
+) {
+    for &(c, k) in refs {
+        let tri = &job.chunks[c as usize].triangles[k as usize];
+        draw_triangle(t, tri, job.depth_map, &payload_of(tri));
+    }
+}
+
+/// Draws and resolves band number `index`.
+pub(crate) fn render_band(band: &mut Band, index: usize, job: &BandJob<'_>) {
+    let start = Instant::now();
+    {
+        let mut t = band.target();
+        for &id in job.bins.items_of(index) {
+            let (c, k) = job.bins.all_items[id as usize];
+            let chunk = &job.chunks[c as usize];
+            draw_item(&mut t, chunk, &chunk.items[k as usize], id, job.cells);
+        }
+    }
+    let cells_done = Instant::now();
+    {
+        let mut t = band.target();
+        let refs = job.bins.tris_of(index);
+        match job.shading {
+            Shading::Flat => draw_triangles::<0, _>(&mut t, job, refs, |tri| FlatPayload(tri.flat)),
+            Shading::Gouraud => draw_triangles::<3, _>(&mut t, job, refs, |_| GouraudPayload),
+            Shading::Phong => {
+                draw_triangles::<6, _>(&mut t, job, refs, |tri| PhongPayload(tri.frame))
+            }
+        }
+    }
+    let tris_done = Instant::now();
+    band.resolve(&job.resolve);
+    band.times.cells = (cells_done - start).as_nanos() as u64;
+    band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
+    band.times.resolve = tris_done.elapsed().as_nanos() as u64;
+}

@@ -1,0 +1,17 @@
+//! Integration tests of spatch-render (one binary; one module per area).
+//!
+//! - `sphere`: the perfect sphere from a known camera — silhouette against
+//!   the analytic circle, no holes at 250² to 2000², centre depth.
+//! - `near_plane`: camera inside the sphere, near plane cutting patches,
+//!   nothing drawn from behind the eye.
+//! - `modes`: triangle mode against patch mode, 1 against N threads,
+//!   projection / cell / shading / mip / supersampling variants.
+//! - `mesh`: the public triangle rasterizer on plain meshes.
+//! - `camera`: degenerate cameras and options refused.
+
+mod camera;
+mod common;
+mod mesh;
+mod modes;
+mod near_plane;
+mod sphere;

@@ -1,0 +1,117 @@
+//! Modes against each other: triangle mode and patch mode cover the same
+//! pixels; 1 and N threads give the same image; every projection, cell,
+//! shading, mip and supersampling variant renders the sphere without holes.
+
+use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions, Renderer, Shading};
+
+use crate::common::{known_camera, prepared_sphere};
+
+fn render(options: RenderOptions, distance: f64, size: u32) -> spatch_render::RenderOutput {
+    Renderer::new(options)
+        .unwrap()
+        .render(prepared_sphere(), &known_camera(distance, size))
+        .unwrap()
+}
+
+#[test]
+fn triangle_mode_and_patch_mode_agree_on_coverage() {
+    for (distance, size) in [(600.0, 300), (350.0, 600)] {
+        let patches = render(RenderOptions::default(), distance, size).image;
+        let mut o = RenderOptions::default();
+        o.mode = RenderMode::Triangles;
+        let triangles = render(o, distance, size).image;
+        let mut differ = 0;
+        for y in 0..size {
+            for x in 0..size {
+                differ += (patches.is_covered(x, y) != triangles.is_covered(x, y)) as usize;
+            }
+        }
+        // Only silhouette pixels may differ (nodes are placed by rounding,
+        // triangles by pixel centres): well under the perimeter's length.
+        let perimeter = std::f64::consts::TAU * crate::common::silhouette_radius_px(distance, size);
+        assert!(
+            (differ as f64) < perimeter,
+            "{differ} pixels differ (perimeter {perimeter:.0})"
+        );
+        let psnr = patches.psnr(&triangles).unwrap_or(f64::INFINITY);
+        assert!(psnr > 25.0, "psnr {psnr}");
+    }
+}
+
+#[test]
+fn one_and_many_threads_give_the_same_image() {
+    for shading in [Shading::Phong, Shading::Gouraud, Shading::Flat] {
+        for mode in [RenderMode::Patches, RenderMode::Triangles] {
+            let mut o = RenderOptions::default();
+            o.shading = shading;
+            o.mode = mode;
+            o.threads = 1;
+            let one = render(o, 500.0, 400);
+            o.threads = 3;
+            o.tile_rows = 8;
+            let three = render(o, 500.0, 400);
+            assert!(one.image == three.image, "{shading:?} {mode:?}");
+            assert_eq!(one.stats.patch_nodes, three.stats.patch_nodes);
+            assert_eq!(one.stats.normals_needed, three.stats.normals_needed);
+        }
+    }
+}
+
+#[test]
+fn every_variant_renders_the_sphere_without_holes() {
+    let reference = render(RenderOptions::default(), 450.0, 400).image;
+    for projection in [Projection::Trilinear, Projection::Exact] {
+        for cells in [CellScheme::Bilinear, CellScheme::Smooth] {
+            for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+                let mut o = RenderOptions::default();
+                o.projection = projection;
+                o.cells = cells;
+                o.shading = shading;
+                let image = render(o, 450.0, 400).image;
+                let differ = (0..400 * 400)
+                    .filter(|&k| {
+                        image.is_covered(k % 400, k / 400) != reference.is_covered(k % 400, k / 400)
+                    })
+                    .count();
+                assert!(
+                    differ < 2000,
+                    "{projection:?} {cells:?} {shading:?}: {differ}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn supersampling_smooths_the_edge_and_keeps_the_interior() {
+    let mut o = RenderOptions::default();
+    o.ssaa = 3;
+    let aa = render(o, 600.0, 200);
+    let plain = render(RenderOptions::default(), 600.0, 200);
+    assert_eq!(aa.stats.internal, [600, 600]);
+    // Edge pixels get partial alpha with supersampling; none without.
+    let partial = |img: &spatch_render::RenderedImage| {
+        img.pixels()
+            .iter()
+            .filter(|p| p[3] > 0 && p[3] < 255)
+            .count()
+    };
+    assert_eq!(partial(&plain.image), 0);
+    assert!(partial(&aa.image) > 100);
+    assert!(aa.image.pixels()[100 * 200 + 100][3] == 255);
+}
+
+#[test]
+fn without_mip_far_views_place_more_nodes() {
+    let with = render(RenderOptions::default(), 3000.0, 200);
+    let mut o = RenderOptions::default();
+    o.mip = false;
+    let without = render(o, 3000.0, 200);
+    assert!(with.stats.patch_nodes * 3 < without.stats.patch_nodes);
+    let differ = (0..200 * 200)
+        .filter(|&k| {
+            with.image.is_covered(k % 200, k / 200) != without.image.is_covered(k % 200, k / 200)
+        })
+        .count();
+    assert!(differ < 150, "{differ}");
+}

@@ -1,0 +1,118 @@
+//! The perfect sphere from a known camera: silhouette within 1 px of the
+//! analytic circle, no empty pixel inside it (minified and magnified), and
+//! the depth at the centre pixel within 0.5 % of the analytic value.
+
+use spatch_render::{RenderOptions, Renderer};
+
+use crate::common::{known_camera, prepared_sphere, silhouette_radius_px, RADIUS};
+
+/// Renders at `size`² from `distance` and checks the silhouette both ways.
+fn check_silhouette(distance: f64, size: u32, options: RenderOptions) {
+    let camera = known_camera(distance, size);
+    let out = Renderer::new(options)
+        .unwrap()
+        .render(prepared_sphere(), &camera)
+        .unwrap();
+    let image = &out.image;
+    let r = silhouette_radius_px(distance, size);
+    let c = size as f64 / 2.0;
+    let mut holes = 0;
+    let mut outside = 0;
+    for y in 0..size {
+        for x in 0..size {
+            let d = ((x as f64 + 0.5 - c).powi(2) + (y as f64 + 0.5 - c).powi(2)).sqrt();
+            let covered = image.is_covered(x, y);
+            if d < r - 1.0 && !covered {
+                holes += 1;
+            }
+            if d > r + 1.0 && covered {
+                outside += 1;
+            }
+        }
+    }
+    assert_eq!(
+        (holes, outside),
+        (0, 0),
+        "{size}² from {distance}: {holes} holes inside and {outside} pixels outside the circle of {r:.1} px; stats {:?}",
+        out.stats
+    );
+}
+
+#[test]
+fn silhouette_and_no_holes_at_250() {
+    // Minified: nodes far denser than pixels (mip levels in use).
+    check_silhouette(700.0, 250, RenderOptions::default());
+}
+
+#[test]
+fn silhouette_and_no_holes_at_500() {
+    check_silhouette(600.0, 500, RenderOptions::default());
+}
+
+#[test]
+fn silhouette_and_no_holes_at_1000() {
+    check_silhouette(500.0, 1000, RenderOptions::default());
+}
+
+#[test]
+fn silhouette_and_no_holes_at_2000_magnified() {
+    // Magnified: several pixels per cell, so cells are subdivided.
+    check_silhouette(400.0, 2000, RenderOptions::default());
+}
+
+#[test]
+fn minified_views_use_the_mip_pyramid_and_the_node_path() {
+    let camera = known_camera(2500.0, 250);
+    let out = Renderer::new(RenderOptions::default())
+        .unwrap()
+        .render(prepared_sphere(), &camera)
+        .unwrap();
+    let s = &out.stats;
+    assert!(
+        s.mip_levels.len() > 1 && s.mip_levels[1..].iter().sum::<u64>() > 0,
+        "{s:?}"
+    );
+    assert!(s.patches_optimized > 0);
+    check_silhouette(2500.0, 250, RenderOptions::default());
+}
+
+#[test]
+fn depth_at_the_centre_pixel_is_within_half_a_percent() {
+    for (distance, size) in [(600.0, 500), (400.0, 1000)] {
+        let camera = known_camera(distance, size);
+        let out = Renderer::new(RenderOptions::default())
+            .unwrap()
+            .render(prepared_sphere(), &camera)
+            .unwrap();
+        let image = &out.image;
+        // The centre pixel's centre is at the image centre exactly: the ray
+        // through it hits the sphere at distance - R.
+        let k = (size / 2 * size + size / 2) as usize;
+        let depth = image.depth()[k] as f64;
+        let expected = distance - RADIUS;
+        assert!(
+            ((depth - expected) / expected).abs() < 0.005,
+            "depth {depth} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn back_faces_are_culled_and_the_table_rows_are_filled() {
+    let camera = known_camera(600.0, 500);
+    let out = Renderer::new(RenderOptions::default())
+        .unwrap()
+        .render(prepared_sphere(), &camera)
+        .unwrap();
+    let s = &out.stats;
+    assert_eq!(s.patches, 1362);
+    // Roughly half the sphere faces away.
+    assert!(
+        s.patches_culled_backface > 500 && s.patches_culled_backface < 800,
+        "{s:?}"
+    );
+    assert!(s.patch_nodes > 100_000);
+    assert!(s.normals_needed == s.patch_nodes);
+    assert!(s.normals_computed_with_ordering_percent <= s.normals_computed_with_buffer_percent);
+    assert!(s.normals_computed_with_buffer_percent < 100.0);
+}
