@@ -203,7 +203,7 @@ fn classify(err: spatch_convert::ConvertError, input: &Path) -> anyhow::Error {
 }
 
 /// The JSON report (keys as documented in `docs/models.md`).
-pub(crate) fn report_json(
+fn report_json(
     input: &Path,
     output: &Path,
     c: &Conversion,
@@ -247,7 +247,7 @@ pub(crate) fn report_json(
 }
 
 /// The short human summary.
-pub(crate) fn summary(
+fn summary(
     output: &Path,
     c: &Conversion,
     error: Option<&GeometricError>,
