@@ -36,6 +36,11 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"
     )]
     Sphere(commands::sphere::SphereArgs),
+    /// Build the Earth model from a colour map (and an elevation map) and convert it to patches.
+    #[command(
+        after_help = "Example:\n  spatch earth -o earth.spatch\n  spatch earth --colour map.jpg --level high --report r.json -o earth.spatch\n  spatch earth --elevation relief.png --sea-level 92 -o relief.spatch"
+    )]
+    Earth(commands::earth::EarthArgs),
     /// Report what a .spatch file holds: counts, bytes per section, precision, bounds.
     #[command(
         after_help = "Example:\n  spatch stats sphere.spatch\n  spatch stats sphere.spatch --json"

@@ -20,6 +20,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::FromCloud(args) => commands::from_cloud::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
         Command::Stats(args) => commands::stats::run(&args),
+        Command::Earth(args) => commands::earth::run(&args),
         Command::Export(args) => commands::export::run(&args),
         Command::Merge(args) => commands::merge::run(&args),
         Command::Render(args) => commands::render::run(&args),

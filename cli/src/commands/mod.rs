@@ -3,6 +3,7 @@
 
 pub(crate) mod convert;
 pub(crate) mod demo;
+pub(crate) mod earth;
 pub(crate) mod export;
 pub(crate) mod from_cloud;
 pub(crate) mod merge;

@@ -3,6 +3,7 @@
 //! - `sphere`: `spatch sphere` output, its bounds and determinism.
 //! - `stats`: the human table and the JSON keys.
 //! - `export`: standard PLY headers and counts.
+//! - `earth`: the three levels, the shared maps, bad maps.
 //! - `merge`: patch counts add up; incompatible scenes refused.
 //! - `render`: PNG, depth and stats outputs, camera flags, `--bench`, bad input.
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
@@ -13,6 +14,7 @@
 
 mod bad_input;
 mod convert;
+mod earth;
 mod export;
 mod from_cloud;
 mod merge;
