@@ -328,6 +328,7 @@ fn plan_piece(
         back_sign,
         &mut work.cell_flags,
     );
+    work.counters.cells_backface += measure.backfacing_cells;
     let edges = measure.edges.map(|e| e as f32 / crate::fixed::XY_ONE);
     let mut split = choose_subdivision(edges, 1.0);
     if smooth && split != Some((1, 1)) {

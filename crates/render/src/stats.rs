@@ -20,6 +20,7 @@ pub(crate) struct Counters {
     pub(crate) patches: u64,
     pub(crate) culled_frustum: u64,
     pub(crate) culled_backface: u64,
+    pub(crate) cells_backface: u64,
     pub(crate) split: u64,
     pub(crate) split_pieces: u64,
     pub(crate) pieces_dropped: u64,
@@ -46,6 +47,7 @@ impl std::ops::AddAssign<&Counters> for Counters {
         self.patches += o.patches;
         self.culled_frustum += o.culled_frustum;
         self.culled_backface += o.culled_backface;
+        self.cells_backface += o.cells_backface;
         self.split += o.split;
         self.split_pieces += o.split_pieces;
         self.pieces_dropped += o.pieces_dropped;
@@ -122,6 +124,9 @@ pub struct RenderStats {
     pub patches_culled_frustum: u64,
     /// Patches whose normal cone faces away from the eye.
     pub patches_culled_backface: u64,
+    /// Cells of drawn patches skipped because they face away from the eye
+    /// everywhere (`--cull back`, bilinear cells).
+    pub cells_culled_backface: u64,
     /// Patches split because they were partially visible.
     pub patches_split: u64,
     /// Pieces drawn from split patches.
@@ -169,6 +174,7 @@ impl RenderStats {
         self.patches = c.patches;
         self.patches_culled_frustum = c.culled_frustum;
         self.patches_culled_backface = c.culled_backface;
+        self.cells_culled_backface = c.cells_backface;
         self.patches_split = c.split;
         self.split_pieces = c.split_pieces;
         self.split_pieces_dropped = c.pieces_dropped;
