@@ -85,7 +85,8 @@ impl NormalBuffer {
     /// The unit patch-space normal at a node of mip `level`.
     #[inline]
     pub(crate) fn normal(&mut self, level: usize, ratios: (f32, f32), gi: i32, gj: i32) -> Vec3 {
-        self.lookup(level, ratios, gi, gj).0
+        self.select(level, ratios);
+        self.entry(level, gi, gj).0
     }
 
     /// Selects the table of mip `level` for `ratios` (invalidating it when
@@ -112,6 +113,12 @@ impl NormalBuffer {
     /// `profile_sphere 500 1`).
     #[inline]
     pub(crate) fn normal_bits(&mut self, level: usize, gi: i32, gj: i32) -> [i32; 3] {
+        self.entry(level, gi, gj).1
+    }
+
+    /// The normal and its node format from the selected table of `level`.
+    #[inline]
+    fn entry(&mut self, level: usize, gi: i32, gj: i32) -> (Vec3, [i32; 3]) {
         self.counts.needed += 1;
         let table = &mut self.tables[level];
         let ratios = table.ratios;
@@ -119,7 +126,7 @@ impl NormalBuffer {
             self.counts.computed_per_patch_buffer += 1;
             self.counts.computed_ordered_buffer += 1;
             let n = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
-            return n.to_array().map(attr_to_bits);
+            return (n, n.to_array().map(attr_to_bits));
         }
         let index = (gj + RADIUS) as usize * SIDE + (gi + RADIUS) as usize;
         let entry = &mut table.entries[index];
@@ -133,20 +140,7 @@ impl NormalBuffer {
             entry.normal = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
             entry.bits = entry.normal.to_array().map(attr_to_bits);
         }
-        entry.bits
-    }
-
-    #[inline]
-    fn lookup(&mut self, level: usize, ratios: (f32, f32), gi: i32, gj: i32) -> (Vec3, [i32; 3]) {
-        self.select(level, ratios);
-        let bits = self.normal_bits(level, gi, gj);
-        let table = &self.tables[level];
-        if gi.abs() > RADIUS || gj.abs() > RADIUS {
-            let n = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
-            return (n, bits);
-        }
-        let index = (gj + RADIUS) as usize * SIDE + (gi + RADIUS) as usize;
-        (table.entries[index].normal, bits)
+        (entry.normal, entry.bits)
     }
 }
 
