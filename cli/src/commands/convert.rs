@@ -6,8 +6,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use serde_json::{json, Map, Value};
-use spatch_convert::{convert_with_progress, Conversion, ConvertInput, ConvertOptions};
-use spatch_eval::{geometric_error, GeometricError};
+use spatch_convert::{
+    convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
+};
+use spatch_eval::{geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport};
 use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
 
@@ -57,6 +59,25 @@ pub(crate) struct PipelineArgs {
     /// Worker threads [default: one per core].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub(crate) threads: Option<u32>,
+    /// Leave out the sharp-edge patches (to compare holes and bytes without them).
+    #[arg(long)]
+    pub(crate) no_sharp_edges: bool,
+    /// Angle in degrees between two faces' normals from which their edge is sharp (0-180).
+    #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().crease_angle_deg, value_parser = crease_angle)]
+    pub(crate) crease_angle: f32,
+    /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
+    /// patches (28 renders per scene).
+    #[arg(long)]
+    pub(crate) holes: bool,
+}
+
+fn crease_angle(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v > 0.0 && v < 180.0 {
+        Ok(v)
+    } else {
+        Err("must be between 0 and 180 degrees (exclusive)".to_owned())
+    }
 }
 
 fn positive_f32(s: &str) -> Result<f32, String> {
@@ -78,6 +99,11 @@ impl PipelineArgs {
         options.fit.colour = !self.no_colour;
         options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
         options.write = WriteOptions::with_compression(super::compression(self.compress));
+        options.sharp_edges = (!self.no_sharp_edges).then(|| {
+            let mut edges = EdgeOptions::default();
+            edges.crease_angle_deg = self.crease_angle;
+            edges
+        });
         options
     }
 
@@ -159,9 +185,15 @@ pub(crate) fn convert_and_write(
         progress.step("measuring error");
         geometric_error(&conversion.scene, &conversion.mesh, 1)
     });
+    let holes = if args.holes {
+        progress.step("measuring holes");
+        Some(measure_holes(&conversion)?)
+    } else {
+        None
+    };
     drop(progress);
 
-    let report = report_json(
+    let mut report = report_json(
         input,
         output,
         &conversion,
@@ -169,20 +201,61 @@ pub(crate) fn convert_and_write(
         write_seconds,
         seconds,
     );
+    if let Some(holes) = &holes {
+        report["holes"] = json!({ "with_edges": holes.0, "without_edges": holes.1 });
+    }
     if let Some(path) = &args.report {
         let mut text = serde_json::to_string_pretty(&report)
             .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
         text.push('\n');
         write_output(path, text.as_bytes())?;
     }
-    let text = summary(
+    let mut text = summary(
         output,
         &conversion,
         error.as_ref(),
         seconds,
         args.report.as_deref(),
     );
+    if let Some((with, without)) = &holes {
+        let without = without
+            .as_ref()
+            .map_or("n/a".to_owned(), |w| format!("{:.4} %", w.fraction * 100.0));
+        text.push_str(&format!(
+            "  holes over {} views: {:.4} % ({} of {} source pixels); without edge patches {}\n",
+            with.views.len(),
+            with.fraction * 100.0,
+            with.hole_pixels,
+            with.source_pixels,
+            without
+        ));
+    }
     Ok(Outcome { conversion, text })
+}
+
+/// The hole fraction of the scene, and of the scene without its edge patches (which the
+/// pipeline appends last) when it has any.
+fn measure_holes(c: &Conversion) -> anyhow::Result<(HoleReport, Option<HoleReport>)> {
+    let options = HoleOptions::default();
+    let failed =
+        |e: spatch_render::RenderError| InternalFailure(format!("cannot measure holes: {e}"));
+    let with = hole_fraction(&c.scene, &c.mesh, &options).map_err(failed)?;
+    let edge_count = c
+        .report
+        .edges
+        .map_or(0, |e| e.edge_patches + e.corner_patches);
+    if edge_count == 0 {
+        return Ok((with, None));
+    }
+    let patches = c.scene.patches();
+    let surface = spatch_format::Scene::new(
+        c.scene.offset(),
+        c.scene.channel(),
+        patches[..patches.len() - edge_count].to_vec(),
+    )
+    .map_err(|e| InternalFailure(format!("cannot measure holes: {e}")))?;
+    let without = hole_fraction(&surface, &c.mesh, &options).map_err(failed)?;
+    Ok((with, Some(without)))
 }
 
 /// Adds the file to the error and marks spatch's own failures as internal (exit code 1).
@@ -203,7 +276,7 @@ fn classify(err: spatch_convert::ConvertError, input: &Path) -> anyhow::Error {
 }
 
 /// The JSON report (keys as documented in `docs/models.md`).
-fn report_json(
+pub(crate) fn report_json(
     input: &Path,
     output: &Path,
     c: &Conversion,
@@ -243,11 +316,13 @@ fn report_json(
         "colour": r.colour,
         "prepare": r.prepare,
         "warnings": r.warnings,
+        "edges": r.edges,
+        "edge_bytes": r.edge_bytes,
     })
 }
 
 /// The short human summary.
-fn summary(
+pub(crate) fn summary(
     output: &Path,
     c: &Conversion,
     error: Option<&GeometricError>,
@@ -283,6 +358,12 @@ fn summary(
             e.node_to_surface.rms_rel * 100.0,
             e.surface_to_patch.max_rel * 100.0,
             e.surface_to_patch.rms_rel * 100.0,
+        ));
+    }
+    if let Some(e) = &r.edges {
+        text.push_str(&format!(
+            "  sharp edges: {} creases in {} chains, {} corners; {} edge + {} corner patches, {} bytes\n",
+            e.creases, e.chains, e.corners, e.edge_patches, e.corner_patches, r.edge_bytes
         ));
     }
     for w in &r.warnings {

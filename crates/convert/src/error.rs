@@ -25,6 +25,9 @@ pub enum ConvertError {
     /// The fitter refused its input or options.
     #[error("fitting failed: {0}")]
     Fit(#[from] FitError),
+    /// The sharp-edge patch generator refused its options.
+    #[error("sharp-edge patches failed: {0}")]
+    Edges(#[from] spatch_edges::EdgeError),
     /// The scene could not be built or encoded (a bug: the fitter's patches are valid by
     /// construction).
     #[error("encoding failed (this is a bug): {0}")]

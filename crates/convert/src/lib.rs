@@ -29,3 +29,5 @@ pub use error::ConvertError;
 pub use options::ConvertOptions;
 pub use pipeline::{convert, convert_with_progress, Conversion, ConvertInput, Stage};
 pub use report::{ConvertReport, PrepareCounts, StageTime};
+/// The sharp-edge stage's options and counts, re-exported for callers of the pipeline.
+pub use spatch_edges::{EdgeOptions, EdgeStats};

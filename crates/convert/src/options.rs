@@ -1,5 +1,6 @@
 //! The pipeline's options: one field per stage.
 
+use spatch_edges::EdgeOptions;
 use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
 use spatch_mesh::PrepareOptions;
@@ -10,7 +11,7 @@ use spatch_segment::SegmentOptions;
 /// The segmenter's `max_extent` is tied to the fitter's patch size: when it is left infinite
 /// (its default), the pipeline sets it to `(grid - 1) × spacing`, so that merged regions fit
 /// one patch.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 #[non_exhaustive]
 pub struct ConvertOptions {
     /// Welding and cleaning of the loaded mesh. Default: exact welding, drop degenerate and
@@ -22,4 +23,21 @@ pub struct ConvertOptions {
     pub fit: FitOptions,
     /// Container options (compression of node data). Default: uncompressed.
     pub write: WriteOptions,
+    /// Sharp-edge patches added after fitting (crease angle, resolution, strip width), or
+    /// `None` to leave them out. Default: `Some(EdgeOptions::default())`. They close the
+    /// gaps surface patches leave along creases, at the cost of bytes (see
+    /// docs/algorithms/edges.md). Their colour follows [`FitOptions::colour`].
+    pub sharp_edges: Option<EdgeOptions>,
+}
+
+impl Default for ConvertOptions {
+    fn default() -> Self {
+        Self {
+            prepare: PrepareOptions::default(),
+            segment: SegmentOptions::default(),
+            fit: FitOptions::default(),
+            write: WriteOptions::default(),
+            sharp_edges: Some(EdgeOptions::default()),
+        }
+    }
 }

@@ -7,7 +7,8 @@
 use std::path::Path;
 use std::time::Instant;
 
-use spatch_fit::{default_spacing, fit_regions, FitRegion};
+use spatch_edges::generate_edge_patches;
+use spatch_fit::{choose_channel, default_spacing, fit_regions, FitRegion};
 use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
 use spatch_segment::segment;
@@ -37,6 +38,8 @@ pub enum Stage {
     Segment,
     /// Fitting patches to regions.
     Fit,
+    /// Sharp-edge patches.
+    Edges,
     /// Encoding the container bytes.
     Encode,
 }
@@ -50,17 +53,19 @@ impl Stage {
             Stage::Adjacency => "adjacency",
             Stage::Segment => "segment",
             Stage::Fit => "fit",
+            Stage::Edges => "edges",
             Stage::Encode => "encode",
         }
     }
 
     /// All stages in pipeline order.
-    pub const ALL: [Stage; 6] = [
+    pub const ALL: [Stage; 7] = [
         Stage::Load,
         Stage::Prepare,
         Stage::Adjacency,
         Stage::Segment,
         Stage::Fit,
+        Stage::Edges,
         Stage::Encode,
     ];
 }
@@ -141,12 +146,37 @@ pub fn convert_with_progress(
         fit_regions(&mesh, &adjacency, &regions, &fit_options)
     })?;
     let stats = fitted.stats;
-    let channel = fitted.channel;
+    let mut channel = fitted.channel;
+    let mut patches = fitted.patches;
 
-    let (scene, bytes) = clock.run(Stage::Encode, || {
-        let scene = Scene::new(mesh.origin, channel, fitted.patches)?;
+    let edges = match options.sharp_edges {
+        Some(mut edge_options) => {
+            edge_options.colour = fit_options.colour;
+            let (edge_patches, edge_stats) = clock.run(Stage::Edges, || {
+                generate_edge_patches(&mesh, &adjacency, spacing, &edge_options)
+            })?;
+            Some((edge_patches, edge_stats))
+        }
+        None => None,
+    };
+
+    let (scene, bytes, edge_bytes) = clock.run(Stage::Encode, || {
+        // What the edge patches add to the file: the same scene encoded without them.
+        let mut edge_bytes = 0;
+        if let Some((edge_patches, _)) = &edges {
+            if !edge_patches.is_empty() {
+                let surface = Scene::new(mesh.origin, channel, patches.clone())?;
+                edge_bytes = encode_scene(&surface, &options.write)?.len();
+                patches.extend_from_slice(edge_patches);
+                channel = choose_channel(&patches);
+            }
+        }
+        let scene = Scene::new(mesh.origin, channel, patches)?;
         let bytes = encode_scene(&scene, &options.write)?;
-        Ok::<_, ConvertError>((scene, bytes))
+        if edge_bytes > 0 {
+            edge_bytes = bytes.len().saturating_sub(edge_bytes);
+        }
+        Ok::<_, ConvertError>((scene, bytes, edge_bytes))
     })?;
 
     let report = ConvertReport {
@@ -174,6 +204,8 @@ pub fn convert_with_progress(
             output_faces: prepared.output_faces,
         },
         warnings: load_warnings.iter().map(ToString::to_string).collect(),
+        edges: edges.map(|(_, s)| s),
+        edge_bytes,
     };
     Ok(Conversion {
         scene,

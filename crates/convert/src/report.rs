@@ -5,7 +5,7 @@ use serde::Serialize;
 /// Wall time of one stage.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StageTime {
-    /// Stage name: `load`, `prepare`, `adjacency`, `segment`, `fit` or `encode`.
+    /// Stage name: `load`, `prepare`, `adjacency`, `segment`, `fit`, `edges` or `encode`.
     pub name: &'static str,
     /// Wall time in seconds.
     pub seconds: f64,
@@ -65,6 +65,10 @@ pub struct ConvertReport {
     pub prepare: PrepareCounts,
     /// What the loader worked around, as readable sentences.
     pub warnings: Vec<String>,
+    /// What the sharp-edge stage found and made, or `None` when it was off.
+    pub edges: Option<spatch_edges::EdgeStats>,
+    /// Bytes the edge patches add to the file (the scene encoded with them minus without).
+    pub edge_bytes: usize,
 }
 
 impl ConvertReport {
