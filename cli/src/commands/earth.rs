@@ -94,6 +94,10 @@ pub(crate) struct EarthArgs {
     /// Skip measuring the geometric error.
     #[arg(long)]
     no_error: bool,
+    /// Measure the hole fraction over 14 views (500 x 500) against the globe mesh:
+    /// cracks at the seam or the poles would show here.
+    #[arg(long)]
+    holes: bool,
 }
 
 /// Builds the globe, converts it, writes the scene and the report.
@@ -163,6 +167,18 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         progress.step("measuring error");
         spatch_eval::geometric_error(&conversion.scene, &conversion.mesh, 1)
     });
+    let holes = if args.holes {
+        progress.step("measuring holes");
+        let report = spatch_eval::hole_fraction(
+            &conversion.scene,
+            &conversion.mesh,
+            &spatch_eval::HoleOptions::default(),
+        )
+        .map_err(|e| anyhow::Error::new(InternalFailure(format!("measuring holes failed: {e}"))))?;
+        Some(report)
+    } else {
+        None
+    };
     drop(progress);
     let source_name = match (&args.elevation, &args.colour) {
         (Some(dem), _) => format!("globe from {}", dem.display()),
@@ -186,19 +202,32 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         "heights": if args.elevation.is_some() { "elevation" } else { "colour" },
         "exaggeration": args.exaggeration,
     });
+    if let Some(holes) = &holes {
+        report["holes"] = serde_json::to_value(holes)
+            .map_err(|e| InternalFailure(format!("cannot format the hole report: {e}")))?;
+    }
     if let Some(path) = &args.report {
         let mut text = serde_json::to_string_pretty(&report)
             .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
         text.push('\n');
         write_output(path, text.as_bytes())?;
     }
-    let text = summary(
+    let mut text = summary(
         &args.output,
         &conversion,
         error.as_ref(),
         seconds,
         args.report.as_deref(),
     );
+    if let Some(holes) = &holes {
+        text.push_str(&format!(
+            "  holes: {:.4} % of the globe's pixels over {} views ({} of {})\n",
+            holes.fraction * 100.0,
+            holes.views.len(),
+            holes.hole_pixels,
+            holes.source_pixels
+        ));
+    }
     print_stdout(&format!(
         "{source_name}: {} triangles\n{text}",
         conversion.report.triangles

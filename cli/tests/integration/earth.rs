@@ -15,6 +15,7 @@ fn the_built_in_map_gives_the_original_low_level() {
             "--level",
             "low",
             "--no-error",
+            "--holes",
             "--report",
             "r.json",
             "-o",
@@ -31,6 +32,13 @@ fn the_built_in_map_gives_the_original_low_level() {
     assert!(r["bytes"].as_u64().unwrap() <= 450_000, "{}", r["bytes"]);
     assert_eq!(r["colour"], "rgb8");
     assert_eq!(r["globe"]["triangles"], 40_500);
+    // No cracks at the seam or the poles: 14 views of the globe mesh against the patches.
+    assert_eq!(r["holes"]["views"].as_array().unwrap().len(), 14);
+    assert!(
+        r["holes"]["fraction"].as_f64().unwrap() <= 0.0005,
+        "{}",
+        r["holes"]
+    );
     for stage in ["heights", "globe", "segment", "fit", "write"] {
         assert!(
             r["stages"][stage].as_f64().is_some(),
