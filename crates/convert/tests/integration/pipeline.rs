@@ -20,7 +20,15 @@ fn a_torus_converts_with_every_stage_timed() {
     let names: Vec<&str> = c.report.stages.iter().map(|s| s.name).collect();
     assert_eq!(
         names,
-        ["load", "prepare", "adjacency", "segment", "fit", "edges", "encode"]
+        [
+            "load",
+            "prepare",
+            "adjacency",
+            "segment",
+            "fit",
+            "edges",
+            "encode"
+        ]
     );
     assert!(c.report.patches > 4);
     assert_eq!(c.report.patches, c.scene.patches().len());
