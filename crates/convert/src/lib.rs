@@ -1,6 +1,6 @@
 //! The mesh → spatial-patch pipeline of spatch, with per-stage timings.
 //!
-//! [`convert`] runs, in order: load (from a file, or take a [`TriangleMesh`] as given),
+//! [`convert`] runs, in order: load (from a file, or take a [`TriangleMesh`](spatch_mesh::TriangleMesh) as given),
 //! prepare (weld duplicate vertices, drop degenerate faces), adjacency, segment (the
 //! three-stage segmenter of `spatch-segment`), fit (`spatch-fit`) and encode (the `.spatch`
 //! bytes). It returns a [`Conversion`]: the [`Scene`](spatch_format::Scene), the encoded
