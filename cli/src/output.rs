@@ -40,3 +40,11 @@ pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
     out.flush()?;
     Ok(())
 }
+
+/// Writes a JSON report, pretty-printed with a final newline, atomically.
+pub(crate) fn write_json_report(path: &Path, report: &impl serde::Serialize) -> anyhow::Result<()> {
+    let mut text = serde_json::to_string_pretty(report)
+        .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
+    text.push('\n');
+    write_output(path, text.as_bytes())
+}

@@ -14,7 +14,7 @@ use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
 
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_output};
+use crate::output::{print_stdout, write_json_report, write_output};
 
 /// Arguments of `spatch convert`.
 #[derive(Debug, clap::Args)]
@@ -205,10 +205,7 @@ pub(crate) fn convert_and_write(
         report["holes"] = json!({ "with_edges": holes.0, "without_edges": holes.1 });
     }
     if let Some(path) = &args.report {
-        let mut text = serde_json::to_string_pretty(&report)
-            .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
-        text.push('\n');
-        write_output(path, text.as_bytes())?;
+        write_json_report(path, &report)?;
     }
     let mut text = summary(
         output,

@@ -13,7 +13,7 @@ use spatch_format::WriteOptions;
 
 use super::convert::{report_json, summary, Progress};
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_output};
+use crate::output::{print_stdout, write_json_report, write_output};
 
 /// Patch density, as the original work's three Earth models.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -207,10 +207,7 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
             .map_err(|e| InternalFailure(format!("cannot format the hole report: {e}")))?;
     }
     if let Some(path) = &args.report {
-        let mut text = serde_json::to_string_pretty(&report)
-            .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
-        text.push('\n');
-        write_output(path, text.as_bytes())?;
+        write_json_report(path, &report)?;
     }
     let mut text = summary(
         &args.output,

@@ -11,7 +11,7 @@ use spatch_format::WriteOptions;
 use spatch_mesh::load_point_cloud;
 
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_output};
+use crate::output::{print_stdout, write_json_report, write_output};
 
 /// Arguments of `spatch from-cloud`.
 #[derive(Debug, clap::Args)]
@@ -189,9 +189,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         ));
     }
     if let Some(path) = &args.report {
-        let json = serde_json::to_vec_pretty(&report)
-            .map_err(|e| InternalFailure(format!("cannot serialise the report: {e}")))?;
-        write_output(path, &json)?;
+        write_json_report(path, &report)?;
     }
     print_stdout(&text)
 }

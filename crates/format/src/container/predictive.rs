@@ -105,7 +105,7 @@ pub(crate) fn decode_displacements(
         };
         values.clear();
         for k in 0..layout.cols * layout.rows {
-            // Push a placeholder so `predict` sees the same indices as the encoder.
+            // Reserve slot k (filled below) so `predict` indexes exactly as the encoder does.
             values.push(0);
             let prediction = predict(&values, layout.cols, k, mask);
             let residual = if layout.bytes_per_code == 1 {
