@@ -65,6 +65,17 @@ pub(crate) struct PipelineArgs {
     /// Angle in degrees between two faces' normals from which their edge is sharp (0-180).
     #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().crease_angle_deg, value_parser = crease_angle)]
     pub(crate) crease_angle: f32,
+    /// Node density of the edge patches relative to the surface patches (1-16).
+    #[arg(long, value_name = "FACTOR", default_value_t = EdgeOptions::default().resolution, value_parser = edge_resolution)]
+    pub(crate) edge_resolution: f32,
+    /// Width of the strip an edge patch covers on each face, in surface node spacings
+    /// (0.5-16).
+    #[arg(long, value_name = "SPACINGS", default_value_t = EdgeOptions::default().strip_width, value_parser = edge_strip)]
+    pub(crate) edge_strip: f32,
+    /// Put an edge patch on every sharp edge, also where the surface patches already close
+    /// the crease (by default only the gaps get one).
+    #[arg(long)]
+    pub(crate) all_creases: bool,
     /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
     /// patches (28 renders per scene).
     #[arg(long)]
@@ -77,6 +88,23 @@ fn crease_angle(s: &str) -> Result<f32, String> {
         Ok(v)
     } else {
         Err("must be between 0 and 180 degrees (exclusive)".to_owned())
+    }
+}
+
+fn edge_resolution(s: &str) -> Result<f32, String> {
+    in_range(s, 1.0, 16.0)
+}
+
+fn edge_strip(s: &str) -> Result<f32, String> {
+    in_range(s, 0.5, 16.0)
+}
+
+fn in_range(s: &str, low: f32, high: f32) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && (low..=high).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("must be between {low} and {high}"))
     }
 }
 
@@ -102,6 +130,9 @@ impl PipelineArgs {
         options.sharp_edges = (!self.no_sharp_edges).then(|| {
             let mut edges = EdgeOptions::default();
             edges.crease_angle_deg = self.crease_angle;
+            edges.resolution = self.edge_resolution;
+            edges.strip_width = self.edge_strip;
+            edges.only_gaps = !self.all_creases;
             edges
         });
         options

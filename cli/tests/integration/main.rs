@@ -15,6 +15,7 @@
 mod bad_input;
 mod convert;
 mod earth;
+mod edges;
 mod export;
 mod from_cloud;
 mod merge;

@@ -153,7 +153,7 @@ pub fn convert_with_progress(
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
             let (edge_patches, edge_stats) = clock.run(Stage::Edges, || {
-                generate_edge_patches(&mesh, &adjacency, spacing, &edge_options)
+                generate_edge_patches(&mesh, &adjacency, &patches, spacing, &edge_options)
             })?;
             Some((edge_patches, edge_stats))
         }

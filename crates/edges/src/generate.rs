@@ -1,14 +1,20 @@
 //! The generator's driver: detect, cut, cast, in a deterministic order.
 //!
 //! 1. sharp edges and their chains (`sharp_edges`);
-//! 2. chains cut into pieces, one lattice per piece (`edge_patch`);
-//! 3. one lattice per corner when [`EdgeOptions::corners`] is on (`corner_patch`);
-//! 4. every lattice cast against the source and quantized into a patch (`lattice_cast`), in
-//!    parallel, collected in order (pieces by chain, then corners by vertex id), so the
-//!    output never depends on the thread count.
+//! 2. with [`EdgeOptions::only_gaps`], the creases the surface patches already cover
+//!    (`coverage`);
+//! 3. the chains cut into pieces around those, one lattice per piece (`edge_patch`);
+//! 4. every piece's lattice cast against the source and quantized into a patch
+//!    (`lattice_cast`);
+//! 5. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
+//!    reaches and (with `only_gaps`) that the surface and edge patches leave open
+//!    (`corner_patch`), cast the same way.
 //!
-//! Cost: O(E) for detection plus O(F log F) for the BVH plus O(edge nodes × log F) for the
-//! casts; memory O(F) for the BVH.
+//! Casting runs in parallel and is collected in order (pieces by chain, then corners by
+//! vertex id), so the output never depends on the thread count.
+//!
+//! Cost: O(E) for detection, O(creases × probes) for coverage, O(F log F) for the BVH and
+//! O(edge nodes × log F) for the casts; memory O(F) for the BVH.
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -16,6 +22,7 @@ use spatch_format::Patch;
 use spatch_mesh::{Bvh, FaceAdjacency, FaceId, TriangleMesh, VertexId};
 
 use crate::corner_patch::corner_lattice;
+use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage, COVER_TOLERANCE};
 use crate::edge_patch::{cut_pieces, piece_lattice};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
@@ -36,6 +43,8 @@ pub struct EdgeStats {
     pub ends: usize,
     /// Creases whose faces fold onto each other; no patch covers them.
     pub knife_edges: usize,
+    /// Creases the surface patches already cover, left without an edge patch.
+    pub covered_creases: usize,
     /// Edges with three or more faces, not tested.
     pub non_manifold_edges: usize,
     /// Pieces the chains were cut into.
@@ -54,13 +63,15 @@ pub struct EdgeStats {
 
 /// Finds the sharp edges of `mesh` and covers them with edge patches (see the crate docs).
 ///
-/// `adjacency` must be the face adjacency of `mesh`; `surface_spacing` is the node spacing of
-/// the surface patches, from which the edge spacing and strip width follow. The patches use
+/// `adjacency` must be the face adjacency of `mesh`; `surface` are the surface patches (in
+/// `mesh`'s coordinates), whose gaps the edge patches close; `surface_spacing` is their node
+/// spacing, from which the edge spacing and strip width follow. The patches use
 /// `mesh`'s coordinates (relative to `mesh.origin`), as the fitter's do, and carry colours
 /// exactly when the mesh has colour and [`EdgeOptions::colour`] is on.
 pub fn generate_edge_patches(
     mesh: &TriangleMesh,
     adjacency: &FaceAdjacency,
+    surface: &[Patch],
     surface_spacing: f32,
     options: &EdgeOptions,
 ) -> Result<(Vec<Patch>, EdgeStats), EdgeError> {
@@ -97,26 +108,19 @@ pub fn generate_edge_patches(
     // A piece plus its overlap at both ends (`edge_patch`) must fit `max_cols` nodes.
     let overlap = edge_spacing + 0.5 * strip;
     let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
-    let (pieces, _) = cut_pieces(mesh, &sharp, max_len, options.max_turn_deg);
+    let covered = if options.only_gaps {
+        let coverage = SurfaceCoverage::new(surface, COVER_TOLERANCE * surface_spacing);
+        covered_creases(mesh, &sharp, &coverage, surface_spacing)
+    } else {
+        vec![false; sharp.creases.len()]
+    };
+    stats.covered_creases = covered.iter().filter(|&&c| c).count();
+    let (pieces, _) = cut_pieces(mesh, &sharp, &covered, max_len, options.max_turn_deg);
     stats.pieces = pieces.len();
-    let mut lattices: Vec<(NodeLattice, Vec<FaceId>)> = pieces
+    let lattices: Vec<(NodeLattice, Vec<FaceId>)> = pieces
         .par_iter()
         .filter_map(|piece| piece_lattice(mesh, adjacency, &sharp, piece, edge_spacing, strip))
         .collect();
-    let edge_lattices = lattices.len();
-    if options.corners && !sharp.corners.is_empty() {
-        let around = faces_around(mesh, &sharp);
-        let corners: Vec<(NodeLattice, Vec<FaceId>)> = sharp
-            .corners
-            .par_iter()
-            .zip(around.par_iter())
-            .filter_map(|(&v, faces)| {
-                corner_lattice(mesh, adjacency, v, faces, edge_spacing, strip)
-            })
-            .collect();
-        lattices.extend(corners);
-    }
-
     let bvh = Bvh::new(mesh);
     let job = CastJob {
         mesh,
@@ -125,24 +129,72 @@ pub fn generate_edge_patches(
         max_step_error: options.max_step_error,
         with_colour: options.colour && mesh.has_colour(),
     };
+    let mut patches = cast_all(&job, &lattices, 0)?;
+    stats.edge_patches = patches.len();
+
+    if options.corners && !sharp.corners.is_empty() {
+        let around = faces_around(mesh, &sharp);
+        let mut open = corners_with_gaps(&sharp, &covered);
+        if options.only_gaps {
+            // The surface and edge patches often close a corner between them already.
+            let seen = SurfaceCoverage::new(
+                surface.iter().chain(&patches),
+                COVER_TOLERANCE * surface_spacing,
+            );
+            open.par_iter_mut()
+                .zip(sharp.corners.par_iter().zip(around.par_iter()))
+                .filter(|(open, _)| **open)
+                .for_each(|(open, (&v, faces))| {
+                    *open = !covered_corner(mesh, v, faces, &seen, surface_spacing);
+                });
+        }
+        let corners: Vec<(NodeLattice, Vec<FaceId>)> = sharp
+            .corners
+            .par_iter()
+            .zip(around.par_iter())
+            .zip(open.par_iter())
+            .filter(|(_, &open)| open)
+            .filter_map(|((&v, faces), _)| {
+                corner_lattice(mesh, adjacency, v, faces, edge_spacing, strip)
+            })
+            .collect();
+        let corner_patches = cast_all(&job, &corners, lattices.len())?;
+        stats.corner_patches = corner_patches.len();
+        patches.extend(corner_patches);
+    }
+    for patch in &patches {
+        stats.nodes += patch.grid().node_count();
+        stats.filled_nodes += patch.filled_count();
+    }
+    Ok((patches, stats))
+}
+
+/// Casts `lattices` in parallel and keeps, in order, those whose rays hit something; `first`
+/// is the index of the first lattice (for error messages).
+fn cast_all(
+    job: &CastJob<'_>,
+    lattices: &[(NodeLattice, Vec<FaceId>)],
+    first: usize,
+) -> Result<Vec<Patch>, EdgeError> {
     let cast: Vec<Option<Patch>> = lattices
         .par_iter()
         .enumerate()
-        .map(|(index, (lattice, faces))| cast_lattice(&job, lattice, faces, index))
+        .map(|(k, (lattice, faces))| cast_lattice(job, lattice, faces, first + k))
         .collect::<Result<_, _>>()?;
-    let mut patches = Vec::with_capacity(cast.len());
-    for (index, patch) in cast.into_iter().enumerate() {
-        let Some(patch) = patch else { continue };
-        if index < edge_lattices {
-            stats.edge_patches += 1;
-        } else {
-            stats.corner_patches += 1;
+    Ok(cast.into_iter().flatten().collect())
+}
+
+/// For each corner of `sharp` (in order), whether a crease ending there is not covered.
+fn corners_with_gaps(sharp: &SharpEdges, covered: &[bool]) -> Vec<bool> {
+    let mut open = vec![false; sharp.corners.len()];
+    for (crease, _) in sharp.creases.iter().zip(covered).filter(|(_, &c)| !c) {
+        for v in [crease.v0, crease.v1] {
+            if let Ok(k) = sharp.corners.binary_search(&v) {
+                open[k] = true;
+            }
         }
-        stats.nodes += patch.grid().node_count();
-        stats.filled_nodes += patch.filled_count();
-        patches.push(patch);
     }
-    Ok((patches, stats))
+    open
 }
 
 /// For each corner of `sharp` (in order), the faces that contain it, by id.

@@ -9,7 +9,9 @@
 //! - [`detect_sharp_edges`]: edges whose faces' normals differ by at least the crease angle,
 //!   chained into polylines ([`CreaseChain`]) that stop at corners (three or more creases)
 //!   and ends ([`SharpEdges`]);
-//! - [`generate_edge_patches`]: the chains cut into nearly straight pieces; one patch per
+//! - [`generate_edge_patches`]: the creases the surface patches already cover set aside (a
+//!   crease inside a region, or one a fitted rectangle ends on exactly), the other creases'
+//!   chains cut into nearly straight pieces; one patch per
 //!   piece with x along the edge and z along the bisector of the two faces' normals, covering
 //!   a strip on both faces at `resolution` times the surface node density; one patch per
 //!   corner; nodes ray-cast against the source and quantized and coloured as the fitter does
@@ -31,7 +33,8 @@
 //!     vec![[0, 1, 2], [2, 1, 3], [1, 0, 4], [1, 4, 5]],
 //! )?;
 //! let adjacency = build_face_adjacency(&mesh);
-//! let (patches, stats) = generate_edge_patches(&mesh, &adjacency, 0.1, &EdgeOptions::default())?;
+//! // No surface patches yet, so the crease is a gap to close.
+//! let (patches, stats) = generate_edge_patches(&mesh, &adjacency, &[], 0.1, &EdgeOptions::default())?;
 //! assert_eq!(stats.creases, 1);
 //! assert_eq!(stats.chains, 1);
 //! assert!(!patches.is_empty());
@@ -40,6 +43,7 @@
 #![forbid(unsafe_code)]
 
 mod corner_patch;
+mod coverage;
 mod edge_patch;
 mod error;
 mod generate;
@@ -47,6 +51,7 @@ mod lattice_cast;
 mod options;
 mod sharp_edges;
 
+pub use coverage::{COVER_TOLERANCE, MAX_FACING_ANGLE_DEG, MAX_PROBES_ALONG, PROBE_OFFSETS};
 pub use error::EdgeError;
 pub use generate::{generate_edge_patches, EdgeStats};
 pub use options::{

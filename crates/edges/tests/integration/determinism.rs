@@ -16,7 +16,8 @@ fn patches_do_not_depend_on_threads() {
                 .build()
                 .unwrap()
                 .install(|| {
-                    generate_edge_patches(&mesh, &adjacency, 0.05, &EdgeOptions::default()).unwrap()
+                    generate_edge_patches(&mesh, &adjacency, &[], 0.05, &EdgeOptions::default())
+                        .unwrap()
                 })
         };
         let (one, stats_one) = run(1);

@@ -8,6 +8,7 @@
 //! - `determinism`: same input, same patches, whatever the thread count.
 
 mod cad_targets;
+mod coverage;
 mod crease_sweep;
 mod detection;
 mod determinism;

@@ -10,10 +10,11 @@ use crate::surface::mesh_of;
 fn cube_edge_patches_lie_on_the_cube_and_see_both_faces() {
     let mesh = mesh_of(&shapes::cube(2.0));
     let adjacency = build_face_adjacency(&mesh);
-    // Edges of length 2 fit one piece of at most 30 cells of 0.1.
+    // Edges of length 2 fit one piece (at most 32 cells of the edge spacing, 0.2 / resolution).
     let spacing = 0.2;
     let options = EdgeOptions::default();
-    let (patches, stats) = generate_edge_patches(&mesh, &adjacency, spacing, &options).unwrap();
+    let (patches, stats) =
+        generate_edge_patches(&mesh, &adjacency, &[], spacing, &options).unwrap();
     assert_eq!(stats.pieces, 12);
     assert_eq!(stats.edge_patches, 12);
     assert_eq!(stats.corner_patches, 8);
@@ -59,19 +60,19 @@ fn bad_inputs_are_refused() {
     let mut options = EdgeOptions::default();
     options.crease_angle_deg = 0.0;
     assert!(matches!(
-        generate_edge_patches(&mesh, &adjacency, 0.1, &options),
+        generate_edge_patches(&mesh, &adjacency, &[], 0.1, &options),
         Err(EdgeError::InvalidOption {
             name: "crease_angle_deg",
             ..
         })
     ));
     assert!(matches!(
-        generate_edge_patches(&mesh, &adjacency, f32::NAN, &EdgeOptions::default()),
+        generate_edge_patches(&mesh, &adjacency, &[], f32::NAN, &EdgeOptions::default()),
         Err(EdgeError::InvalidSpacing { .. })
     ));
     let other = build_face_adjacency(&mesh_of(&shapes::cylinder(1.0, 1.0, 8)));
     assert!(matches!(
-        generate_edge_patches(&mesh, &other, 0.1, &EdgeOptions::default()),
+        generate_edge_patches(&mesh, &other, &[], 0.1, &EdgeOptions::default()),
         Err(EdgeError::AdjacencyMismatch { .. })
     ));
 }

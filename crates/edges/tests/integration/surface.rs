@@ -21,7 +21,14 @@ pub(crate) struct Fitted {
 impl Fitted {
     /// Edge patches with `options`.
     pub(crate) fn edges(&self, options: &EdgeOptions) -> (Vec<Patch>, EdgeStats) {
-        generate_edge_patches(&self.mesh, &self.adjacency, self.spacing, options).unwrap()
+        generate_edge_patches(
+            &self.mesh,
+            &self.adjacency,
+            &self.surface,
+            self.spacing,
+            options,
+        )
+        .unwrap()
     }
 
     /// The scene of the surface patches, plus `extra`.
@@ -34,9 +41,14 @@ impl Fitted {
 
 /// Prepares `mesh` and fits it as the convert pipeline does (default options).
 pub(crate) fn fit(mesh: TriangleMesh) -> Fitted {
+    fit_with_spacing(mesh, None)
+}
+
+/// As [`fit`], with the node spacing given (or derived from the mesh for `None`).
+pub(crate) fn fit_with_spacing(mesh: TriangleMesh, spacing: Option<f32>) -> Fitted {
     let (mesh, _) = prepare_mesh(&mesh, &PrepareOptions::default());
     let adjacency = build_face_adjacency(&mesh);
-    let spacing = default_spacing(&mesh).unwrap();
+    let spacing = spacing.unwrap_or_else(|| default_spacing(&mesh).unwrap());
     let mut fit_options = FitOptions::default();
     fit_options.spacing = Some(spacing);
     let mut segment_options = SegmentOptions::default();

@@ -108,12 +108,9 @@ fn a_converted_sphere_is_close_and_has_no_holes() {
 #[test]
 fn bunny_meets_the_issue_targets() {
     let path = spatch_fixtures::require_shared!("bunny/reconstruction/bun_zipper.ply");
-    // The surface patches alone (segment + fit), as issue 4 measured them. With the
-    // sharp-edge patches of issue 5 on by default (25° creases) the bunny grows to
-    // 525,653 nodes: reconciling that default with this budget is open work.
-    let mut options = ConvertOptions::default();
-    options.sharp_edges = None;
-    let c = convert(ConvertInput::Path(&path), &options).unwrap();
+    // The default conversion, sharp-edge patches included (they go only where the surface
+    // patches leave a gap at a crease).
+    let c = convert(ConvertInput::Path(&path), &ConvertOptions::default()).unwrap();
     assert_eq!(c.mesh.face_count(), 69_451);
     assert!(c.report.nodes <= 441_014, "{} nodes", c.report.nodes);
     assert!(c.report.bytes <= 1_830_000, "{} bytes", c.report.bytes);

@@ -1,0 +1,86 @@
+//! `spatch convert`'s sharp-edge options: which creases get patches, how dense, bad values.
+
+use crate::test_command::TestCommand;
+
+/// A cube of side 2 as twelve triangles, written as an OBJ file.
+fn write_cube_obj(t: &TestCommand, name: &str) -> String {
+    let mut text = String::new();
+    for k in 0..8 {
+        let c = |bit: u32| if k & bit != 0 { 1 } else { -1 };
+        text.push_str(&format!("v {} {} {}\n", c(1), c(2), c(4)));
+    }
+    // Outward-wound quads, fanned into two triangles each (vertices are 1-based).
+    for [a, b, c, d] in [
+        [1, 3, 4, 2],
+        [5, 6, 8, 7],
+        [1, 2, 6, 5],
+        [3, 7, 8, 4],
+        [1, 5, 7, 3],
+        [2, 4, 8, 6],
+    ] {
+        text.push_str(&format!("f {a} {b} {c}\nf {a} {c} {d}\n"));
+    }
+    std::fs::write(t.path(name), text).unwrap();
+    name.to_owned()
+}
+
+/// Converts the cube with `extra` options and returns the report's edge statistics.
+fn edge_stats(t: &TestCommand, cube: &str, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "convert",
+        cube,
+        "-o",
+        "cube.spatch",
+        "--report",
+        "cube.json",
+        "--no-error",
+        "--spacing",
+        "0.2",
+    ];
+    args.extend_from_slice(extra);
+    t.run(&args).success();
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path("cube.json")).unwrap()).unwrap();
+    report["edges"].clone()
+}
+
+#[test]
+fn edge_patches_go_only_where_the_surface_leaves_a_gap_unless_asked() {
+    let t = TestCommand::new();
+    let cube = write_cube_obj(&t, "cube.obj");
+    let gaps = edge_stats(&t, &cube, &[]);
+    assert_eq!(gaps["creases"], 12, "{gaps}");
+    // The fitted faces end exactly on the cube's straight edges.
+    assert_eq!(gaps["covered_creases"], 12, "{gaps}");
+    assert_eq!(gaps["edge_patches"], 0, "{gaps}");
+
+    let all = edge_stats(&t, &cube, &["--all-creases"]);
+    assert_eq!(all["covered_creases"], 0, "{all}");
+    assert_eq!(all["edge_patches"], 12, "{all}");
+    assert_eq!(all["corner_patches"], 8, "{all}");
+
+    let dense = edge_stats(&t, &cube, &["--all-creases", "--edge-resolution", "2"]);
+    let nodes = |v: &serde_json::Value| v["nodes"].as_u64().unwrap();
+    assert!(nodes(&dense) > 2 * nodes(&all), "{dense} vs {all}");
+    let wide = edge_stats(&t, &cube, &["--all-creases", "--edge-strip", "2"]);
+    assert!(nodes(&wide) > nodes(&all), "{wide} vs {all}");
+
+    let none = edge_stats(&t, &cube, &["--no-sharp-edges"]);
+    assert!(none.is_null(), "{none}");
+}
+
+#[test]
+fn out_of_range_edge_options_are_refused() {
+    let t = TestCommand::new();
+    let cube = write_cube_obj(&t, "cube.obj");
+    for (flag, value) in [
+        ("--edge-resolution", "0.5"),
+        ("--edge-strip", "0.1"),
+        ("--crease-angle", "180"),
+    ] {
+        let run = t.run(&["convert", &cube, "-o", "out.spatch", flag, value]);
+        assert_eq!(run.code, 2, "{flag} {value}: {}", run.stderr);
+        assert!(run.stderr.contains(flag), "{}", run.stderr);
+        assert!(!t.path("out.spatch").exists());
+    }
+}
