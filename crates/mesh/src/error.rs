@@ -119,13 +119,12 @@ pub enum MeshError {
     },
     /// The PLY reader (ply-rs-bw) rejected the header or body (truncated data, bad numbers,
     /// unknown format line, ...).
-    #[error("{}: not a readable PLY file: {source}", path.display())]
+    #[error("{}: not a readable PLY file: {reason}", path.display())]
     Ply {
         /// The file.
         path: PathBuf,
-        /// The reader's reason.
-        #[source]
-        source: ply_rs_bw::parser::ParseError,
+        /// The reader's reason on one line (its message is nested over several lines).
+        reason: String,
     },
     /// The PLY file parsed but does not describe a mesh or cloud this crate understands.
     #[error("{}: {problem}", path.display())]

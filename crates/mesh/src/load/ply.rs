@@ -22,7 +22,7 @@ use std::io::BufReader;
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
-use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{
     ElementDef, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
@@ -146,9 +146,9 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
             path: path.to_path_buf(),
         });
     }
-    let ply_err = |source| MeshError::Ply {
+    let ply_err = |source: ParseError| MeshError::Ply {
         path: path.to_path_buf(),
-        source,
+        reason: one_line_reason(&source),
     };
     let structure = |problem| MeshError::PlyStructure {
         path: path.to_path_buf(),
@@ -433,5 +433,22 @@ struct Skip;
 impl PropertyAccess for Skip {
     fn new() -> Self {
         Skip
+    }
+}
+
+/// The reader's message on one line: its first line (which names the file line), plus the
+/// text it could not read when it quotes one. ply-rs-bw nests its causes over several lines.
+fn one_line_reason(error: &ParseError) -> String {
+    let text = error.to_string();
+    let first = text.lines().next().unwrap_or_default().trim().trim_end_matches('.');
+    let quoted = text
+        .split("String: '")
+        .nth(1)
+        .and_then(|rest| rest.split('\'').next())
+        .map(str::trim)
+        .filter(|q| !q.is_empty());
+    match quoted {
+        Some(q) => format!("{first}: cannot read '{q}'"),
+        None => first.to_owned(),
     }
 }
