@@ -114,17 +114,28 @@ impl CellGrid {
     }
 
     /// Distance from `p` to the nearest quad (see the module docs for its accuracy).
+    #[cfg(test)]
     pub(crate) fn distance(&self, p: Vec3) -> f32 {
+        self.nearest(p).0
+    }
+
+    /// Distance from `p` to the nearest quad and that quad's index (in the order given to
+    /// [`CellGrid::new`]).
+    pub(crate) fn nearest(&self, p: Vec3) -> (f32, u32) {
         let c = ((p - self.origin) / self.voxel).floor().as_ivec3();
         // Farthest shell that can still hold a quad.
         let reach = (c - self.lo).abs().max((self.hi - c).abs()).max_element();
-        let mut best = f32::INFINITY;
+        let (mut best, mut best_quad) = (f32::INFINITY, 0);
         for r in 0..=reach {
             self.visit_shell(c, r, |k| {
                 let (lo, hi) = self.boxes[k as usize];
                 let outside = (lo - p).max(p - hi).max(Vec3::ZERO);
                 if outside.length() < best {
-                    best = best.min(distance_to_quad(p, &self.quads[k as usize]));
+                    let d = distance_to_quad(p, &self.quads[k as usize]);
+                    // Ties go to the lower index, so the owner does not depend on visit order.
+                    if d < best || (d == best && k < best_quad) {
+                        (best, best_quad) = (d, k);
+                    }
                 }
             });
             // Every voxel of shell r + 1 is at least r voxels from p.
@@ -132,7 +143,7 @@ impl CellGrid {
                 break;
             }
         }
-        best
+        (best, best_quad)
     }
 
     /// Calls `f` for every quad entry in the voxels at Chebyshev distance exactly `r` from `c`,
