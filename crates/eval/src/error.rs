@@ -32,7 +32,7 @@ pub enum EvalError {
     /// A sweep's conversion failed.
     #[error("converting with {setting}: {source}")]
     Convert {
-        /// The sweep setting being converted (`grid 17, cone 30°, 8-bit`).
+        /// The sweep setting being converted (`grid 17 / cone 30 / 8-bit`).
         setting: String,
         /// What the pipeline reported.
         source: spatch_convert::ConvertError,

@@ -204,16 +204,17 @@ impl SweepRow {
         }
     }
 
-    /// `grid 17, cone 30°, 8-bit` (and the render setting).
+    /// `grid 17 / cone 30 / 8-bit` (then the render setting): no commas, so it fits a CSV
+    /// field as it is.
     pub fn label(&self) -> String {
         let mut s = format!(
-            "grid {}, cone {}°, {}-bit",
+            "grid {} / cone {} / {}-bit",
             self.grid,
             self.cone_angle,
             self.width.bits()
         );
         if let (Some(p), Some(c)) = (self.projection, self.cells) {
-            s.push_str(&format!(", {}, {}", projection_name(p), cells_name(c)));
+            s.push_str(&format!(" / {} / {}", projection_name(p), cells_name(c)));
         }
         s
     }
@@ -373,7 +374,7 @@ pub fn run_sweep(
     let mut render_scenes = Vec::new();
     for (k, setting) in plan.iter().enumerate() {
         let label = format!(
-            "grid {}, cone {}°, {}-bit",
+            "grid {} / cone {} / {}-bit",
             setting.grid,
             setting.cone,
             setting.width.bits()
