@@ -111,7 +111,9 @@ fn padded(values: impl Iterator<Item = f64>, from_zero: bool) -> (f64, f64) {
 }
 
 fn draw_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, panel: &Panel) -> Result<(), EvalError> {
-    let (x0, x1) = padded(panel.points.iter().map(|p| p.x), true);
+    // Time axes are not started at zero: the settings' times are close, and the tick labels
+    // give the scale.
+    let (x0, x1) = padded(panel.points.iter().map(|p| p.x), false);
     let (y0, y1) = padded(panel.points.iter().map(|p| p.y), false);
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.caption, ("sans-serif", 20))
