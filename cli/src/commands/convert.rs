@@ -35,7 +35,8 @@ pub(crate) struct ConvertArgs {
 /// The pipeline options shared by `spatch convert` and `spatch demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub(crate) struct PipelineArgs {
-    /// Write a JSON report (counts, bytes, stage timings, geometric error) to this file.
+    /// Write a JSON report (counts, bytes, stage timings, geometric error; the shape of
+    /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     pub(crate) report: Option<PathBuf>,
     /// Node spacing in model units [default: derived from the source's triangle size].

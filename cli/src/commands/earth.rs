@@ -86,7 +86,8 @@ pub(crate) struct EarthArgs {
     /// Node spacing in model units, overriding --level.
     #[arg(long)]
     spacing: Option<f32>,
-    /// Write a JSON report (counts, bytes, stage timings, geometric error against the globe mesh).
+    /// Write a JSON report (counts, bytes, stage timings, geometric error against the globe
+    /// mesh; the shape of docs/report-schema.md).
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Compress node data (grid prediction + range coding).

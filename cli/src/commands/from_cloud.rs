@@ -27,7 +27,8 @@ pub(crate) struct FromCloudArgs {
     /// Output .spatch file.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
-    /// Also write a JSON report (counts, stage times and the cloud error) to this file.
+    /// Also write a JSON report (counts, stage times and the cloud error; the shape of
+    /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Measure the error (cloud to patch, node to cloud) even without --report.

@@ -6,7 +6,7 @@
 //!
 //! - **mesh source**: `node_to_surface` and `surface_to_patch` (see [`crate::geometric`]) with
 //!   their histograms, the per-patch errors and the quantization-only bound
-//!   ([`crate::per_patch`]), and the image error over the views ([`crate::image_error`]);
+//!   ([`crate::per_patch`]), and the image error over the views ([`mod@crate::image_error`]);
 //! - **cloud source**: `cloud_to_patch` and `node_to_cloud` as `spatch-cloud` measures them
 //!   (two triangles per cell), their histograms and per-patch figures (nodes to the nearest
 //!   point, exact; points to the nearest bilinear cell, which differs from the two-triangle

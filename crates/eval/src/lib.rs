@@ -8,11 +8,11 @@
 //!   holes and cracks); [`geometric_error`] does both with `max(100_000, 10 × faces)` samples.
 //!   Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
 //!   source's bounding-box diagonal); [`ErrorHistogram`] bins the distances;
-//! - the hole fraction ([`holes`]) and the full image error ([`image_error`]: PSNR, holes,
+//! - the hole fraction ([`holes`]) and the full image error ([`mod@image_error`]: PSNR, holes,
 //!   depth error, frame times) of the patch renderer against the source drawn by the
 //!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals);
 //! - per-patch errors beside the quantization-only bound `|az| / 2` ([`per_patch`]);
-//! - [`evaluate`]: all of them for one scene against a mesh or a point cloud ([`load_source`]),
+//! - [`evaluate()`]: all of them for one scene against a mesh or a point cloud ([`load_source`]),
 //!   each measurement timed (what `spatch eval` prints).
 //!
 //! The trade-off: [`run_sweep`] converts and renders a mesh over a grid of settings and
