@@ -362,11 +362,14 @@ fn summary(
         ));
     }
     let b = &e.bound;
+    let beyond = b.patches_beyond.map_or_else(
+        || "not comparable to node-to-point distances".to_owned(),
+        |n| format!("{n} patches beyond their own bound"),
+    );
     text.push_str(&format!(
-        "  quantization-only bound |az|/2: max {}, mean {}; {} patches beyond their own bound\n",
+        "  quantization-only bound |az|/2: max {}, mean {}; {beyond}\n",
         pct(b.max_rel),
         pct(b.mean_rel),
-        b.patches_beyond
     ));
     let rel = |v: f64| {
         if e.diagonal > 0.0 {
@@ -377,7 +380,7 @@ fn summary(
     };
     if let Some(p) = worst(&e.patches, |p| p.node_max).first() {
         text.push_str(&format!(
-            "  worst patch by node error: #{} ({} x {}, {}-bit), max {} (its bound {})\n",
+            "  worst patch by node error: #{} ({} x {}, {}-bit), max {} (its |az|/2 {})\n",
             p.patch,
             p.cols,
             p.rows,

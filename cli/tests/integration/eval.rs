@@ -152,6 +152,8 @@ fn a_point_cloud_source_uses_the_cloud_error_and_skips_images() {
     let spacing = r.details["cloud"]["spacing"].as_f64().unwrap();
     assert!(r.error["cloud_to_patch"].rms < spacing, "{:?}", r.error);
     assert_eq!(r.error["cloud_to_patch"].samples, 6000);
+    // Nodes lie between the points: the half-step bound does not apply to them.
+    assert!(r.details["quantization_bound"]["patches_beyond"].is_null());
 }
 
 #[test]

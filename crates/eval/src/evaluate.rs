@@ -310,7 +310,7 @@ pub fn evaluate(
         }
     };
     let patches = per_patch_errors(scene, &node_d, &sample_d, &sample_owner);
-    let bound = quantization_bound(&patches, diagonal);
+    let bound = quantization_bound(&patches, diagonal, matches!(source, Source::Mesh(_)));
     Ok(Evaluation {
         error,
         histograms,

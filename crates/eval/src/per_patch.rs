@@ -67,8 +67,9 @@ pub struct QuantizationBound {
     /// `mean` over the diagonal.
     pub mean_rel: f64,
     /// Patches whose largest node distance exceeds their own `|az| / 2` (plus
-    /// [`BOUND_SLACK_REL`] of the diagonal).
-    pub patches_beyond: usize,
+    /// [`BOUND_SLACK_REL`] of the diagonal); `None` when the node distances are not to a
+    /// surface (to a point cloud's nearest point, which a node between points exceeds).
+    pub patches_beyond: Option<usize>,
 }
 
 fn rms(sum_sq: f64, n: usize) -> f64 {
@@ -129,8 +130,13 @@ pub fn per_patch_errors(
     rows
 }
 
-/// The scene-wide [`QuantizationBound`] of `rows`.
-pub fn quantization_bound(rows: &[PatchError], diagonal: f64) -> QuantizationBound {
+/// The scene-wide [`QuantizationBound`] of `rows`; `nodes_to_surface` says whether the rows'
+/// node distances are to a surface (then patches beyond their bound are counted).
+pub fn quantization_bound(
+    rows: &[PatchError],
+    diagonal: f64,
+    nodes_to_surface: bool,
+) -> QuantizationBound {
     let rel = |v: f64| if diagonal > 0.0 { v / diagonal } else { 0.0 };
     let max = rows
         .iter()
@@ -152,10 +158,11 @@ pub fn quantization_bound(rows: &[PatchError], diagonal: f64) -> QuantizationBou
         max_rel: rel(max),
         mean,
         mean_rel: rel(mean),
-        patches_beyond: rows
-            .iter()
-            .filter(|r| r.node_max > r.quantization_bound + slack)
-            .count(),
+        patches_beyond: nodes_to_surface.then(|| {
+            rows.iter()
+                .filter(|r| r.node_max > r.quantization_bound + slack)
+                .count()
+        }),
     }
 }
 
@@ -221,10 +228,11 @@ mod tests {
         assert_eq!(rows[1].source_max, 1.5);
         assert!((rows[1].source_rms - ((0.25 + 2.25) / 2.0f64).sqrt()).abs() < 1e-12);
         assert!((rows[0].quantization_bound - 0.05).abs() < 1e-7);
-        let bound = quantization_bound(&rows, 10.0);
+        let bound = quantization_bound(&rows, 10.0, true);
         assert!((bound.max - 0.25).abs() < 1e-7);
         // Patch 1's 0.2 is within 0.25; patch 0's 0.04 is within 0.05: none beyond.
-        assert_eq!(bound.patches_beyond, 0);
+        assert_eq!(bound.patches_beyond, Some(0));
+        assert_eq!(quantization_bound(&rows, 10.0, false).patches_beyond, None);
         let csv = per_patch_csv(&rows, 10.0);
         assert_eq!(csv.lines().count(), 3);
         assert!(csv.starts_with("patch,cols,rows,"));
@@ -235,6 +243,9 @@ mod tests {
         let scene = two_patches();
         let nodes = [0.01, 0.02, 0.06, 0.0, 0.0, 0.0, 0.0];
         let rows = per_patch_errors(&scene, &nodes, &[], &[]);
-        assert_eq!(quantization_bound(&rows, 10.0).patches_beyond, 1);
+        assert_eq!(
+            quantization_bound(&rows, 10.0, true).patches_beyond,
+            Some(1)
+        );
     }
 }
