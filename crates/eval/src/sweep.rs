@@ -28,7 +28,7 @@ use std::time::Instant;
 use glam::Vec3;
 use serde::Serialize;
 use spatch_convert::{convert, ConvertInput, ConvertOptions};
-use spatch_mesh::{load_mesh, sample_surface, Bvh};
+use spatch_mesh::{load_mesh, prepare_mesh, sample_surface, Bvh};
 use spatch_render::{CellScheme, PreparedScene, Projection};
 
 use crate::geometric::{nearest_patch_cells, node_to_surface_distances, sample_count, ErrorStats};
@@ -365,12 +365,23 @@ pub fn run_sweep(
     let raw = load_mesh(path)?.mesh;
     let load_seconds = load_start.elapsed().as_secs_f64();
 
+    // Shared by every row: the mesh prepared as the pipeline prepares it (preparation does
+    // not depend on the swept settings), its BVH and the source samples.
+    let (mesh, _) = prepare_mesh(&raw, &options.base.prepare);
+    if mesh.face_count() == 0 || mesh.diagonal() <= 0.0 {
+        return Err(EvalError::NoSurface {
+            path: path.to_path_buf(),
+        });
+    }
+    let bvh = Bvh::new(&mesh);
+    let samples: Vec<Vec3> = sample_surface(&mesh, sample_count(&mesh), options.seed)
+        .into_iter()
+        .map(|s| s.point)
+        .collect();
+    let diagonal = f64::from(mesh.diagonal());
+
     let plan = settings(options, base_grid, base_cone);
     let mut rows = Vec::new();
-    // Shared by every row, built on the first conversion's prepared mesh (preparation does
-    // not depend on the swept settings).
-    let mut reference: Option<(spatch_mesh::TriangleMesh, Bvh, Vec<Vec3>)> = None;
-    let mut source_views: Option<SourceViews> = None;
     let mut render_scenes = Vec::new();
     for (k, setting) in plan.iter().enumerate() {
         let label = format!(
@@ -388,37 +399,22 @@ pub fn run_sweep(
             .segment
             .clone()
             .with_cone_angle_deg(setting.cone);
-        let mut times = Vec::with_capacity(options.repeats);
-        let mut conversion = None;
-        for _ in 0..options.repeats {
-            let c =
-                convert(ConvertInput::Mesh(raw.clone()), &convert_options).map_err(|source| {
-                    EvalError::Convert {
-                        setting: label.clone(),
-                        source,
-                    }
-                })?;
-            times.push(c.report.seconds);
-            conversion = Some(c);
-        }
-        let Some(c) = conversion else {
-            return Err(EvalError::InvalidOption {
-                name: "repeats",
-                reason: "must be in 1..=100",
-            });
+        let run = || {
+            convert(ConvertInput::Mesh(raw.clone()), &convert_options).map_err(|source| {
+                EvalError::Convert {
+                    setting: label.clone(),
+                    source,
+                }
+            })
         };
-        let (mesh, bvh, samples) = reference.get_or_insert_with(|| {
-            let samples = sample_surface(&c.mesh, sample_count(&c.mesh), options.seed)
-                .into_iter()
-                .map(|s| s.point)
-                .collect();
-            let bvh = Bvh::new(&c.mesh);
-            (c.mesh.clone(), bvh, samples)
-        });
+        let c = run()?;
+        let mut times = vec![c.report.seconds];
+        for _ in 1..options.repeats {
+            times.push(run()?.report.seconds);
+        }
         progress(&format!("measuring {}/{}: {label}", k + 1, plan.len()));
-        let diagonal = f64::from(mesh.diagonal());
-        let mut node_d = node_to_surface_distances(&c.scene, mesh, bvh);
-        let (mut sample_d, _) = nearest_patch_cells(&c.scene, mesh.origin, samples);
+        let mut node_d = node_to_surface_distances(&c.scene, &mesh, &bvh);
+        let (mut sample_d, _) = nearest_patch_cells(&c.scene, mesh.origin, &samples);
         let row = SweepRow {
             kind: RowKind::Conversion,
             grid: setting.grid,
@@ -449,7 +445,19 @@ pub fn run_sweep(
 
     let render_count = render_scenes.len() * options.projections.len() * options.cells.len();
     let mut done = 0;
-    for (scene_row, scene) in &render_scenes {
+    // The source's frames, rendered once for every render row.
+    let source_views = if render_scenes.is_empty() {
+        None
+    } else {
+        progress("rendering the source");
+        Some(SourceViews::render(&mesh, &options.image)?)
+    };
+    let render_work = source_views.iter().flat_map(|views| {
+        render_scenes
+            .iter()
+            .map(move |(row, scene)| (views, row, scene))
+    });
+    for (views, scene_row, scene) in render_work {
         let prepared = PreparedScene::new(scene);
         for &projection in &options.projections {
             for &cells in &options.cells {
@@ -460,16 +468,6 @@ pub fn run_sweep(
                     projection_name(projection),
                     cells_name(cells)
                 ));
-                let views = match &mut source_views {
-                    Some(v) => v,
-                    None => {
-                        let (mesh, _, _) = reference.as_ref().ok_or(EvalError::InvalidOption {
-                            name: "grids",
-                            reason: "give at least one grid size in 2..=257",
-                        })?;
-                        source_views.insert(SourceViews::render(mesh, &options.image)?)
-                    }
-                };
                 let mut render = options.image.render;
                 render.projection = projection;
                 render.cells = cells;
@@ -503,16 +501,13 @@ pub fn run_sweep(
         0 => rayon::current_num_threads(),
         n => n,
     };
-    let (diagonal, samples) = reference
-        .as_ref()
-        .map_or((0.0, 0), |(m, _, s)| (f64::from(m.diagonal()), s.len()));
     Ok(SweepResult {
         rows,
         load_seconds,
         seconds: started.elapsed().as_secs_f64(),
         threads,
         diagonal,
-        samples,
+        samples: samples.len(),
         views: options.image.views.len(),
         image_size: options.image.size,
         runs: options.image.runs,
