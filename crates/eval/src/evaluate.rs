@@ -181,22 +181,27 @@ fn timed<T>(stages: &mut Vec<(&'static str, f64)>, name: &'static str, f: impl F
     out
 }
 
-fn stats_and_histogram(
-    name: &str,
-    distances: &[f32],
-    diagonal: f64,
-    error: &mut BTreeMap<String, ErrorStats>,
-    histograms: &mut BTreeMap<String, ErrorHistogram>,
-) {
-    histograms.insert(
+/// Records the [`ErrorStats`] and the histogram of `distances` under `name`.
+fn stats_and_histogram(name: &str, distances: &[f32], e: &mut Evaluation) {
+    e.histograms.insert(
         name.to_owned(),
-        ErrorHistogram::from_distances(distances, diagonal),
+        ErrorHistogram::from_distances(distances, e.diagonal),
     );
     let mut d = distances.to_vec();
-    error.insert(
+    e.error.insert(
         name.to_owned(),
-        ErrorStats::from_distances(&mut d, diagonal),
+        ErrorStats::from_distances(&mut d, e.diagonal),
     );
+}
+
+/// Per-distance results the per-patch rows are built from.
+struct Distances {
+    /// Filled nodes to the source, in scene order.
+    nodes: Vec<f32>,
+    /// Source samples (or cloud points) to the patch surface.
+    samples: Vec<f32>,
+    /// The patch of each sample's nearest point.
+    owners: Vec<u32>,
 }
 
 /// Measures `scene` against `source` (see the module docs). `source_path` names the source
@@ -210,119 +215,118 @@ pub fn evaluate(
     if scene.filled_node_count() == 0 {
         return Err(EvalError::EmptyScene);
     }
-    let mut stages = Vec::new();
-    let mut error = BTreeMap::new();
-    let mut histograms = BTreeMap::new();
     let diagonal = source.diagonal();
-    let (node_d, sample_d, sample_owner, cloud, image, image_note, prepare_seconds) = match source {
-        Source::Mesh(mesh) => {
-            let samples: Vec<Vec3> = timed(&mut stages, "sample_source", || {
-                sample_surface(mesh, sample_count(mesh), options.seed)
-                    .into_iter()
-                    .map(|s| s.point)
-                    .collect()
-            });
-            let node_d = timed(&mut stages, "node_to_surface", || {
-                node_to_surface_distances(scene, mesh, &Bvh::new(mesh))
-            });
-            let (sample_d, owner) = timed(&mut stages, "surface_to_patch", || {
-                nearest_patch_cells(scene, mesh.origin, &samples)
-            });
-            stats_and_histogram(
-                "node_to_surface",
-                &node_d,
-                diagonal,
-                &mut error,
-                &mut histograms,
-            );
-            stats_and_histogram(
-                "surface_to_patch",
-                &sample_d,
-                diagonal,
-                &mut error,
-                &mut histograms,
-            );
-            let start = Instant::now();
-            let prepared = PreparedScene::new(scene);
-            let prepare_seconds = start.elapsed().as_secs_f64();
-            let image = match &options.image {
-                Some(image_options) => Some(timed(&mut stages, "image", || {
-                    image_error(&prepared, mesh, image_options)
-                })?),
-                None => None,
-            };
-            (node_d, sample_d, owner, None, image, None, prepare_seconds)
-        }
+    let start = Instant::now();
+    let prepared = PreparedScene::new(scene);
+    let prepare_render_seconds = start.elapsed().as_secs_f64();
+    let mut e = Evaluation {
+        error: BTreeMap::new(),
+        histograms: BTreeMap::new(),
+        diagonal,
+        source_samples: 0,
+        patches: Vec::new(),
+        bound: quantization_bound(&[], diagonal, false),
+        image: None,
+        image_note: None,
+        cloud: None,
+        prepare_render_seconds,
+        stages: Vec::new(),
+    };
+    let d = match source {
+        Source::Mesh(mesh) => measure_mesh(&mut e, scene, &prepared, mesh, options)?,
         Source::Cloud(cloud) => {
-            let cloud_error = |e| EvalError::Cloud {
+            e.image_note = options.image.as_ref().map(|_| CLOUD_IMAGE_NOTE);
+            measure_cloud(&mut e, scene, cloud).map_err(|source| EvalError::Cloud {
                 path: source_path.to_path_buf(),
-                source: e,
-            };
-            let spacing = timed(&mut stages, "cloud_spacing", || {
-                spatch_cloud::estimate_spacing(&cloud.positions)
-            })
-            .map_err(cloud_error)?
-            .spacing;
-            let measured = timed(&mut stages, "cloud_error", || {
-                spatch_cloud::measure_cloud_error(cloud, scene, spacing)
-            })
-            .map_err(cloud_error)?;
-            error.insert(
-                "cloud_to_patch".to_owned(),
-                ErrorStats::from(&measured.cloud_to_patch.distance),
-            );
-            error.insert(
-                "node_to_cloud".to_owned(),
-                ErrorStats::from(&measured.node_to_cloud),
-            );
-            let node_d = timed(&mut stages, "node_to_cloud_per_node", || {
-                node_to_cloud_distances(scene, cloud)
-            })
-            .map_err(cloud_error)?;
-            let (sample_d, owner) = timed(&mut stages, "cloud_to_patch_per_point", || {
-                nearest_patch_cells(scene, cloud.origin, &cloud.positions)
-            });
-            histograms.insert(
-                "node_to_cloud".to_owned(),
-                ErrorHistogram::from_distances(&node_d, diagonal),
-            );
-            histograms.insert(
-                "cloud_to_patch".to_owned(),
-                ErrorHistogram::from_distances(&sample_d, diagonal),
-            );
-            let figures = CloudFigures {
-                spacing: f64::from(spacing),
-                share_beyond_2x_spacing: measured.cloud_to_patch.share_beyond_2x_spacing,
-            };
-            let start = Instant::now();
-            drop(PreparedScene::new(scene));
-            let prepare_seconds = start.elapsed().as_secs_f64();
-            let note = options.image.as_ref().map(|_| CLOUD_IMAGE_NOTE);
-            (
-                node_d,
-                sample_d,
-                owner,
-                Some(figures),
-                None,
-                note,
-                prepare_seconds,
-            )
+                source,
+            })?
         }
     };
-    let patches = per_patch_errors(scene, &node_d, &sample_d, &sample_owner);
-    let bound = quantization_bound(&patches, diagonal, matches!(source, Source::Mesh(_)));
-    Ok(Evaluation {
-        error,
-        histograms,
-        diagonal,
-        source_samples: sample_d.len(),
-        patches,
-        bound,
-        image,
-        image_note,
-        cloud,
-        prepare_render_seconds: prepare_seconds,
-        stages,
+    e.source_samples = d.samples.len();
+    e.patches = per_patch_errors(scene, &d.nodes, &d.samples, &d.owners);
+    e.bound = quantization_bound(&e.patches, diagonal, matches!(source, Source::Mesh(_)));
+    Ok(e)
+}
+
+/// `node_to_surface`, `surface_to_patch` and the image error against a mesh.
+fn measure_mesh(
+    e: &mut Evaluation,
+    scene: &Scene,
+    prepared: &PreparedScene,
+    mesh: &TriangleMesh,
+    options: &EvalOptions,
+) -> Result<Distances, EvalError> {
+    let samples: Vec<Vec3> = timed(&mut e.stages, "sample_source", || {
+        sample_surface(mesh, sample_count(mesh), options.seed)
+            .into_iter()
+            .map(|s| s.point)
+            .collect()
+    });
+    let nodes = timed(&mut e.stages, "node_to_surface", || {
+        node_to_surface_distances(scene, mesh, &Bvh::new(mesh))
+    });
+    let (distances, owners) = timed(&mut e.stages, "surface_to_patch", || {
+        nearest_patch_cells(scene, mesh.origin, &samples)
+    });
+    stats_and_histogram("node_to_surface", &nodes, e);
+    stats_and_histogram("surface_to_patch", &distances, e);
+    if let Some(image_options) = &options.image {
+        let image = timed(&mut e.stages, "image", || {
+            image_error(prepared, mesh, image_options)
+        })?;
+        e.image = Some(image);
+    }
+    Ok(Distances {
+        nodes,
+        samples: distances,
+        owners,
+    })
+}
+
+/// `cloud_to_patch` and `node_to_cloud` as `spatch-cloud` measures them, with histograms
+/// and per-patch distances of this crate's own.
+fn measure_cloud(
+    e: &mut Evaluation,
+    scene: &Scene,
+    cloud: &PointCloud,
+) -> Result<Distances, spatch_cloud::CloudError> {
+    let spacing = timed(&mut e.stages, "cloud_spacing", || {
+        spatch_cloud::estimate_spacing(&cloud.positions)
+    })?
+    .spacing;
+    let measured = timed(&mut e.stages, "cloud_error", || {
+        spatch_cloud::measure_cloud_error(cloud, scene, spacing)
+    })?;
+    e.error.insert(
+        "cloud_to_patch".to_owned(),
+        ErrorStats::from(&measured.cloud_to_patch.distance),
+    );
+    e.error.insert(
+        "node_to_cloud".to_owned(),
+        ErrorStats::from(&measured.node_to_cloud),
+    );
+    let nodes = timed(&mut e.stages, "node_to_cloud_per_node", || {
+        node_to_cloud_distances(scene, cloud)
+    })?;
+    let (samples, owners) = timed(&mut e.stages, "cloud_to_patch_per_point", || {
+        nearest_patch_cells(scene, cloud.origin, &cloud.positions)
+    });
+    e.histograms.insert(
+        "node_to_cloud".to_owned(),
+        ErrorHistogram::from_distances(&nodes, e.diagonal),
+    );
+    e.histograms.insert(
+        "cloud_to_patch".to_owned(),
+        ErrorHistogram::from_distances(&samples, e.diagonal),
+    );
+    e.cloud = Some(CloudFigures {
+        spacing: f64::from(spacing),
+        share_beyond_2x_spacing: measured.cloud_to_patch.share_beyond_2x_spacing,
+    });
+    Ok(Distances {
+        nodes,
+        samples,
+        owners,
     })
 }
 
