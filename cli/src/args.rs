@@ -59,4 +59,10 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch render sphere.spatch -o sphere.png\n  spatch render sphere.spatch -o near.png --eye 0,0,400 --target 0,0,0 --fov 30 --width 1000 --height 1000 --depth depth.png --stats stats.json\n  spatch render sphere.spatch --bench 50 --threads 2"
     )]
     Render(commands::render::RenderArgs),
+    /// Measure a scene against its source (geometric and image error, timing), or sweep
+    /// conversion and render settings and plot error against time.
+    #[command(
+        after_help = "Example:\n  spatch eval bunny.spatch --source bun_zipper.ply\n  spatch eval bunny.spatch --source bun_zipper.ply --views 6 --json --per-patch patches.csv\n  spatch eval scan.spatch --source bun000.ply        # a point cloud: cloud error, no image error\n  spatch eval --sweep bun_zipper.ply --out sweep --threads 2"
+    )]
+    Eval(commands::eval::EvalArgs),
 }

@@ -5,6 +5,7 @@ mod args;
 mod commands;
 mod failure;
 mod output;
+mod report;
 
 use std::process::ExitCode;
 
@@ -24,6 +25,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(args) => commands::export::run(&args),
         Command::Merge(args) => commands::merge::run(&args),
         Command::Render(args) => commands::render::run(&args),
+        Command::Eval(args) => commands::eval::run(&args),
     }
 }
 

@@ -5,16 +5,19 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::Context;
-use serde_json::{json, Map, Value};
+use serde_json::{json, Value};
 use spatch_convert::{
     convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
 };
-use spatch_eval::{geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport};
+use spatch_eval::{
+    geometric_error, hole_fraction, Counts, GeometricError, HoleOptions, HoleReport, Report, Stages,
+};
 use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
 
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
+use crate::report::{details_from, new_report, set_detail, stages_from};
 
 /// Arguments of `spatch convert`.
 #[derive(Debug, clap::Args)]
@@ -32,7 +35,8 @@ pub(crate) struct ConvertArgs {
 /// The pipeline options shared by `spatch convert` and `spatch demo`.
 #[derive(Debug, Clone, clap::Args)]
 pub(crate) struct PipelineArgs {
-    /// Write a JSON report (counts, bytes, stage timings, geometric error) to this file.
+    /// Write a JSON report (counts, bytes, stage timings, geometric error; the shape of
+    /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     pub(crate) report: Option<PathBuf>,
     /// Node spacing in model units [default: derived from the source's triangle size].
@@ -212,28 +216,43 @@ pub(crate) fn convert_and_write(
     write_output(output, &conversion.bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
     let seconds = started.elapsed().as_secs_f64();
+    let mut measured = Stages::default();
     let error = (!args.no_error).then(|| {
         progress.step("measuring error");
-        geometric_error(&conversion.scene, &conversion.mesh, 1)
+        let start = Instant::now();
+        let error = geometric_error(&conversion.scene, &conversion.mesh, 1);
+        measured.push("error", start.elapsed().as_secs_f64());
+        error
     });
     let holes = if args.holes {
         progress.step("measuring holes");
-        Some(measure_holes(&conversion)?)
+        let start = Instant::now();
+        let holes = measure_holes(&conversion)?;
+        measured.push("holes", start.elapsed().as_secs_f64());
+        Some(holes)
     } else {
         None
     };
     drop(progress);
 
     let mut report = report_json(
-        input,
+        "convert",
+        &input.display().to_string(),
         output,
         &conversion,
         error.as_ref(),
-        write_seconds,
-        seconds,
-    );
+        Times {
+            seconds,
+            write_seconds,
+            measured,
+        },
+    )?;
     if let Some(holes) = &holes {
-        report["holes"] = json!({ "with_edges": holes.0, "without_edges": holes.1 });
+        set_detail(
+            &mut report,
+            "holes",
+            &json!({ "with_edges": holes.0, "without_edges": holes.1 }),
+        )?;
     }
     if let Some(path) = &args.report {
         write_json_report(path, &report)?;
@@ -303,50 +322,72 @@ fn classify(err: spatch_convert::ConvertError, input: &Path) -> anyhow::Error {
     }
 }
 
-/// The JSON report (keys as documented in `docs/models.md`).
+/// Where the time of a conversion command went.
+pub(crate) struct Times {
+    /// Wall time from the start to the written scene (seconds).
+    pub(crate) seconds: f64,
+    /// Of which writing the scene.
+    pub(crate) write_seconds: f64,
+    /// The measurements after that (error, holes).
+    pub(crate) measured: Stages,
+}
+
+/// Keys of `ConvertReport` the shared report part already holds.
+const SHARED_KEYS: [&str; 9] = [
+    "patches",
+    "nodes",
+    "filled_nodes",
+    "bytes",
+    "seconds",
+    "stages",
+    "threads",
+    "diagonal",
+    "warnings",
+];
+
+/// The shared JSON report of a conversion (docs/report-schema.md): the pipeline's stages and
+/// `write`, the geometric error when measured (`measured` holds the measurements' times),
+/// and the rest of the pipeline's report under `details`.
 pub(crate) fn report_json(
-    input: &Path,
+    command: &str,
+    input: &str,
     output: &Path,
     c: &Conversion,
     error: Option<&GeometricError>,
-    write_seconds: f64,
-    seconds: f64,
-) -> Value {
+    times: Times,
+) -> anyhow::Result<Report<Value>> {
+    let Times {
+        seconds,
+        write_seconds,
+        measured,
+    } = times;
     let r = &c.report;
-    let mut stages = Map::new();
-    for s in &r.stages {
-        stages.insert(s.name.to_owned(), json!(s.seconds));
+    let mut report = new_report(command, input);
+    report.output = Some(output.display().to_string());
+    report.counts = Counts {
+        patches: r.patches,
+        nodes: r.nodes,
+        filled_nodes: r.filled_nodes,
+        bytes: r.bytes,
+    };
+    report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));
+    report.stages.push("write", write_seconds);
+    report.seconds = seconds;
+    report.measure_seconds = measured.total();
+    report.measure_stages = measured;
+    report.threads = r.threads;
+    report.diagonal = Some(r.diagonal);
+    if let Some(e) = error {
+        report
+            .error
+            .insert("node_to_surface".to_owned(), e.node_to_surface);
+        report
+            .error
+            .insert("surface_to_patch".to_owned(), e.surface_to_patch);
     }
-    stages.insert("write".to_owned(), json!(write_seconds));
-    let error = error.map(|e| {
-        json!({
-            "node_to_surface": e.node_to_surface,
-            "surface_to_patch": e.surface_to_patch,
-            "diagonal": e.diagonal,
-        })
-    });
-    json!({
-        "input": input.display().to_string(),
-        "output": output.display().to_string(),
-        "patches": r.patches,
-        "nodes": r.nodes,
-        "filled_nodes": r.filled_nodes,
-        "bytes": r.bytes,
-        "seconds": seconds,
-        "stages": stages,
-        "threads": r.threads,
-        "error": error,
-        "triangles": r.triangles,
-        "regions": r.regions,
-        "split_regions": r.split_regions,
-        "wide_patches": r.wide_patches,
-        "spacing": r.spacing,
-        "colour": r.colour,
-        "prepare": r.prepare,
-        "warnings": r.warnings,
-        "edges": r.edges,
-        "edge_bytes": r.edge_bytes,
-    })
+    report.warnings = r.warnings.clone();
+    report.details = Value::Object(details_from(r, &SHARED_KEYS)?);
+    Ok(report)
 }
 
 /// The short human summary.

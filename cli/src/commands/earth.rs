@@ -1,7 +1,7 @@
 //! `spatch earth`: the Earth model from a colour map (and an elevation map
 //! when given), converted by the mesh pipeline.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use spatch_convert::{convert_with_progress, ConvertInput, ConvertOptions};
@@ -11,9 +11,10 @@ use spatch_earth::{
 };
 use spatch_format::WriteOptions;
 
-use super::convert::{report_json, summary, Progress};
+use super::convert::{report_json, summary, Progress, Times};
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
+use crate::report::set_detail;
 
 /// Patch density, as the original work's three Earth models.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -85,7 +86,8 @@ pub(crate) struct EarthArgs {
     /// Node spacing in model units, overriding --level.
     #[arg(long)]
     spacing: Option<f32>,
-    /// Write a JSON report (counts, bytes, stage timings, geometric error against the globe mesh).
+    /// Write a JSON report (counts, bytes, stage timings, geometric error against the globe
+    /// mesh; the shape of docs/report-schema.md).
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Compress node data (grid prediction + range coding).
@@ -163,18 +165,24 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
     write_output(&args.output, &conversion.bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
     let seconds = started.elapsed().as_secs_f64();
+    let mut measured = spatch_eval::Stages::default();
     let error = (!args.no_error).then(|| {
         progress.step("measuring error");
-        spatch_eval::geometric_error(&conversion.scene, &conversion.mesh, 1)
+        let start = Instant::now();
+        let error = spatch_eval::geometric_error(&conversion.scene, &conversion.mesh, 1);
+        measured.push("error", start.elapsed().as_secs_f64());
+        error
     });
     let holes = if args.holes {
         progress.step("measuring holes");
+        let start = Instant::now();
         let report = spatch_eval::hole_fraction(
             &conversion.scene,
             &conversion.mesh,
             &spatch_eval::HoleOptions::default(),
         )
         .map_err(|e| anyhow::Error::new(InternalFailure(format!("measuring holes failed: {e}"))))?;
+        measured.push("holes", start.elapsed().as_secs_f64());
         Some(report)
     } else {
         None
@@ -185,26 +193,32 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         (None, Some(map)) => format!("globe from {}", map.display()),
         (None, None) => "globe from the built-in map".to_owned(),
     };
-    let source = Path::new(&source_name);
     let mut report = report_json(
-        source,
+        "earth",
+        &source_name,
         &args.output,
         &conversion,
         error.as_ref(),
-        write_seconds,
-        seconds,
-    );
-    report["globe"] = serde_json::json!({
-        "triangles": conversion.report.triangles,
-        "frequency": globe.frequency,
-        "area_ratio": globe.area_ratio,
-        "map": [map.width(), map.height()],
-        "heights": if args.elevation.is_some() { "elevation" } else { "colour" },
-        "exaggeration": args.exaggeration,
-    });
+        Times {
+            seconds,
+            write_seconds,
+            measured,
+        },
+    )?;
+    set_detail(
+        &mut report,
+        "globe",
+        &serde_json::json!({
+            "triangles": conversion.report.triangles,
+            "frequency": globe.frequency,
+            "area_ratio": globe.area_ratio,
+            "map": [map.width(), map.height()],
+            "heights": if args.elevation.is_some() { "elevation" } else { "colour" },
+            "exaggeration": args.exaggeration,
+        }),
+    )?;
     if let Some(holes) = &holes {
-        report["holes"] = serde_json::to_value(holes)
-            .map_err(|e| InternalFailure(format!("cannot format the hole report: {e}")))?;
+        set_detail(&mut report, "holes", holes)?;
     }
     if let Some(path) = &args.report {
         write_json_report(path, &report)?;

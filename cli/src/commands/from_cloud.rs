@@ -4,14 +4,18 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
+use serde_json::{json, Value};
 use spatch_cloud::{
-    cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, SmoothOptions, StageTime,
+    cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, CloudReport, SmoothOptions,
+    StageTime,
 };
+use spatch_eval::{Counts, ErrorStats, Report};
 use spatch_format::WriteOptions;
 use spatch_mesh::load_point_cloud;
 
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
+use crate::report::{details_from, new_report, set_detail, stages_from};
 
 /// Arguments of `spatch from-cloud`.
 #[derive(Debug, clap::Args)]
@@ -23,7 +27,8 @@ pub(crate) struct FromCloudArgs {
     /// Output .spatch file.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
-    /// Also write a JSON report (counts, stage times and the cloud error) to this file.
+    /// Also write a JSON report (counts, stage times and the cloud error; the shape of
+    /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Measure the error (cloud to patch, node to cloud) even without --report.
@@ -189,7 +194,62 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         ));
     }
     if let Some(path) = &args.report {
-        write_json_report(path, &report)?;
+        write_json_report(path, &shared_report(args, &report)?)?;
     }
     print_stdout(&text)
+}
+
+/// Keys of `CloudReport` the shared report part already holds.
+const SHARED_KEYS: [&str; 10] = [
+    "patches",
+    "nodes",
+    "filled_nodes",
+    "bytes",
+    "seconds",
+    "stages",
+    "threads",
+    "diagonal",
+    "warnings",
+    "error",
+];
+
+/// The shared JSON report (docs/report-schema.md) of a cloud conversion: the cloud's own
+/// figures under `details`, the error's spacing and share of far points under
+/// `details.cloud_error`.
+fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report<Value>> {
+    let mut report = new_report("from-cloud", &args.input.display().to_string());
+    report.output = Some(args.output.display().to_string());
+    report.counts = Counts {
+        patches: r.patches,
+        nodes: r.nodes,
+        filled_nodes: r.filled_nodes,
+        bytes: r.bytes,
+    };
+    report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));
+    report.seconds = r.seconds;
+    report.threads = r.threads;
+    report.diagonal = Some(r.diagonal);
+    report.warnings = r.warnings.clone();
+    report.details = Value::Object(details_from(r, &SHARED_KEYS)?);
+    if let Some(e) = &r.error {
+        report.measure_stages.push("error", e.seconds);
+        report.measure_seconds = e.seconds;
+        report.error.insert(
+            "cloud_to_patch".to_owned(),
+            ErrorStats::from(&e.cloud_to_patch.distance),
+        );
+        report.error.insert(
+            "node_to_cloud".to_owned(),
+            ErrorStats::from(&e.node_to_cloud),
+        );
+        set_detail(
+            &mut report,
+            "cloud_error",
+            &json!({
+                "spacing": e.spacing,
+                "share_beyond_2x_spacing": e.cloud_to_patch.share_beyond_2x_spacing,
+            }),
+        )?;
+    }
+    Ok(report)
 }

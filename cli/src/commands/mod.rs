@@ -4,6 +4,7 @@
 pub(crate) mod convert;
 pub(crate) mod demo;
 pub(crate) mod earth;
+pub(crate) mod eval;
 pub(crate) mod export;
 pub(crate) mod from_cloud;
 pub(crate) mod merge;

@@ -68,23 +68,19 @@ fn convert_writes_the_scene_and_a_report_with_every_key() {
     assert_eq!(scene.channel(), ColourChannel::None);
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(t.path("report.json")).unwrap()).unwrap();
-    for key in [
-        "patches",
-        "nodes",
-        "filled_nodes",
-        "bytes",
-        "seconds",
-        "stages",
-        "threads",
-        "error",
-    ] {
-        assert!(report.get(key).is_some(), "report lacks {key}: {report}");
-    }
-    assert_eq!(report["patches"], scene.patches().len());
+    crate::report_schema::check_shared_keys(&report, "convert");
+    assert_eq!(report["counts"]["patches"], scene.patches().len());
     assert_eq!(
-        report["bytes"],
+        report["counts"]["bytes"],
         std::fs::metadata(t.path("ball.spatch")).unwrap().len()
     );
+    assert_eq!(report["output"], "ball.spatch");
+    for key in ["triangles", "regions", "spacing", "colour", "prepare"] {
+        assert!(
+            report["details"].get(key).is_some(),
+            "details lack {key}: {report}"
+        );
+    }
     for stage in ["load", "segment", "fit", "write"] {
         assert!(report["stages"][stage].is_number(), "{report}");
     }

@@ -24,20 +24,25 @@ fn the_built_in_map_gives_the_original_low_level() {
         .success();
     assert!(run.stdout.contains("built-in map"), "{}", run.stdout);
     let r = report(&t, "r.json");
-    let patches = r["patches"].as_u64().unwrap() as f64;
+    crate::report_schema::check_shared_keys(&r, "earth");
+    let patches = r["counts"]["patches"].as_u64().unwrap() as f64;
     assert!(
         (383.0 * 0.85..=383.0 * 1.15).contains(&patches),
         "{patches} patches"
     );
-    assert!(r["bytes"].as_u64().unwrap() <= 450_000, "{}", r["bytes"]);
-    assert_eq!(r["colour"], "rgb8");
-    assert_eq!(r["globe"]["triangles"], 40_500);
-    // No cracks at the seam or the poles: 14 views of the globe mesh against the patches.
-    assert_eq!(r["holes"]["views"].as_array().unwrap().len(), 14);
     assert!(
-        r["holes"]["fraction"].as_f64().unwrap() <= 0.0005,
+        r["counts"]["bytes"].as_u64().unwrap() <= 450_000,
         "{}",
-        r["holes"]
+        r["counts"]["bytes"]
+    );
+    assert_eq!(r["details"]["colour"], "rgb8");
+    assert_eq!(r["details"]["globe"]["triangles"], 40_500);
+    // No cracks at the seam or the poles: 14 views of the globe mesh against the patches.
+    assert_eq!(r["details"]["holes"]["views"].as_array().unwrap().len(), 14);
+    assert!(
+        r["details"]["holes"]["fraction"].as_f64().unwrap() <= 0.0005,
+        "{}",
+        r["details"]["holes"]
     );
     for stage in ["heights", "globe", "segment", "fit", "write"] {
         assert!(
@@ -71,13 +76,16 @@ fn the_shared_map_and_relief_convert() {
     ])
     .success();
     let r = report(&t, "m.json");
-    let patches = r["patches"].as_u64().unwrap() as f64;
+    let patches = r["counts"]["patches"].as_u64().unwrap() as f64;
     assert!(
         (1128.0 * 0.85..=1128.0 * 1.15).contains(&patches),
         "{patches} patches"
     );
-    assert!(r["bytes"].as_u64().unwrap() <= 1_350_000);
-    assert_eq!(r["globe"]["map"][0], 1024, "the 2048-wide map is halved");
+    assert!(r["counts"]["bytes"].as_u64().unwrap() <= 1_350_000);
+    assert_eq!(
+        r["details"]["globe"]["map"][0], 1024,
+        "the 2048-wide map is halved"
+    );
     // The globe mesh is the source of the error: it must be small.
     assert!(r["error"]["surface_to_patch"]["max_rel"].as_f64().unwrap() < 0.005);
     t.run(&[

@@ -41,7 +41,7 @@ fn edge_stats(t: &TestCommand, cube: &str, extra: &[&str]) -> serde_json::Value 
     t.run(&args).success();
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(t.path("cube.json")).unwrap()).unwrap();
-    report["edges"].clone()
+    report["details"]["edges"].clone()
 }
 
 #[test]

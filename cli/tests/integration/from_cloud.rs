@@ -37,24 +37,24 @@ fn xyz_cloud_becomes_a_scene_with_a_report() {
     assert!(!scene.patches().is_empty());
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
-    assert_eq!(report["patches"], scene.patches().len());
-    assert_eq!(report["points"], 14_400);
-    assert!(report["nodes"].as_u64().unwrap() < 14_400);
-    assert!(report["bytes"].as_u64().unwrap() > 0);
-    let stages: Vec<&str> = report["stages"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| s["name"].as_str().unwrap())
-        .collect();
+    crate::report_schema::check_shared_keys(&report, "from-cloud");
+    assert_eq!(report["counts"]["patches"], scene.patches().len());
+    assert_eq!(report["details"]["points"], 14_400);
+    assert!(report["counts"]["nodes"].as_u64().unwrap() < 14_400);
+    assert!(report["counts"]["bytes"].as_u64().unwrap() > 0);
+    // Stage order survives in the typed report.
+    let typed: spatch_eval::Report<serde_json::Value> =
+        serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    let stages: Vec<&str> = typed.stages.names().collect();
     assert_eq!(stages.first(), Some(&"load"));
+    assert_eq!(stages.last(), Some(&"write"));
     assert!(stages.contains(&"range_images") && stages.contains(&"extract"));
     let error = &report["error"];
-    let spacing = report["spacing"].as_f64().unwrap();
+    let spacing = report["details"]["spacing"].as_f64().unwrap();
     let rms = error["cloud_to_patch"]["rms"].as_f64().unwrap();
     assert!(rms <= 0.5 * spacing, "rms {rms}, spacing {spacing}");
     assert!(
-        error["cloud_to_patch"]["share_beyond_2x_spacing"]
+        report["details"]["cloud_error"]["share_beyond_2x_spacing"]
             .as_f64()
             .unwrap()
             <= 0.01

@@ -9,6 +9,9 @@
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
 //! - `from_cloud`: `spatch from-cloud` scene, report keys and error targets, determinism,
 //!   bad clouds.
+//! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
+//!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
+//! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -16,10 +19,12 @@ mod bad_input;
 mod convert;
 mod earth;
 mod edges;
+mod eval;
 mod export;
 mod from_cloud;
 mod merge;
 mod render;
+mod report_schema;
 mod sphere;
 mod stats;
 mod test_command;

@@ -20,7 +20,7 @@
 
 use glam::Vec3;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 use spatch_format::Scene;
 use spatch_mesh::{sample_surface, Bvh, TriangleMesh};
 
@@ -31,22 +31,45 @@ pub const MIN_SAMPLES: usize = 100_000;
 /// Samples per source face when that gives more than [`MIN_SAMPLES`].
 pub const SAMPLES_PER_FACE: usize = 10;
 
-/// Summary of a set of distances.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+/// Summary of a set of distances: one named one-way error of a report.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ErrorStats {
     /// How many distances were measured.
     pub samples: usize,
     /// Largest distance (model units); infinite when the scene has nothing to measure against
-    /// (serialized as `null`).
+    /// (serialized as `null`, read back as infinite).
+    #[serde(deserialize_with = "null_as_infinite")]
     pub max: f64,
     /// Root mean square distance.
+    #[serde(deserialize_with = "null_as_infinite")]
     pub rms: f64,
     /// 95th percentile.
+    #[serde(deserialize_with = "null_as_infinite")]
     pub p95: f64,
     /// `max` divided by the source's bounding-box diagonal.
+    #[serde(deserialize_with = "null_as_infinite")]
     pub max_rel: f64,
     /// `rms` divided by the source's bounding-box diagonal.
+    #[serde(deserialize_with = "null_as_infinite")]
     pub rms_rel: f64,
+}
+
+/// JSON has no infinity: serde_json writes it as `null`, so `null` reads back as infinite.
+fn null_as_infinite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+}
+
+impl From<&spatch_cloud::DistanceStats> for ErrorStats {
+    fn from(d: &spatch_cloud::DistanceStats) -> Self {
+        ErrorStats {
+            samples: d.count,
+            max: d.max,
+            rms: d.rms,
+            p95: d.p95,
+            max_rel: d.max_rel,
+            rms_rel: d.rms_rel,
+        }
+    }
 }
 
 impl ErrorStats {
@@ -119,12 +142,14 @@ pub fn node_to_surface(scene: &Scene, mesh: &TriangleMesh, bvh: &Bvh) -> ErrorSt
     ErrorStats::from_distances(&mut d, f64::from(mesh.diagonal()))
 }
 
-/// The drawable cells of `scene` as bilinear quads in `mesh` coordinates.
-fn drawable_quads(scene: &Scene, shift: Vec3) -> Vec<Quad> {
+/// The drawable cells of `scene` as bilinear quads shifted by `shift`, with the index of the
+/// patch each belongs to.
+fn drawable_quads(scene: &Scene, shift: Vec3) -> (Vec<Quad>, Vec<u32>) {
     scene
         .patches()
         .par_iter()
-        .flat_map_iter(|patch| {
+        .enumerate()
+        .flat_map_iter(|(k, patch)| {
             let (cols, rows) = (
                 usize::from(patch.grid().cols()),
                 usize::from(patch.grid().rows()),
@@ -138,13 +163,13 @@ fn drawable_quads(scene: &Scene, shift: Vec3) -> Vec<Quad> {
                         patch.node_position(i, j + 1),
                         patch.node_position(i + 1, j + 1),
                     ) {
-                        quads.push([a + shift, b + shift, c + shift, d + shift]);
+                        quads.push(([a + shift, b + shift, c + shift, d + shift], k as u32));
                     }
                 }
             }
             quads
         })
-        .collect()
+        .unzip()
 }
 
 /// Distance from each of `samples` (points in `mesh` coordinates, usually on its surface) to
@@ -155,11 +180,37 @@ pub fn surface_to_patch_distances(
     mesh: &TriangleMesh,
     samples: &[Vec3],
 ) -> Vec<f32> {
-    let Some(grid) = CellGrid::new(drawable_quads(scene, scene_to_mesh(scene, mesh))) else {
-        return vec![f32::INFINITY; samples.len()];
-    };
-    samples.par_iter().map(|&p| grid.distance(p)).collect()
+    nearest_patch_cells(scene, mesh.origin, samples).0
 }
+
+/// For each of `points` (relative to `origin`): the distance to the nearest point of the
+/// patch surface of `scene` (drawable cells as bilinear quads) and the index of the patch
+/// that point belongs to. With no drawable cell every distance is infinite and every index
+/// is [`NO_PATCH`].
+pub fn nearest_patch_cells(
+    scene: &Scene,
+    origin: glam::DVec3,
+    points: &[Vec3],
+) -> (Vec<f32>, Vec<u32>) {
+    let shift = (scene.offset() - origin).as_vec3();
+    let (quads, owners) = drawable_quads(scene, shift);
+    let Some(grid) = CellGrid::new(quads) else {
+        return (
+            vec![f32::INFINITY; points.len()],
+            vec![NO_PATCH; points.len()],
+        );
+    };
+    points
+        .par_iter()
+        .map(|&p| {
+            let (d, quad) = grid.nearest(p);
+            (d, owners.get(quad as usize).copied().unwrap_or(NO_PATCH))
+        })
+        .unzip()
+}
+
+/// The patch index [`nearest_patch_cells`] gives a point when the scene has no drawable cell.
+pub const NO_PATCH: u32 = u32::MAX;
 
 /// [`ErrorStats`] of `samples` (points on `mesh`) to the patch surface of `scene`.
 pub fn surface_to_patch(scene: &Scene, mesh: &TriangleMesh, samples: &[Vec3]) -> ErrorStats {

@@ -195,7 +195,7 @@ fn raster_mesh(source: &spatch_mesh::TriangleMesh) -> Result<RasterMesh<'_>, Ren
     )
 }
 
-fn view_camera(
+pub(crate) fn view_camera(
     centre: DVec3,
     radius: f64,
     direction: DVec3,

@@ -1,20 +1,25 @@
-//! Measuring spatch scenes against their source.
+//! Measuring spatch scenes against their source, and the error-versus-time trade-off.
 //!
-//! For now: the geometric error of DESIGN §6 ([`geometric`]):
+//! The measures of DESIGN §6:
 //!
-//! - [`node_to_surface`]: every filled node to the nearest point of the source surface;
-//! - [`surface_to_patch`]: points sampled uniformly on the source to the nearest point of the
-//!   patch surface (drawable cells as bilinear quads), which reveals holes and cracks;
-//! - [`geometric_error`]: both, with the sample count of DESIGN §6
-//!   (`max(100_000, 10 × faces)`).
+//! - geometric error ([`geometric`]): [`node_to_surface`] (every filled node to the nearest
+//!   point of the source) and [`surface_to_patch`] (points sampled uniformly on the source to
+//!   the nearest point of the patch surface, drawable cells as bilinear quads, which reveals
+//!   holes and cracks); [`geometric_error`] does both with `max(100_000, 10 × faces)` samples.
+//!   Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
+//!   source's bounding-box diagonal); [`ErrorHistogram`] bins the distances;
+//! - the hole fraction ([`holes`]) and the full image error ([`mod@image_error`]: PSNR, holes,
+//!   depth error, frame times) of the patch renderer against the source drawn by the
+//!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals);
+//! - per-patch errors beside the quantization-only bound `|az| / 2` ([`per_patch`]);
+//! - [`evaluate()`]: all of them for one scene against a mesh or a point cloud ([`load_source`]),
+//!   each measurement timed (what `spatch eval` prints).
 //!
-//! Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
-//! source's bounding-box diagonal), serializable with serde.
+//! The trade-off: [`run_sweep`] converts and renders a mesh over a grid of settings and
+//! measures each ([`sweep`]); [`pareto_front`] marks the settings worth choosing and
+//! [`sweep_svg`] plots error against time (what `spatch eval --sweep` writes).
 //!
-//! And the hole fraction of DESIGN §6 ([`holes`]): [`hole_fraction`] renders the source with
-//! the triangle rasterizer and the scene with the patch renderer from the same cameras
-//! ([`standard_views`]: 6 axes and 8 diagonals, 500 × 500) and counts the pixels the source
-//! covers that the patches leave empty.
+//! And the JSON report every command shares ([`Report`], docs/report-schema.md).
 //!
 //! ```
 //! use glam::Vec3;
@@ -37,13 +42,41 @@
 #![forbid(unsafe_code)]
 
 mod cell_grid;
+mod error;
+pub mod evaluate;
 pub mod geometric;
+pub mod histogram;
 pub mod holes;
+pub mod image_error;
+pub mod pareto;
+pub mod per_patch;
+pub mod plot;
+pub mod report;
+pub mod sweep;
 
-pub use geometric::{
-    geometric_error, node_to_surface, sample_count, surface_to_patch, ErrorStats, GeometricError,
+pub use error::EvalError;
+pub use evaluate::{
+    evaluate, load_source, CloudFigures, EvalOptions, Evaluation, LoadedSource, Source,
+    CLOUD_IMAGE_NOTE,
 };
+pub use geometric::{
+    geometric_error, nearest_patch_cells, node_to_surface, sample_count, surface_to_patch,
+    ErrorStats, GeometricError, NO_PATCH,
+};
+pub use histogram::{ErrorHistogram, HISTOGRAM_EDGES};
 pub use holes::{
     hole_fraction, hole_view_camera, standard_views, HoleOptions, HoleReport, ViewHoles,
     HOLE_DEPTH_TOLERANCE, HOLE_VIEW_SIDE,
 };
+pub use image_error::{
+    compare_views, image_error, image_view_camera, views_for_count, ImageError, ImageOptions,
+    SourceViews, ViewError, MAX_VIEWS,
+};
+pub use pareto::{dominates, pareto_front};
+pub use per_patch::{
+    per_patch_csv, per_patch_errors, quantization_bound, PatchError, QuantizationBound,
+    BOUND_SLACK_REL,
+};
+pub use plot::sweep_svg;
+pub use report::{Counts, Report, Stages, REPORT_SCHEMA};
+pub use sweep::{run_sweep, sweep_csv, SweepOptions, SweepResult, SweepRow};

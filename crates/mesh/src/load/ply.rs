@@ -440,7 +440,12 @@ impl PropertyAccess for Skip {
 /// text it could not read when it quotes one. ply-rs-bw nests its causes over several lines.
 fn one_line_reason(error: &ParseError) -> String {
     let text = error.to_string();
-    let first = text.lines().next().unwrap_or_default().trim().trim_end_matches('.');
+    let first = text
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .trim()
+        .trim_end_matches('.');
     let quoted = text
         .split("String: '")
         .nth(1)

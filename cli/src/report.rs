@@ -1,0 +1,69 @@
+//! Building the shared JSON report (`spatch_eval::Report`, docs/report-schema.md) from what
+//! each command measured.
+
+use serde_json::{Map, Value};
+use spatch_eval::{Counts, Report, Stages};
+
+use crate::failure::InternalFailure;
+
+/// `spatch <version>`, the report's `tool`.
+pub(crate) fn tool() -> String {
+    format!("spatch {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// A new report of `command` on `input` whose details are filled in later.
+pub(crate) fn new_report(command: &str, input: &str) -> Report<Value> {
+    Report::new(&tool(), command, input, Value::Object(Map::new()))
+}
+
+/// The stages of a library report (a list of `{name, seconds}`) as [`Stages`].
+pub(crate) fn stages_from<'a>(list: impl IntoIterator<Item = (&'a str, f64)>) -> Stages {
+    let mut stages = Stages::default();
+    for (name, seconds) in list {
+        stages.push(name, seconds);
+    }
+    stages
+}
+
+/// A library report serialized, without the keys the shared part already holds: what is
+/// left is the command's `details`.
+pub(crate) fn details_from(
+    library_report: &impl serde::Serialize,
+    shared: &[&str],
+) -> anyhow::Result<Map<String, Value>> {
+    let value = serde_json::to_value(library_report)
+        .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
+    let Value::Object(mut map) = value else {
+        return Err(
+            InternalFailure("the report is not a JSON object (this is a bug)".to_owned()).into(),
+        );
+    };
+    for key in shared {
+        map.remove(*key);
+    }
+    Ok(map)
+}
+
+/// The counts of a scene and its encoded size.
+pub(crate) fn counts(scene: &spatch_format::Scene, bytes: usize) -> Counts {
+    Counts {
+        patches: scene.patches().len(),
+        nodes: scene.node_count(),
+        filled_nodes: scene.filled_node_count(),
+        bytes,
+    }
+}
+
+/// Inserts `value` (any serializable figure) under `key` in the report's details.
+pub(crate) fn set_detail(
+    report: &mut Report<Value>,
+    key: &str,
+    value: &impl serde::Serialize,
+) -> anyhow::Result<()> {
+    let value = serde_json::to_value(value)
+        .map_err(|e| InternalFailure(format!("cannot format the report's {key}: {e}")))?;
+    if let Value::Object(map) = &mut report.details {
+        map.insert(key.to_owned(), value);
+    }
+    Ok(())
+}

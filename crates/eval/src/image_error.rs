@@ -1,0 +1,393 @@
+//! The image error of a scene against its source mesh (DESIGN §6), with frame times.
+//!
+//! For each view the source is drawn by the project's scan-line triangle rasterizer
+//! (`Renderer::rasterize`) and the scene by the patch renderer (`Renderer::render`), with the
+//! same camera, the same lights and the same options (shading, culling; projection and cells
+//! only matter to the patches). Per view and pooled over all views:
+//!
+//! - **PSNR** of the RGB channels over the pixels either image covers (background pixels
+//!   that both leave empty are left out, so the figure does not depend on the framing);
+//!   `None` when those pixels are identical;
+//! - **hole fraction**: pixels the source covers that the patches leave empty *at the
+//!   source's depth* (empty, or farther than [`HOLE_DEPTH_TOLERANCE`] of the source's
+//!   bounding radius behind it), over pixels the source covers (as `holes`);
+//! - **mean depth error**: mean |patch depth − source depth| (linear eye depth, model units)
+//!   over pixels both cover, also divided by the source's bounding-box diagonal;
+//! - **frame time**: the median over `runs` timed patch frames after one warm-up frame (and
+//!   one source frame), in milliseconds.
+//!
+//! Views: [`views_for_count`] — the 14 standard views (6 axes, 8 diagonals) or fewer of
+//! them, or an even spiral of more; each frames the source's bounding sphere as
+//! [`crate::hole_view_camera`] does.
+//!
+//! The source frames are rendered once ([`SourceViews::render`]) and can be compared with
+//! any number of scenes or render options ([`compare_views`]), which is what the sweep does.
+//!
+//! Cost: per view one source frame and `runs + 1` patch frames, O(pixels) each to compare.
+
+use std::time::Instant;
+
+use glam::DVec3;
+use serde::Serialize;
+use spatch_render::{
+    Camera, MeshColours, PreparedScene, RenderError, RenderOptions, RenderedImage, Renderer,
+    TriangleMesh as RasterMesh,
+};
+
+use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
+
+/// Largest number of views [`views_for_count`] accepts.
+pub const MAX_VIEWS: usize = 256;
+
+/// `count` view directions: the first `count` of [`standard_views`] (6 axes, then 8
+/// diagonals) when `count <= 14`, otherwise `count` directions on a Fibonacci spiral (even
+/// spread over the sphere). `None` when `count` is 0 or above [`MAX_VIEWS`].
+pub fn views_for_count(count: usize) -> Option<Vec<DVec3>> {
+    let standard = standard_views();
+    if count == 0 || count > MAX_VIEWS {
+        return None;
+    }
+    if count <= standard.len() {
+        return Some(standard[..count].to_vec());
+    }
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    Some(
+        (0..count)
+            .map(|k| {
+                let y = 1.0 - 2.0 * (k as f64 + 0.5) / count as f64;
+                let r = (1.0 - y * y).max(0.0).sqrt();
+                let a = golden * k as f64;
+                DVec3::new(r * a.cos(), y, r * a.sin())
+            })
+            .collect(),
+    )
+}
+
+/// How the image error is measured.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ImageOptions {
+    /// View directions (target to eye). Default: the 14 standard views.
+    pub views: Vec<DVec3>,
+    /// Image width and height in pixels. Default 500 × 500.
+    pub size: [u32; 2],
+    /// Vertical field of view, degrees. Default 40°.
+    pub fov_y_degrees: f64,
+    /// Render options shared by the source and the patches (the defaults of
+    /// `spatch render`). `threads` 0 means all cores.
+    pub render: RenderOptions,
+    /// Timed patch frames per view (after one warm-up), 1..=1000; the median is reported.
+    /// Default 3.
+    pub runs: usize,
+}
+
+impl Default for ImageOptions {
+    fn default() -> Self {
+        let holes = HoleOptions::default();
+        Self {
+            views: holes.views,
+            size: holes.size,
+            fov_y_degrees: holes.fov_y_degrees,
+            render: RenderOptions::default(),
+            runs: 3,
+        }
+    }
+}
+
+impl ImageOptions {
+    fn hole_options(&self) -> HoleOptions {
+        HoleOptions {
+            views: self.views.clone(),
+            size: self.size,
+            fov_y_degrees: self.fov_y_degrees,
+            threads: self.render.threads,
+        }
+    }
+}
+
+/// The source drawn from every view, ready to be compared with scenes.
+#[derive(Debug, Clone)]
+pub struct SourceViews {
+    cameras: Vec<Camera>,
+    images: Vec<RenderedImage>,
+    source_ms: Vec<f64>,
+    directions: Vec<DVec3>,
+    /// Hole depth tolerance in model units.
+    tolerance: f32,
+    diagonal: f64,
+}
+
+impl SourceViews {
+    /// Renders `source` from every view of `options` with the triangle rasterizer.
+    pub fn render(
+        source: &spatch_mesh::TriangleMesh,
+        options: &ImageOptions,
+    ) -> Result<SourceViews, RenderError> {
+        let mesh = RasterMesh::new(
+            source.origin,
+            &source.positions,
+            &source.triangles,
+            MeshColours::None,
+        )?;
+        let (centre, radius) = mesh
+            .bounding_sphere()
+            .ok_or(spatch_render::CameraProblem::NothingToFrame)?;
+        let mut renderer = Renderer::new(options.render)?;
+        let hole_options = options.hole_options();
+        let mut views = SourceViews {
+            cameras: Vec::with_capacity(options.views.len()),
+            images: Vec::with_capacity(options.views.len()),
+            source_ms: Vec::with_capacity(options.views.len()),
+            directions: Vec::with_capacity(options.views.len()),
+            tolerance: (HOLE_DEPTH_TOLERANCE * radius) as f32,
+            diagonal: f64::from(source.diagonal()),
+        };
+        for &direction in &options.views {
+            let camera = view_camera(centre, radius, direction, &hole_options)?;
+            let out = renderer.rasterize(&mesh, &camera)?;
+            views.source_ms.push(out.stats.times_ms.total_wall);
+            views.images.push(out.image);
+            views.cameras.push(camera);
+            views.directions.push(direction.normalize());
+        }
+        Ok(views)
+    }
+
+    /// Number of views.
+    pub fn len(&self) -> usize {
+        self.cameras.len()
+    }
+
+    /// True when there are no views.
+    pub fn is_empty(&self) -> bool {
+        self.cameras.is_empty()
+    }
+}
+
+/// The image error seen from one view.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ViewError {
+    /// Direction from the target to the eye (unit).
+    pub direction: [f64; 3],
+    /// Pixels the source covers.
+    pub source_pixels: usize,
+    /// Pixels the patches cover.
+    pub patch_pixels: usize,
+    /// Source pixels the patches leave empty at the source's depth.
+    pub hole_pixels: usize,
+    /// `hole_pixels / source_pixels`.
+    pub hole_fraction: f64,
+    /// PSNR (dB) over the pixels either image covers; `None` when they are identical.
+    pub psnr_db: Option<f64>,
+    /// Mean |depth difference| over pixels both cover (model units).
+    pub mean_depth_error: f64,
+    /// Median patch frame time (ms).
+    pub patch_ms: f64,
+    /// Source frame time with the triangle rasterizer (ms).
+    pub source_ms: f64,
+}
+
+/// The image error over all views.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ImageError {
+    /// One entry per view, in order.
+    pub views: Vec<ViewError>,
+    /// Image width and height.
+    pub size: [u32; 2],
+    /// PSNR (dB) pooled over all views (total squared error over all compared pixels);
+    /// `None` when every compared pixel is identical.
+    pub psnr_db: Option<f64>,
+    /// Hole pixels over source pixels, summed over the views.
+    pub hole_fraction: f64,
+    /// Mean |depth difference| over pixels both cover in all views (model units).
+    pub mean_depth_error: f64,
+    /// `mean_depth_error` over the source's bounding-box diagonal.
+    pub mean_depth_error_rel: f64,
+    /// Median over the views of the patch frame time (ms).
+    pub patch_ms: f64,
+    /// Median over the views of the source frame time (ms).
+    pub source_ms: f64,
+    /// Timed patch frames per view.
+    pub runs: usize,
+    /// Worker threads of the renderer.
+    pub threads: usize,
+}
+
+/// Sums over pixels of one view.
+#[derive(Default)]
+struct PixelSums {
+    source: usize,
+    patch: usize,
+    holes: usize,
+    compared: usize,
+    squared: u64,
+    depth_pixels: usize,
+    depth_sum: f64,
+}
+
+fn compare_images(source: &RenderedImage, patch: &RenderedImage, tolerance: f32) -> PixelSums {
+    let mut sums = PixelSums::default();
+    let pixels = source.pixels().iter().zip(patch.pixels());
+    let depths = source.depth().iter().zip(patch.depth());
+    for ((sc, pc), (&sd, &pd)) in pixels.zip(depths) {
+        let (s_in, p_in) = (sd.is_finite(), pd.is_finite());
+        if s_in {
+            sums.source += 1;
+            if !(p_in && pd <= sd + tolerance) {
+                sums.holes += 1;
+            }
+        }
+        if p_in {
+            sums.patch += 1;
+        }
+        if s_in || p_in {
+            sums.compared += 1;
+            for c in 0..3 {
+                let d = i64::from(sc[c]) - i64::from(pc[c]);
+                sums.squared += (d * d) as u64;
+            }
+        }
+        if s_in && p_in {
+            sums.depth_pixels += 1;
+            sums.depth_sum += f64::from((pd - sd).abs());
+        }
+    }
+    sums
+}
+
+fn psnr(squared: u64, pixels: usize) -> Option<f64> {
+    if squared == 0 || pixels == 0 {
+        return None;
+    }
+    let mse = squared as f64 / (3 * pixels) as f64;
+    Some(10.0 * (255.0 * 255.0 / mse).log10())
+}
+
+fn ratio(part: f64, whole: f64) -> f64 {
+    if whole > 0.0 {
+        part / whole
+    } else {
+        0.0
+    }
+}
+
+/// The median of `values` (sorted in place); 0 when empty.
+pub(crate) fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Renders `scene` from every view of `source` with `render` options and compares
+/// (`runs` timed frames per view).
+pub fn compare_views(
+    source: &SourceViews,
+    scene: &PreparedScene,
+    render: RenderOptions,
+    runs: usize,
+) -> Result<ImageError, RenderError> {
+    let runs = runs.clamp(1, 1000);
+    let mut renderer = Renderer::new(render)?;
+    let mut views = Vec::with_capacity(source.len());
+    let mut total = PixelSums::default();
+    let mut size = [0, 0];
+    for (k, camera) in source.cameras.iter().enumerate() {
+        let mut image = renderer.render(scene, camera)?.image; // warm-up
+        let mut times = Vec::with_capacity(runs);
+        for _ in 0..runs {
+            let start = Instant::now();
+            image = renderer.render(scene, camera)?.image;
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        size = [image.width(), image.height()];
+        let sums = compare_images(&source.images[k], &image, source.tolerance);
+        views.push(ViewError {
+            direction: source.directions[k].to_array(),
+            source_pixels: sums.source,
+            patch_pixels: sums.patch,
+            hole_pixels: sums.holes,
+            hole_fraction: ratio(sums.holes as f64, sums.source as f64),
+            psnr_db: psnr(sums.squared, sums.compared),
+            mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
+            patch_ms: median(&mut times),
+            source_ms: source.source_ms[k],
+        });
+        total.source += sums.source;
+        total.holes += sums.holes;
+        total.compared += sums.compared;
+        total.squared += sums.squared;
+        total.depth_pixels += sums.depth_pixels;
+        total.depth_sum += sums.depth_sum;
+    }
+    let mean_depth_error = ratio(total.depth_sum, total.depth_pixels as f64);
+    let mut patch_ms: Vec<f64> = views.iter().map(|v| v.patch_ms).collect();
+    let mut source_ms = source.source_ms.clone();
+    Ok(ImageError {
+        size,
+        psnr_db: psnr(total.squared, total.compared),
+        hole_fraction: ratio(total.holes as f64, total.source as f64),
+        mean_depth_error,
+        mean_depth_error_rel: ratio(mean_depth_error, source.diagonal),
+        patch_ms: median(&mut patch_ms),
+        source_ms: median(&mut source_ms),
+        runs,
+        threads: renderer.threads(),
+        views,
+    })
+}
+
+/// [`SourceViews::render`] then [`compare_views`] with `options`.
+pub fn image_error(
+    scene: &PreparedScene,
+    source: &spatch_mesh::TriangleMesh,
+    options: &ImageOptions,
+) -> Result<ImageError, RenderError> {
+    let views = SourceViews::render(source, options)?;
+    compare_views(&views, scene, options.render, options.runs)
+}
+
+/// The camera of view `direction` around `source` with `options` (as [`image_error`] uses).
+pub fn image_view_camera(
+    source: &spatch_mesh::TriangleMesh,
+    direction: DVec3,
+    options: &ImageOptions,
+) -> Result<Camera, RenderError> {
+    crate::holes::hole_view_camera(source, direction, &options.hole_options())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn view_counts() {
+        assert_eq!(views_for_count(14).unwrap(), standard_views());
+        assert_eq!(views_for_count(6).unwrap(), standard_views()[..6].to_vec());
+        assert!(views_for_count(0).is_none());
+        assert!(views_for_count(MAX_VIEWS + 1).is_none());
+        let many = views_for_count(40).unwrap();
+        assert_eq!(many.len(), 40);
+        for v in &many {
+            assert!((v.length() - 1.0).abs() < 1e-9);
+        }
+        // Spread: the mean direction of an even spiral is near the centre.
+        let mean = many.iter().copied().sum::<DVec3>() / 40.0;
+        assert!(mean.length() < 0.05, "{mean}");
+    }
+
+    #[test]
+    fn psnr_of_known_errors() {
+        // One pixel off by 255 in one channel out of 1 pixel: MSE 255²/3.
+        let p = psnr(255 * 255, 1).unwrap();
+        assert!((p - 10.0 * 3f64.log10()).abs() < 1e-12);
+        assert_eq!(psnr(0, 10), None);
+    }
+
+    #[test]
+    fn median_picks_the_middle() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut []), 0.0);
+    }
+}
