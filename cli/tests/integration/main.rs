@@ -12,6 +12,8 @@
 //! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
 //! - `report_schema`: every command's JSON report parses into the shared shape.
+//! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its
+//!   module docs).
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -26,5 +28,6 @@ mod merge;
 mod render;
 mod report_schema;
 mod sphere;
+mod stability;
 mod stats;
 mod test_command;
