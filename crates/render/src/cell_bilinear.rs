@@ -96,6 +96,7 @@ pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     nodes: &[Node],
     flags: &[u8],
+    spans: &[[i32; 2]],
     cols: usize,
     rows: usize,
     nu: u32,
@@ -111,21 +112,16 @@ pub(crate) fn draw_cells_bilinear(
     // Why flags: drawability, back faces and the closing column/row are
     // decided once per frame at plan time instead of per band (callgrind,
     // `profile_sphere 500 1`).
-    for (j, row_flags) in flags.chunks_exact(cols - 1).enumerate().take(rows - 1) {
-        let below = &nodes[j * cols..(j + 1) * cols];
-        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
-        // Skip a row of cells wholly outside the band (its y range covers
-        // its nodes', empty ones at y = 0 only widening it). Why: an item
-        // is walked by every band it touches (callgrind, `profile_sphere
-        // 500 1`).
-        let (mut lo, mut hi) = (i32::MAX, i32::MIN);
-        for n in below.iter().chain(above) {
-            lo = lo.min(n[1]);
-            hi = hi.max(n[1]);
-        }
-        if (hi >> 16) < y_lo || (lo >> 16) >= y_hi {
+    let rows_of_cells = flags.chunks_exact(cols - 1).zip(spans).take(rows - 1);
+    for (j, (row_flags, &[lo, hi])) in rows_of_cells.enumerate() {
+        // Skip a row of cells wholly outside the band (its span covers its
+        // used nodes). Why: an item is walked by every band it touches
+        // (callgrind, `profile_sphere 500 1`).
+        if hi < y_lo || lo >= y_hi {
             continue;
         }
+        let below = &nodes[j * cols..(j + 1) * cols];
+        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
         let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
         for (i, ((&f, b), a)) in cells.enumerate() {
             if f & CELL_DRAW == 0 {
@@ -276,7 +272,8 @@ mod tests {
         };
         // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
         let flags = [crate::traverse::CELL_DRAW | CELL_RIGHT | CELL_TOP];
-        draw_cells_bilinear(&mut t, &nodes, &flags, 2, 2, 24, 24, PATCH_SAMPLE);
+        let spans = [[0, 31]];
+        draw_cells_bilinear(&mut t, &nodes, &flags, &spans, 2, 2, 24, 24, PATCH_SAMPLE);
         // Every pixel centre strictly inside the quad (two triangles) is drawn.
         let inside = |px: f32, py: f32| {
             let tri = |a: (f32, f32), b: (f32, f32), c: (f32, f32)| {

@@ -70,6 +70,11 @@ pub(crate) struct Item {
     pub(crate) frame: u32,
     /// Index of the piece's first cell flag in its chunk's `cell_flags`.
     pub(crate) flags: u32,
+    /// Index of the piece's first row span in its chunk's `row_spans`.
+    pub(crate) spans: u32,
+    /// Every node has the same albedo (a patch without colours): the
+    /// resolve pass takes it as is instead of interpolating it.
+    pub(crate) uniform_albedo: bool,
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
@@ -96,6 +101,9 @@ pub(crate) struct ChunkWork {
     pub(crate) triangles: Vec<ScreenTriangle>,
     /// One flag byte per cell of each item ([`crate::traverse::CELL_DRAW`], …).
     pub(crate) cell_flags: Vec<u8>,
+    /// Pixel rows spanned by each row of cells of each item (see
+    /// [`crate::traverse::measure_cells`]).
+    pub(crate) row_spans: Vec<[i32; 2]>,
     pub(crate) counters: Counters,
     normals: NormalBuffer,
     stack: Vec<NodeRange>,
@@ -111,6 +119,7 @@ impl ChunkWork {
         self.items.clear();
         self.triangles.clear();
         self.cell_flags.clear();
+        self.row_spans.clear();
         self.counters = Counters::default();
         self.normals.clear();
         self.normals.counts = Default::default();
@@ -321,12 +330,14 @@ fn plan_piece(
         0
     };
     let flags = work.cell_flags.len();
+    let spans = work.row_spans.len();
     let measure = measure_cells(
         &work.nodes[first..],
         cols,
         rows,
         back_sign,
         &mut work.cell_flags,
+        &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
     let edges = measure.edges.map(|e| e as f32 / crate::fixed::XY_ONE);
@@ -341,11 +352,13 @@ fn plan_piece(
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
         return;
     }
     let Some((nu, nv)) = split else {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
         work.counters.oversized_pieces += 1;
         let start = Instant::now();
         emit_cell_triangles(work, p, m, range, map, t0, index, frame, setup);
@@ -372,6 +385,8 @@ fn plan_piece(
         nv: nv as u16,
         frame: index,
         flags: flags as u32,
+        spans: spans as u32,
+        uniform_albedo: p.levels[m].colours.is_none(),
         y0: y0 - pad,
         y1: y1 + pad,
     });

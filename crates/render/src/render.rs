@@ -203,6 +203,12 @@ impl Renderer {
                 chunks: &self.chunks,
                 frames: &self.frames,
                 material: setup.material,
+                base_albedo: Vec3::from_array(
+                    setup
+                        .base_colour
+                        .to_array()
+                        .map(|c| crate::fixed::attr_from_bits(crate::fixed::attr_to_bits(c))),
+                ),
                 background: options.background,
                 near: view.near as f32,
                 far: view.far as f32,

@@ -156,7 +156,9 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
     } else {
         let f = item.flags as usize;
         let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
-        draw_cells_bilinear(t, nodes, flags, cols, rows, nu, nv, id);
+        let s = item.spans as usize;
+        let spans = &chunk.row_spans[s..s + rows - 1];
+        draw_cells_bilinear(t, nodes, flags, spans, cols, rows, nu, nv, id);
     }
 }
 
