@@ -28,13 +28,13 @@
 //!
 //! Cost: O(pixels) to clear and resolve; 16 bytes per internal pixel.
 
-use glam::{Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::RenderError;
 use crate::fixed::Z_FAR;
 use crate::options::Shading;
-use crate::plan::ChunkWork;
-use crate::shade::{unpack_normal, unpack_rgb, Material, ShadeFrame};
+use crate::plan::{ChunkWork, Item};
+use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame};
 
 /// A band's buffers, borrowed for drawing.
 pub(crate) struct BandTarget<'a> {
@@ -220,6 +220,10 @@ impl Band {
     /// `--bench`: the serial gather was ~1.3 ms of a 13.5 ms frame).
     pub(crate) fn resolve(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
         debug_assert!(rgba.len() == self.px.len() && eye_depth.len() == self.px.len());
+        if r.shading == Shading::Phong {
+            self.resolve_phong(r, rgba, eye_depth);
+            return;
+        }
         let scale = (r.far - r.near) / Z_FAR as f32;
         // Why zipped slices: one length check per band instead of five
         // bounds checks per pixel (callgrind, `profile_sphere 500 1`).
@@ -231,7 +235,7 @@ impl Band {
             &Sample {
                 depth: z,
                 w0,
-                w1,
+                w1: _,
                 w2,
             },
             (rgba, eye),
@@ -246,17 +250,86 @@ impl Band {
             *rgba = if w2 & PATCH_SAMPLE != 0 {
                 resolve_patch_sample(r, w2 & !PATCH_SAMPLE, w0)
             } else {
-                match r.shading {
-                    Shading::Flat | Shading::Gouraud => w0.to_le_bytes(),
-                    Shading::Phong => {
-                        let frame = &r.frames[w2 as usize];
-                        let n = unpack_normal(w0);
-                        let albedo = unpack_rgb(w1);
-                        to_rgba8(r.material.shade(n, frame, albedo))
-                    }
-                }
+                w0.to_le_bytes()
             };
         }
+    }
+
+    /// [`Self::resolve`] for Phong: covered pixels are gathered four at a
+    /// time and shaded together ([`Material::shade4`], bit-identical to
+    /// shading them one by one).
+    fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
+        let scale = (r.far - r.near) / Z_FAR as f32;
+        let mut batch = PhongBatch::default();
+        let base = r.base_albedo.extend(0.0);
+        for (k, s) in self.px.iter().enumerate() {
+            if s.depth >= Z_FAR {
+                rgba[k] = r.background;
+                eye_depth[k] = f32::INFINITY;
+                continue;
+            }
+            eye_depth[k] = r.near + s.depth as f32 * scale;
+            let (normal, albedo, frame) = if s.w2 & PATCH_SAMPLE != 0 {
+                phong_patch_inputs(r, s.w2 & !PATCH_SAMPLE, s.w0, base)
+            } else {
+                let n = unpack_normal(s.w0).extend(0.0);
+                (n, unpack_rgb(s.w1).extend(0.0), s.w2)
+            };
+            batch.push(k, normal, &r.frames[frame as usize], albedo);
+            if batch.len == 4 {
+                batch.flush(&r.material, rgba);
+            }
+        }
+        batch.flush(&r.material, rgba);
+    }
+}
+
+/// Up to four Phong samples waiting to be shaded together: per sample its
+/// pixel, normal, light, half vector and albedo (`xyz` lanes).
+#[derive(Debug, Default)]
+struct PhongBatch {
+    len: usize,
+    at: [usize; 4],
+    normal: [Vec4; 4],
+    light: [Vec4; 4],
+    half: [Vec4; 4],
+    albedo: [Vec4; 4],
+}
+
+impl PhongBatch {
+    #[inline(always)]
+    fn push(&mut self, at: usize, normal: Vec4, frame: &ShadeFrame, albedo: Vec4) {
+        let k = self.len;
+        self.at[k] = at;
+        self.normal[k] = normal;
+        self.light[k] = frame.light.extend(0.0);
+        self.half[k] = frame.half.extend(0.0);
+        self.albedo[k] = albedo;
+        self.len = k + 1;
+    }
+
+    /// Shades the waiting samples into `rgba` (lanes past `len` hold
+    /// earlier, finite samples and are computed but not written).
+    fn flush(&mut self, m: &Material, rgba: &mut [[u8; 4]]) {
+        if self.len == 0 {
+            return;
+        }
+        // Samples are columns; a transpose gives one component per row.
+        let rows = |v: &[Vec4; 4]| {
+            let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
+            [t.x_axis, t.y_axis, t.z_axis]
+        };
+        let lanes = Lanes {
+            normal: rows(&self.normal),
+            light: rows(&self.light),
+            half: rows(&self.half),
+            albedo: rows(&self.albedo),
+        };
+        let [red, green, blue] = m.shade4(&lanes).map(truncate_to_bytes);
+        for k in 0..self.len {
+            rgba[self.at[k]] = [red[k], green[k], blue[k], 255];
+        }
+        self.len = 0;
     }
 }
 
@@ -267,6 +340,21 @@ impl Band {
 #[inline(always)]
 fn to_rgba8(c: Vec3) -> [u8; 4] {
     [c.x as i32 as u8, c.y as i32 as u8, c.z as i32 as u8, 255]
+}
+
+/// Four colour values in 0..=255 truncated to bytes, as `c as i32 as u8`
+/// does one at a time. Why: the scalar conversions with their saturation
+/// checks were ~18 instructions per pixel (callgrind, `profile_sphere 500
+/// 1`). Adding `2^23` rounds to an integer (kept in the low mantissa bits);
+/// subtracting one where that rounded up gives the truncation.
+#[inline(always)]
+fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
+    const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
+    let nearest = (c + Vec4::splat(SHIFT)) - Vec4::splat(SHIFT);
+    let down = nearest - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO);
+    (down + Vec4::splat(SHIFT))
+        .to_array()
+        .map(|v| v.to_bits() as u8)
 }
 
 /// The four attribute words `[from, from + 4)` of a node as floats.
@@ -280,9 +368,14 @@ fn attr4(n: &crate::traverse::Node, from: usize) -> Vec4 {
     )
 }
 
-/// Shades a patch sample: bilinear attributes of its cell at its sub-node.
-#[inline]
-fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
+/// The cell of a patch sample: its item, its four corner nodes and the
+/// bilinear weights of its sub-node.
+#[inline(always)]
+fn sample_cell<'r>(
+    r: &Resolve<'r>,
+    item: u32,
+    sub: u32,
+) -> (&'r Item, [&'r crate::traverse::Node; 4], [f32; 4]) {
     let (c, i) = r.items[item as usize];
     let chunk = &r.chunks[c as usize];
     let item = &chunk.items[i as usize];
@@ -291,46 +384,58 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
     let k = item.first as usize + cj * cols + ci;
     // One slice for the four corners: a single bounds check.
     let quad = &chunk.nodes[k..k + cols + 2];
-    let (n00, n10, n01, n11) = (&quad[0], &quad[1], &quad[cols], &quad[cols + 1]);
     let s = ((sub >> 8) & 0xff) as f32 / item.nu as f32;
     let t = (sub & 0xff) as f32 / item.nv as f32;
-    let (w00, w10, w01, w11) = ((1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t);
-    // Why four lanes at a time: the same products and sums in the same
-    // order as one channel at a time (identical images), a quarter of the
-    // instructions (callgrind, `profile_sphere 500 1`).
-    let lerp4 = |from: usize| {
-        attr4(n00, from) * w00
-            + attr4(n10, from) * w10
-            + attr4(n01, from) * w01
-            + attr4(n11, from) * w11
-    };
+    (
+        item,
+        [&quad[0], &quad[1], &quad[cols], &quad[cols + 1]],
+        [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t],
+    )
+}
+
+/// Attribute words `[from, from + 4)` interpolated bilinearly. Why four
+/// lanes at a time: the same products and sums in the same order as one
+/// channel at a time (identical images), a quarter of the instructions
+/// (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn lerp4(n: [&crate::traverse::Node; 4], w: [f32; 4], from: usize) -> Vec4 {
+    attr4(n[0], from) * w[0]
+        + attr4(n[1], from) * w[1]
+        + attr4(n[2], from) * w[2]
+        + attr4(n[3], from) * w[3]
+}
+
+/// Shades a patch sample with flat or Gouraud colours: the cell's colour,
+/// or the colours of its corners interpolated at its sub-node.
+#[inline]
+fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
+    let (_, n, w) = sample_cell(r, item, sub);
     let colour = match r.shading {
         Shading::Flat => Vec3::new(
-            attr_to_f32f(n00[3]),
-            attr_to_f32f(n00[4]),
-            attr_to_f32f(n00[5]),
+            attr_to_f32f(n[0][3]),
+            attr_to_f32f(n[0][4]),
+            attr_to_f32f(n[0][5]),
         ),
-        Shading::Gouraud => lerp4(3).truncate(),
-        Shading::Phong => {
-            // Lanes: normal x, y, z, albedo r; then albedo g, b.
-            let a = lerp4(3);
-            // Why: a patch without colours has one albedo, and
-            // interpolating a constant only adds rounding (callgrind,
-            // `profile_sphere 500 1`: ~15 instructions per pixel).
-            if item.uniform_albedo {
-                let frame = &r.frames[item.frame as usize];
-                return to_rgba8(r.material.shade(a.truncate(), frame, r.base_albedo));
-            }
-            let b = Vec4::new(attr_to_f32f(n00[7]), attr_to_f32f(n00[8]), 0.0, 0.0) * w00
-                + Vec4::new(attr_to_f32f(n10[7]), attr_to_f32f(n10[8]), 0.0, 0.0) * w10
-                + Vec4::new(attr_to_f32f(n01[7]), attr_to_f32f(n01[8]), 0.0, 0.0) * w01
-                + Vec4::new(attr_to_f32f(n11[7]), attr_to_f32f(n11[8]), 0.0, 0.0) * w11;
-            let albedo = Vec3::new(a.w, b.x, b.y);
-            r.material
-                .shade(a.truncate(), &r.frames[item.frame as usize], albedo)
-        }
+        Shading::Gouraud | Shading::Phong => lerp4(n, w, 3).truncate(),
     };
     to_rgba8(colour)
+}
+
+/// The Phong inputs of a patch sample: interpolated normal (`xyz`) and
+/// albedo (`xyz`; `base` for an item without colours), and its shade frame.
+#[inline]
+fn phong_patch_inputs(r: &Resolve<'_>, item: u32, sub: u32, base: Vec4) -> (Vec4, Vec4, u32) {
+    let (item, n, w) = sample_cell(r, item, sub);
+    // Lanes: normal x, y, z, albedo r.
+    let a = lerp4(n, w, 3);
+    // Why: a patch without colours has one albedo, and interpolating a
+    // constant only adds rounding (~15 instructions per pixel).
+    if item.uniform_albedo {
+        return (a, base, item.frame);
+    }
+    let gb = |k: usize| Vec4::new(attr_to_f32f(n[k][7]), attr_to_f32f(n[k][8]), 0.0, 0.0);
+    let b = gb(0) * w[0] + gb(1) * w[1] + gb(2) * w[2] + gb(3) * w[3];
+    (a, Vec4::new(a.w, b.x, b.y, 0.0), item.frame)
 }
 
 #[inline(always)]
@@ -504,5 +609,32 @@ impl RenderedImage {
                 source,
             })?;
         Ok(out.into_inner())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bytes_are_truncated_like_a_scalar_conversion() {
+        let mut v = 0.0f32;
+        while v <= 255.0 {
+            let next = f32::from_bits(v.to_bits() + 1).min(255.0);
+            let c = Vec4::new(v, (v * 0.37).min(255.0), 255.0 - v, next);
+            let expected = c.to_array().map(|x| x as i32 as u8);
+            assert_eq!(truncate_to_bytes(c), expected, "{c:?}");
+            v += 0.023_437_5;
+        }
+        // Exact integers and halves (ties of the rounding step).
+        for k in 0..=255 {
+            let c = Vec4::new(
+                k as f32,
+                k as f32 + 0.5,
+                (k as f32 - 0.5).max(0.0),
+                k as f32,
+            );
+            assert_eq!(truncate_to_bytes(c), c.to_array().map(|x| x as i32 as u8));
+        }
     }
 }
