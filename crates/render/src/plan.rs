@@ -35,7 +35,7 @@ use crate::cell_bilinear::MAX_SUBDIVISION;
 use crate::cull::{cone_faces_away, BoxClass, Frustum};
 use crate::fixed::attr_to_bits;
 use crate::mip::MipLevel;
-use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer};
+use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer, OUTSIDE_TABLE};
 use crate::options::{CellScheme, Culling, Projection, RenderMode, RenderOptions, Shading};
 use crate::prepare::PreparedPatch;
 use crate::shade::{pack_colour, Material, ShadeFrame, WorldLight};
@@ -505,10 +505,11 @@ fn fill_attributes(
 }
 
 /// The Phong attributes (fixed-point normal, albedo) of the nodes of a
-/// piece, identical to [`node_attributes`]. Why: interior nodes with
-/// four filled neighbours take central differences without the border
-/// logic, and the normal buffer hands out normals already in node format;
-/// normals went from 241 to ~40 instructions per node (callgrind,
+/// piece, identical to [`node_attributes`]. Why: each node's displacement
+/// differences were reduced to a normal-buffer slot once per scene
+/// ([`crate::mip::MipLevel::normal_slots`]), and the buffer hands out
+/// normals already in node format; normals went from 241 to ~40 and
+/// then to ~15 instructions per node (callgrind,
 /// `profile_sphere 500 1`).
 fn fill_phong_attributes(
     work: &mut ChunkWork,
@@ -525,35 +526,27 @@ fn fill_phong_attributes(
     let base = setup.base_colour.to_array().map(attr_to_bits);
     let normals = &mut work.normals;
     normals.select(m, ratios);
-    let mut k = first;
-    for j in range.j0..=range.j1 {
-        let row = j * cols;
-        let inner_row = j > 0 && j + 1 < rows;
-        for i in range.i0..=range.i1 {
-            let node = &mut work.nodes[k];
-            k += 1;
+    let width = range.i1 - range.i0 + 1;
+    let height = range.j1 - range.j0 + 1;
+    let piece = &mut work.nodes[first..first + width * height];
+    for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact_mut(width)) {
+        let row = j * cols + range.i0;
+        let slots = &level.normal_slots[row..row + width];
+        for (i, (node, &slot)) in (range.i0..).zip(out.iter_mut().zip(slots)) {
             if node[0] == crate::fixed::EMPTY_NODE {
                 continue;
             }
-            let c = row + i;
-            let (gi, gj) = if inner_row
-                && i > 0
-                && i + 1 < cols
-                && d[c - 1] != spatch_format::EMPTY
-                && d[c + 1] != spatch_format::EMPTY
-                && d[c - cols] != spatch_format::EMPTY
-                && d[c + cols] != spatch_format::EMPTY
-            {
-                (
-                    d[c + 1] as i32 - d[c - 1] as i32,
-                    d[c + cols] as i32 - d[c - cols] as i32,
-                )
+            let n = if slot != OUTSIDE_TABLE {
+                normals.normal_bits_at(m, slot)
             } else {
-                node_differences(d, cols, rows, i, j, spatch_format::EMPTY)
+                let (gi, gj) = node_differences(d, cols, rows, i, j, spatch_format::EMPTY);
+                normals.normal_bits(m, gi, gj)
             };
-            let n = normals.normal_bits(m, gi, gj);
             let albedo = match &level.colours {
-                Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_bits(v as f32)),
+                Some(col) => {
+                    let c = col[j * cols + i];
+                    [c[0], c[1], c[2]].map(|v| attr_to_bits(v as f32))
+                }
                 None => base,
             };
             node[3..6].copy_from_slice(&n);
