@@ -297,7 +297,7 @@ pub(crate) fn measure_cells(
             let next = row.get(i + 1).map_or(0, |f| f & CELL_DRAW);
             let over = above.get(i).map_or(0, |f| f & CELL_DRAW);
             let (right, top) = (drawn & !next, drawn & !over);
-            row[i] |= right * CELL_RIGHT | top * CELL_TOP;
+            row[i] |= (right * CELL_RIGHT) | (top * CELL_TOP);
             m.right_edges += right as u64;
             m.top_edges += top as u64;
             m.both_edges += (right & top) as u64;
