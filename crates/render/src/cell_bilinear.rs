@@ -188,9 +188,12 @@ fn draw_cell<const CLIP: bool>(
     let (sx, sy, sz) = (s(0), s(1), s(2));
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
     let width = t.width as usize;
-    let mut start = [sx[0], sy[0], sz[0]];
-    let mut step = [sx[2], sy[2], sz[2]];
     let xy_shift = 16 + EXT;
+    // Unclipped, y is kept relative to the band's first row (an exact
+    // shift of whole pixels), so a sample's row needs no subtraction.
+    let y_origin = if CLIP { 0 } else { y_lo << xy_shift };
+    let mut start = [sx[0], sy[0] - y_origin, sz[0]];
+    let mut step = [sx[2], sy[2], sz[2]];
     for row_word in sub0..sub0 + b_end {
         let mut v = start;
         // The sub-word of sample (a, b) is `row_word + a << 8`: kept as a
@@ -212,7 +215,7 @@ fn draw_cell<const CLIP: bool>(
             }
         } else {
             for _ in 0..a_end {
-                let row = ((v[1] >> xy_shift) - y_lo) as usize;
+                let row = (v[1] >> xy_shift) as usize;
                 let idx = row * width + (v[0] >> xy_shift) as usize;
                 debug_assert!((v[0] >> xy_shift) < width as i64 && row < t.rows as usize);
                 let z = (v[2] >> EXT) as i32;
