@@ -486,7 +486,7 @@ fn fill_attributes(
     setup: &FrameSetup<'_>,
 ) {
     if setup.options.shading == Shading::Phong {
-        fill_phong_attributes(work, p, m, range, first, setup);
+        fill_phong_attributes(work, p, m, range, first);
         return;
     }
     let level = &p.levels[m];
@@ -517,13 +517,11 @@ fn fill_phong_attributes(
     m: usize,
     range: NodeRange,
     first: usize,
-    setup: &FrameSetup<'_>,
 ) {
     let level = &p.levels[m];
     let ratios = p.ratios_at(m);
     let (cols, rows) = (level.cols, level.rows);
     let d = &level.displacements;
-    let base = setup.base_colour.to_array().map(attr_to_bits);
     let normals = &mut work.normals;
     normals.select(m, ratios);
     let width = range.i1 - range.i0 + 1;
@@ -542,15 +540,13 @@ fn fill_phong_attributes(
                 let (gi, gj) = node_differences(d, cols, rows, i, j, spatch_format::EMPTY);
                 normals.normal_bits(m, gi, gj)
             };
-            let albedo = match &level.colours {
-                Some(col) => {
-                    let c = col[j * cols + i];
-                    [c[0], c[1], c[2]].map(|v| attr_to_bits(v as f32))
-                }
-                None => base,
-            };
             node[3..6].copy_from_slice(&n);
-            node[6..9].copy_from_slice(&albedo);
+            // Without colours the resolve pass takes the base colour as is
+            // ([`Item::uniform_albedo`]) and never reads these words.
+            if let Some(col) = &level.colours {
+                let c = col[j * cols + i];
+                node[6..9].copy_from_slice(&[c[0], c[1], c[2]].map(|v| attr_to_bits(v as f32)));
+            }
         }
     }
 }
