@@ -400,6 +400,13 @@ pub(crate) fn choose_subdivision(edges: [f32; 4], margin: f32) -> Option<(u32, u
     let [ux, uy, vx, vy] = edges.map(|e| e * margin);
     let mut best: Option<(u32, u32)> = None;
     for nv in 1..=MAX_SUBDIVISION {
+        // Every later cut has at least `nv` sub-cells: none can beat the
+        // best once `nv` reaches its count. Why: cells wider than the limit
+        // never reach `nu = 1` and walked all 64 rows (≈ 2.5k instructions
+        // per piece; callgrind, `profile_sphere 500 1`).
+        if best.is_some_and(|(bu, bv)| nv >= bu * bv) {
+            break;
+        }
         let (rx, ry) = (
             SUBPIXEL_LIMIT - vx / nv as f32,
             SUBPIXEL_LIMIT - vy / nv as f32,
