@@ -30,7 +30,7 @@
 //! E. Catmull's subdivision rendering (1974) for the recursive idea.
 
 use crate::fixed::EMPTY_NODE;
-use crate::framebuffer::{splat_sample, splat_sample_inside, BandTarget};
+use crate::framebuffer::{splat_sample, BandTarget};
 use crate::traverse::{Node, CELL_DRAW, CELL_RIGHT, CELL_TOP};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
@@ -96,6 +96,7 @@ pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     nodes: &[Node],
     flags: &[u8],
+    spans: &[[i32; 2]],
     cols: usize,
     rows: usize,
     nu: u32,
@@ -111,29 +112,28 @@ pub(crate) fn draw_cells_bilinear(
     // Why flags: drawability, back faces and the closing column/row are
     // decided once per frame at plan time instead of per band (callgrind,
     // `profile_sphere 500 1`).
-    for (j, row_flags) in flags.chunks_exact(cols - 1).enumerate().take(rows - 1) {
-        let below = &nodes[j * cols..(j + 1) * cols];
-        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
-        // Skip a row of cells wholly outside the band (its y range covers
-        // its nodes', empty ones at y = 0 only widening it). Why: an item
-        // is walked by every band it touches (callgrind, `profile_sphere
-        // 500 1`).
-        let (mut lo, mut hi) = (i32::MAX, i32::MIN);
-        for n in below.iter().chain(above) {
-            lo = lo.min(n[1]);
-            hi = hi.max(n[1]);
-        }
-        if (hi >> 16) < y_lo || (lo >> 16) >= y_hi {
+    let rows_of_cells = flags.chunks_exact(cols - 1).zip(spans).take(rows - 1);
+    for (j, (row_flags, &[lo, hi])) in rows_of_cells.enumerate() {
+        // Skip a row of cells wholly outside the band (its span covers its
+        // used nodes). Why: an item is walked by every band it touches
+        // (callgrind, `profile_sphere 500 1`).
+        if hi < y_lo || lo >= y_hi {
             continue;
         }
+        let below = &nodes[j * cols..(j + 1) * cols];
+        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
         let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
         for (i, ((&f, b), a)) in cells.enumerate() {
             if f & CELL_DRAW == 0 {
                 continue;
             }
             let c = [&b[0], &b[1], &a[0], &a[1]];
-            let ys = c.map(|n| n[1] >> 16);
-            if ys.iter().all(|&y| y < y_lo) || ys.iter().all(|&y| y >= y_hi) {
+            // Why min/max rather than per-corner tests: one pass of
+            // branch-free compares decides both the band test and the
+            // unclipped path (callgrind, `profile_sphere 500 1`).
+            let y_min = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) >> 16;
+            let y_max = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) >> 16;
+            if y_max < y_lo || y_min >= y_hi {
                 continue;
             }
             let right = (f & CELL_RIGHT != 0) as u32;
@@ -144,9 +144,9 @@ pub(crate) fn draw_cells_bilinear(
             // combinations of the corners, up to 2^-12 px), so it skips the
             // per-row and per-sample clipping. Why: most cells are inside;
             // see the "why" in `draw_cell`.
-            let xs = c.map(|n| n[0] >> 16);
-            let inside = ys.iter().all(|&y| y > y_lo && y < y_hi - 1)
-                && xs.iter().all(|&x| x > 0 && x < t.width - 1);
+            let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
+            let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
+            let inside = y_min > y_lo && y_max < y_hi - 1 && x_min > 0 && x_max < t.width - 1;
             if inside {
                 draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
             } else {
@@ -187,27 +187,47 @@ fn draw_cell<const CLIP: bool>(
     let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
     let (sx, sy, sz) = (s(0), s(1), s(2));
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
-    let mut start = [sx[0], sy[0], sz[0]];
-    let mut step = [sx[2], sy[2], sz[2]];
+    let width = t.width as usize;
     let xy_shift = 16 + EXT;
-    for b in 0..b_end {
-        // Skip rows wholly outside the band.
-        let y_first = start[1] >> xy_shift;
-        let y_last = (start[1] + step[1] * (a_end as i64 - 1)) >> xy_shift;
-        if !CLIP || !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
-            let mut v = start;
-            let row_word = sub0 | b;
-            for a in 0..a_end {
-                let (px, py, z) = (
-                    (v[0] >> xy_shift) as i32,
-                    (v[1] >> xy_shift) as i32,
-                    (v[2] >> EXT) as i32,
-                );
-                if CLIP {
-                    splat_sample(t, px, py, z, row_word | a << 8, item);
-                } else {
-                    splat_sample_inside(t, px, py, z, row_word | a << 8, item);
+    // Unclipped, y is kept relative to the band's first row (an exact
+    // shift of whole pixels), so a sample's row needs no subtraction.
+    let y_origin = if CLIP { 0 } else { y_lo << xy_shift };
+    let mut start = [sx[0], sy[0] - y_origin, sz[0]];
+    let mut step = [sx[2], sy[2], sz[2]];
+    for row_word in sub0..sub0 + b_end {
+        let mut v = start;
+        // The sub-word of sample (a, b) is `row_word + a << 8`: kept as a
+        // running sum so the loop carries no index.
+        let mut word = row_word;
+        if CLIP {
+            // Skip rows wholly outside the band.
+            let y_first = start[1] >> xy_shift;
+            let y_last = (start[1] + step[1] * (a_end as i64 - 1)) >> xy_shift;
+            if !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
+                for _ in 0..a_end {
+                    let (px, py) = ((v[0] >> xy_shift) as i32, (v[1] >> xy_shift) as i32);
+                    splat_sample(t, px, py, (v[2] >> EXT) as i32, word, item);
+                    word += 1 << 8;
+                    v[0] += step[0];
+                    v[1] += step[1];
+                    v[2] += step[2];
                 }
+            }
+        } else {
+            for _ in 0..a_end {
+                let row = (v[1] >> xy_shift) as usize;
+                let idx = row * width + (v[0] >> xy_shift) as usize;
+                debug_assert!((v[0] >> xy_shift) < width as i64 && row < t.rows as usize);
+                let z = (v[2] >> EXT) as i32;
+                // The slice index still checks: a broken caller panics,
+                // never writes elsewhere.
+                let s = &mut t.px[idx];
+                if z < s.depth {
+                    s.depth = z;
+                    s.w0 = word;
+                    s.w2 = item;
+                }
+                word += 1 << 8;
                 v[0] += step[0];
                 v[1] += step[1];
                 v[2] += step[2];
@@ -246,20 +266,17 @@ mod tests {
             node(18.2, 22.4),
         ];
         let (w, h) = (32, 32);
-        let mut depth = vec![Z_FAR; w * h];
-        let (mut c0, mut c1, mut c2) = (vec![0; w * h], vec![0; w * h], vec![0; w * h]);
+        let mut px = vec![crate::framebuffer::Sample::EMPTY; w * h];
         let mut t = BandTarget {
             width: w as i32,
             y0: 0,
             rows: h as i32,
-            depth: &mut depth,
-            c0: &mut c0,
-            c1: &mut c1,
-            c2: &mut c2,
+            px: &mut px,
         };
         // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
         let flags = [crate::traverse::CELL_DRAW | CELL_RIGHT | CELL_TOP];
-        draw_cells_bilinear(&mut t, &nodes, &flags, 2, 2, 24, 24, PATCH_SAMPLE);
+        let spans = [[0, 31]];
+        draw_cells_bilinear(&mut t, &nodes, &flags, &spans, 2, 2, 24, 24, PATCH_SAMPLE);
         // Every pixel centre strictly inside the quad (two triangles) is drawn.
         let inside = |px: f32, py: f32| {
             let tri = |a: (f32, f32), b: (f32, f32), c: (f32, f32)| {
@@ -277,7 +294,7 @@ mod tests {
             for x in 0..w {
                 if inside(x as f32 + 0.5, y as f32 + 0.5) {
                     checked += 1;
-                    assert!(depth[y * w + x] < Z_FAR, "hole at {x},{y}");
+                    assert!(px[y * w + x].depth < Z_FAR, "hole at {x},{y}");
                 }
             }
         }

@@ -15,6 +15,8 @@
 
 use spatch_format::{Patch, EMPTY};
 
+use crate::normal_buffer::{node_differences, table_slot};
+
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
 
@@ -29,6 +31,9 @@ pub(crate) struct MipLevel {
     pub(crate) colours: Option<Vec<[u8; 4]>>,
     /// Nodes that are a corner of at least one drawable cell.
     pub(crate) used: Vec<bool>,
+    /// Per node, the normal-buffer slot of its displacement differences
+    /// ([`crate::normal_buffer::table_slot`]; meaningless for empty nodes).
+    pub(crate) normal_slots: Vec<u16>,
     /// Smallest and largest used displacement (0, 0 when none).
     pub(crate) d_range: (u16, u16),
     pub(crate) drawable_cells: u32,
@@ -65,6 +70,13 @@ impl MipLevel {
             }
         }
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
+        let normal_slots = (0..rows)
+            .flat_map(|j| (0..cols).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (gi, gj) = node_differences(&displacements, cols, rows, i, j, EMPTY);
+                table_slot(gi, gj)
+            })
+            .collect();
         Self {
             cols,
             rows,
@@ -72,6 +84,7 @@ impl MipLevel {
             displacements,
             colours,
             used,
+            normal_slots,
             d_range,
             drawable_cells,
         }

@@ -35,7 +35,7 @@ use crate::cell_bilinear::MAX_SUBDIVISION;
 use crate::cull::{cone_faces_away, BoxClass, Frustum};
 use crate::fixed::attr_to_bits;
 use crate::mip::MipLevel;
-use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer};
+use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer, OUTSIDE_TABLE};
 use crate::options::{CellScheme, Culling, Projection, RenderMode, RenderOptions, Shading};
 use crate::prepare::PreparedPatch;
 use crate::shade::{pack_colour, Material, ShadeFrame, WorldLight};
@@ -70,6 +70,11 @@ pub(crate) struct Item {
     pub(crate) frame: u32,
     /// Index of the piece's first cell flag in its chunk's `cell_flags`.
     pub(crate) flags: u32,
+    /// Index of the piece's first row span in its chunk's `row_spans`.
+    pub(crate) spans: u32,
+    /// Every node has the same albedo (a patch without colours): the
+    /// resolve pass takes it as is instead of interpolating it.
+    pub(crate) uniform_albedo: bool,
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
@@ -96,6 +101,9 @@ pub(crate) struct ChunkWork {
     pub(crate) triangles: Vec<ScreenTriangle>,
     /// One flag byte per cell of each item ([`crate::traverse::CELL_DRAW`], …).
     pub(crate) cell_flags: Vec<u8>,
+    /// Pixel rows spanned by each row of cells of each item (see
+    /// [`crate::traverse::measure_cells`]).
+    pub(crate) row_spans: Vec<[i32; 2]>,
     pub(crate) counters: Counters,
     normals: NormalBuffer,
     stack: Vec<NodeRange>,
@@ -111,6 +119,7 @@ impl ChunkWork {
         self.items.clear();
         self.triangles.clear();
         self.cell_flags.clear();
+        self.row_spans.clear();
         self.counters = Counters::default();
         self.normals.clear();
         self.normals.counts = Default::default();
@@ -321,12 +330,14 @@ fn plan_piece(
         0
     };
     let flags = work.cell_flags.len();
+    let spans = work.row_spans.len();
     let measure = measure_cells(
         &work.nodes[first..],
         cols,
         rows,
         back_sign,
         &mut work.cell_flags,
+        &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
     let edges = measure.edges.map(|e| e as f32 / crate::fixed::XY_ONE);
@@ -341,11 +352,13 @@ fn plan_piece(
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
         return;
     }
     let Some((nu, nv)) = split else {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
         work.counters.oversized_pieces += 1;
         let start = Instant::now();
         emit_cell_triangles(work, p, m, range, map, t0, index, frame, setup);
@@ -372,6 +385,8 @@ fn plan_piece(
         nv: nv as u16,
         frame: index,
         flags: flags as u32,
+        spans: spans as u32,
+        uniform_albedo: p.levels[m].colours.is_none(),
         y0: y0 - pad,
         y1: y1 + pad,
     });
@@ -385,6 +400,13 @@ pub(crate) fn choose_subdivision(edges: [f32; 4], margin: f32) -> Option<(u32, u
     let [ux, uy, vx, vy] = edges.map(|e| e * margin);
     let mut best: Option<(u32, u32)> = None;
     for nv in 1..=MAX_SUBDIVISION {
+        // Every later cut has at least `nv` sub-cells: none can beat the
+        // best once `nv` reaches its count. Why: cells wider than the limit
+        // never reach `nu = 1` and walked all 64 rows (≈ 2.5k instructions
+        // per piece; callgrind, `profile_sphere 500 1`).
+        if best.is_some_and(|(bu, bv)| nv >= bu * bv) {
+            break;
+        }
         let (rx, ry) = (
             SUBPIXEL_LIMIT - vx / nv as f32,
             SUBPIXEL_LIMIT - vy / nv as f32,
@@ -471,7 +493,7 @@ fn fill_attributes(
     setup: &FrameSetup<'_>,
 ) {
     if setup.options.shading == Shading::Phong {
-        fill_phong_attributes(work, p, m, range, first, setup);
+        fill_phong_attributes(work, p, m, range, first);
         return;
     }
     let level = &p.levels[m];
@@ -490,59 +512,48 @@ fn fill_attributes(
 }
 
 /// The Phong attributes (fixed-point normal, albedo) of the nodes of a
-/// piece, identical to [`node_attributes`]. Why: interior nodes with
-/// four filled neighbours take central differences without the border
-/// logic, and the normal buffer hands out normals already in node format;
-/// normals went from 241 to ~40 instructions per node (callgrind,
-/// `profile_sphere 500 1`).
+/// piece, identical to [`node_attributes`]. Why: each node's displacement
+/// differences were reduced to a normal-buffer slot once per scene
+/// ([`crate::mip::MipLevel::normal_slots`]), and the buffer hands out
+/// normals already in node format: 241 → ~40 instructions per node
+/// before the slots, and the slots took another ~11 M instructions off a
+/// 500² sphere frame (~75 per node; callgrind, `profile_sphere 500 1`).
 fn fill_phong_attributes(
     work: &mut ChunkWork,
     p: &PreparedPatch,
     m: usize,
     range: NodeRange,
     first: usize,
-    setup: &FrameSetup<'_>,
 ) {
     let level = &p.levels[m];
     let ratios = p.ratios_at(m);
     let (cols, rows) = (level.cols, level.rows);
     let d = &level.displacements;
-    let base = setup.base_colour.to_array().map(attr_to_bits);
     let normals = &mut work.normals;
     normals.select(m, ratios);
-    let mut k = first;
-    for j in range.j0..=range.j1 {
-        let row = j * cols;
-        let inner_row = j > 0 && j + 1 < rows;
-        for i in range.i0..=range.i1 {
-            let node = &mut work.nodes[k];
-            k += 1;
+    let width = range.i1 - range.i0 + 1;
+    let height = range.j1 - range.j0 + 1;
+    let piece = &mut work.nodes[first..first + width * height];
+    for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact_mut(width)) {
+        let row = j * cols + range.i0;
+        let slots = &level.normal_slots[row..row + width];
+        for (i, (node, &slot)) in (range.i0..).zip(out.iter_mut().zip(slots)) {
             if node[0] == crate::fixed::EMPTY_NODE {
                 continue;
             }
-            let c = row + i;
-            let (gi, gj) = if inner_row
-                && i > 0
-                && i + 1 < cols
-                && d[c - 1] != spatch_format::EMPTY
-                && d[c + 1] != spatch_format::EMPTY
-                && d[c - cols] != spatch_format::EMPTY
-                && d[c + cols] != spatch_format::EMPTY
-            {
-                (
-                    d[c + 1] as i32 - d[c - 1] as i32,
-                    d[c + cols] as i32 - d[c - cols] as i32,
-                )
+            let n = if slot != OUTSIDE_TABLE {
+                normals.normal_bits_at(m, slot)
             } else {
-                node_differences(d, cols, rows, i, j, spatch_format::EMPTY)
-            };
-            let n = normals.normal_bits(m, gi, gj);
-            let albedo = match &level.colours {
-                Some(col) => [col[c][0], col[c][1], col[c][2]].map(|v| attr_to_bits(v as f32)),
-                None => base,
+                let (gi, gj) = node_differences(d, cols, rows, i, j, spatch_format::EMPTY);
+                normals.normal_bits(m, gi, gj)
             };
             node[3..6].copy_from_slice(&n);
-            node[6..9].copy_from_slice(&albedo);
+            // Without colours the resolve pass takes the base colour as is
+            // ([`Item::uniform_albedo`]) and never reads these words.
+            if let Some(col) = &level.colours {
+                let c = col[j * cols + i];
+                node[6..9].copy_from_slice(&[c[0], c[1], c[2]].map(|v| attr_to_bits(v as f32)));
+            }
         }
     }
 }

@@ -203,25 +203,42 @@ impl Renderer {
                 chunks: &self.chunks,
                 frames: &self.frames,
                 material: setup.material,
+                base_albedo: Vec3::from_array(
+                    setup
+                        .base_colour
+                        .to_array()
+                        .map(|c| crate::fixed::attr_from_bits(crate::fixed::attr_to_bits(c))),
+                ),
                 background: options.background,
                 near: view.near as f32,
                 far: view.far as f32,
             },
         };
         let (width, height) = (view.width as i32, view.height as i32);
+        let pixels = (view.width * view.height) as usize;
+        // Zero-filled (cheap to allocate); every pixel is written by its band.
+        let mut rgba = vec![[0u8; 4]; pixels];
+        let mut eye_depth = vec![0f32; pixels];
+        let band_pixels = (tile_rows * view.width) as usize;
         let bands = &mut self.bands;
         self.pool.install(|| {
-            bands.par_iter_mut().enumerate().for_each(|(b, band)| {
-                let y0 = b as i32 * tile_rows as i32;
-                band.reset(y0, (height - y0).min(tile_rows as i32), width);
-                render_band(band, b, &job);
-            });
+            bands
+                .par_iter_mut()
+                .zip(rgba.par_chunks_mut(band_pixels))
+                .zip(eye_depth.par_chunks_mut(band_pixels))
+                .enumerate()
+                .for_each(|(b, ((band, rgba), eye_depth))| {
+                    let y0 = b as i32 * tile_rows as i32;
+                    band.reset(y0, (height - y0).min(tile_rows as i32), width);
+                    render_band(band, b, &job, rgba, eye_depth);
+                });
         });
         let raster_wall = raster_start.elapsed();
 
         let gather_start = Instant::now();
-        let image = RenderedImage::from_bands(
-            &self.bands,
+        let image = RenderedImage::from_internal(
+            rgba,
+            eye_depth,
             camera.width(),
             camera.height(),
             options.ssaa,

@@ -156,7 +156,9 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
     } else {
         let f = item.flags as usize;
         let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
-        draw_cells_bilinear(t, nodes, flags, cols, rows, nu, nv, id);
+        let s = item.spans as usize;
+        let spans = &chunk.row_spans[s..s + rows - 1];
+        draw_cells_bilinear(t, nodes, flags, spans, cols, rows, nu, nv, id);
     }
 }
 
@@ -172,8 +174,15 @@ fn draw_triangles<const N: usize, P: Payload<N>>(
     }
 }
 
-/// Draws and resolves band number `index`.
-pub(crate) fn render_band(band: &mut Band, index: usize, job: &BandJob<'_>) {
+/// Draws band number `index` and resolves it into its rows of the image
+/// (`rgba`, `eye_depth`).
+pub(crate) fn render_band(
+    band: &mut Band,
+    index: usize,
+    job: &BandJob<'_>,
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
     let start = Instant::now();
     {
         let mut t = band.target();
@@ -196,7 +205,7 @@ pub(crate) fn render_band(band: &mut Band, index: usize, job: &BandJob<'_>) {
         }
     }
     let tris_done = Instant::now();
-    band.resolve(&job.resolve);
+    band.resolve(&job.resolve, rgba, eye_depth);
     band.times.cells = (cells_done - start).as_nanos() as u64;
     band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
     band.times.resolve = tris_done.elapsed().as_nanos() as u64;

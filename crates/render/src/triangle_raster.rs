@@ -269,20 +269,16 @@ mod tests {
         }
         let mut hits = vec![0u32; w * h];
         for tri in &tris {
-            let mut depth = vec![Z_FAR; w * h];
-            let (mut c0, mut c1, mut c2) = (vec![0; w * h], vec![0; w * h], vec![0; w * h]);
+            let mut px = vec![crate::framebuffer::Sample::EMPTY; w * h];
             let mut t = BandTarget {
                 width: w as i32,
                 y0: 0,
                 rows: h as i32,
-                depth: &mut depth,
-                c0: &mut c0,
-                c1: &mut c1,
-                c2: &mut c2,
+                px: &mut px,
             };
             draw_triangle::<0, _>(&mut t, tri, (0.1, 0.0), &FlatPayload(1));
-            for (h, d) in hits.iter_mut().zip(&depth) {
-                *h += (*d < Z_FAR) as u32;
+            for (h, d) in hits.iter_mut().zip(px.iter().map(|s| s.depth)) {
+                *h += (d < Z_FAR) as u32;
             }
         }
         assert!(hits.iter().all(|&h| h <= 1), "a pixel was drawn twice");
