@@ -25,11 +25,25 @@ pub(crate) fn stages_from<'a>(list: impl IntoIterator<Item = (&'a str, f64)>) ->
     stages
 }
 
-/// A library report serialized, without the keys the shared part already holds: what is
-/// left is the command's `details`.
+/// Keys of the pipelines' own reports (`ConvertReport`, `CloudReport`) that the shared part
+/// of the JSON report already holds.
+const SHARED_KEYS: [&str; 10] = [
+    "patches",
+    "nodes",
+    "filled_nodes",
+    "bytes",
+    "seconds",
+    "stages",
+    "threads",
+    "diagonal",
+    "warnings",
+    "error",
+];
+
+/// A library report serialized, without the keys the shared part already holds
+/// ([`SHARED_KEYS`]): what is left is the command's `details`.
 pub(crate) fn details_from(
     library_report: &impl serde::Serialize,
-    shared: &[&str],
 ) -> anyhow::Result<Map<String, Value>> {
     let value = serde_json::to_value(library_report)
         .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
@@ -38,8 +52,8 @@ pub(crate) fn details_from(
             InternalFailure("the report is not a JSON object (this is a bug)".to_owned()).into(),
         );
     };
-    for key in shared {
-        map.remove(*key);
+    for key in SHARED_KEYS {
+        map.remove(key);
     }
     Ok(map)
 }

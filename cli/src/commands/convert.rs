@@ -332,19 +332,6 @@ pub(crate) struct Times {
     pub(crate) measured: Stages,
 }
 
-/// Keys of `ConvertReport` the shared report part already holds.
-const SHARED_KEYS: [&str; 9] = [
-    "patches",
-    "nodes",
-    "filled_nodes",
-    "bytes",
-    "seconds",
-    "stages",
-    "threads",
-    "diagonal",
-    "warnings",
-];
-
 /// The shared JSON report of a conversion (docs/report-schema.md): the pipeline's stages and
 /// `write`, the geometric error when measured (`measured` holds the measurements' times),
 /// and the rest of the pipeline's report under `details`.
@@ -386,7 +373,7 @@ pub(crate) fn report_json(
             .insert("surface_to_patch".to_owned(), e.surface_to_patch);
     }
     report.warnings = r.warnings.clone();
-    report.details = Value::Object(details_from(r, &SHARED_KEYS)?);
+    report.details = Value::Object(details_from(r)?);
     Ok(report)
 }
 

@@ -199,20 +199,6 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     print_stdout(&text)
 }
 
-/// Keys of `CloudReport` the shared report part already holds.
-const SHARED_KEYS: [&str; 10] = [
-    "patches",
-    "nodes",
-    "filled_nodes",
-    "bytes",
-    "seconds",
-    "stages",
-    "threads",
-    "diagonal",
-    "warnings",
-    "error",
-];
-
 /// The shared JSON report (docs/report-schema.md) of a cloud conversion: the cloud's own
 /// figures under `details`, the error's spacing and share of far points under
 /// `details.cloud_error`.
@@ -230,7 +216,7 @@ fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report
     report.threads = r.threads;
     report.diagonal = Some(r.diagonal);
     report.warnings = r.warnings.clone();
-    report.details = Value::Object(details_from(r, &SHARED_KEYS)?);
+    report.details = Value::Object(details_from(r)?);
     if let Some(e) = &r.error {
         report.measure_stages.push("error", e.seconds);
         report.measure_seconds = e.seconds;
