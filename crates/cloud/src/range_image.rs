@@ -172,17 +172,33 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
     } = geometry;
     let pixels = geometry.pixel_count();
     let mut front = vec![EMPTY_DEPTH; pixels];
+    // The projection with the pixel size folded in: `fx = p · su − sx0` (one multiply less
+    // per axis in the loop below).
+    let inv = 1.0 / pixel;
+    let (su, sw) = (basis.u * inv, basis.w * inv);
+    let (sx0, sy0) = (geometry.x0 * inv, geometry.y0 * inv);
+    // Pixel centres lie at integers; the image spans [−0.5, width − 0.5) × [−0.5, height − 0.5).
+    let (right, top) = (width as f32 - 0.5, height as f32 - 0.5);
     // Pass 1: project once, remember (pixel, height at the pixel centre) per point.
     let mut drawn: Vec<(u32, f32)> = Vec::with_capacity(input.positions.len());
     for (&p, &n) in input.positions.iter().zip(input.normals) {
-        let (fx, fy, h) = geometry.project(p);
-        let (ix, iy) = (fx.round(), fy.round());
+        let fx = p.dot(su) - sx0;
+        let fy = p.dot(sw) - sy0;
+        let h = p.dot(basis.direction);
         let nz = n.dot(basis.direction);
         let is_unknown = n == Vec3::ZERO;
         if !is_unknown && nz.abs() < MIN_POINT_COSINE {
             drawn.push((u32::MAX, 0.0));
             continue;
         }
+        if !(fx >= -0.5 && fy >= -0.5 && fx < right && fy < top) {
+            // Outside the image (a far outlier beyond the robust bounds).
+            drawn.push((u32::MAX, 0.0));
+            continue;
+        }
+        // Nearest pixel centre: the coordinates are ≥ −0.5 here, so truncating `f + 0.5`
+        // rounds (an inline conversion instead of a libm `roundf` call).
+        let (ix, iy) = ((fx + 0.5) as usize, (fy + 0.5) as usize);
         let (mut gx, mut gy) = if is_unknown {
             (0.0, 0.0)
         } else {
@@ -194,13 +210,8 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
             gx *= s;
             gy *= s;
         }
-        if !(ix >= 0.0 && iy >= 0.0 && ix < width as f32 && iy < height as f32) {
-            // Outside the image (a far outlier beyond the robust bounds).
-            drawn.push((u32::MAX, 0.0));
-            continue;
-        }
-        let hc = h + (gx * (ix - fx) + gy * (iy - fy)) * pixel;
-        let k = iy as usize * width + ix as usize;
+        let hc = h + (gx * (ix as f32 - fx) + gy * (iy as f32 - fy)) * pixel;
+        let k = iy * width + ix;
         if hc > front[k] {
             front[k] = hc;
         }
