@@ -179,11 +179,12 @@ pub(crate) fn extract_view(
         .with_min_len(POINTS_PER_TASK)
         .map(|&id| {
             let (fx, fy, h) = geometry.project(positions[id.index()]);
-            let (x, y) = (fx.floor(), fy.floor());
-            if !(x >= 0.0 && y >= 0.0 && x < cw as f32 && y < ch as f32) {
+            if !(fx >= 0.0 && fy >= 0.0 && fx < cw as f32 && fy < ch as f32) {
                 return NO_CELL;
             }
-            let (cx, cy) = (x as usize, y as usize);
+            // Truncation is the floor here (non-negative), without a libm call.
+            let (cx, cy) = (fx as usize, fy as usize);
+            let (x, y) = (cx as f32, cy as f32);
             let Some(cell) = valid_cell(image, cx, cy, settings.jump, max_tan) else {
                 return NO_CELL;
             };

@@ -44,7 +44,7 @@ use crate::extract::{
 };
 use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
-use crate::range_image::{flush_points, FlushInput, ImageGeometry};
+use crate::range_image::{flush_points, FlushInput, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
 use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
@@ -191,9 +191,10 @@ pub fn cloud_to_scene(
             .collect();
     }
     let jump = options.jump_factor * pixel;
+    let points = PointColumns::new(positions, &normals);
+    drop(normals);
     let flush = FlushInput {
-        positions,
-        normals: &normals,
+        points: &points,
         colours: cloud.colours.as_deref(),
         band: FRONT_BAND * spacing,
         jump,
@@ -211,7 +212,7 @@ pub fn cloud_to_scene(
         .collect();
     let gap_pixels_filled = built.iter().map(|b| b.1).sum();
     let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
-    drop(normals);
+    drop(points);
     clock.lap("range_images");
 
     let settings = ExtractSettings {
@@ -329,7 +330,7 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
     };
     let mut order: Vec<(u64, u32)> = cloud
         .positions
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, &p)| {
             let q = ((p - bounds.min) * scale).clamp(Vec3::ZERO, Vec3::splat(f32::from(u16::MAX)));
@@ -337,19 +338,20 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
             (code, i as u32)
         })
         .collect();
-    order.sort_unstable();
+    // The pairs are unique (the index breaks ties), so the parallel sort is deterministic.
+    order.par_sort_unstable();
     let pick = |i: &(u64, u32)| i.1 as usize;
     PointCloud {
         origin: cloud.origin,
-        positions: order.iter().map(|i| cloud.positions[pick(i)]).collect(),
+        positions: order.par_iter().map(|i| cloud.positions[pick(i)]).collect(),
         colours: cloud
             .colours
             .as_ref()
-            .map(|c| order.iter().map(|i| c[pick(i)]).collect()),
+            .map(|c| order.par_iter().map(|i| c[pick(i)]).collect()),
         normals: cloud
             .normals
             .as_ref()
-            .map(|v| order.iter().map(|i| v[pick(i)]).collect()),
+            .map(|v| order.par_iter().map(|i| v[pick(i)]).collect()),
     }
 }
 
