@@ -5,10 +5,10 @@ use std::time::Instant;
 
 use anyhow::Context;
 use spatch_cloud::{
-    cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, SmoothOptions, StageTime,
+    cloud_to_scene, load_cloud, measure_cloud_error, CloudError, CloudOptions, SmoothOptions,
+    StageTime,
 };
 use spatch_format::WriteOptions;
-use spatch_mesh::load_point_cloud;
 
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
@@ -103,7 +103,7 @@ impl FromCloudArgs {
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let options = args.options();
     let started = Instant::now();
-    let loaded = load_point_cloud(&args.input)?;
+    let loaded = load_cloud(&args.input)?;
     let load_seconds = started.elapsed().as_secs_f64();
     let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {
         CloudError::Bug(_) | CloudError::Internal { .. } => {

@@ -14,6 +14,8 @@
 //!   wall times);
 //! - [`measure_cloud_error`] → [`CloudErrorReport`]: `cloud_to_patch` (every point to the
 //!   patch surface) and `node_to_cloud` (every node to the nearest point);
+//! - [`load_cloud`]: [`spatch_mesh::load_point_cloud`] with a direct path for the common
+//!   binary PLY layout;
 //! - the stages on their own: [`PointTree`] and [`estimate_spacing`], [`estimate_normals`],
 //!   [`view_directions`];
 //! - typed ids [`PointId`], [`ViewId`]; the error type [`CloudError`].
@@ -47,6 +49,7 @@ mod error_metrics;
 mod extract;
 mod gap_fill;
 mod ids;
+mod load_cloud;
 mod normals;
 mod options;
 mod pipeline;
@@ -59,6 +62,7 @@ pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
 pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, DistanceStats};
 pub use ids::{PointId, ViewId};
+pub use load_cloud::load_cloud;
 pub use normals::{estimate_normals, plane_normal, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
 pub use pipeline::{
