@@ -62,7 +62,11 @@ pub(crate) fn fill_gaps(image: &mut RangeImage, max_gap: u32, jump: f32) -> usiz
                     (1..=max_gap)
                         .find_map(|s| at(i + sign * s * di, j + sign * s * dj).map(|f| (s, f)))
                 };
-                let (Some((sa, (ka, ha))), Some((sb, (kb, hb)))) = (find(-1), find(1)) else {
+                // One side first: most empty pixels are background with nothing on it.
+                let Some((sa, (ka, ha))) = find(-1) else {
+                    continue;
+                };
+                let Some((sb, (kb, hb))) = find(1) else {
                     continue;
                 };
                 let span = sa + sb;

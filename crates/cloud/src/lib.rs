@@ -53,6 +53,7 @@ mod load_cloud;
 mod normals;
 mod options;
 mod pipeline;
+mod radix_sort;
 mod range_image;
 mod report;
 mod smooth;

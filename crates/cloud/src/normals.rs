@@ -27,7 +27,7 @@
 //! Invariants: deterministic (voxels in key order, parallel work collected in order, the
 //! parallel sort of unique `(key, point)` pairs).
 //!
-//! Cost: O(n log n) for the sort; O(voxels) cursor steps, moment sums and eigen solves;
+//! Cost: O(n) for the radix sort (a few passes); O(voxels) cursor steps, moment sums and eigen solves;
 //! memory about 100 bytes per voxel.
 //!
 //! Based on: H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Surface
@@ -37,11 +37,11 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-/// Bits per axis of a voxel key (coordinates beyond are clamped to the edge voxels).
-const KEY_BITS: u32 = 21;
+use crate::radix_sort::sort_by_key;
 
-/// Largest voxel coordinate on an axis.
-const KEY_MASK: u64 = (1 << KEY_BITS) - 1;
+/// Largest voxel coordinate on an axis (21 bits; coordinates beyond are clamped to the edge
+/// voxels).
+const KEY_MASK: u64 = (1 << 21) - 1;
 
 /// Columns handed to one parallel task when block moments are gathered.
 const COLUMNS_PER_TASK: usize = 4096;
@@ -97,11 +97,15 @@ impl Moments {
 /// The voxels of a cloud in key order (`x`, then `y`, then `z`), grouped into columns of
 /// equal `(x, y)`.
 struct VoxelColumns {
-    /// Voxel keys `x << 2B | y << B | z` (B = [`KEY_BITS`]), increasing.
+    /// Bits of the `y` and `z` fields of a key.
+    y_bits: u32,
+    z_bits: u32,
+    /// Voxel keys `x << (Y + Z) | y << Z | z` (`Y`, `Z`: the widths of the `y` and `z`
+    /// fields, just wide enough for the cloud), increasing.
     keys: Vec<u64>,
     /// Moments of each voxel's points (relative to the voxel grid's corner).
     moments: Vec<Moments>,
-    /// Column keys `x << B | y`, increasing.
+    /// Column keys `x << Y | y` (the voxel key without `z`), increasing.
     columns: Vec<u64>,
     /// Index of each column's first voxel, plus the voxel count at the end.
     starts: Vec<u32>,
@@ -123,27 +127,29 @@ impl VoxelColumns {
         let first = self.starts[range.start] as usize;
         let last = self.starts[range.end] as usize;
         let mut normals = Vec::with_capacity(last - first);
+        let (y_mask, z_mask) = ((1u64 << self.y_bits) - 1, (1u64 << self.z_bits) - 1);
+        let split = |column: u64| (column >> self.y_bits, column & y_mask);
         // Start each cursor at the first neighbour column of the task's first column.
         let mut cursors = [0usize; 3];
-        if let Some(&key) = self.columns.get(range.start) {
-            let (x, y) = (key >> KEY_BITS, key & KEY_MASK);
+        if let Some(&column) = self.columns.get(range.start) {
+            let (x, y) = split(column);
             for (cursor, dx) in cursors.iter_mut().zip([-1i64, 0, 1]) {
-                let low = ((x as i64 + dx).max(0) as u64) << KEY_BITS | y.saturating_sub(1);
+                let low = ((x as i64 + dx).max(0) as u64) << self.y_bits | y.saturating_sub(1);
                 *cursor = self.columns.partition_point(|&k| k < low);
             }
         }
         let mut neighbours: Vec<usize> = Vec::with_capacity(9);
         for c in range {
-            let key = self.columns[c];
-            let (x, y) = (key >> KEY_BITS, key & KEY_MASK);
+            let (x, y) = split(self.columns[c]);
             neighbours.clear();
             for (cursor, dx) in cursors.iter_mut().zip([-1i64, 0, 1]) {
                 let nx = x as i64 + dx;
-                if nx < 0 || nx > KEY_MASK as i64 {
+                if nx < 0 {
                     continue;
                 }
-                let low = (nx as u64) << KEY_BITS | y.saturating_sub(1);
-                let high = (nx as u64) << KEY_BITS | (y + 1).min(KEY_MASK);
+                // `y + 1` is clamped so that it never carries into the `x` field.
+                let low = (nx as u64) << self.y_bits | y.saturating_sub(1);
+                let high = (nx as u64) << self.y_bits | (y + 1).min(y_mask);
                 while *cursor < self.columns.len() && self.columns[*cursor] < low {
                     *cursor += 1;
                 }
@@ -154,17 +160,17 @@ impl VoxelColumns {
                 }
             }
             for v in self.column(c) {
-                let z = self.keys[v] & KEY_MASK;
+                let z = self.keys[v] & z_mask;
                 let mut block = Moments::default();
                 for &n in &neighbours {
                     let voxels = self.column(n);
                     let keys = &self.keys[voxels.clone()];
-                    let from = keys.partition_point(|&k| (k & KEY_MASK) + 1 < z);
+                    let from = keys.partition_point(|&k| (k & z_mask) + 1 < z);
                     for (k, m) in keys[from..]
                         .iter()
                         .zip(&self.moments[voxels.start + from..])
                     {
-                        if (k & KEY_MASK) > z + 1 {
+                        if (k & z_mask) > z + 1 {
                             break;
                         }
                         block.add(m);
@@ -183,47 +189,74 @@ pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
     if positions.is_empty() || !(voxel.is_finite() && voxel > 0.0) {
         return vec![Vec3::ZERO; positions.len()];
     }
-    let lo = positions
-        .iter()
-        .fold(Vec3::splat(f32::INFINITY), |a, p| a.min(*p));
+    let (lo, hi) = positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
     let max_index = KEY_MASK as f64;
     let inv = 1.0 / f64::from(voxel);
-    let key_of = |p: Vec3| -> u64 {
+    // `p ≥ lo`, so the scaled offsets are ≥ 0 and truncation is the floor (inline, where
+    // `floor` is a libm call).
+    let coordinates = |p: Vec3| {
         let d = (p - lo).as_dvec3() * inv;
-        let [x, y, z] = [d.x, d.y, d.z].map(|v| v.floor().clamp(0.0, max_index) as u64);
-        (x << (2 * KEY_BITS)) | (y << KEY_BITS) | z
+        [d.x, d.y, d.z].map(|v| v.min(max_index) as u64)
     };
-    // (key, point) pairs are unique, so the parallel sort is deterministic.
-    let mut order: Vec<(u64, u32)> = positions
+    // Key fields just wide enough for the cloud, so the radix sort has few digits to sort.
+    let bits = coordinates(hi).map(|c| (u64::BITS - c.leading_zeros()).max(1));
+    let (y_bits, z_bits) = (bits[1], bits[2]);
+    let key_of = |p: Vec3| {
+        let [x, y, z] = coordinates(p);
+        (x << (y_bits + z_bits)) | (y << z_bits) | z
+    };
+    let order: Vec<(u64, u32)> = positions
         .par_iter()
         .enumerate()
         .map(|(i, &p)| (key_of(p), i as u32))
         .collect();
-    order.par_sort_unstable();
-    // Voxels as runs of equal keys; moments relative to the grid corner keep them small.
-    let origin = lo.as_dvec3();
+    let order = sort_by_key(order);
+    // Voxels as runs of equal keys, and columns as runs of equal `(x, y)`.
+    let mut runs: Vec<usize> = Vec::new();
     let mut grid = VoxelColumns {
+        y_bits,
+        z_bits,
         keys: Vec::new(),
         moments: Vec::new(),
         columns: Vec::new(),
         starts: Vec::new(),
     };
-    let mut point_voxel = vec![0u32; positions.len()];
-    for &(k, i) in &order {
+    for (j, &(k, _)) in order.iter().enumerate() {
         if grid.keys.last() != Some(&k) {
-            if grid.columns.last() != Some(&(k >> KEY_BITS)) {
-                grid.columns.push(k >> KEY_BITS);
+            if grid.columns.last() != Some(&(k >> z_bits)) {
+                grid.columns.push(k >> z_bits);
                 grid.starts.push(grid.keys.len() as u32);
             }
             grid.keys.push(k);
-            grid.moments.push(Moments::default());
+            runs.push(j);
         }
-        let last = grid.keys.len() - 1;
-        grid.moments[last].add_point(positions[i as usize].as_dvec3() - origin);
-        point_voxel[i as usize] = last as u32;
     }
     grid.starts.push(grid.keys.len() as u32);
-    drop(order);
+    runs.push(order.len());
+    // Each voxel's moments (in parallel, points in sorted order within a voxel), relative to
+    // the grid corner to keep them small.
+    let origin = lo.as_dvec3();
+    grid.moments = runs
+        .par_windows(2)
+        .with_min_len(COLUMNS_PER_TASK)
+        .map(|run| {
+            let mut m = Moments::default();
+            for &(_, i) in &order[run[0]..run[1]] {
+                m.add_point(positions[i as usize].as_dvec3() - origin);
+            }
+            m
+        })
+        .collect();
+    let mut point_voxel = vec![0u32; positions.len()];
+    for (v, run) in runs.windows(2).enumerate() {
+        for &(_, i) in &order[run[0]..run[1]] {
+            point_voxel[i as usize] = v as u32;
+        }
+    }
+    drop((order, runs));
     let tasks: Vec<std::ops::Range<usize>> = (0..grid.columns.len())
         .step_by(COLUMNS_PER_TASK)
         .map(|c| c..(c + COLUMNS_PER_TASK).min(grid.columns.len()))

@@ -44,6 +44,7 @@ use crate::extract::{
 };
 use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
+use crate::radix_sort::sort_by_key;
 use crate::range_image::{flush_points, FlushInput, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
@@ -328,7 +329,7 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
         x = (x | (x << 4)) & 0x0C30_C30C_30C3;
         (x | (x << 2)) & 0x2492_4924_9249
     };
-    let mut order: Vec<(u64, u32)> = cloud
+    let order: Vec<(u64, u32)> = cloud
         .positions
         .par_iter()
         .enumerate()
@@ -338,8 +339,7 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
             (code, i as u32)
         })
         .collect();
-    // The pairs are unique (the index breaks ties), so the parallel sort is deterministic.
-    order.par_sort_unstable();
+    let order = sort_by_key(order);
     let pick = |i: &(u64, u32)| i.1 as usize;
     PointCloud {
         origin: cloud.origin,
@@ -362,13 +362,18 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
 fn robust_bounds(positions: &[Vec3], full: &Aabb) -> Aabb {
     let n = positions.len();
     let (lo_rank, hi_rank) = (n / 1000, n - 1 - n / 1000);
-    let mut values: Vec<f32> = Vec::with_capacity(n);
+    // The three axes are independent selections: one task each.
+    let quantiles: Vec<(f32, f32)> = (0..3)
+        .into_par_iter()
+        .map(|axis| {
+            let mut values: Vec<f32> = positions.iter().map(|p| p[axis]).collect();
+            let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
+            let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
+            (lo, hi)
+        })
+        .collect();
     let mut bounds = *full;
-    for axis in 0..3 {
-        values.clear();
-        values.extend(positions.iter().map(|p| p[axis]));
-        let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
-        let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
+    for (axis, &(lo, hi)) in quantiles.iter().enumerate() {
         let margin = 0.25 * (hi - lo);
         bounds.min[axis] = (lo - margin).max(full.min[axis]);
         bounds.max[axis] = (hi + margin).min(full.max[axis]);
