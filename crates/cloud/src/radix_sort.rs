@@ -7,9 +7,9 @@
 //!
 //! Method: least-significant-digit radix sort with 11-bit digits over the key bits any key
 //! uses (an OR of all keys), one counting pass and one scatter pass per digit. A 48-bit
-//! Morton code takes 5 passes and a voxel key of a few hundred voxels per axis 3, against
-//! about 20 comparison rounds of a comparison sort on 1M pairs (measured: 19 ms against
-//! 66 ms for the voxel keys of 1M points).
+//! Morton code takes 5 passes and a voxel key of a few hundred voxels per axis 3. On the 1M
+//! bunny both sorts together took 77 ms of CPU against 96 ms for rayon's parallel comparison
+//! sort (perf samples, loaded machine): a modest saving, but sequential-safe and stable.
 //!
 //! Cost: O(passes · n) time; one extra buffer of n pairs and a 2048-entry histogram.
 //!
