@@ -174,7 +174,7 @@ pub(crate) fn extract_view(
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
     // Per uncovered point: the cell that would cover it, or NO_CELL. Points are independent,
     // so this runs in parallel; the ordered collect keeps the result thread-independent.
-    let candidate: Vec<usize> = uncovered
+    let candidate: Vec<u32> = uncovered
         .par_iter()
         .with_min_len(POINTS_PER_TASK)
         .map(|&id| {
@@ -194,13 +194,14 @@ pub(crate) fn extract_view(
             if vertical > settings.tolerance * (1.0 + gx * gx + gy * gy).sqrt() {
                 return NO_CELL;
             }
-            cy * cw + cx
+            (cy * cw + cx) as u32
         })
         .collect();
     let mut needed = vec![false; cw * ch];
     let mut needed_list = Vec::new();
     for &c in &candidate {
-        if c != NO_CELL && !needed[c] && !state.emitted[c] {
+        let c = c as usize;
+        if c != NO_CELL as usize && !needed[c] && !state.emitted[c] {
             needed[c] = true;
             needed_list.push(c);
         }
@@ -209,13 +210,12 @@ pub(crate) fn extract_view(
         drop_small_regions(&mut needed, &mut needed_list, cw, ch, pass.min_cells);
     }
     let before = uncovered.len();
-    *uncovered = uncovered
-        .par_iter()
-        .with_min_len(POINTS_PER_TASK)
-        .zip(&candidate)
-        .filter(|&(_, &c)| !(c != NO_CELL && (needed[c] || state.emitted[c])))
-        .map(|(&id, _)| id)
-        .collect();
+    // In place and sequential: a parallel filter and collect cost more than the test.
+    let mut next = candidate.iter();
+    uncovered.retain(|_| {
+        let c = next.next().map_or(NO_CELL, |&c| c) as usize;
+        !(c != NO_CELL as usize && (needed[c] || state.emitted[c]))
+    });
     counts.covered += before - uncovered.len();
     if needed_list.is_empty() {
         return Ok(Vec::new());
@@ -302,7 +302,7 @@ struct TilePatches {
 }
 
 /// Marks "no cell" in the per-point candidate list.
-const NO_CELL: usize = usize::MAX;
+const NO_CELL: u32 = u32::MAX;
 
 /// The limits of one pass over the views.
 #[derive(Clone, Copy, Debug)]

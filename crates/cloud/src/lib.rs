@@ -53,7 +53,6 @@ mod load_cloud;
 mod normals;
 mod options;
 mod pipeline;
-mod radix_sort;
 mod range_image;
 mod report;
 mod smooth;

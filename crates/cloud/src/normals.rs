@@ -24,10 +24,9 @@
 //! the eigenvector as the largest cross product of two rows of `A − λI`), in f64 on the
 //! centred and rescaled covariance.
 //!
-//! Invariants: deterministic (voxels in key order, parallel work collected in order, the
-//! parallel sort of unique `(key, point)` pairs).
+//! Invariants: deterministic (voxels in key order, parallel work collected in order).
 //!
-//! Cost: O(n) for the radix sort (a few passes); O(voxels) cursor steps, moment sums and eigen solves;
+//! Cost: O(n log n) for the sort; O(voxels) cursor steps, moment sums and eigen solves;
 //! memory about 100 bytes per voxel.
 //!
 //! Based on: H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Surface
@@ -36,8 +35,6 @@
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
-
-use crate::radix_sort::sort_by_key;
 
 /// Largest voxel coordinate on an axis (21 bits; coordinates beyond are clamped to the edge
 /// voxels).
@@ -201,19 +198,20 @@ pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
         let d = (p - lo).as_dvec3() * inv;
         [d.x, d.y, d.z].map(|v| v.min(max_index) as u64)
     };
-    // Key fields just wide enough for the cloud, so the radix sort has few digits to sort.
+    // Key fields just wide enough for the cloud.
     let bits = coordinates(hi).map(|c| (u64::BITS - c.leading_zeros()).max(1));
     let (y_bits, z_bits) = (bits[1], bits[2]);
     let key_of = |p: Vec3| {
         let [x, y, z] = coordinates(p);
         (x << (y_bits + z_bits)) | (y << z_bits) | z
     };
-    let order: Vec<(u64, u32)> = positions
+    let mut order: Vec<(u64, u32)> = positions
         .par_iter()
         .enumerate()
         .map(|(i, &p)| (key_of(p), i as u32))
         .collect();
-    let order = sort_by_key(order);
+    // Sequential: see `sort_spatially` in the pipeline.
+    order.sort_unstable();
     // Voxels as runs of equal keys, and columns as runs of equal `(x, y)`.
     let mut runs: Vec<usize> = Vec::new();
     let mut grid = VoxelColumns {

@@ -44,8 +44,7 @@ use crate::extract::{
 };
 use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
-use crate::radix_sort::sort_by_key;
-use crate::range_image::{flush_points, FlushInput, ImageGeometry, PointColumns};
+use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
 use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
@@ -202,8 +201,8 @@ pub fn cloud_to_scene(
     };
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
-        .map(|&geometry| {
-            let mut image = flush_points(&flush, geometry);
+        .map_init(FlushScratch::default, |scratch, &geometry| {
+            let mut image = flush_points(&flush, geometry, scratch);
             let filled = fill_gaps(&mut image, options.max_gap, jump);
             if let Some(smooth) = &options.smooth {
                 smooth_range_image(&mut image, smooth, spacing, jump);
@@ -329,7 +328,7 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
         x = (x | (x << 4)) & 0x0C30_C30C_30C3;
         (x | (x << 2)) & 0x2492_4924_9249
     };
-    let order: Vec<(u64, u32)> = cloud
+    let mut order: Vec<(u64, u32)> = cloud
         .positions
         .par_iter()
         .enumerate()
@@ -339,7 +338,9 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
             (code, i as u32)
         })
         .collect();
-    let order = sort_by_key(order);
+    // A sequential sort: on the shared 2-core machine rayon's parallel sort and a radix sort
+    // were both slower than this for 1M pairs (85 and 100 ms against 70 ms under load).
+    order.sort_unstable();
     let pick = |i: &(u64, u32)| i.1 as usize;
     PointCloud {
         origin: cloud.origin,

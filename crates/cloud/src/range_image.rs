@@ -193,11 +193,23 @@ pub(crate) struct FlushInput<'a> {
     pub(crate) jump: f32,
 }
 
+/// Per-point buffers of [`flush_points`], kept from one view to the next so that each view
+/// does not fault in fresh pages for them (8 bytes per point).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlushScratch {
+    pixel_of: Vec<u32>,
+    height_of: Vec<f32>,
+}
+
 /// Marks a point that is not drawn in a view.
 const NOT_DRAWN: u32 = u32::MAX;
 
 /// Builds the range image of one view (see the module documentation).
-pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> RangeImage {
+pub(crate) fn flush_points(
+    input: &FlushInput<'_>,
+    geometry: ImageGeometry,
+    scratch: &mut FlushScratch,
+) -> RangeImage {
     let ImageGeometry {
         basis,
         width,
@@ -224,8 +236,9 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
     let (right, top) = (width as f32 - 0.5, height as f32 - 0.5);
     // Pass 1a: per point, its pixel (or NOT_DRAWN) and its height carried to the pixel
     // centre. Branch-free over the columns, so it vectorises; the z-buffer is left to 1b.
-    let mut pixel_of = vec![0u32; n];
-    let mut height_of = vec![0.0f32; n];
+    scratch.pixel_of.resize(n, 0);
+    scratch.height_of.resize(n, 0.0);
+    let (pixel_of, height_of) = (&mut scratch.pixel_of, &mut scratch.height_of);
     // Every slice cut to `n`, so the loop has no bounds checks (which would stop the SIMD).
     let (px, py, pz) = (&px[..n], &py[..n], &pz[..n]);
     let (nx, ny, nz) = (&nx[..n], &ny[..n], &nz[..n]);
@@ -265,7 +278,7 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
     }
     // Pass 1b: the front-most height per pixel.
     let mut front = vec![EMPTY_DEPTH; pixels];
-    for (&k, &hc) in pixel_of.iter().zip(&height_of) {
+    for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
         if k != NOT_DRAWN {
             let f = &mut front[k as usize];
             *f = f.max(hc);
@@ -274,7 +287,7 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
     // Pass 2: average the front layer.
     let mut sum = vec![(0.0f32, 0u32); pixels];
     let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
-    for (index, (&k, &hc)) in pixel_of.iter().zip(&height_of).enumerate() {
+    for (index, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
         if k == NOT_DRAWN {
             continue;
         }
@@ -290,7 +303,7 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
             }
         }
     }
-    drop((pixel_of, height_of, front));
+    drop(front);
     let depth: Vec<f32> = sum
         .iter()
         .map(|&(s, c)| if c == 0 { EMPTY_DEPTH } else { s / c as f32 })
@@ -391,7 +404,7 @@ mod tests {
             band: 0.02,
             jump: 0.1,
         };
-        let image = flush_points(&input, geometry);
+        let image = flush_points(&input, geometry, &mut FlushScratch::default());
         assert!(image.depth.iter().filter(|d| d.is_finite()).count() > 1000);
         for j in 0..geometry.height {
             for i in 0..geometry.width {
@@ -427,7 +440,7 @@ mod tests {
             band: 0.1,
             jump: 0.5,
         };
-        let image = flush_points(&input, geometry);
+        let image = flush_points(&input, geometry, &mut FlushScratch::default());
         let (fx, fy, _) = geometry.project(Vec3::new(10.0, 10.0, 0.0));
         let k = fy.round() as usize * geometry.width + fx.round() as usize;
         assert_eq!(image.depth[k], EMPTY_DEPTH);
