@@ -26,7 +26,7 @@
 //!
 //! Invariants: deterministic (voxels in key order, parallel work collected in order).
 //!
-//! Cost: O(n log n) for the sort; O(voxels) cursor steps, moment sums and eigen solves;
+//! Cost: O(n) for the sort by column (`bucket_sort.rs`), then short runs; O(voxels) cursor steps, moment sums and eigen solves;
 //! memory about 100 bytes per voxel.
 //!
 //! Based on: H. Hoppe, T. DeRose, T. Duchamp, J. McDonald, W. Stuetzle, "Surface
@@ -35,6 +35,8 @@
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+
+use crate::bucket_sort::sort_pairs;
 
 /// Largest voxel coordinate on an axis (21 bits; coordinates beyond are clamped to the edge
 /// voxels).
@@ -205,13 +207,13 @@ pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
         let [x, y, z] = coordinates(p);
         (x << (y_bits + z_bits)) | (y << z_bits) | z
     };
-    let mut order: Vec<(u64, u32)> = positions
+    let order: Vec<(u64, u32)> = positions
         .par_iter()
         .enumerate()
         .map(|(i, &p)| (key_of(p), i as u32))
         .collect();
-    // Sequential: see `sort_spatially` in the pipeline.
-    order.sort_unstable();
+    // By column first: a column's voxels are a short run.
+    let order = sort_pairs(order, z_bits);
     // Voxels as runs of equal keys, and columns as runs of equal `(x, y)`.
     let mut runs: Vec<usize> = Vec::new();
     let mut grid = VoxelColumns {
