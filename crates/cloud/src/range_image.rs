@@ -13,6 +13,10 @@
 //!    gradient, clamped to [`MAX_GRADIENT`]), so a point that is off-centre on a slope does
 //!    not bias the pixel. Points seen at a grazing angle (`|n · direction|` below
 //!    [`MIN_POINT_COSINE`]) are not drawn. The buffer keeps the largest height per pixel.
+//!    This pass runs once per view over every point, so it is split in two loops: the
+//!    first computes each point's pixel and carried height without branches over the
+//!    coordinate arrays of a [`PointColumns`] (so it compiles to SIMD); the second, scalar,
+//!    updates the z-buffer.
 //! 2. Every drawn point whose height at the pixel centre lies within `band` of the pixel's
 //!    front-most height is averaged into the pixel (depth and colour). This averages the
 //!    front surface layer (noise drops by √count) and ignores surfaces behind it.
@@ -25,8 +29,9 @@
 //! not depend on thread count (each view is built by one thread, points in input order).
 //!
 //! Cost: two passes over the points (O(n)), one over the pixels (O(w·h)); memory: 4 bytes per
-//! pixel for the heights (plus 4 for colours), and a transient 16 bytes per pixel and 8 bytes
-//! per point while building.
+//! pixel for the heights (plus 4 for colours), and a transient 12 bytes per pixel and 8 bytes
+//! per point (reused from view to view through a [`FlushScratch`]) while building; the
+//! coordinate arrays take 24 bytes per point for all views.
 //!
 //! Based on: the range-image sampling of point clouds of the spatial-patch paper (a z-buffer
 //! flush per view direction); surface splatting's use of the tangent plane to place a sample
