@@ -34,6 +34,12 @@
 //! patch (before quantization, which adds at most half a step); the output order is the
 //! tile order, so it is deterministic.
 //!
+//! Parallelism: step 1 is a map over the uncovered points and steps 2–4 a map over the
+//! touched tiles (a tile reads and emits only its own cells, and `needed` is fixed by then);
+//! both are collected in order, and the emitted marks are set after the tiles are built, so
+//! the patches and the surviving point list do not depend on the thread count. The views
+//! themselves stay in order, since each one sees only the points earlier views left.
+//!
 //! Cost: O(uncovered points) for step 1, O(cells of touched tiles) for steps 2–4; memory one
 //! byte per cell for the needed marks.
 //!
@@ -41,6 +47,7 @@
 //! several directions, each view adding only the surface that earlier views missed).
 
 use glam::Vec3;
+use rayon::prelude::*;
 use spatch_format::{DisplacementWidth, Frame, GridSize, Patch, Quantizer};
 
 use crate::range_image::RangeImage;
@@ -165,32 +172,36 @@ pub(crate) fn extract_view(
     let image = &state.image;
     let geometry = image.geometry;
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
+    // Per uncovered point: the cell that would cover it, or NO_CELL. Points are independent,
+    // so this runs in parallel; the ordered collect keeps the result thread-independent.
+    let candidate: Vec<u32> = uncovered
+        .par_iter()
+        .with_min_len(POINTS_PER_TASK)
+        .map(|&id| {
+            let (fx, fy, h) = geometry.project(positions[id.index()]);
+            if !(fx >= 0.0 && fy >= 0.0 && fx < cw as f32 && fy < ch as f32) {
+                return NO_CELL;
+            }
+            // Truncation is the floor here (non-negative), without a libm call.
+            let (cx, cy) = (fx as usize, fy as usize);
+            let (x, y) = (cx as f32, cy as f32);
+            let Some(cell) = valid_cell(image, cx, cy, settings.jump, max_tan) else {
+                return NO_CELL;
+            };
+            let (gx, gy) = cell.gradient;
+            // Vertical distance × cos(slope) = distance along the cell normal.
+            let vertical = (h - cell.height_at(fx - x, fy - y)).abs();
+            if vertical > settings.tolerance * (1.0 + gx * gx + gy * gy).sqrt() {
+                return NO_CELL;
+            }
+            (cy * cw + cx) as u32
+        })
+        .collect();
     let mut needed = vec![false; cw * ch];
     let mut needed_list = Vec::new();
-    // Per uncovered point: the cell that would cover it, or NO_CELL.
-    let mut candidate = Vec::with_capacity(uncovered.len());
-    for &id in uncovered.iter() {
-        let (fx, fy, h) = geometry.project(positions[id.index()]);
-        let (x, y) = (fx.floor(), fy.floor());
-        if !(x >= 0.0 && y >= 0.0 && x < cw as f32 && y < ch as f32) {
-            candidate.push(NO_CELL);
-            continue;
-        }
-        let (cx, cy) = (x as usize, y as usize);
-        let c = cy * cw + cx;
-        let Some(cell) = valid_cell(image, cx, cy, settings.jump, max_tan) else {
-            candidate.push(NO_CELL);
-            continue;
-        };
-        let (gx, gy) = cell.gradient;
-        // Vertical distance × cos(slope) = distance along the cell normal.
-        let vertical = (h - cell.height_at(fx - x, fy - y)).abs();
-        if vertical > settings.tolerance * (1.0 + gx * gx + gy * gy).sqrt() {
-            candidate.push(NO_CELL);
-            continue;
-        }
-        candidate.push(c);
-        if !needed[c] && !state.emitted[c] {
+    for &c in &candidate {
+        let c = c as usize;
+        if c != NO_CELL as usize && !needed[c] && !state.emitted[c] {
             needed[c] = true;
             needed_list.push(c);
         }
@@ -198,15 +209,14 @@ pub(crate) fn extract_view(
     if pass.min_cells > 1 {
         drop_small_regions(&mut needed, &mut needed_list, cw, ch, pass.min_cells);
     }
-    let mut still = Vec::with_capacity(uncovered.len());
-    for (&id, &c) in uncovered.iter().zip(&candidate) {
-        if c != NO_CELL && (needed[c] || state.emitted[c]) {
-            counts.covered += 1;
-        } else {
-            still.push(id);
-        }
-    }
-    *uncovered = still;
+    let before = uncovered.len();
+    // In place and sequential: a parallel filter and collect cost more than the test.
+    let mut next = candidate.iter();
+    uncovered.retain(|_| {
+        let c = next.next().map_or(NO_CELL, |&c| c) as usize;
+        !(c != NO_CELL as usize && (needed[c] || state.emitted[c]))
+    });
+    counts.covered += before - uncovered.len();
     if needed_list.is_empty() {
         return Ok(Vec::new());
     }
@@ -227,32 +237,72 @@ pub(crate) fn extract_view(
         (cy.saturating_sub(1)..=(cy + 1).min(ch - 1))
             .any(|ny| (cx.saturating_sub(1)..=(cx + 1).min(cw - 1)).any(|nx| needed[ny * cw + nx]))
     };
-    let mut patches = Vec::new();
-    let mut cells = Vec::with_capacity(tile * tile);
-    for t in (0..tile_touched.len()).filter(|&t| tile_touched[t]) {
-        let (tx, ty) = (t % tiles_x, t / tiles_x);
-        cells.clear();
-        for cy in ty * tile..((ty + 1) * tile).min(ch) {
-            for cx in tx * tile..((tx + 1) * tile).min(cw) {
-                let c = cy * cw + cx;
-                if state.emitted[c] || !is_needed_near(cx, cy) {
-                    continue;
-                }
-                if valid_cell(&state.image, cx, cy, settings.jump, max_tan).is_some() {
-                    cells.push((cx, cy));
+    // Tiles are disjoint sets of cells, so each is built on its own (in parallel) and the
+    // results are joined in tile order.
+    let touched: Vec<usize> = (0..tile_touched.len())
+        .filter(|&t| tile_touched[t])
+        .collect();
+    let built: Vec<TilePatches> = touched
+        .par_iter()
+        .map(|&t| {
+            let (tx, ty) = (t % tiles_x, t / tiles_x);
+            let mut cells = Vec::new();
+            for cy in ty * tile..((ty + 1) * tile).min(ch) {
+                for cx in tx * tile..((tx + 1) * tile).min(cw) {
+                    let c = cy * cw + cx;
+                    if state.emitted[c] || !is_needed_near(cx, cy) {
+                        continue;
+                    }
+                    if valid_cell(&state.image, cx, cy, settings.jump, max_tan).is_some() {
+                        cells.push((cx, cy));
+                    }
                 }
             }
-        }
-        for &(cx, cy) in &cells {
+            let mut tile_counts = ExtractCounts::default();
+            let mut patches = Vec::new();
+            let result = build_patches(
+                &state.image,
+                &cells,
+                settings,
+                true,
+                &mut tile_counts,
+                &mut patches,
+            );
+            TilePatches {
+                cells,
+                patches: result.map(|()| patches),
+                counts: tile_counts,
+            }
+        })
+        .collect();
+    let mut patches = Vec::new();
+    for tile in built {
+        for &(cx, cy) in &tile.cells {
             state.emitted[cy * cw + cx] = true;
         }
-        build_patches(&state.image, &cells, settings, true, counts, &mut patches)?;
+        counts.split_tiles += tile.counts.split_tiles;
+        counts.wide_patches += tile.counts.wide_patches;
+        patches.extend(tile.patches?);
     }
     Ok(patches)
 }
 
+/// Uncovered points handed to one parallel task at least (smaller lists are not worth the
+/// split).
+const POINTS_PER_TASK: usize = 4096;
+
+/// What one tile of a view produced.
+struct TilePatches {
+    /// The tile's emitted cells.
+    cells: Vec<(usize, usize)>,
+    /// Its patches.
+    patches: Result<Vec<Patch>, CloudError>,
+    /// Its split and wide patches.
+    counts: ExtractCounts,
+}
+
 /// Marks "no cell" in the per-point candidate list.
-const NO_CELL: usize = usize::MAX;
+const NO_CELL: u32 = u32::MAX;
 
 /// The limits of one pass over the views.
 #[derive(Clone, Copy, Debug)]
@@ -321,7 +371,7 @@ pub(crate) fn absorb_border_points(
     let geometry = image.geometry;
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
     let before = uncovered.len();
-    uncovered.retain(|&id| {
+    let stays = |id: PointId| {
         let (fx, fy, h) = geometry.project(positions[id.index()]);
         let (x, y) = (fx.floor(), fy.floor());
         if !(x >= -1.0 && y >= -1.0 && x <= cw as f32 && y <= ch as f32) {
@@ -346,7 +396,13 @@ pub(crate) fn absorb_border_points(
             }
         }
         true
-    });
+    };
+    *uncovered = uncovered
+        .par_iter()
+        .with_min_len(POINTS_PER_TASK)
+        .copied()
+        .filter(|&id| stays(id))
+        .collect();
     before - uncovered.len()
 }
 

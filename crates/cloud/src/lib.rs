@@ -41,6 +41,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod bucket_sort;
 mod directions;
 mod error;
 mod error_metrics;

@@ -38,13 +38,14 @@ use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Scene};
 use spatch_mesh::{Aabb, PointCloud};
 
+use crate::bucket_sort::sort_pairs;
 use crate::directions::view_directions;
 use crate::extract::{
     absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
 };
 use crate::gap_fill::fill_gaps;
 use crate::normals::estimate_normals;
-use crate::range_image::{flush_points, FlushInput, ImageGeometry};
+use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
 use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
@@ -191,17 +192,18 @@ pub fn cloud_to_scene(
             .collect();
     }
     let jump = options.jump_factor * pixel;
+    let points = PointColumns::new(positions, &normals);
+    drop(normals);
     let flush = FlushInput {
-        positions,
-        normals: &normals,
+        points: &points,
         colours: cloud.colours.as_deref(),
         band: FRONT_BAND * spacing,
         jump,
     };
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
-        .map(|&geometry| {
-            let mut image = flush_points(&flush, geometry);
+        .map_init(FlushScratch::default, |scratch, &geometry| {
+            let mut image = flush_points(&flush, geometry, scratch);
             let filled = fill_gaps(&mut image, options.max_gap, jump);
             if let Some(smooth) = &options.smooth {
                 smooth_range_image(&mut image, smooth, spacing, jump);
@@ -211,7 +213,7 @@ pub fn cloud_to_scene(
         .collect();
     let gap_pixels_filled = built.iter().map(|b| b.1).sum();
     let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
-    drop(normals);
+    drop(points);
     clock.lap("range_images");
 
     let settings = ExtractSettings {
@@ -327,9 +329,9 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
         x = (x | (x << 4)) & 0x0C30_C30C_30C3;
         (x | (x << 2)) & 0x2492_4924_9249
     };
-    let mut order: Vec<(u64, u32)> = cloud
+    let order: Vec<(u64, u32)> = cloud
         .positions
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, &p)| {
             let q = ((p - bounds.min) * scale).clamp(Vec3::ZERO, Vec3::splat(f32::from(u16::MAX)));
@@ -337,19 +339,22 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
             (code, i as u32)
         })
         .collect();
-    order.sort_unstable();
+    // Buckets of the top 18 code bits (cells of 1/64 of the box), then short runs: cheaper
+    // than one sort of the whole list (rayon's parallel sort and a radix sort were slower
+    // than `sort_unstable` on the shared machine).
+    let order = sort_pairs(order, 30);
     let pick = |i: &(u64, u32)| i.1 as usize;
     PointCloud {
         origin: cloud.origin,
-        positions: order.iter().map(|i| cloud.positions[pick(i)]).collect(),
+        positions: order.par_iter().map(|i| cloud.positions[pick(i)]).collect(),
         colours: cloud
             .colours
             .as_ref()
-            .map(|c| order.iter().map(|i| c[pick(i)]).collect()),
+            .map(|c| order.par_iter().map(|i| c[pick(i)]).collect()),
         normals: cloud
             .normals
             .as_ref()
-            .map(|v| order.iter().map(|i| v[pick(i)]).collect()),
+            .map(|v| order.par_iter().map(|i| v[pick(i)]).collect()),
     }
 }
 
@@ -360,13 +365,18 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
 fn robust_bounds(positions: &[Vec3], full: &Aabb) -> Aabb {
     let n = positions.len();
     let (lo_rank, hi_rank) = (n / 1000, n - 1 - n / 1000);
-    let mut values: Vec<f32> = Vec::with_capacity(n);
+    // The three axes are independent selections: one task each.
+    let quantiles: Vec<(f32, f32)> = (0..3)
+        .into_par_iter()
+        .map(|axis| {
+            let mut values: Vec<f32> = positions.iter().map(|p| p[axis]).collect();
+            let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
+            let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
+            (lo, hi)
+        })
+        .collect();
     let mut bounds = *full;
-    for axis in 0..3 {
-        values.clear();
-        values.extend(positions.iter().map(|p| p[axis]));
-        let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
-        let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
+    for (axis, &(lo, hi)) in quantiles.iter().enumerate() {
         let margin = 0.25 * (hi - lo);
         bounds.min[axis] = (lo - margin).max(full.min[axis]);
         bounds.max[axis] = (hi + margin).min(full.max[axis]);

@@ -13,6 +13,10 @@
 //!    gradient, clamped to [`MAX_GRADIENT`]), so a point that is off-centre on a slope does
 //!    not bias the pixel. Points seen at a grazing angle (`|n · direction|` below
 //!    [`MIN_POINT_COSINE`]) are not drawn. The buffer keeps the largest height per pixel.
+//!    This pass runs once per view over every point, so it is split in two loops: the
+//!    first computes each point's pixel and carried height without branches over the
+//!    coordinate arrays of a [`PointColumns`] (so it compiles to SIMD); the second, scalar,
+//!    updates the z-buffer.
 //! 2. Every drawn point whose height at the pixel centre lies within `band` of the pixel's
 //!    front-most height is averaged into the pixel (depth and colour). This averages the
 //!    front surface layer (noise drops by √count) and ignores surfaces behind it.
@@ -25,8 +29,9 @@
 //! not depend on thread count (each view is built by one thread, points in input order).
 //!
 //! Cost: two passes over the points (O(n)), one over the pixels (O(w·h)); memory: 4 bytes per
-//! pixel for the heights (plus 4 for colours), and a transient 16 bytes per pixel and 8 bytes
-//! per point while building.
+//! pixel for the heights (plus 4 for colours), and a transient 12 bytes per pixel and 8 bytes
+//! per point (reused from view to view through a [`FlushScratch`]) while building; the
+//! coordinate arrays take 24 bytes per point for all views.
 //!
 //! Based on: the range-image sampling of point clouds of the spatial-patch paper (a z-buffer
 //! flush per view direction); surface splatting's use of the tangent plane to place a sample
@@ -146,13 +151,45 @@ pub(crate) struct RangeImage {
     pub(crate) colour: Option<Vec<[u8; 4]>>,
 }
 
+/// Positions and normals as one array per coordinate (structure of arrays), so that the
+/// projection loop of [`flush_points`], which runs once per view over every point, compiles
+/// to SIMD instructions.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PointColumns {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+    nx: Vec<f32>,
+    ny: Vec<f32>,
+    nz: Vec<f32>,
+}
+
+impl PointColumns {
+    /// The columns of `positions` and their `normals` (one per position).
+    pub(crate) fn new(positions: &[Vec3], normals: &[Vec3]) -> PointColumns {
+        debug_assert_eq!(positions.len(), normals.len());
+        PointColumns {
+            x: positions.iter().map(|p| p.x).collect(),
+            y: positions.iter().map(|p| p.y).collect(),
+            z: positions.iter().map(|p| p.z).collect(),
+            nx: normals.iter().map(|n| n.x).collect(),
+            ny: normals.iter().map(|n| n.y).collect(),
+            nz: normals.iter().map(|n| n.z).collect(),
+        }
+    }
+
+    /// Number of points.
+    pub(crate) fn len(&self) -> usize {
+        self.x.len()
+    }
+}
+
 /// Inputs of [`flush_points`] shared by every view.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct FlushInput<'a> {
-    /// Positions relative to the cloud origin.
-    pub(crate) positions: &'a [Vec3],
-    /// Unoriented unit normals, zero where unknown.
-    pub(crate) normals: &'a [Vec3],
+    /// Positions relative to the cloud origin, and unoriented unit normals (zero where
+    /// unknown).
+    pub(crate) points: &'a PointColumns,
     /// Colours, when the cloud has them.
     pub(crate) colours: Option<&'a [[u8; 4]]>,
     /// Heights within this distance of the front-most one are averaged (model units).
@@ -161,8 +198,23 @@ pub(crate) struct FlushInput<'a> {
     pub(crate) jump: f32,
 }
 
+/// Per-point buffers of [`flush_points`], kept from one view to the next so that each view
+/// does not fault in fresh pages for them (8 bytes per point).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlushScratch {
+    pixel_of: Vec<u32>,
+    height_of: Vec<f32>,
+}
+
+/// Marks a point that is not drawn in a view.
+const NOT_DRAWN: u32 = u32::MAX;
+
 /// Builds the range image of one view (see the module documentation).
-pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> RangeImage {
+pub(crate) fn flush_points(
+    input: &FlushInput<'_>,
+    geometry: ImageGeometry,
+    scratch: &mut FlushScratch,
+) -> RangeImage {
     let ImageGeometry {
         basis,
         width,
@@ -171,53 +223,83 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
         ..
     } = geometry;
     let pixels = geometry.pixel_count();
-    let mut front = vec![EMPTY_DEPTH; pixels];
-    // Pass 1: project once, remember (pixel, height at the pixel centre) per point.
-    let mut drawn: Vec<(u32, f32)> = Vec::with_capacity(input.positions.len());
-    for (&p, &n) in input.positions.iter().zip(input.normals) {
-        let (fx, fy, h) = geometry.project(p);
-        let (ix, iy) = (fx.round(), fy.round());
-        let nz = n.dot(basis.direction);
-        let is_unknown = n == Vec3::ZERO;
-        if !is_unknown && nz.abs() < MIN_POINT_COSINE {
-            drawn.push((u32::MAX, 0.0));
-            continue;
-        }
-        let (mut gx, mut gy) = if is_unknown {
-            (0.0, 0.0)
-        } else {
-            (-n.dot(basis.u) / nz, -n.dot(basis.w) / nz)
-        };
+    let n = input.points.len();
+    let PointColumns {
+        x: px,
+        y: py,
+        z: pz,
+        nx,
+        ny,
+        nz,
+    } = input.points;
+    let (u, w, d) = (basis.u, basis.w, basis.direction);
+    // The projection with the pixel size folded in: `fx = p · su − sx0`.
+    let inv = 1.0 / pixel;
+    let (su, sw) = (u * inv, w * inv);
+    let (sx0, sy0) = (geometry.x0 * inv, geometry.y0 * inv);
+    // Pixel centres lie at integers; the image spans [−0.5, width − 0.5) × [−0.5, height − 0.5).
+    let (right, top) = (width as f32 - 0.5, height as f32 - 0.5);
+    // Pass 1a: per point, its pixel (or NOT_DRAWN) and its height carried to the pixel
+    // centre. Branch-free over the columns, so it vectorises; the z-buffer is left to 1b.
+    scratch.pixel_of.resize(n, 0);
+    scratch.height_of.resize(n, 0.0);
+    let (pixel_of, height_of) = (&mut scratch.pixel_of, &mut scratch.height_of);
+    // Every slice cut to `n`, so the loop has no bounds checks (which would stop the SIMD).
+    let (px, py, pz) = (&px[..n], &py[..n], &pz[..n]);
+    let (nx, ny, nz) = (&nx[..n], &ny[..n], &nz[..n]);
+    let (out_pixel, out_height) = (&mut pixel_of[..n], &mut height_of[..n]);
+    for j in 0..n {
+        let (x, y, z) = (px[j], py[j], pz[j]);
+        let (ax, ay, az) = (nx[j], ny[j], nz[j]);
+        let fx = x * su.x + y * su.y + z * su.z - sx0;
+        let fy = x * sw.x + y * sw.y + z * sw.z - sy0;
+        let h = x * d.x + y * d.y + z * d.z;
+        let n_d = ax * d.x + ay * d.y + az * d.z;
+        let n_u = ax * u.x + ay * u.y + az * u.z;
+        let n_w = ax * w.x + ay * w.y + az * w.z;
+        let is_unknown = ax == 0.0 && ay == 0.0 && az == 0.0;
+        // Points seen at a grazing angle are not drawn (unknown normals always are).
+        let facing = is_unknown || n_d.abs() >= MIN_POINT_COSINE;
+        // Outside the image: a far outlier beyond the robust bounds.
+        let inside = fx >= -0.5 && fy >= -0.5 && fx < right && fy < top;
+        // Nearest pixel centre: truncating `f + 0.5` rounds wherever the point is inside
+        // (and saturates harmlessly elsewhere); an inline conversion, not a libm call.
+        let (ix, iy) = ((fx + 0.5) as i32, (fy + 0.5) as i32);
+        // The depth gradient of the tangent plane, clamped to MAX_GRADIENT.
+        let to_gradient = if is_unknown { 0.0 } else { -1.0 / n_d };
+        let (gx, gy) = (n_u * to_gradient, n_w * to_gradient);
         let g2 = gx * gx + gy * gy;
-        if g2 > MAX_GRADIENT * MAX_GRADIENT {
-            let s = MAX_GRADIENT / g2.sqrt();
-            gx *= s;
-            gy *= s;
+        let clamp = if g2 > MAX_GRADIENT * MAX_GRADIENT {
+            MAX_GRADIENT / g2.sqrt()
+        } else {
+            1.0
+        };
+        let carry = (gx * (ix as f32 - fx) + gy * (iy as f32 - fy)) * clamp;
+        out_height[j] = h + carry * pixel;
+        let k = (iy as u32)
+            .wrapping_mul(width as u32)
+            .wrapping_add(ix as u32);
+        out_pixel[j] = if facing && inside { k } else { NOT_DRAWN };
+    }
+    // Pass 1b: the front-most height per pixel.
+    let mut front = vec![EMPTY_DEPTH; pixels];
+    for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
+        if k != NOT_DRAWN {
+            let f = &mut front[k as usize];
+            *f = f.max(hc);
         }
-        if !(ix >= 0.0 && iy >= 0.0 && ix < width as f32 && iy < height as f32) {
-            // Outside the image (a far outlier beyond the robust bounds).
-            drawn.push((u32::MAX, 0.0));
-            continue;
-        }
-        let hc = h + (gx * (ix - fx) + gy * (iy - fy)) * pixel;
-        let k = iy as usize * width + ix as usize;
-        if hc > front[k] {
-            front[k] = hc;
-        }
-        drawn.push((k as u32, hc));
     }
     // Pass 2: average the front layer.
-    let mut sum = vec![0.0f32; pixels];
-    let mut count = vec![0u32; pixels];
+    let mut sum = vec![(0.0f32, 0u32); pixels];
     let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
-    for (index, &(k, hc)) in drawn.iter().enumerate() {
-        if k == u32::MAX {
+    for (index, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
+        if k == NOT_DRAWN {
             continue;
         }
         let k = k as usize;
         if hc >= front[k] - input.band {
-            sum[k] += hc;
-            count[k] += 1;
+            sum[k].0 += hc;
+            sum[k].1 += 1;
             if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
                 let c = colours[index];
                 for (a, v) in acc[k].iter_mut().zip(c) {
@@ -226,16 +308,15 @@ pub(crate) fn flush_points(input: &FlushInput<'_>, geometry: ImageGeometry) -> R
             }
         }
     }
-    drop(drawn);
+    drop(front);
     let depth: Vec<f32> = sum
         .iter()
-        .zip(&count)
-        .map(|(&s, &c)| if c == 0 { EMPTY_DEPTH } else { s / c as f32 })
+        .map(|&(s, c)| if c == 0 { EMPTY_DEPTH } else { s / c as f32 })
         .collect();
     let colour = colour_sum.map(|acc| {
         acc.iter()
-            .zip(&count)
-            .map(|(a, &c)| {
+            .zip(&sum)
+            .map(|(a, &(_, c))| {
                 if c == 0 {
                     [0; 4]
                 } else {
@@ -321,14 +402,14 @@ mod tests {
         let bounds = Aabb::from_points(positions.iter().copied());
         let basis = ViewBasis::new(Vec3::Z);
         let geometry = ImageGeometry::covering(basis, &bounds, 1.0 / 40.0);
+        let points = PointColumns::new(&positions, &normals);
         let input = FlushInput {
-            positions: &positions,
-            normals: &normals,
+            points: &points,
             colours: None,
             band: 0.02,
             jump: 0.1,
         };
-        let image = flush_points(&input, geometry);
+        let image = flush_points(&input, geometry, &mut FlushScratch::default());
         assert!(image.depth.iter().filter(|d| d.is_finite()).count() > 1000);
         for j in 0..geometry.height {
             for i in 0..geometry.width {
@@ -357,14 +438,14 @@ mod tests {
         let normals = vec![Vec3::Z; positions.len()];
         let bounds = Aabb::from_points(positions.iter().copied());
         let geometry = ImageGeometry::covering(ViewBasis::new(Vec3::Z), &bounds, 1.0);
+        let points = PointColumns::new(&positions, &normals);
         let input = FlushInput {
-            positions: &positions,
-            normals: &normals,
+            points: &points,
             colours: None,
             band: 0.1,
             jump: 0.5,
         };
-        let image = flush_points(&input, geometry);
+        let image = flush_points(&input, geometry, &mut FlushScratch::default());
         let (fx, fy, _) = geometry.project(Vec3::new(10.0, 10.0, 0.0));
         let k = fy.round() as usize * geometry.width + fx.round() as usize;
         assert_eq!(image.depth[k], EMPTY_DEPTH);

@@ -33,6 +33,7 @@ use std::num::NonZeroUsize;
 
 use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use rayon::prelude::*;
 
 use crate::{CloudError, PointId};
 
@@ -184,16 +185,23 @@ fn estimate_spacing_with(
     let k = SPACING_NEIGHBOURS.min(n - 1);
     let scale = (std::f32::consts::PI / k as f32).sqrt();
     let stride = n.div_ceil(SPACING_SAMPLES).max(1);
-    let mut neighbours = Vec::with_capacity(k + 1);
-    let mut local = Vec::with_capacity(n / stride + 1);
-    let mut nearest_sum = 0.0f64;
-    for p in positions.iter().step_by(stride) {
-        tree.nearest_k(*p, k + 1, &mut neighbours);
-        // The first result is the point itself (distance 0) or a duplicate of it.
-        let kth = neighbours.last().map_or(0.0, |r| r.0.sqrt());
-        local.push(kth * scale);
-        nearest_sum += f64::from(neighbours.get(1).map_or(0.0, |r| r.0.sqrt()));
-    }
+    // Per sample: (spacing from the k-th neighbour, nearest other point); the queries are
+    // independent and collected in order, so the sums below do not depend on the threads.
+    let found: Vec<(f32, f32)> = positions
+        .par_iter()
+        .step_by(stride)
+        .map_init(
+            || Vec::with_capacity(k + 1),
+            |neighbours, p| {
+                tree.nearest_k(*p, k + 1, neighbours);
+                // The first result is the point itself (distance 0) or a duplicate of it.
+                let kth = neighbours.last().map_or(0.0, |r| r.0.sqrt());
+                (kth * scale, neighbours.get(1).map_or(0.0, |r| r.0.sqrt()))
+            },
+        )
+        .collect();
+    let mut local: Vec<f32> = found.iter().map(|f| f.0).collect();
+    let nearest_sum: f64 = found.iter().map(|f| f64::from(f.1)).sum();
     let samples = local.len();
     let mid = samples / 2;
     let (_, median, _) = local.select_nth_unstable_by(mid, f32::total_cmp);

@@ -36,6 +36,7 @@ pub mod gltf;
 pub mod obj;
 pub mod off;
 pub mod ply;
+mod ply_fast;
 mod texture;
 pub mod xyz;
 
@@ -109,11 +110,20 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<LoadedMesh, MeshError> {
 }
 
 /// Loads a point cloud, choosing the reader by extension: `.ply` (the vertex element of any
-/// PLY, faces ignored), `.xyz`/`.txt` and `.pts` (see [`xyz`] for the column rules).
+/// PLY, faces ignored; the common binary layout of `float x y z [nx ny nz] [uchar colours]`
+/// is decoded directly and in parallel, anything else by [`ply::load_ply_points`]),
+/// `.xyz`/`.txt` and `.pts` (see [`xyz`] for the column rules).
 pub fn load_point_cloud(path: impl AsRef<Path>) -> Result<LoadedPointCloud, MeshError> {
     let path = path.as_ref();
     match FileFormat::from_path(path) {
-        Some(FileFormat::Ply) => ply::load_ply_points(path),
+        Some(FileFormat::Ply) => {
+            if let Ok(bytes) = std::fs::read(path) {
+                if let Some(loaded) = ply_fast::read_simple_binary_ply(&bytes) {
+                    return Ok(loaded);
+                }
+            }
+            ply::load_ply_points(path)
+        }
         Some(FileFormat::Xyz) => xyz::load_xyz(path, false),
         Some(FileFormat::Pts) => xyz::load_xyz(path, true),
         _ => Err(MeshError::UnsupportedFormat {

@@ -7,11 +7,13 @@
 //!   bad indices, missing materials and textures; never a panic;
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
 //! - `prepare`: welding and cleaning counts;
+//! - `ply_points`: the direct binary PLY cloud reader against the general one;
 //! - `queries`: BVH ray casts and closest points against brute force; surface sampling.
 
 mod adjacency;
 mod load_errors;
 mod load_real;
+mod ply_points;
 mod prepare;
 mod queries;
 

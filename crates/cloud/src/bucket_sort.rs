@@ -1,0 +1,78 @@
+//! Sorting `(key, point)` pairs by a counting sort on the key's high bits, then a
+//! comparison sort of each bucket's short run.
+//!
+//! Input: the pairs and `shift`, the bucket of a pair being `key >> shift`. Output: the
+//! pairs in increasing order, exactly as `sort_unstable` orders them (pairs are compared
+//! whole, so equal keys end up in point order), whatever the thread count.
+//!
+//! Method: when the buckets span at most four per pair, one histogram pass and one scatter
+//! pass put every pair in its bucket (in input order), then each bucket of more than one
+//! pair is sorted on its own; otherwise the whole list goes to `sort_unstable`. The pipeline
+//! uses it twice: on Morton codes (buckets: the top 18 of 48 bits, cells of 1/64 of the
+//! bounding box) and on voxel keys (buckets: the `(x, y)` columns).
+//!
+//! Cost: O(n + buckets) plus the sorts of the runs (short on a surface); memory one extra
+//! list of pairs and one `usize` per bucket.
+//!
+//! Based on: H. H. Seward, "Information sorting in the application of electronic digital
+//! computers to business operations", MIT report R-232, 1954 (counting sort).
+
+/// `pairs` in increasing order, buckets `key >> shift` first (see the module documentation).
+pub(crate) fn sort_pairs(mut pairs: Vec<(u64, u32)>, shift: u32) -> Vec<(u64, u32)> {
+    let bucket = |key: u64| key.checked_shr(shift).unwrap_or(0);
+    let buckets = pairs.iter().map(|p| bucket(p.0)).max().map_or(0, |m| m + 1);
+    if buckets > 4 * pairs.len().max(1024) as u64 {
+        pairs.sort_unstable();
+        return pairs;
+    }
+    let buckets = buckets as usize;
+    let mut start = vec![0usize; buckets + 1];
+    for p in &pairs {
+        start[bucket(p.0) as usize + 1] += 1;
+    }
+    for b in 0..buckets {
+        start[b + 1] += start[b];
+    }
+    let mut next = start.clone();
+    let mut sorted = vec![(0u64, 0u32); pairs.len()];
+    for &p in &pairs {
+        let slot = &mut next[bucket(p.0) as usize];
+        sorted[*slot] = p;
+        *slot += 1;
+    }
+    for run in start.windows(2) {
+        if run[1] - run[0] > 1 {
+            sorted[run[0]..run[1]].sort_unstable();
+        }
+    }
+    sorted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equals_a_comparison_sort() {
+        let mut rng = spatch_mesh::SplitMix64::new(5);
+        // Dense buckets, sparse buckets (the fallback), every bit a bucket bit, and ties.
+        for (buckets, shift) in [(300u64, 6u32), (1u64 << 40, 9), (5000, 0), (7, 60)] {
+            let pairs: Vec<(u64, u32)> = (0..20_000)
+                .map(|i| {
+                    let b = (rng.next_f64() * buckets as f64) as u64;
+                    let low = (rng.next_f64() * 40.0) as u64;
+                    let low = if shift == 0 {
+                        0
+                    } else {
+                        low % (1 << shift.min(6))
+                    };
+                    ((b << shift) | low, i)
+                })
+                .collect();
+            let mut expected = pairs.clone();
+            expected.sort_unstable();
+            assert_eq!(sort_pairs(pairs, shift), expected, "{buckets} buckets");
+        }
+        assert_eq!(sort_pairs(Vec::new(), 3), Vec::new());
+    }
+}
