@@ -22,7 +22,6 @@
 //!
 //! Cost: one read of the file, O(n) decoding; memory the file plus the cloud.
 
-
 use crate::{LoadedPointCloud, PointCloud};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
