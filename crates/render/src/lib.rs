@@ -37,6 +37,7 @@
 
 mod camera;
 mod cell_bilinear;
+mod cell_raster;
 mod cell_smooth;
 mod cull;
 mod error;
