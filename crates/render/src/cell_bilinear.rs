@@ -91,10 +91,7 @@ struct Reciprocals {
 
 /// Draws the cells of a `cols × rows` piece cut into `nu × nv`, as their
 /// flags (see [`crate::traverse::measure_cells`]) say.
-/// Not inlined: inlined into the band loop it compiled ≈ 1 % slower
-/// (callgrind, `profile_sphere 500 1` and `1000 1`).
 #[allow(clippy::too_many_arguments)] // the piece's geometry and its two subdivisions
-#[inline(never)]
 pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     nodes: &[Node],

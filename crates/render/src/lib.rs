@@ -37,7 +37,6 @@
 
 mod camera;
 mod cell_bilinear;
-mod cell_raster;
 mod cell_smooth;
 mod cull;
 mod error;

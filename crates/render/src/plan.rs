@@ -377,17 +377,6 @@ fn plan_piece(
         let refined = measure.refined_nodes(nu as u64, nv as u64);
         work.counters.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
     }
-    // Slightly magnified bilinear cells: pixel centres rather than sub-nodes
-    // (see `cell_raster`).
-    let raster = !smooth && nu * nv >= crate::cell_raster::RASTER_MIN_SUB_CELLS;
-    // A rasterized piece is marked by `nu = nv = SUB_DEN`, the denominator
-    // of its samples' `(a, b)`, so the resolve pass needs no other field.
-    let (nu, nv) = if raster {
-        let den = crate::cell_raster::SUB_DEN as u32;
-        (den, den)
-    } else {
-        (nu, nv)
-    };
     work.items.push(Item {
         first: first as u32,
         cols: cols as u16,

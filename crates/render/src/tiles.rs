@@ -14,7 +14,6 @@
 use std::time::Instant;
 
 use crate::cell_bilinear::{draw_cells_bilinear, draw_nodes};
-use crate::cell_raster::draw_cells_raster;
 use crate::cell_smooth::draw_cells_smooth;
 use crate::framebuffer::{
     Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, Resolve, PATCH_SAMPLE,
@@ -152,12 +151,6 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
     let id = id | PATCH_SAMPLE;
     if nu == 1 && nv == 1 {
         draw_nodes(t, nodes, cols, rows, id);
-    } else if item.nu == crate::cell_raster::SUB_DEN {
-        let f = item.flags as usize;
-        let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
-        let s = item.spans as usize;
-        let spans = &chunk.row_spans[s..s + rows - 1];
-        draw_cells_raster(t, nodes, flags, spans, cols, rows, id);
     } else if cells == CellScheme::Smooth {
         draw_cells_smooth(t, nodes, cols, rows, nu, nv, id);
     } else {

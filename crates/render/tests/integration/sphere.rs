@@ -61,13 +61,6 @@ fn silhouette_and_no_holes_at_2000_magnified() {
 }
 
 #[test]
-fn silhouette_and_no_holes_strongly_magnified() {
-    // Cells of ≈ 12 px: their pieces are cut into more than 100 sub-cells
-    // per cell, so they are covered by pixel centres (`cell_raster`).
-    check_silhouette(200.0, 1000, RenderOptions::default());
-}
-
-#[test]
 fn minified_views_use_the_mip_pyramid_and_the_node_path() {
     let camera = known_camera(2500.0, 250);
     let out = Renderer::new(RenderOptions::default())
