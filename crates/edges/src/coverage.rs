@@ -87,15 +87,16 @@ impl<'a> SurfaceCoverage<'a> {
             });
         }
         // Cells about as large as a typical patch: each patch lands in a few cells and each
-        // cell holds a few patches.
+        // cell holds a few patches. Never under a sixteenth of the largest patch, which would
+        // otherwise land in up to (its extent / cell)³ cells.
         let mut extents: Vec<f32> = patches
             .iter()
             .map(|p| (p.hi - p.lo).max_element())
             .collect();
         extents.sort_unstable_by(f32::total_cmp);
-        let cell = extents
-            .get(extents.len() / 2)
-            .copied()
+        let median = extents.get(extents.len() / 2).copied().unwrap_or(0.0);
+        let largest = extents.last().copied().unwrap_or(0.0);
+        let cell = Some(median.max(largest / 16.0))
             .filter(|c| c.is_finite() && *c > 0.0)
             .unwrap_or(1.0);
         let mut buckets: HashMap<IVec3, Vec<u32>> = HashMap::new();
