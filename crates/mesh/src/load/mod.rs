@@ -110,15 +110,16 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<LoadedMesh, MeshError> {
 }
 
 /// Loads a point cloud, choosing the reader by extension: `.ply` (the vertex element of any
-/// PLY, faces ignored; the common binary layout of `float x y z [nx ny nz] [uchar colours]`
-/// is decoded directly and in parallel, anything else by [`ply::load_ply_points`]),
+/// PLY, faces ignored; the common layout of `float x y z [nx ny nz] [uchar colours]`, binary
+/// little-endian or ASCII, is decoded directly and in parallel, anything else by
+/// [`ply::load_ply_points`]),
 /// `.xyz`/`.txt` and `.pts` (see [`xyz`] for the column rules).
 pub fn load_point_cloud(path: impl AsRef<Path>) -> Result<LoadedPointCloud, MeshError> {
     let path = path.as_ref();
     match FileFormat::from_path(path) {
         Some(FileFormat::Ply) => {
             if let Ok(bytes) = std::fs::read(path) {
-                if let Some(loaded) = ply_fast::read_simple_binary_ply(&bytes) {
+                if let Some(loaded) = ply_fast::read_simple_ply(&bytes) {
                     return Ok(loaded);
                 }
             }

@@ -39,9 +39,32 @@ struct RecordLayout {
     colour: Option<([usize; 3], Option<usize>)>,
 }
 
-/// The vertex count, the record layout and the offset of the first record, when the header
-/// describes the simple layout; `None` for anything else.
-fn parse_simple_header(bytes: &[u8]) -> Option<(usize, RecordLayout, usize)> {
+/// The body encodings the direct reader takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Encoding {
+    /// `binary_little_endian 1.0`: fixed-size records, nothing after the vertices.
+    Binary,
+    /// `ascii 1.0`: one line of numbers per vertex; elements after the vertices (a raw
+    /// scan's `range_grid`) are left unread.
+    Ascii,
+}
+
+/// What the header of a file in the simple layout says.
+#[derive(Clone, Debug, PartialEq)]
+struct SimpleHeader {
+    encoding: Encoding,
+    /// Vertices.
+    count: usize,
+    /// Byte offsets in a binary record (used for binary bodies).
+    layout: RecordLayout,
+    /// Token indices in an ASCII line, in the same shape (used for ASCII bodies).
+    tokens: RecordLayout,
+    /// Offset of the body.
+    start: usize,
+}
+
+/// The header, when it describes the simple layout; `None` for anything else.
+fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
     const END: &[u8] = b"end_header\n";
     let head_len = bytes
         .windows(END.len())
@@ -50,33 +73,65 @@ fn parse_simple_header(bytes: &[u8]) -> Option<(usize, RecordLayout, usize)> {
         + END.len();
     let text = std::str::from_utf8(&bytes[..head_len]).ok()?;
     let mut lines = text.split('\n');
-    if lines.next()? != "ply" || lines.next()? != "format binary_little_endian 1.0" {
+    if lines.next()? != "ply" {
         return None;
     }
+    let encoding = match lines.next()? {
+        "format binary_little_endian 1.0" => Encoding::Binary,
+        "format ascii 1.0" => Encoding::Ascii,
+        _ => return None,
+    };
     let mut count = None;
-    // (name, offset) of the float and uchar properties, in file order.
-    let mut floats: Vec<(&str, usize)> = Vec::new();
-    let mut bytes_: Vec<(&str, usize)> = Vec::new();
-    let mut stride = 0usize;
+    // (name, byte offset, token index) of the float and uchar properties, in file order.
+    let mut floats: Vec<(&str, usize, usize)> = Vec::new();
+    let mut bytes_: Vec<(&str, usize, usize)> = Vec::new();
+    let (mut stride, mut tokens) = (0usize, 0usize);
+    let mut after_vertices = false;
     for line in lines {
         let words: Vec<&str> = line.split_ascii_whitespace().collect();
         match words.as_slice() {
             ["comment", ..] | ["obj_info", ..] => {}
             ["element", "vertex", n] if count.is_none() => count = Some(n.parse::<usize>().ok()?),
+            // Later elements: only an ASCII body can be read without knowing their sizes.
+            ["element", ..] if count.is_some() && encoding == Encoding::Ascii => {
+                after_vertices = true;
+            }
+            ["property", ..] if after_vertices => {}
             ["property", "float", name] if count.is_some() => {
-                floats.push((name, stride));
-                stride += 4;
+                floats.push((name, stride, tokens));
+                (stride, tokens) = (stride + 4, tokens + 1);
             }
             ["property", "uchar", name] if count.is_some() => {
-                bytes_.push((name, stride));
-                stride += 1;
+                bytes_.push((name, stride, tokens));
+                (stride, tokens) = (stride + 1, tokens + 1);
             }
             ["end_header"] => break,
             _ => return None,
         }
     }
-    let float_at = |name: &str| floats.iter().find(|f| f.0 == name).map(|f| f.1);
-    let byte_at = |name: &str| bytes_.iter().find(|f| f.0 == name).map(|f| f.1);
+    let count = count?;
+    let layout = simple_layout(&floats, &bytes_, |p| p.1, stride)?;
+    let tokens = simple_layout(&floats, &bytes_, |p| p.2, tokens)?;
+    Some(SimpleHeader {
+        encoding,
+        count,
+        layout,
+        tokens,
+        start: head_len,
+    })
+}
+
+/// The layout of the named `floats` and `bytes_` properties with `place` (byte offset or
+/// token index) and record size `stride`, when they are exactly x, y, z, optionally nx, ny,
+/// nz, optionally red, green, blue and alpha, each once.
+fn simple_layout(
+    floats: &[(&str, usize, usize)],
+    bytes_: &[(&str, usize, usize)],
+    place: impl Fn(&(&str, usize, usize)) -> usize,
+    stride: usize,
+) -> Option<RecordLayout> {
+    let float_at = |name: &str| floats.iter().find(|f| f.0 == name).map(&place);
+    let byte_at = |name: &str| bytes_.iter().find(|f| f.0 == name).map(&place);
     let known_floats = ["x", "y", "z", "nx", "ny", "nz"];
     let known_bytes = ["red", "green", "blue", "alpha"];
     let names = floats.iter().map(|f| f.0).chain(bytes_.iter().map(|f| f.0));
@@ -103,21 +158,36 @@ fn parse_simple_header(bytes: &[u8]) -> Option<(usize, RecordLayout, usize)> {
         (None, None, None) if byte_at("alpha").is_none() => None,
         _ => return None,
     };
-    let layout = RecordLayout {
+    Some(RecordLayout {
         stride,
         position,
         normal,
         colour,
-    };
-    Some((count?, layout, head_len))
+    })
 }
 
 /// The cloud of a file in the simple layout, or `None` when the file is not in it (or has
 /// no finite point, which the general reader reports).
-pub(crate) fn read_simple_binary_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
-    let (count, layout, start) = parse_simple_header(bytes)?;
-    let body = &bytes[start..];
-    if count == 0 || count >= u32::MAX as usize || body.len() != count.checked_mul(layout.stride)? {
+pub(crate) fn read_simple_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
+    let header = parse_simple_header(bytes)?;
+    let body = &bytes[header.start..];
+    let count = header.count;
+    if count == 0 || count >= u32::MAX as usize {
+        return None;
+    }
+    let (positions, normals, colours) = match header.encoding {
+        Encoding::Binary => decode_binary(body, count, &header.layout)?,
+        Encoding::Ascii => decode_ascii(body, count, &header.tokens)?,
+    };
+    finish(count, positions, normals, colours)
+}
+
+/// Positions, normals and colours as the file holds them.
+type Columns = (Vec<Vec3>, Option<Vec<Vec3>>, Option<Vec<[u8; 4]>>);
+
+/// Decodes `count` binary records of `layout`, when the body holds exactly that many.
+fn decode_binary(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Columns> {
+    if body.len() != count.checked_mul(layout.stride)? {
         return None;
     }
     let f32_at = |record: &[u8], offset: usize| {
@@ -132,15 +202,15 @@ pub(crate) fn read_simple_binary_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
         body.par_chunks_exact(layout.stride)
             .with_min_len(RECORDS_PER_TASK)
     };
-    let mut positions: Vec<Vec3> = records()
+    let positions: Vec<Vec3> = records()
         .map(|r| Vec3::from_array(layout.position.map(|o| f32_at(r, o))))
         .collect();
-    let mut normals: Option<Vec<Vec3>> = layout.normal.map(|offsets| {
+    let normals: Option<Vec<Vec3>> = layout.normal.map(|offsets| {
         records()
             .map(|r| Vec3::from_array(offsets.map(|o| f32_at(r, o))))
             .collect()
     });
-    let mut colours: Option<Vec<[u8; 4]>> = layout.colour.map(|(rgb, alpha)| {
+    let colours: Option<Vec<[u8; 4]>> = layout.colour.map(|(rgb, alpha)| {
         records()
             .map(|r| {
                 let [red, green, blue] = rgb.map(|o| r[o]);
@@ -148,6 +218,91 @@ pub(crate) fn read_simple_binary_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
             })
             .collect()
     });
+    Some((positions, normals, colours))
+}
+
+/// Decodes the first `count` lines of an ASCII body, each exactly `layout.stride` numbers, when
+/// every line is in that form and every number is spelled as the PLY grammar allows (digits,
+/// sign, point, exponent: no `nan` or `inf`, which the general reader refuses).
+fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Columns> {
+    let mut lines: Vec<&[u8]> = Vec::new();
+    let mut rest = body;
+    while lines.len() < count {
+        let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+        if end == 0 && rest.is_empty() {
+            return None;
+        }
+        lines.push(&rest[..end]);
+        rest = rest.get(end + 1..).unwrap_or_default();
+    }
+    let number = |token: &str| {
+        token
+            .bytes()
+            .all(|b| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E'))
+    };
+    // Colour tokens are read as u8, as the general reader reads `uchar` (digits only).
+    let mut is_byte = vec![false; layout.stride];
+    if let Some((rgb, alpha)) = layout.colour {
+        for k in rgb.into_iter().chain(alpha) {
+            is_byte[k] = true;
+        }
+    }
+    let parse = |k: usize, token: &str| {
+        if is_byte[k] {
+            token.parse::<u8>().ok().map(f32::from)
+        } else {
+            number(token).then(|| token.parse::<f32>().ok()).flatten()
+        }
+    };
+    // One record per line: its numbers as f32 (floats) or u8 (uchars) in file order.
+    let records: Vec<Vec<f32>> = lines
+        .par_iter()
+        .with_min_len(RECORDS_PER_TASK / 4)
+        .map(|line| {
+            let text = std::str::from_utf8(line).ok()?;
+            let values: Vec<f32> = text
+                .split_ascii_whitespace()
+                .enumerate()
+                .map(|(k, t)| (k < layout.stride).then(|| parse(k, t)).flatten())
+                .collect::<Option<_>>()?;
+            (values.len() == layout.stride).then_some(values)
+        })
+        .collect::<Option<_>>()?;
+    // Exact: colour values were parsed as u8.
+    let byte = |v: f32| v as u8;
+    let positions = records
+        .iter()
+        .map(|r| Vec3::from_array(layout.position.map(|k| r[k])))
+        .collect();
+    let normals = layout.normal.map(|ks| {
+        records
+            .iter()
+            .map(|r| Vec3::from_array(ks.map(|k| r[k])))
+            .collect()
+    });
+    let colours = match layout.colour {
+        Some((rgb, alpha)) => Some(
+            records
+                .iter()
+                .map(|r| {
+                    let [red, green, blue] = rgb.map(|k| byte(r[k]));
+                    [red, green, blue, alpha.map_or(255, |k| byte(r[k]))]
+                })
+                .collect(),
+        ),
+        None => None,
+    };
+    Some((positions, normals, colours))
+}
+
+/// Drops non-finite points and centres the rest on their f64 bounding-box centre, as the
+/// general reader does; `None` when no point is finite (the general reader reports that).
+fn finish(
+    count: usize,
+    mut positions: Vec<Vec3>,
+    mut normals: Option<Vec<Vec3>>,
+    mut colours: Option<Vec<[u8; 4]>>,
+) -> Option<LoadedPointCloud> {
     // The general reader drops points with a non-finite position or normal.
     let is_finite =
         |i: usize| positions[i].is_finite() && normals.as_ref().is_none_or(|n| n[i].is_finite());
@@ -214,13 +369,18 @@ mod tests {
             .into_bytes()
         };
         let xyz = "property float x\nproperty float y\nproperty float z\n";
-        let (n, layout, start) = parse_simple_header(&header(xyz)).unwrap();
+        let parsed = parse_simple_header(&header(xyz)).unwrap();
+        let (n, layout) = (parsed.count, parsed.layout);
         assert_eq!((n, layout.stride, layout.position), (2, 12, [0, 4, 8]));
-        assert_eq!(start, header(xyz).len());
+        assert_eq!(parsed.start, header(xyz).len());
+        assert_eq!(
+            (parsed.tokens.stride, parsed.tokens.position),
+            (3, [0, 1, 2])
+        );
         let rgb = "property uchar red\nproperty uchar green\nproperty uchar blue\n";
         let layout = parse_simple_header(&header(&format!("{rgb}{xyz}")))
             .unwrap()
-            .1;
+            .layout;
         assert_eq!((layout.stride, layout.position), (15, [3, 7, 11]));
         assert_eq!(layout.colour, Some(([0, 1, 2], None)));
         for other in [
@@ -234,10 +394,18 @@ mod tests {
         ] {
             assert_eq!(parse_simple_header(&header(&other)), None, "{other}");
         }
-        let ascii = String::from_utf8(header(xyz))
+        // ASCII takes elements after the vertices (left unread); binary does not.
+        let scan = format!("{xyz}element range_grid 4\nproperty list uchar int vertex_indices\n");
+        assert_eq!(parse_simple_header(&header(&scan)), None);
+        let ascii = String::from_utf8(header(&scan))
             .unwrap()
             .replace("binary_little_endian", "ascii");
-        assert_eq!(parse_simple_header(ascii.as_bytes()), None);
+        let parsed = parse_simple_header(ascii.as_bytes()).unwrap();
+        assert_eq!((parsed.encoding, parsed.count), (Encoding::Ascii, 2));
+        let big = String::from_utf8(header(xyz))
+            .unwrap()
+            .replace("binary_little_endian", "binary_big_endian");
+        assert_eq!(parse_simple_header(big.as_bytes()), None);
     }
 
     #[test]
@@ -253,7 +421,7 @@ mod tests {
                 bytes.extend_from_slice(&v.to_le_bytes());
             }
         }
-        let loaded = read_simple_binary_ply(&bytes).expect("the simple layout");
+        let loaded = read_simple_ply(&bytes).expect("the simple layout");
         assert_eq!(loaded.dropped_non_finite, 1);
         assert_eq!(loaded.cloud.origin, DVec3::new(2.0, 2.0, 2.0));
         assert_eq!(
@@ -265,6 +433,29 @@ mod tests {
             ]
         );
         // A body one byte short is left to the general reader.
-        assert!(read_simple_binary_ply(&bytes[..bytes.len() - 1]).is_none());
+        assert!(read_simple_ply(&bytes[..bytes.len() - 1]).is_none());
+    }
+
+    #[test]
+    fn ascii_scans_are_read_directly() {
+        let text = "ply\nformat ascii 1.0\nobj_info x\nelement vertex 3\nproperty float x\n\
+            property float y\nproperty float z\nproperty uchar red\nproperty uchar green\n\
+            property uchar blue\nelement range_grid 2\nproperty list uchar int vertex_indices\n\
+            end_header\n0 0 0 1 2 3\n2 -4e0 2.5 255 0 7\n1 1 1 0 0 0\n1 0\n0\n";
+        let loaded = read_simple_ply(text.as_bytes()).expect("the simple ASCII layout");
+        assert_eq!(loaded.cloud.origin, DVec3::new(1.0, -1.5, 1.25));
+        assert_eq!(loaded.cloud.positions[1], Vec3::new(1.0, -2.5, 1.25));
+        assert_eq!(loaded.cloud.colours.unwrap()[1], [255, 0, 7, 255]);
+        // A short line, a word, a colour out of range, or too few lines: not taken.
+        for bad in [
+            "2 -4e0 2.5 255 0\n",
+            "2 -4e0 inf 255 0 7\n",
+            "2 -4e0 2.5 256 0 7\n",
+        ] {
+            let broken = text.replace("2 -4e0 2.5 255 0 7\n", bad);
+            assert!(read_simple_ply(broken.as_bytes()).is_none(), "{bad}");
+        }
+        let cut = &text[..text.find("1 1 1").unwrap()];
+        assert!(read_simple_ply(cut.as_bytes()).is_none());
     }
 }
