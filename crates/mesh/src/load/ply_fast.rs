@@ -280,18 +280,15 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
             .map(|r| Vec3::from_array(ks.map(|k| r[k])))
             .collect()
     });
-    let colours = match layout.colour {
-        Some((rgb, alpha)) => Some(
-            records
-                .iter()
-                .map(|r| {
-                    let [red, green, blue] = rgb.map(|k| byte(r[k]));
-                    [red, green, blue, alpha.map_or(255, |k| byte(r[k]))]
-                })
-                .collect(),
-        ),
-        None => None,
-    };
+    let colours = layout.colour.map(|(rgb, alpha)| {
+        records
+            .iter()
+            .map(|r| {
+                let [red, green, blue] = rgb.map(|k| byte(r[k]));
+                [red, green, blue, alpha.map_or(255, |k| byte(r[k]))]
+            })
+            .collect()
+    });
     Some((positions, normals, colours))
 }
 
