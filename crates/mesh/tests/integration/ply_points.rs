@@ -125,13 +125,16 @@ fn errors_and_other_layouts_come_from_the_general_reader() {
     }
 }
 
+/// Extra header lines and the body lines that go with them (elements after the vertices).
+type Trailer<'a> = Option<(&'a str, &'a str)>;
+
 /// An ASCII PLY with `count` vertices of `properties` (floats printed as Rust writes f32,
 /// uchars as integers), then `trailer` (more header elements and their lines) when given.
 fn write_ascii_ply(
     name: &str,
     properties: &[Property],
     count: usize,
-    trailer: Option<(&str, &str)>,
+    trailer: Trailer<'_>,
 ) -> PathBuf {
     let mut text = format!("ply\nformat ascii 1.0\nobj_info scanner 1\nelement vertex {count}\n");
     for p in properties {
@@ -176,7 +179,7 @@ fn ascii_layouts_load_exactly_as_the_general_reader_loads_them() {
         "element range_grid 3\nproperty list uchar int vertex_indices\n",
         "1 0\n0\n1 2\n",
     );
-    let cases: Vec<(&str, Vec<Property>, Option<(&str, &str)>)> = vec![
+    let cases: Vec<(&str, Vec<Property>, Trailer<'_>)> = vec![
         ("a_xyz.ply", xyz.to_vec(), None),
         ("a_xyz_grid.ply", xyz.to_vec(), Some(grid)),
         ("a_n_xyz.ply", [normals, xyz].concat(), None),
