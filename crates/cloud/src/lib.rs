@@ -60,7 +60,7 @@ pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
 pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, DistanceStats};
 pub use ids::{PointId, ViewId};
-pub use normals::{estimate_normals, plane_normal, smallest_eigenvector};
+pub use normals::{estimate_normals, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
 pub use pipeline::{
     cloud_to_scene, CloudConversion, BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,

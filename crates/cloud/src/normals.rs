@@ -271,25 +271,6 @@ pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
         .collect()
 }
 
-/// The normal of the least-squares plane through `points`, or zero when there is none.
-pub fn plane_normal(points: &[Vec3]) -> Vec3 {
-    if points.len() < 3 {
-        return Vec3::ZERO;
-    }
-    let centre = points.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / points.len() as f64;
-    let mut c = [0.0f64; 6]; // xx xy xz yy yz zz
-    for p in points {
-        let d = p.as_dvec3() - centre;
-        c[0] += d.x * d.x;
-        c[1] += d.x * d.y;
-        c[2] += d.x * d.z;
-        c[3] += d.y * d.y;
-        c[4] += d.y * d.z;
-        c[5] += d.z * d.z;
-    }
-    smallest_eigenvector(c).as_vec3()
-}
-
 /// The unit eigenvector of the smallest eigenvalue of the symmetric matrix
 /// `[[a0, a1, a2], [a1, a3, a4], [a2, a4, a5]]`, or zero when it is not unique.
 pub fn smallest_eigenvector(a: [f64; 6]) -> DVec3 {
@@ -376,7 +357,14 @@ mod tests {
     }
 
     #[test]
-    fn plane_normal_of_a_tilted_grid_and_degenerate_inputs() {
+    fn moments_give_the_plane_normal_of_a_tilted_grid_and_none_for_degenerate_inputs() {
+        let plane_normal = |points: &[Vec3]| {
+            let mut m = Moments::default();
+            for p in points {
+                m.add_point(p.as_dvec3());
+            }
+            m.normal()
+        };
         let n = Vec3::new(1.0, 2.0, 3.0).normalize();
         let u = n.any_orthonormal_vector();
         let w = n.cross(u);
