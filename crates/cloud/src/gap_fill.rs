@@ -141,25 +141,6 @@ fn filled_near(depth: &[f32], w: usize, h: usize, g: usize) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::directions::ViewBasis;
-    use crate::range_image::ImageGeometry;
-    use glam::Vec3;
-
-    fn image(w: usize, h: usize, depth: impl Fn(usize, usize) -> f32) -> RangeImage {
-        let geometry = ImageGeometry {
-            basis: ViewBasis::new(Vec3::Z),
-            x0: 0.0,
-            y0: 0.0,
-            pixel: 1.0,
-            width: w,
-            height: h,
-        };
-        RangeImage {
-            geometry,
-            depth: (0..w * h).map(|k| depth(k % w, k / w)).collect(),
-            colour: None,
-        }
-    }
 
     #[test]
     fn box_counts_match_a_direct_count() {
@@ -185,7 +166,7 @@ mod tests {
 
     #[test]
     fn small_holes_are_filled_on_a_slope() {
-        let mut img = image(10, 10, |i, j| {
+        let mut img = RangeImage::from_fn(10, 10, |i, j| {
             if (i, j) == (4, 4) || (i, j) == (5, 4) {
                 EMPTY_DEPTH
             } else {
@@ -200,14 +181,14 @@ mod tests {
     #[test]
     fn gaps_across_a_discontinuity_and_wide_gaps_stay_open() {
         // Left half at depth 0, right half at depth 10, a one-pixel empty column between.
-        let mut img = image(9, 5, |i, _| match i {
+        let mut img = RangeImage::from_fn(9, 5, |i, _| match i {
             4 => EMPTY_DEPTH,
             0..4 => 0.0,
             _ => 10.0,
         });
         assert_eq!(fill_gaps(&mut img, 2, 1.0), 0);
         // A 4-wide empty band is wider than max_gap.
-        let mut img = image(12, 5, |i, _| {
+        let mut img = RangeImage::from_fn(12, 5, |i, _| {
             if (4..8).contains(&i) {
                 EMPTY_DEPTH
             } else {

@@ -151,6 +151,26 @@ pub(crate) struct RangeImage {
     pub(crate) colour: Option<Vec<[u8; 4]>>,
 }
 
+#[cfg(test)]
+impl RangeImage {
+    /// A `w × h` image seen along +z with unit pixels at the origin, `depth(i, j)` per pixel
+    /// and no colour (for the tests of the image filters).
+    pub(crate) fn from_fn(w: usize, h: usize, depth: impl Fn(usize, usize) -> f32) -> Self {
+        RangeImage {
+            geometry: ImageGeometry {
+                basis: ViewBasis::new(Vec3::Z),
+                x0: 0.0,
+                y0: 0.0,
+                pixel: 1.0,
+                width: w,
+                height: h,
+            },
+            depth: (0..w * h).map(|k| depth(k % w, k / w)).collect(),
+            colour: None,
+        }
+    }
+}
+
 /// Positions and normals as one array per coordinate (structure of arrays), so that the
 /// projection loop of [`flush_points`], which runs once per view over every point, compiles
 /// to SIMD instructions.

@@ -121,30 +121,13 @@ fn estimate_noise(image: &RangeImage) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::directions::ViewBasis;
-    use crate::range_image::{ImageGeometry, EMPTY_DEPTH};
-    use glam::Vec3;
-
-    fn image(w: usize, h: usize, depth: impl Fn(usize, usize) -> f32) -> RangeImage {
-        RangeImage {
-            geometry: ImageGeometry {
-                basis: ViewBasis::new(Vec3::Z),
-                x0: 0.0,
-                y0: 0.0,
-                pixel: 1.0,
-                width: w,
-                height: h,
-            },
-            depth: (0..w * h).map(|k| depth(k % w, k / w)).collect(),
-            colour: None,
-        }
-    }
+    use crate::range_image::EMPTY_DEPTH;
 
     #[test]
     fn noise_drops_and_a_step_survives() {
         // Left: noisy plane at 0; right: a plane at 20 (a discontinuity); one empty pixel.
         let noise = |i: usize, j: usize| (((i * 31 + j * 17) % 13) as f32 / 13.0 - 0.5) * 0.4;
-        let mut img = image(30, 20, |i, j| match (i, j) {
+        let mut img = RangeImage::from_fn(30, 20, |i, j| match (i, j) {
             (3, 3) => EMPTY_DEPTH,
             (0..15, _) => noise(i, j),
             _ => 20.0 + noise(i, j),
