@@ -19,20 +19,28 @@ enum Property {
     Double(&'static str),
 }
 
+/// The header's `property` lines for `properties`.
+fn property_lines(properties: &[Property]) -> String {
+    properties
+        .iter()
+        .map(|p| {
+            let (kind, name) = match p {
+                Property::Float(n) => ("float", n),
+                Property::Uchar(n) => ("uchar", n),
+                Property::Double(n) => ("double", n),
+            };
+            format!("property {kind} {name}\n")
+        })
+        .collect()
+}
+
 /// A binary little-endian PLY with `count` vertices of `properties`, values from `value`
 /// (vertex, property index); every 97th vertex gets a NaN in its first float property.
 fn write_ply(name: &str, properties: &[Property], count: usize, seed: u64) -> PathBuf {
     let mut text = format!(
         "ply\nformat binary_little_endian 1.0\ncomment generated\nelement vertex {count}\n"
     );
-    for p in properties {
-        let (kind, name) = match p {
-            Property::Float(n) => ("float", n),
-            Property::Uchar(n) => ("uchar", n),
-            Property::Double(n) => ("double", n),
-        };
-        text.push_str(&format!("property {kind} {name}\n"));
-    }
+    text.push_str(&property_lines(properties));
     text.push_str("end_header\n");
     let mut bytes = text.into_bytes();
     let mut rng = SplitMix64::new(seed);
@@ -137,14 +145,7 @@ fn write_ascii_ply(
     trailer: Trailer<'_>,
 ) -> PathBuf {
     let mut text = format!("ply\nformat ascii 1.0\nobj_info scanner 1\nelement vertex {count}\n");
-    for p in properties {
-        let (kind, name) = match p {
-            Property::Float(n) => ("float", n),
-            Property::Uchar(n) => ("uchar", n),
-            Property::Double(n) => ("double", n),
-        };
-        text.push_str(&format!("property {kind} {name}\n"));
-    }
+    text.push_str(&property_lines(properties));
     if let Some((header, _)) = trailer {
         text.push_str(header);
     }
