@@ -118,10 +118,8 @@ pub fn load_point_cloud(path: impl AsRef<Path>) -> Result<LoadedPointCloud, Mesh
     let path = path.as_ref();
     match FileFormat::from_path(path) {
         Some(FileFormat::Ply) => {
-            if let Ok(bytes) = std::fs::read(path) {
-                if let Some(loaded) = ply_fast::read_simple_ply(&bytes) {
-                    return Ok(loaded);
-                }
+            if let Some(loaded) = ply_fast::read_simple_ply_file(path) {
+                return Ok(loaded);
             }
             ply::load_ply_points(path)
         }

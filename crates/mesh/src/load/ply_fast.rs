@@ -22,9 +22,18 @@
 //!
 //! Cost: one read of the file, O(n) decoding; memory the file plus the cloud.
 
+use std::io::Read;
+use std::path::Path;
+
 use crate::{LoadedPointCloud, PointCloud};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
+
+/// How far into a file the header's `end_header` line may start.
+const HEADER_LIMIT: usize = 64 * 1024;
+
+/// The line that ends a PLY header.
+const END_HEADER: &[u8] = b"end_header\n";
 
 /// Records decoded per parallel task at least.
 const RECORDS_PER_TASK: usize = 16_384;
@@ -65,12 +74,11 @@ struct SimpleHeader {
 
 /// The header, when it describes the simple layout; `None` for anything else.
 fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
-    const END: &[u8] = b"end_header\n";
     let head_len = bytes
-        .windows(END.len())
-        .take(64 * 1024)
-        .position(|w| w == END)?
-        + END.len();
+        .windows(END_HEADER.len())
+        .take(HEADER_LIMIT)
+        .position(|w| w == END_HEADER)?
+        + END_HEADER.len();
     let text = std::str::from_utf8(&bytes[..head_len]).ok()?;
     let mut lines = text.split('\n');
     if lines.next()? != "ply" {
@@ -166,8 +174,22 @@ fn simple_layout(
     })
 }
 
-/// The cloud of a file in the simple layout, or `None` when the file is not in it (or has
-/// no finite point, which the general reader reports).
+/// The cloud of the file at `path` when it is in the simple layout. Only the header is read
+/// first, so a file in another layout (which the general reader then reads) is not read
+/// whole twice.
+pub(crate) fn read_simple_ply_file(path: &Path) -> Option<LoadedPointCloud> {
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take((HEADER_LIMIT + END_HEADER.len()) as u64)
+        .read_to_end(&mut head)
+        .ok()?;
+    parse_simple_header(&head)?;
+    read_simple_ply(&std::fs::read(path).ok()?)
+}
+
+/// The cloud of a file in the simple layout, given its bytes, or `None` when the file is not
+/// in it (or has no finite point, which the general reader reports).
 pub(crate) fn read_simple_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
     let header = parse_simple_header(bytes)?;
     let body = &bytes[header.start..];
