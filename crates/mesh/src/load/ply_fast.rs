@@ -32,6 +32,10 @@ use rayon::prelude::*;
 /// How far into a file the header's `end_header` line may start.
 const HEADER_LIMIT: usize = 64 * 1024;
 
+/// Most properties a record of the simple layout has: x y z, nx ny nz, red green blue alpha
+/// (each name at most once).
+const MAX_PROPERTIES: usize = 10;
+
 /// The line that ends a PLY header.
 const END_HEADER: &[u8] = b"end_header\n";
 
@@ -277,17 +281,23 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
         }
     };
     // One record per line: its numbers as f32 (floats) or u8 (uchars) in file order.
-    let records: Vec<Vec<f32>> = lines
+    // A fixed array per line (the layout has at most ten properties: x y z, three normal
+    // components, four colour channels), so a million lines make no million allocations.
+    let records: Vec<[f32; MAX_PROPERTIES]> = lines
         .par_iter()
         .with_min_len(RECORDS_PER_TASK / 4)
         .map(|line| {
             let text = std::str::from_utf8(line).ok()?;
-            let values: Vec<f32> = text
-                .split_ascii_whitespace()
-                .enumerate()
-                .map(|(k, t)| (k < layout.stride).then(|| parse(k, t)).flatten())
-                .collect::<Option<_>>()?;
-            (values.len() == layout.stride).then_some(values)
+            let mut values = [0.0f32; MAX_PROPERTIES];
+            let mut n = 0;
+            for token in text.split_ascii_whitespace() {
+                if n == layout.stride {
+                    return None;
+                }
+                values[n] = parse(n, token)?;
+                n += 1;
+            }
+            (n == layout.stride).then_some(values)
         })
         .collect::<Option<_>>()?;
     // Exact: colour values were parsed as u8.
