@@ -7,14 +7,6 @@ const READERS: [&[&str]; 3] = [
     &["merge", "good.spatch", "-o", "out.spatch"],
 ];
 
-fn assert_one_clear_line(run: &crate::test_command::Run, file: &str) {
-    assert_eq!(run.code, 2, "stderr: {}", run.stderr);
-    let lines: Vec<&str> = run.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{}", run.stderr);
-    assert!(lines[0].starts_with("spatch: error: "), "{}", lines[0]);
-    assert!(lines[0].contains(file), "{}", lines[0]);
-}
-
 #[test]
 fn missing_truncated_and_corrupt_files_fail_cleanly() {
     let t = TestCommand::new();
@@ -43,7 +35,7 @@ fn missing_truncated_and_corrupt_files_fail_cleanly() {
                 args = vec!["stats", file];
             }
             let run = t.run(&args);
-            assert_one_clear_line(&run, file);
+            run.assert_one_clear_line(file);
             assert!(run.stderr.contains(needle), "{file}: {}", run.stderr);
             assert!(!t.path("out.ply").exists() && !t.path("out.spatch").exists());
         }

@@ -20,6 +20,16 @@ impl Run {
         );
         self
     }
+
+    /// Panics unless the run failed as bad input: exit code 2 and one line,
+    /// `spatch: error: ...`, naming `file`.
+    pub(crate) fn assert_one_clear_line(&self, file: &str) {
+        assert_eq!(self.code, 2, "stderr: {}", self.stderr);
+        let lines: Vec<&str> = self.stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{}", self.stderr);
+        assert!(lines[0].starts_with("spatch: error: "), "{}", lines[0]);
+        assert!(lines[0].contains(file), "{}", lines[0]);
+    }
 }
 
 /// A temporary folder to run `spatch` in.

@@ -64,22 +64,16 @@ pub(crate) fn error(report: &serde_json::Value, side: &str, stat: &str) -> f64 {
         .unwrap_or_else(|| panic!("no error.{side}.{stat} in {report}"))
 }
 
-/// Asserts a refusal: exit code 2, one line on standard error naming `file` and containing
-/// every one of `words`, and no output file.
+/// Asserts a refusal: exit code 2, one error line naming `file` and containing every one of
+/// `words`, and no output file.
 pub(crate) fn assert_refused(
     t: &TestCommand,
     run: &crate::test_command::Run,
     file: &str,
     words: &[&str],
 ) {
-    assert_eq!(run.code, 2, "{file}: {}", run.stderr);
+    run.assert_one_clear_line(file);
     let line = run.stderr.trim();
-    assert_eq!(
-        line.lines().count(),
-        1,
-        "{file}: more than one line:\n{line}"
-    );
-    assert!(line.contains(file), "{file} not named: {line}");
     for w in words {
         assert!(line.contains(w), "{file}: '{w}' missing from: {line}");
     }
