@@ -311,10 +311,13 @@ fn bench(
     as_json: bool,
 ) -> anyhow::Result<()> {
     // Warm-up: the first frame above, and one more.
-    renderer.render(scene, camera).map_err(classify)?;
+    let warm = renderer.render(scene, camera).map_err(classify)?;
+    renderer.recycle(warm.image);
     let mut all: Vec<RenderStats> = Vec::with_capacity(frames);
     for _ in 0..frames {
-        all.push(renderer.render(scene, camera).map_err(classify)?.stats);
+        let out = renderer.render(scene, camera).map_err(classify)?;
+        renderer.recycle(out.image);
+        all.push(out.stats);
     }
     type Pick = fn(&RenderStats) -> f64;
     let stages: [(&str, Pick); 13] = [

@@ -43,7 +43,10 @@ fn bench(c: &mut Criterion) {
             options.threads = threads;
             let mut renderer = Renderer::new(options).expect("renderer");
             group.bench_function(name, |b| {
-                b.iter(|| renderer.render(&scene, &camera).expect("frame"))
+                b.iter(|| {
+                    let out = renderer.render(&scene, &camera).expect("frame");
+                    renderer.recycle(out.image);
+                })
             });
         }
         group.finish();

@@ -20,8 +20,11 @@ fn main() {
         options.mode = spatch_render::RenderMode::Triangles;
     }
     let mut r = spatch_render::Renderer::new(options).unwrap();
-    let mut last = None;
+    let mut last: Option<spatch_render::RenderOutput> = None;
     for _ in 0..frames {
+        if let Some(previous) = last.take() {
+            r.recycle(previous.image);
+        }
         last = Some(r.render(&prepared, &camera).unwrap());
     }
     let out = last.unwrap();

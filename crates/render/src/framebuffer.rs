@@ -512,6 +512,11 @@ impl RenderedImage {
         }
     }
 
+    /// The colour and depth buffers, for [`crate::Renderer::recycle`].
+    pub(crate) fn into_buffers(self) -> (Vec<[u8; 4]>, Vec<f32>) {
+        (self.rgba, self.depth)
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width
