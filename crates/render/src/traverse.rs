@@ -265,6 +265,29 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
         let (head, tail) = cell_flags.split_at_mut((j + 1) * ccols);
         let row = &mut head[j * ccols..];
         let above: &[u8] = if j + 1 < crows { &tail[..ccols] } else { &[] };
+        // The next cell's and the upper cell's drawn bits, 0 past the end.
+        let mut next = [0u8; 64];
+        let mut over = [0u8; 64];
+        if ccols <= next.len() {
+            next[..ccols - 1].copy_from_slice(&row[1..]);
+            if !above.is_empty() {
+                over[..ccols].copy_from_slice(above);
+            }
+            let (next, over) = (&next[..ccols], &over[..ccols]);
+            let (mut right_n, mut top_n, mut both_n) = (0u32, 0u32, 0u32);
+            for ((f, &n), &o) in row.iter_mut().zip(next).zip(over) {
+                let drawn = *f & CELL_DRAW;
+                let (right, top) = (drawn & !n, drawn & !o);
+                *f |= (right * CELL_RIGHT) | (top * CELL_TOP);
+                right_n += right as u32;
+                top_n += top as u32;
+                both_n += (right & top) as u32;
+            }
+            counts[0] += right_n as u64;
+            counts[1] += top_n as u64;
+            counts[2] += both_n as u64;
+            continue;
+        }
         for i in 0..ccols {
             let drawn = row[i] & CELL_DRAW;
             let next = row.get(i + 1).map_or(0, |f| f & CELL_DRAW);
@@ -485,33 +508,28 @@ fn mark_row<const BACK: i64>(
         &yh[..n + 1],
         &mask[..n],
     );
+    // The left corners of a cell are the right corners of the previous
+    // one. Why carried: four loads per cell instead of eight, and the test
+    // stops at the first corner that does not face away (most cells: the
+    // first; callgrind, `profile_sphere 500 1`).
+    let (mut a, mut c) = ((xl[0] as i64, yl[0] as i64), (xh[0] as i64, yh[0] as i64));
     for i in 0..n {
         let mut f = mask[i] & CELL_DRAW;
+        let b = (xl[i + 1] as i64, yl[i + 1] as i64);
+        let d = (xh[i + 1] as i64, yh[i + 1] as i64);
         if BACK != 0 && f != 0 {
-            let (ax, ay, bx, by) = (
-                xl[i] as i64,
-                yl[i] as i64,
-                xl[i + 1] as i64,
-                yl[i + 1] as i64,
-            );
-            let (cx, cy, dx, dy) = (
-                xh[i] as i64,
-                yh[i] as i64,
-                xh[i + 1] as i64,
-                yh[i + 1] as i64,
-            );
-            let (u0, u1, v0, v1) = (
-                (bx - ax, by - ay),
-                (dx - cx, dy - cy),
-                (cx - ax, cy - ay),
-                (dx - bx, dy - by),
-            );
-            let cross = |u: (i64, i64), v: (i64, i64)| (u.0 * v.1 - u.1 * v.0) * BACK;
-            if cross(u0, v0) > 0 && cross(u0, v1) > 0 && cross(u1, v0) > 0 && cross(u1, v1) > 0 {
-                f = 0;
-                back += 1;
+            let edge = |p: (i64, i64), q: (i64, i64)| (q.0 - p.0, q.1 - p.1);
+            let away = |u: (i64, i64), v: (i64, i64)| (u.0 * v.1 - u.1 * v.0) * BACK > 0;
+            let (u0, v0) = (edge(a, b), edge(a, c));
+            if away(u0, v0) {
+                let (u1, v1) = (edge(c, d), edge(b, d));
+                if away(u0, v1) && away(u1, v0) && away(u1, v1) {
+                    f = 0;
+                    back += 1;
+                }
             }
         }
+        (a, c) = (b, d);
         row[i] = f;
         drawn += f as u64;
     }
@@ -872,6 +890,36 @@ mod tests {
                 let taken = max_abs_diff(&xl[..n], &xl[1..]).max(max_abs_diff(&xh[..n], &xh[1..]));
                 assert_eq!(taken as u64, ux);
             }
+        }
+    }
+
+    /// `close_cells` marks exactly the drawn cells whose right or upper
+    /// neighbour is not drawn (or missing), on narrow and wide rows.
+    #[test]
+    fn closing_flags_follow_the_neighbours() {
+        let mut rng = Rng(777);
+        for case in 0..200 {
+            let ccols = 1 + rng.below(if case % 4 == 0 { 100 } else { 20 }) as usize;
+            let crows = 1 + rng.below(12) as usize;
+            let drawn: Vec<bool> = (0..ccols * crows).map(|_| rng.below(4) != 0).collect();
+            let mut flags: Vec<u8> = drawn.iter().map(|&d| d as u8 * CELL_DRAW).collect();
+            let counts = close_cells(&mut flags, ccols, crows);
+            let mut expected = [0u64; 3];
+            for j in 0..crows {
+                for i in 0..ccols {
+                    let k = j * ccols + i;
+                    let right = drawn[k] && (i + 1 == ccols || !drawn[k + 1]);
+                    let top = drawn[k] && (j + 1 == crows || !drawn[k + ccols]);
+                    let want = (drawn[k] as u8 * CELL_DRAW)
+                        | (right as u8 * CELL_RIGHT)
+                        | (top as u8 * CELL_TOP);
+                    assert_eq!(flags[k], want, "case {case} cell ({i}, {j})");
+                    expected[0] += right as u64;
+                    expected[1] += top as u64;
+                    expected[2] += (right && top) as u64;
+                }
+            }
+            assert_eq!(counts, expected);
         }
     }
 }
