@@ -92,6 +92,29 @@ pub(crate) fn cone_faces_away(cone: &NormalCone, centre: DVec3, radius: f64, eye
     angle > std::f64::consts::FRAC_PI_2 + cone.half_angle + spread
 }
 
+/// Extra angle (radians) by which a normal cone must face the eye before
+/// its patch skips the per-cell back-face test ([`cone_faces_eye`]): room
+/// for the trilinear traversal's and the fixed point's errors in the
+/// projected cells.
+pub(crate) const FRONT_MARGIN: f64 = 0.1;
+
+/// True when every normal of `cone` faces the eye from every point of the
+/// sphere `(centre, radius)`, by at least [`FRONT_MARGIN`]: no cell of the
+/// patch can face away, so the per-cell back-face test is skipped. Why:
+/// the test cost ≈ 30 instructions per cell and found nothing on ≈ 70 % of
+/// the sphere's drawn patches (callgrind, `profile_sphere 500 1`).
+/// Conservative: a patch that fails it keeps the test.
+pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye: DVec3) -> bool {
+    let to_eye = eye - centre;
+    let distance = to_eye.length();
+    if distance <= radius * 1.000_001 {
+        return false;
+    }
+    let spread = (radius / distance).asin();
+    let angle = (to_eye.dot(cone.axis) / distance).clamp(-1.0, 1.0).acos();
+    angle + cone.half_angle + spread + FRONT_MARGIN < std::f64::consts::FRAC_PI_2
+}
+
 /// Where a box lies with respect to the view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum BoxClass {
@@ -189,6 +212,14 @@ mod tests {
             1.0,
             DVec3::new(0.0, 0.0, -0.5)
         ));
+        // Facing the eye entirely: only straight on, not edge-on or inside.
+        let eye = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+        assert!(cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(0.0, 10.0)));
+        assert!(cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(3.0, 10.0)));
+        assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(10.0, 3.0)));
+        assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(10.0, 0.0)));
+        assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(0.0, -10.0)));
+        assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(0.0, 0.5)));
     }
 
     #[test]

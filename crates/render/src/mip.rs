@@ -16,6 +16,7 @@
 use spatch_format::{Patch, EMPTY};
 
 use crate::normal_buffer::{node_differences, table_slot};
+use crate::traverse::{close_cells, CELL_DRAW};
 
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
@@ -37,6 +38,16 @@ pub(crate) struct MipLevel {
     /// Smallest and largest used displacement (0, 0 when none).
     pub(crate) d_range: (u16, u16),
     pub(crate) drawable_cells: u32,
+    /// Per cell (row-major, `(cols - 1) × (rows - 1)`), the flags of the
+    /// whole level without back-face culling: [`CELL_DRAW`] when its four
+    /// corners are filled, and [`crate::traverse::CELL_RIGHT`] /
+    /// [`crate::traverse::CELL_TOP`] when it closes
+    /// its column / row. Why: which cells have four used corners does not
+    /// depend on the view, so a frame only adds the back-face test (see
+    /// [`crate::traverse::measure_cells`]).
+    pub(crate) cell_flags: Vec<u8>,
+    /// Closing counts of [`Self::cell_flags`]: right, top, both.
+    pub(crate) closing: [u64; 3],
 }
 
 impl MipLevel {
@@ -49,12 +60,15 @@ impl MipLevel {
     ) -> Self {
         let mut used = vec![false; cols * rows];
         let mut drawable_cells = 0;
+        let (ccols, crows) = (cols - 1, rows - 1);
+        let mut cell_flags = vec![0u8; ccols * crows];
         for j in 0..rows - 1 {
             for i in 0..cols - 1 {
                 let k = j * cols + i;
                 let corners = [k, k + 1, k + cols, k + cols + 1];
                 if corners.iter().all(|&c| displacements[c] != EMPTY) {
                     drawable_cells += 1;
+                    cell_flags[j * ccols + i] = CELL_DRAW;
                     for c in corners {
                         used[c] = true;
                     }
@@ -70,6 +84,7 @@ impl MipLevel {
             }
         }
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
+        let closing = close_cells(&mut cell_flags, ccols, crows);
         let normal_slots = (0..rows)
             .flat_map(|j| (0..cols).map(move |i| (i, j)))
             .map(|(i, j)| {
@@ -87,6 +102,8 @@ impl MipLevel {
             normal_slots,
             d_range,
             drawable_cells,
+            cell_flags,
+            closing,
         }
     }
 

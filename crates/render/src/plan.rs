@@ -32,7 +32,7 @@ use glam::{Mat3, Vec3};
 
 use crate::camera::View;
 use crate::cell_bilinear::MAX_SUBDIVISION;
-use crate::cull::{cone_faces_away, BoxClass, Frustum};
+use crate::cull::{cone_faces_away, cone_faces_eye, BoxClass, Frustum};
 use crate::fixed::attr_to_bits;
 use crate::mip::MipLevel;
 use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer, OUTSIDE_TABLE};
@@ -42,7 +42,7 @@ use crate::shade::{pack_colour, Material, ShadeFrame, WorldLight};
 use crate::split::{split_patch, NodeRange};
 use crate::stats::Counters;
 use crate::traverse::{
-    measure_cells, project_nodes_exact, project_nodes_trilinear, Node, Projector,
+    measure_cells, project_nodes_exact, project_nodes_trilinear, Node, NodeXY, Projector,
 };
 use crate::triangle_raster::{
     clip_and_project, ClipOutcome, ClipVertex, ScreenTriangle, TRI_ATTRS,
@@ -105,6 +105,8 @@ pub(crate) struct ChunkWork {
     /// [`crate::traverse::measure_cells`]).
     pub(crate) row_spans: Vec<[i32; 2]>,
     pub(crate) counters: Counters,
+    /// Screen positions of the piece being planned (see [`NodeXY`]).
+    xy: NodeXY,
     normals: NormalBuffer,
     stack: Vec<NodeRange>,
     pieces: Vec<NodeRange>,
@@ -153,6 +155,9 @@ pub(crate) fn plan_chunk(
             continue;
         }
         let facing_away = p.cone.axis.dot(eye - p.centre) < 0.0;
+        // No cell of a patch facing the eye entirely can face away.
+        let cell_test = setup.options.culling == Culling::Back
+            && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, facing_away);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
         let level0 = &p.levels[0];
@@ -195,6 +200,7 @@ pub(crate) fn plan_chunk(
                 p,
                 piece,
                 whole,
+                cell_test,
                 &map,
                 t0,
                 index,
@@ -263,6 +269,7 @@ fn plan_piece(
     p: &PreparedPatch,
     piece: NodeRange,
     whole: bool,
+    cell_test: bool,
     map: &Mat3,
     t0: Vec3,
     index: u32,
@@ -309,8 +316,12 @@ fn plan_piece(
     };
     let first = work.nodes.len();
     match opts.projection {
-        Projection::Trilinear => project_nodes_trilinear(level, range, d, &proj, &mut work.nodes),
-        Projection::Exact => project_nodes_exact(level, range, &proj, &mut work.nodes),
+        Projection::Trilinear => {
+            project_nodes_trilinear(level, range, d, &proj, &mut work.nodes, &mut work.xy)
+        }
+        Projection::Exact => {
+            project_nodes_exact(level, range, &proj, &mut work.nodes, &mut work.xy)
+        }
     }
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
     // 4. Subdivision.
@@ -320,7 +331,7 @@ fn plan_piece(
     // of the sphere's samples were on cells facing away (callgrind,
     // `profile_sphere 500 1`).
     let det = proj.map.determinant();
-    let back_sign = if opts.culling == Culling::Back && !smooth && det != 0.0 {
+    let back_sign = if cell_test && !smooth && det != 0.0 {
         if det > 0.0 {
             1
         } else {
@@ -332,9 +343,9 @@ fn plan_piece(
     let flags = work.cell_flags.len();
     let spans = work.row_spans.len();
     let measure = measure_cells(
-        &work.nodes[first..],
-        cols,
-        rows,
+        level,
+        range,
+        &work.xy,
         back_sign,
         &mut work.cell_flags,
         &mut work.row_spans,

@@ -42,6 +42,12 @@ impl NodeRange {
 
     /// The displacement range of the used nodes inside, or `None` if none.
     pub(crate) fn d_range(&self, level: &MipLevel) -> Option<(u16, u16)> {
+        // The whole level's is kept with it. Why: scanning the nodes cost
+        // ≈ 3 M instructions per 500² sphere frame (callgrind,
+        // `profile_sphere 500 1`).
+        if *self == Self::whole(level) {
+            return (level.drawable_cells > 0).then_some(level.d_range);
+        }
         let mut lo = u16::MAX;
         let mut hi = 0u16;
         for j in self.j0..=self.j1 {
@@ -155,5 +161,29 @@ mod tests {
         assert_eq!(cells.len(), 8);
         assert!(pieces.iter().all(|p| p.i0 >= 5));
         assert!(counts.dropped > 0);
+    }
+
+    #[test]
+    fn the_whole_levels_displacement_range_is_that_of_its_used_nodes() {
+        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+        // Empty nodes, and a filled node (300) that belongs to no drawable cell.
+        let mut d: Vec<u16> = (0..81).map(|k| (k * 37 % 200) as u16 + 5).collect();
+        for k in [0, 1, 9, 40, 41, 49, 50, 80, 79, 71, 70] {
+            d[k] = spatch_format::EMPTY;
+        }
+        d[8] = 300;
+        d[7] = spatch_format::EMPTY;
+        d[16] = spatch_format::EMPTY;
+        let patch = Patch::new(frame, GridSize::new(9, 9).unwrap(), d, None).unwrap();
+        for (m, level) in crate::mip::build_mip_pyramid(&patch).iter().enumerate() {
+            let whole = NodeRange::whole(level);
+            let used = (0..level.cols * level.rows).filter(|&k| level.used[k]);
+            let ds: Vec<u16> = used.map(|k| level.displacements[k]).collect();
+            let scanned = ds.iter().min().map(|&lo| (lo, *ds.iter().max().unwrap()));
+            assert_eq!(whole.d_range(level), scanned);
+            if m == 0 {
+                assert_ne!(scanned.map(|s| s.1), Some(300));
+            }
+        }
     }
 }
