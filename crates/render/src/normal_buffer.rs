@@ -141,6 +141,25 @@ impl NormalBuffer {
         self.probe(level, slot as usize).1
     }
 
+    /// Counts a lookup of the normal at `slot` (not [`OUTSIDE_TABLE`]) in
+    /// the table chosen by [`Self::select`] exactly as
+    /// [`Self::normal_bits_at`] would, for a frame that reads its normals
+    /// from the prepared scene ([`crate::prepare::LevelShading`]).
+    #[inline(always)]
+    pub(crate) fn touch_at(&mut self, level: usize, slot: u16) {
+        debug_assert!(slot != OUTSIDE_TABLE);
+        self.counts.needed += 1;
+        self.probe(level, slot as usize);
+    }
+
+    /// Counts a lookup of a normal outside the table (always computed), as
+    /// [`Self::normal_bits`] would.
+    pub(crate) fn touch_outside(&mut self) {
+        self.counts.needed += 1;
+        self.counts.computed_per_patch_buffer += 1;
+        self.counts.computed_ordered_buffer += 1;
+    }
+
     /// The normal and its node format from the selected table of `level`.
     /// Why always inlined: it runs once per node of every drawn piece and
     /// the call returned its 24-byte result through memory (callgrind,
