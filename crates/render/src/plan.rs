@@ -522,10 +522,11 @@ fn fill_attributes(
 /// The Phong attributes of a piece: none. The resolve pass reads the
 /// normals and albedos of the prepared level
 /// ([`crate::prepare::LevelShading`]); this only counts the normal-buffer
-/// lookups the nodes make (the statistics keep their meaning). Why: copying
-/// three normal words (and the albedo) into every node cost ~50
-/// instructions per node, 7.4 M per 500² sphere frame (callgrind,
-/// `profile_sphere 500 1`).
+/// lookups the nodes make (the statistics keep their meaning; a level drawn
+/// whole, whose non-empty nodes are its used nodes, is counted from its
+/// prepared slot set). Why: copying three normal words (and the albedo)
+/// into every node cost ~50 instructions per node, 7.4 M per 500² sphere
+/// frame (callgrind, `profile_sphere 500 1`).
 fn fill_phong_attributes(
     work: &mut ChunkWork,
     p: &PreparedPatch,
@@ -536,6 +537,11 @@ fn fill_phong_attributes(
     let level = &p.levels[m];
     let normals = &mut work.normals;
     normals.select(m, p.ratios_at(m));
+    if range.i0 == 0 && range.j0 == 0 && range.i1 + 1 == level.cols && range.j1 + 1 == level.rows {
+        // The whole level: its used nodes, whose slots preparation found.
+        normals.touch_all(m, &p.shading[m].slots);
+        return;
+    }
     let width = range.i1 - range.i0 + 1;
     let height = range.j1 - range.j0 + 1;
     let piece = &work.nodes[first..first + width * height];

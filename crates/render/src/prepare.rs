@@ -20,7 +20,7 @@ use spatch_format::{Scene, EMPTY};
 
 use crate::cull::{compute_normal_cone, NormalCone};
 use crate::mip::{build_mip_pyramid, MipLevel};
-use crate::normal_buffer::{node_differences, NormalBuffer, OUTSIDE_TABLE};
+use crate::normal_buffer::{node_differences, NormalBuffer, SlotSet, OUTSIDE_TABLE};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -51,6 +51,9 @@ pub(crate) struct LevelShading {
     /// Albedo (`xyz` = RGB in 0..=255, `w` = 0) when the level has colours,
     /// else empty.
     pub(crate) colours: Vec<Vec4>,
+    /// The normal-buffer slots of the used nodes, for counting a frame's
+    /// lookups when the level is drawn whole.
+    pub(crate) slots: SlotSet,
 }
 
 impl LevelShading {
@@ -85,7 +88,19 @@ impl LevelShading {
                 .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
                 .collect()
         });
-        Self { normals, colours }
+        let slots = SlotSet::new(
+            level
+                .used
+                .iter()
+                .zip(&level.normal_slots)
+                .filter(|&(&u, _)| u)
+                .map(|(_, &slot)| slot),
+        );
+        Self {
+            normals,
+            colours,
+            slots,
+        }
     }
 }
 
