@@ -187,7 +187,6 @@ pub(crate) struct Resolve<'a> {
     pub(crate) chunks: &'a [ChunkWork],
     /// The draw items as the Phong resolve pass reads them.
     pub(crate) phong: &'a PhongItems<'a>,
-    pub(crate) frames: &'a [ShadeFrame],
     pub(crate) material: Material,
     /// The albedo of nodes without colours, as stored in nodes (rounded to
     /// the attribute grid).
@@ -380,72 +379,50 @@ fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
         g[3].normal_red,
     )
     .transpose();
-    let normal = [t.x_axis, t.y_axis, t.z_axis];
-    let f = g[0].frame;
-    let lanes = if g[1].frame == f && g[2].frame == f && g[3].frame == f {
-        let frame = &r.frames[(f & !BASE_ALBEDO) as usize];
-        let splat = |v: Vec3| [v.x, v.y, v.z].map(Vec4::splat);
-        let albedo = if f & BASE_ALBEDO != 0 {
-            splat(r.base_albedo)
-        } else {
-            [
-                t.w_axis,
-                Vec4::new(
-                    g[0].green_blue.x,
-                    g[1].green_blue.x,
-                    g[2].green_blue.x,
-                    g[3].green_blue.x,
-                ),
-                Vec4::new(
-                    g[0].green_blue.y,
-                    g[1].green_blue.y,
-                    g[2].green_blue.y,
-                    g[3].green_blue.y,
-                ),
-            ]
-        };
-        Lanes {
-            normal,
-            light: splat(frame.light),
-            half: splat(frame.half),
-            albedo,
-        }
+    let frames = &r.phong.frames;
+    let f = g.map(|q| (q.frame & !BASE_ALBEDO) as usize);
+    let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
+    let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
+        let [light, half] = frames[f[0]];
+        (splat(light), splat(half))
     } else {
-        mixed_lanes(r, g, normal)
+        // Where patches overlap (60 % of the sphere's groups): transposes.
+        let e = f.map(|i| frames[i]);
+        let rows = |k: usize| {
+            let t = Mat4::from_cols(e[0][k], e[1][k], e[2][k], e[3][k]).transpose();
+            [t.x_axis, t.y_axis, t.z_axis]
+        };
+        (rows(0), rows(1))
+    };
+    let all = g[0].frame & g[1].frame & g[2].frame & g[3].frame;
+    let albedo = if all & BASE_ALBEDO != 0 {
+        splat(r.base_albedo.extend(0.0))
+    } else {
+        own_albedo(r, g, t.w_axis)
+    };
+    let lanes = Lanes {
+        normal: [t.x_axis, t.y_axis, t.z_axis],
+        light,
+        half,
+        albedo,
     };
     pack_rgba(r.material.shade4(&lanes))
 }
 
-/// The shading lanes of four queued pixels with different frames or
-/// albedo sources, lane by lane. Why transposes: building the rows from
-/// 36 scalars cost ~120 instructions per call, and 60 % of the groups on the
-/// sphere mix frames where patches overlap (callgrind, `profile_sphere 500
-/// 1`).
+/// The albedo lanes of four queued pixels of which some have their own
+/// (red in `red`, green and blue in [`Queued::green_blue`]).
 #[inline(never)]
-fn mixed_lanes(r: &Resolve<'_>, g: &[Queued; 4], normal: [Vec4; 3]) -> Lanes {
-    let frames = g.map(|q| &r.frames[(q.frame & !BASE_ALBEDO) as usize]);
-    let rows = |v: [Vec4; 4]| {
-        let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
-        [t.x_axis, t.y_axis, t.z_axis]
+fn own_albedo(r: &Resolve<'_>, g: &[Queued; 4], red: Vec4) -> [Vec4; 3] {
+    let base = r.base_albedo;
+    let lane = |k: usize| {
+        if g[k].frame & BASE_ALBEDO != 0 {
+            base
+        } else {
+            Vec3::new(red[k], g[k].green_blue.x, g[k].green_blue.y)
+        }
     };
-    let all = g[0].frame & g[1].frame & g[2].frame & g[3].frame;
-    let albedo = if all & BASE_ALBEDO != 0 {
-        [r.base_albedo.x, r.base_albedo.y, r.base_albedo.z].map(Vec4::splat)
-    } else {
-        rows(g.map(|q| {
-            if q.frame & BASE_ALBEDO != 0 {
-                r.base_albedo.extend(0.0)
-            } else {
-                Vec4::new(q.normal_red.w, q.green_blue.x, q.green_blue.y, 0.0)
-            }
-        }))
-    };
-    Lanes {
-        normal,
-        light: rows(frames.map(|f| f.light.extend(0.0))),
-        half: rows(frames.map(|f| f.half.extend(0.0))),
-        albedo,
-    }
+    let v = [lane(0), lane(1), lane(2), lane(3)];
+    [0, 1, 2].map(|i| Vec4::new(v[0][i], v[1][i], v[2][i], v[3][i]))
 }
 
 /// What the Phong resolve pass needs of every draw item of a frame, by
@@ -457,6 +434,11 @@ fn mixed_lanes(r: &Resolve<'_>, g: &[Queued; 4], normal: [Vec4; 3]) -> Lanes {
 #[derive(Debug, Default)]
 pub(crate) struct PhongItems<'a> {
     items: Vec<PhongItem<'a>>,
+    /// The shade frames' light and half vectors (`w` = 0), by frame index.
+    /// Why vectors: lanes of different frames are gathered by transposes
+    /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
+    /// four mix frames where patches overlap).
+    frames: Vec<[Vec4; 2]>,
     /// Per subdivision `nu × nv`, the weights of sub-node `(a, b)` at
     /// `a * (nv + 1) + b`, each splat over four lanes.
     weights: Vec<[Vec4; 4]>,
@@ -464,17 +446,23 @@ pub(crate) struct PhongItems<'a> {
 
 impl<'a> PhongItems<'a> {
     /// The table for the draw items `items` (`(chunk, item)`) of `chunks`,
-    /// which refer to `patches`; empty unless `shading` is Phong.
+    /// which refer to `patches` and `frames`; empty unless `shading` is
+    /// Phong.
     pub(crate) fn new(
         shading: Shading,
         items: &[(u32, u32)],
         chunks: &[ChunkWork],
         patches: &'a [PreparedPatch],
+        frames: &[ShadeFrame],
     ) -> Self {
         let mut table = Self::default();
         if shading != Shading::Phong {
             return table;
         }
+        table.frames = frames
+            .iter()
+            .map(|f| [f.light.extend(0.0), f.half.extend(0.0)])
+            .collect();
         let mut built: Vec<(u16, u16, u32)> = Vec::new();
         table.items.reserve(items.len());
         for &(c, i) in items {
@@ -694,7 +682,13 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
 /// in corner order, [`Material::shade`]. The reference the queued resolve
 /// pass is tested against.
 #[cfg(test)]
-fn phong_reference(r: &Resolve<'_>, patches: &[PreparedPatch], item: u32, sub: u32) -> [u8; 4] {
+fn phong_reference(
+    r: &Resolve<'_>,
+    patches: &[PreparedPatch],
+    frames: &[ShadeFrame],
+    item: u32,
+    sub: u32,
+) -> [u8; 4] {
     let (c, i) = r.items[item as usize];
     let item = &r.chunks[c as usize].items[i as usize];
     let patch = &patches[item.frame as usize];
@@ -722,11 +716,9 @@ fn phong_reference(r: &Resolve<'_>, patches: &[PreparedPatch], item: u32, sub: u
     } else {
         lerp(&shading.colours)
     };
-    let c = r.material.shade(
-        lerp(&shading.normals),
-        &r.frames[item.frame as usize],
-        albedo,
-    );
+    let c = r
+        .material
+        .shade(lerp(&shading.normals), &frames[item.frame as usize], albedo);
     to_rgba8(c)
 }
 
@@ -1004,13 +996,12 @@ mod tests {
             .enumerate()
             .map(|(k, p)| light.frame_in(&p.rotation, k == 1))
             .collect();
-        let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches);
+        let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches, &frames);
         let r = Resolve {
             shading: Shading::Phong,
             items: &items,
             chunks: &chunks,
             phong: &phong,
-            frames: &frames,
             material: Material::new(&lighting),
             base_albedo: Vec3::new(200.0, 120.0, 40.0),
             background: [1, 2, 3, 4],
@@ -1051,7 +1042,7 @@ mod tests {
             let b = rng.below(item.nv as u32 + 1);
             px.w0 = ci << 24 | cj << 16 | a << 8 | b;
             px.w2 = id | PATCH_SAMPLE;
-            expected.push(phong_reference(&r, patches, id, px.w0));
+            expected.push(phong_reference(&r, patches, &frames, id, px.w0));
         }
         let samples = band.px.clone();
         let mut rgba = vec![[0u8; 4]; band.px.len()];

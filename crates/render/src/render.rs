@@ -193,7 +193,13 @@ impl Renderer {
 
         let raster_start = Instant::now();
         self.bands.resize_with(band_count, Band::default);
-        let phong = PhongItems::new(options.shading, &self.bins.all_items, &self.chunks, patches);
+        let phong = PhongItems::new(
+            options.shading,
+            &self.bins.all_items,
+            &self.chunks,
+            patches,
+            &self.frames,
+        );
         let job = BandJob {
             chunks: &self.chunks,
             bins: &self.bins,
@@ -205,7 +211,6 @@ impl Renderer {
                 items: &self.bins.all_items,
                 chunks: &self.chunks,
                 phong: &phong,
-                frames: &self.frames,
                 material: setup.material,
                 base_albedo: Vec3::from_array(
                     setup
