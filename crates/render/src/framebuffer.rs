@@ -28,13 +28,15 @@
 //!
 //! Cost: O(pixels) to clear and resolve; 16 bytes per internal pixel.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::error::RenderError;
 use crate::fixed::Z_FAR;
 use crate::options::Shading;
 use crate::plan::{ChunkWork, Item};
+use crate::prepare::PreparedPatch;
 use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame};
+use crate::traverse::Node;
 
 /// A band's buffers, borrowed for drawing.
 pub(crate) struct BandTarget<'a> {
@@ -171,6 +173,8 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     px: Vec<Sample>,
+    /// The covered pixels' Phong inputs, queued for shading in fours.
+    queue: Vec<Queued>,
     pub(crate) times: BandTimes,
 }
 
@@ -181,7 +185,8 @@ pub(crate) struct Resolve<'a> {
     /// Draw items by index: `(chunk, item)`.
     pub(crate) items: &'a [(u32, u32)],
     pub(crate) chunks: &'a [ChunkWork],
-    pub(crate) frames: &'a [ShadeFrame],
+    /// The draw items as the Phong resolve pass reads them.
+    pub(crate) phong: &'a PhongItems<'a>,
     pub(crate) material: Material,
     /// The albedo of nodes without colours, as stored in nodes (rounded to
     /// the attribute grid).
@@ -255,82 +260,330 @@ impl Band {
         }
     }
 
-    /// [`Self::resolve`] for Phong: covered pixels are gathered four at a
-    /// time and shaded together ([`Material::shade4`], bit-identical to
-    /// shading them one by one).
+    /// [`Self::resolve`] for Phong, by runs of [`PHONG_RUN`] pixels (the
+    /// queue stays in the L1/L2 caches).
     fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
-        let scale = (r.far - r.near) / Z_FAR as f32;
-        let mut batch = PhongBatch::default();
-        let base = r.base_albedo.extend(0.0);
-        for (k, s) in self.px.iter().enumerate() {
-            if s.depth >= Z_FAR {
-                rgba[k] = r.background;
-                eye_depth[k] = f32::INFINITY;
-                continue;
-            }
-            eye_depth[k] = r.near + s.depth as f32 * scale;
-            let (normal, albedo, frame) = if s.w2 & PATCH_SAMPLE != 0 {
-                phong_patch_inputs(r, s.w2 & !PATCH_SAMPLE, s.w0, base)
-            } else {
-                let n = unpack_normal(s.w0).extend(0.0);
-                (n, unpack_rgb(s.w1).extend(0.0), s.w2)
-            };
-            batch.push(k, normal, &r.frames[frame as usize], albedo);
-            if batch.len == 4 {
-                batch.flush(&r.material, rgba);
-            }
+        if self.queue.len() < PHONG_RUN + 3 {
+            self.queue.resize(PHONG_RUN + 3, Queued::default());
         }
-        batch.flush(&r.material, rgba);
+        let runs = self.px.chunks(PHONG_RUN).zip(
+            rgba.chunks_mut(PHONG_RUN)
+                .zip(eye_depth.chunks_mut(PHONG_RUN)),
+        );
+        for (px, (rgba, eye_depth)) in runs {
+            resolve_phong_run(r, px, rgba, eye_depth, &mut self.queue);
+        }
     }
 }
 
-/// Up to four Phong samples waiting to be shaded together: per sample its
-/// pixel, normal, light, half vector and albedo (`xyz` lanes).
-#[derive(Debug, Default)]
-struct PhongBatch {
-    len: usize,
-    at: [usize; 4],
-    normal: [Vec4; 4],
-    light: [Vec4; 4],
-    half: [Vec4; 4],
-    albedo: [Vec4; 4],
+/// Pixels resolved together by the Phong pass (16 KB of pixels, 32 KB of
+/// queue).
+const PHONG_RUN: usize = 1024;
+
+/// Resolves the Phong pixels `px` into `rgba` and `eye_depth` in three
+/// passes: depths and the queue of covered pixels; their normals and
+/// albedos interpolated into the queue; the queue shaded four pixels at a
+/// time ([`Material::shade4`], bit-identical to shading them one by one;
+/// tested against [`phong_reference`]). Why passes: batching inside one
+/// pixel loop kept its state on the stack and cost ~100 instructions per
+/// pixel around the shading itself (callgrind, `profile_sphere 500 1`);
+/// not inlined: inlined into [`Band::resolve`] it cost 2.5 M instructions
+/// more per frame (register allocation).
+#[inline(never)]
+fn resolve_phong_run(
+    r: &Resolve<'_>,
+    px: &[Sample],
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+    queue: &mut [Queued],
+) {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    // Room for every pixel plus the padding to a multiple of four.
+    let queue = &mut queue[..px.len() + 3];
+    let mut n = 0;
+    for (k, (s, eye)) in px.iter().zip(eye_depth.iter_mut()).enumerate() {
+        if s.depth >= Z_FAR {
+            rgba[k] = r.background;
+            *eye = f32::INFINITY;
+            continue;
+        }
+        *eye = r.near + s.depth as f32 * scale;
+        queue[n].at = k as u32;
+        n += 1;
+    }
+    // Why a pass of its own: inside the pixel loop above, the
+    // interpolation's state spilled to the stack (+3 M instructions per
+    // 500² sphere frame; callgrind, `profile_sphere 500 1`).
+    let (items, weights) = (&r.phong.items[..], &r.phong.weights[..]);
+    for q in &mut queue[..n] {
+        let s = &px[q.at as usize];
+        if s.w2 & PATCH_SAMPLE != 0 {
+            items[(s.w2 & !PATCH_SAMPLE) as usize].interpolate(s.w0, weights, q);
+        } else {
+            let albedo = unpack_rgb(s.w1);
+            q.normal_red = unpack_normal(s.w0).extend(albedo.x);
+            q.green_blue = Vec2::new(albedo.y, albedo.z);
+            q.frame = s.w2;
+        }
+    }
+    if n == 0 {
+        return;
+    }
+    // Padding repeats the last pixel (shaded and written twice alike).
+    while n % 4 != 0 {
+        queue[n] = queue[n - 1];
+        n += 1;
+    }
+    for group in queue[..n].chunks_exact(4) {
+        let group: &[Queued; 4] = group.try_into().expect("chunks of four");
+        let words = shade_group(r, group);
+        let first = group[0].at as usize;
+        if group[3].at as usize == first + 3 {
+            // Four neighbours (the common case): one slice, one check.
+            for (dst, w) in rgba[first..first + 4].iter_mut().zip(words) {
+                *dst = w.to_le_bytes();
+            }
+        } else {
+            for (q, w) in group.iter().zip(words) {
+                rgba[q.at as usize] = w.to_le_bytes();
+            }
+        }
+    }
 }
 
-impl PhongBatch {
-    #[inline(always)]
-    fn push(&mut self, at: usize, normal: Vec4, frame: &ShadeFrame, albedo: Vec4) {
-        let k = self.len;
-        self.at[k] = at;
-        self.normal[k] = normal;
-        self.light[k] = frame.light.extend(0.0);
-        self.half[k] = frame.half.extend(0.0);
-        self.albedo[k] = albedo;
-        self.len = k + 1;
-    }
+/// Flag of [`Queued::frame`]: the pixel takes the base albedo.
+const BASE_ALBEDO: u32 = 1 << 31;
 
-    /// Shades the waiting samples into `rgba` (lanes past `len` hold
-    /// earlier, finite samples and are computed but not written).
-    fn flush(&mut self, m: &Material, rgba: &mut [[u8; 4]]) {
-        if self.len == 0 {
-            return;
-        }
-        // Samples are columns; a transpose gives one component per row.
-        let rows = |v: &[Vec4; 4]| {
-            let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
+/// A covered pixel waiting for Phong shading.
+#[derive(Debug, Clone, Copy, Default)]
+struct Queued {
+    /// Normal (`xyz`, not unit) and albedo red (`w`, unless the base albedo).
+    normal_red: Vec4,
+    /// Albedo green and blue (unless the base albedo).
+    green_blue: Vec2,
+    /// Shade frame index, with [`BASE_ALBEDO`] for the base albedo.
+    frame: u32,
+    /// Pixel index in the band.
+    at: u32,
+}
+
+/// Shades four queued pixels into RGBA8 words. Why splats: the four nearly
+/// always share their shade frame and the base albedo, so only the normals
+/// need transposing (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
+    let t = Mat4::from_cols(
+        g[0].normal_red,
+        g[1].normal_red,
+        g[2].normal_red,
+        g[3].normal_red,
+    )
+    .transpose();
+    let frames = &r.phong.frames;
+    let f = g.map(|q| (q.frame & !BASE_ALBEDO) as usize);
+    let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
+    let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
+        let [light, half] = frames[f[0]];
+        (splat(light), splat(half))
+    } else {
+        // Where patches overlap (60 % of the sphere's groups): transposes.
+        let e = f.map(|i| frames[i]);
+        let rows = |k: usize| {
+            let t = Mat4::from_cols(e[0][k], e[1][k], e[2][k], e[3][k]).transpose();
             [t.x_axis, t.y_axis, t.z_axis]
         };
-        let lanes = Lanes {
-            normal: rows(&self.normal),
-            light: rows(&self.light),
-            half: rows(&self.half),
-            albedo: rows(&self.albedo),
-        };
-        let [red, green, blue] = m.shade4(&lanes).map(truncate_to_bytes);
-        for k in 0..self.len {
-            rgba[self.at[k]] = [red[k], green[k], blue[k], 255];
+        (rows(0), rows(1))
+    };
+    let all = g[0].frame & g[1].frame & g[2].frame & g[3].frame;
+    let albedo = if all & BASE_ALBEDO != 0 {
+        splat(r.base_albedo.extend(0.0))
+    } else {
+        own_albedo(r, g, t.w_axis)
+    };
+    let lanes = Lanes {
+        normal: [t.x_axis, t.y_axis, t.z_axis],
+        light,
+        half,
+        albedo,
+    };
+    pack_rgba(r.material.shade4(&lanes))
+}
+
+/// The albedo lanes of four queued pixels of which some have their own
+/// (red in `red`, green and blue in [`Queued::green_blue`]).
+#[inline(never)]
+fn own_albedo(r: &Resolve<'_>, g: &[Queued; 4], red: Vec4) -> [Vec4; 3] {
+    let base = r.base_albedo;
+    let lane = |k: usize| {
+        if g[k].frame & BASE_ALBEDO != 0 {
+            base
+        } else {
+            Vec3::new(red[k], g[k].green_blue.x, g[k].green_blue.y)
         }
-        self.len = 0;
+    };
+    let v = [lane(0), lane(1), lane(2), lane(3)];
+    [0, 1, 2].map(|i| Vec4::new(v[0][i], v[1][i], v[2][i], v[3][i]))
+}
+
+/// What the Phong resolve pass needs of every draw item of a frame, by
+/// index (as [`Resolve::items`]), and the bilinear weights of the
+/// sub-nodes of every subdivision the frame uses. Built once per frame.
+/// Why a flat table: where patches overlap, a third of the sphere's pixels
+/// change item, and the item → chunk → item → patch → level lookups cost
+/// ~70 instructions each (callgrind, `profile_sphere 500 1`).
+#[derive(Debug, Default)]
+pub(crate) struct PhongItems<'a> {
+    items: Vec<PhongItem<'a>>,
+    /// The shade frames' light and half vectors (`w` = 0), by frame index.
+    /// Why vectors: lanes of different frames are gathered by transposes
+    /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
+    /// four mix frames where patches overlap).
+    frames: Vec<[Vec4; 2]>,
+    /// Per subdivision `nu × nv`, the weights of sub-node `(a, b)` at
+    /// `a * (nv + 1) + b`, each splat over four lanes.
+    weights: Vec<[Vec4; 4]>,
+}
+
+impl<'a> PhongItems<'a> {
+    /// The table for the draw items `items` (`(chunk, item)`) of `chunks`,
+    /// which refer to `patches` and `frames`; empty unless `shading` is
+    /// Phong.
+    pub(crate) fn new(
+        shading: Shading,
+        items: &[(u32, u32)],
+        chunks: &[ChunkWork],
+        patches: &'a [PreparedPatch],
+        frames: &[ShadeFrame],
+    ) -> Self {
+        let mut table = Self::default();
+        if shading != Shading::Phong {
+            return table;
+        }
+        table.frames = frames
+            .iter()
+            .map(|f| [f.light.extend(0.0), f.half.extend(0.0)])
+            .collect();
+        let mut built: Vec<(u16, u16, u32)> = Vec::new();
+        table.items.reserve(items.len());
+        for &(c, i) in items {
+            let item = &chunks[c as usize].items[i as usize];
+            let (nu, nv) = (item.nu, item.nv);
+            let start = match built.iter().find(|&&(u, v, _)| (u, v) == (nu, nv)) {
+                Some(&(_, _, start)) => start,
+                None => {
+                    let start = table.weights.len() as u32;
+                    for a in 0..=nu as u32 {
+                        for b in 0..=nv as u32 {
+                            let w = sub_node_weights(a, b, nu as u32, nv as u32);
+                            table.weights.push(w.map(Vec4::splat));
+                        }
+                    }
+                    built.push((nu, nv, start));
+                    start
+                }
+            };
+            table.items.push(PhongItem::new(item, patches, start));
+        }
+        table
     }
+}
+
+/// A draw item as the Phong resolve pass reads it: its level's prepared
+/// normals and albedos from the piece's first node on.
+#[derive(Debug, Clone, Copy)]
+struct PhongItem<'a> {
+    normals: &'a [Vec4],
+    /// Empty for the base albedo.
+    colours: &'a [Vec4],
+    /// Nodes per row of the level (`u16`: index sums cannot overflow, no
+    /// checks).
+    cols: u16,
+    /// Weights per row of the item's weight table (`nv + 1`).
+    stride: u16,
+    /// Where the item's weights start in [`PhongItems::weights`].
+    weights: u32,
+    /// The item's shade frame, with [`BASE_ALBEDO`] for an item without
+    /// colours.
+    frame: u32,
+}
+
+impl<'a> PhongItem<'a> {
+    /// The entry of `item` (of a patch of `patches`) whose weights start at
+    /// `weights`.
+    fn new(item: &Item, patches: &'a [PreparedPatch], weights: u32) -> Self {
+        let patch = &patches[item.frame as usize];
+        let m = item.level as usize;
+        let cols = patch.levels[m].cols;
+        let shading = &patch.shading[m];
+        let start = item.j0 as usize * cols + item.i0 as usize;
+        let uniform = item.uniform_albedo || shading.colours.is_empty();
+        Self {
+            normals: &shading.normals[start..],
+            colours: if uniform {
+                &[]
+            } else {
+                &shading.colours[start..]
+            },
+            cols: cols as u16,
+            stride: item.nv + 1,
+            weights,
+            frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
+        }
+    }
+
+    /// Queues the normal and albedo interpolated at sample `sub`: the same
+    /// operations in the same order as [`phong_reference`].
+    #[inline(always)]
+    fn interpolate(&self, sub: u32, weights: &[[Vec4; 4]], q: &mut Queued) {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let k = cj * cols + ci;
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let w = &weights[self.weights as usize + a * self.stride as usize + b];
+        // One slice for the four corners: a single bounds check.
+        let lerp = |v: &[Vec4]| {
+            let quad = &v[k..k + cols + 2];
+            quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+        };
+        q.normal_red = lerp(self.normals);
+        q.frame = self.frame;
+        if self.frame & BASE_ALBEDO == 0 {
+            let c = lerp(self.colours);
+            q.normal_red.w = c.x;
+            q.green_blue = Vec2::new(c.y, c.z);
+        }
+    }
+}
+
+/// The bilinear weights of the corners `(0, 0), (1, 0), (0, 1), (1, 1)` at
+/// sub-node `(a, b)` of a cell cut `nu × nv`.
+#[inline(always)]
+fn sub_node_weights(a: u32, b: u32, nu: u32, nv: u32) -> [f32; 4] {
+    let s = a as f32 / nu as f32;
+    let t = b as f32 / nv as f32;
+    [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t]
+}
+
+/// Red, green and blue lanes in 0..=255 (as [`Material::shade4`] returns
+/// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
+/// [`truncate_to_bytes`] gives them.
+#[inline(always)]
+fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
+    // Why spelled out: `array::map` here became an out-of-line call per
+    // channel (~40 instructions per pixel group; callgrind,
+    // `profile_sphere 500 1`).
+    let bits = |v: Vec4| {
+        let a = truncated_bits(v).to_array();
+        [
+            a[0].to_bits(),
+            a[1].to_bits(),
+            a[2].to_bits(),
+            a[3].to_bits(),
+        ]
+    };
+    let (r, g, b) = (bits(c[0]), bits(c[1]), bits(c[2]));
+    let word = |k: usize| (r[k] & 0xff) | (g[k] & 0xff) << 8 | (b[k] & 0xff) << 16 | 0xff00_0000;
+    [word(0), word(1), word(2), word(3)]
 }
 
 /// RGB floats in 0..=255 (as [`Material::shade`] returns them) to RGBA8.
@@ -348,18 +601,24 @@ fn to_rgba8(c: Vec3) -> [u8; 4] {
 /// 1`). Adding `2^23` rounds to an integer (kept in the low mantissa bits);
 /// subtracting one where that rounded up gives the truncation.
 #[inline(always)]
+#[cfg(test)]
 fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
+    truncated_bits(c).to_array().map(|v| v.to_bits() as u8)
+}
+
+/// `2^23 + trunc(c)` per lane: the truncated value sits in the low
+/// mantissa bits (see [`truncate_to_bytes`]).
+#[inline(always)]
+fn truncated_bits(c: Vec4) -> Vec4 {
     const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
     let nearest = (c + Vec4::splat(SHIFT)) - Vec4::splat(SHIFT);
     let down = nearest - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO);
-    (down + Vec4::splat(SHIFT))
-        .to_array()
-        .map(|v| v.to_bits() as u8)
+    down + Vec4::splat(SHIFT)
 }
 
 /// The four attribute words `[from, from + 4)` of a node as floats.
 #[inline(always)]
-fn attr4(n: &crate::traverse::Node, from: usize) -> Vec4 {
+fn attr4(n: &Node, from: usize) -> Vec4 {
     Vec4::new(
         attr_to_f32f(n[from]),
         attr_to_f32f(n[from + 1]),
@@ -371,11 +630,7 @@ fn attr4(n: &crate::traverse::Node, from: usize) -> Vec4 {
 /// The cell of a patch sample: its item, its four corner nodes and the
 /// bilinear weights of its sub-node.
 #[inline(always)]
-fn sample_cell<'r>(
-    r: &Resolve<'r>,
-    item: u32,
-    sub: u32,
-) -> (&'r Item, [&'r crate::traverse::Node; 4], [f32; 4]) {
+fn sample_cell<'r>(r: &Resolve<'r>, item: u32, sub: u32) -> (&'r Item, [&'r Node; 4], [f32; 4]) {
     let (c, i) = r.items[item as usize];
     let chunk = &r.chunks[c as usize];
     let item = &chunk.items[i as usize];
@@ -384,13 +639,13 @@ fn sample_cell<'r>(
     let k = item.first as usize + cj * cols + ci;
     // One slice for the four corners: a single bounds check.
     let quad = &chunk.nodes[k..k + cols + 2];
-    let s = ((sub >> 8) & 0xff) as f32 / item.nu as f32;
-    let t = (sub & 0xff) as f32 / item.nv as f32;
-    (
-        item,
-        [&quad[0], &quad[1], &quad[cols], &quad[cols + 1]],
-        [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t],
-    )
+    let w = sub_node_weights(
+        (sub >> 8) & 0xff,
+        sub & 0xff,
+        item.nu as u32,
+        item.nv as u32,
+    );
+    (item, [&quad[0], &quad[1], &quad[cols], &quad[cols + 1]], w)
 }
 
 /// Attribute words `[from, from + 4)` interpolated bilinearly. Why four
@@ -398,7 +653,7 @@ fn sample_cell<'r>(
 /// channel at a time (identical images), a quarter of the instructions
 /// (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn lerp4(n: [&crate::traverse::Node; 4], w: [f32; 4], from: usize) -> Vec4 {
+fn lerp4(n: [&Node; 4], w: [f32; 4], from: usize) -> Vec4 {
     attr4(n[0], from) * w[0]
         + attr4(n[1], from) * w[1]
         + attr4(n[2], from) * w[2]
@@ -421,21 +676,50 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
     to_rgba8(colour)
 }
 
-/// The Phong inputs of a patch sample: interpolated normal (`xyz`) and
-/// albedo (`xyz`; `base` for an item without colours), and its shade frame.
-#[inline]
-fn phong_patch_inputs(r: &Resolve<'_>, item: u32, sub: u32, base: Vec4) -> (Vec4, Vec4, u32) {
-    let (item, n, w) = sample_cell(r, item, sub);
-    // Lanes: normal x, y, z, albedo r.
-    let a = lerp4(n, w, 3);
-    // Why: a patch without colours has one albedo, and interpolating a
-    // constant only adds rounding (~15 instructions per pixel).
-    if item.uniform_albedo {
-        return (a, base, item.frame);
-    }
-    let gb = |k: usize| Vec4::new(attr_to_f32f(n[k][7]), attr_to_f32f(n[k][8]), 0.0, 0.0);
-    let b = gb(0) * w[0] + gb(1) * w[1] + gb(2) * w[2] + gb(3) * w[3];
-    (a, Vec4::new(a.w, b.x, b.y, 0.0), item.frame)
+/// The Phong colour of a patch sample shaded alone, straight from the
+/// prepared level: the bilinear weights of its sub-node, the corners'
+/// normals and albedos (`base_albedo` for an item without colours) summed
+/// in corner order, [`Material::shade`]. The reference the queued resolve
+/// pass is tested against.
+#[cfg(test)]
+fn phong_reference(
+    r: &Resolve<'_>,
+    patches: &[PreparedPatch],
+    frames: &[ShadeFrame],
+    item: u32,
+    sub: u32,
+) -> [u8; 4] {
+    let (c, i) = r.items[item as usize];
+    let item = &r.chunks[c as usize].items[i as usize];
+    let patch = &patches[item.frame as usize];
+    let m = item.level as usize;
+    let cols = patch.levels[m].cols;
+    let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+    let k = (item.j0 as usize + cj) * cols + item.i0 as usize + ci;
+    let w = sub_node_weights(
+        (sub >> 8) & 0xff,
+        sub & 0xff,
+        item.nu as u32,
+        item.nv as u32,
+    );
+    let lerp = |v: &[Vec4]| {
+        let corners = [k, k + 1, k + cols, k + cols + 1];
+        let mut sum = v[corners[0]].truncate() * w[0];
+        for (corner, weight) in corners.into_iter().zip(w).skip(1) {
+            sum += v[corner].truncate() * weight;
+        }
+        sum
+    };
+    let shading = &patch.shading[m];
+    let albedo = if item.uniform_albedo {
+        r.base_albedo
+    } else {
+        lerp(&shading.colours)
+    };
+    let c = r
+        .material
+        .shade(lerp(&shading.normals), &frames[item.frame as usize], albedo);
+    to_rgba8(c)
 }
 
 #[inline(always)]
@@ -620,6 +904,162 @@ impl RenderedImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A small deterministic generator: no dependency for a test.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 32) as u32
+        }
+        fn below(&mut self, n: u32) -> u32 {
+            self.next() % n
+        }
+    }
+
+    /// Two 9 × 9 patches with colours, bumpy, with a few empty nodes.
+    fn coloured_scene(rng: &mut Rng) -> crate::PreparedScene {
+        use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
+        let patches = (0..2)
+            .map(|p| {
+                let frame = Frame::new(
+                    glam::Vec3::new(p as f32 * 9.0, 0.0, 0.0),
+                    glam::Vec3::X,
+                    glam::Vec3::Y * (1.0 + p as f32),
+                    glam::Vec3::Z * 0.01,
+                )
+                .unwrap();
+                let d = (0..81)
+                    .map(|k| {
+                        if k % 23 == 7 {
+                            spatch_format::EMPTY
+                        } else {
+                            rng.below(3000) as u16
+                        }
+                    })
+                    .collect();
+                let c = (0..81)
+                    .map(|_| [0, 1, 2, 3].map(|_| rng.below(256) as u8))
+                    .collect();
+                Patch::new(frame, GridSize::new(9, 9).unwrap(), d, Some(c)).unwrap()
+            })
+            .collect();
+        let scene = Scene::new(glam::DVec3::ZERO, ColourChannel::Rgba8, patches).unwrap();
+        crate::PreparedScene::new(&scene)
+    }
+
+    #[test]
+    fn queued_phong_resolve_matches_scalar_shading_per_pixel() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let prepared = coloured_scene(&mut rng);
+        let patches = &prepared.patches;
+        assert_eq!(patches.len(), 2);
+        assert!(patches.iter().all(|p| p.levels.len() >= 2));
+        // Pieces at levels 0 and 1, cut in several ways, with and without
+        // their colours.
+        let mut chunk = ChunkWork::default();
+        for k in 0..8u32 {
+            let (frame, level) = ((k % 2) as usize, (k / 2 % 2) as usize);
+            let lc = patches[frame].levels[level].cols;
+            let (i0, j0) = if level == 0 {
+                (k as usize % 3, 1)
+            } else {
+                (0, 0)
+            };
+            chunk.items.push(Item {
+                first: 0,
+                cols: (lc - i0) as u16,
+                rows: (lc - j0) as u16,
+                nu: [1, 2, 3, 5][k as usize % 4],
+                nv: [1, 4, 2, 3][k as usize / 2 % 4],
+                frame: frame as u32,
+                flags: 0,
+                spans: 0,
+                uniform_albedo: k >= 4,
+                level: level as u8,
+                i0: i0 as u16,
+                j0: j0 as u16,
+                y0: 0,
+                y1: 0,
+            });
+        }
+        let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
+        let chunks = [chunk];
+        let lighting = crate::Lighting {
+            shininess: 7,
+            ..Default::default()
+        };
+        let light = crate::shade::WorldLight::new(
+            &lighting,
+            [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+        );
+        let frames: Vec<ShadeFrame> = patches
+            .iter()
+            .enumerate()
+            .map(|(k, p)| light.frame_in(&p.rotation, k == 1))
+            .collect();
+        let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches, &frames);
+        let r = Resolve {
+            shading: Shading::Phong,
+            items: &items,
+            chunks: &chunks,
+            phong: &phong,
+            material: Material::new(&lighting),
+            base_albedo: Vec3::new(200.0, 120.0, 40.0),
+            background: [1, 2, 3, 4],
+            near: 0.5,
+            far: 10.0,
+        };
+        let (width, rows) = (61, 6);
+        let mut band = Band::default();
+        band.reset(0, rows, width);
+        let mut expected = Vec::new();
+        for px in band.px.iter_mut() {
+            let choice = rng.below(10);
+            if choice == 0 {
+                expected.push(r.background);
+                continue;
+            }
+            px.depth = rng.below(Z_FAR as u32) as i32;
+            if choice == 1 {
+                // A triangle sample with its own normal, albedo and frame.
+                let n = Vec3::new(rng.below(200) as f32, rng.below(200) as f32, 100.0);
+                px.w0 = crate::shade::pack_normal((n - Vec3::new(100.0, 100.0, 0.0)) / 200.0);
+                px.w1 = rng.next() & 0xff_ffff;
+                px.w2 = rng.below(2);
+                let c = r.material.shade(
+                    unpack_normal(px.w0),
+                    &frames[px.w2 as usize],
+                    unpack_rgb(px.w1),
+                );
+                expected.push(to_rgba8(c));
+                continue;
+            }
+            // Runs of one item, as drawn patches leave them, or any item.
+            let id = if choice < 6 { 3 } else { rng.below(8) };
+            let item = &chunks[0].items[id as usize];
+            let ci = rng.below(item.cols as u32 - 1);
+            let cj = rng.below(item.rows as u32 - 1);
+            let a = rng.below(item.nu as u32 + 1);
+            let b = rng.below(item.nv as u32 + 1);
+            px.w0 = ci << 24 | cj << 16 | a << 8 | b;
+            px.w2 = id | PATCH_SAMPLE;
+            expected.push(phong_reference(&r, patches, &frames, id, px.w0));
+        }
+        let samples = band.px.clone();
+        let mut rgba = vec![[0u8; 4]; band.px.len()];
+        let mut eye = vec![0f32; band.px.len()];
+        band.resolve(&r, &mut rgba, &mut eye);
+        for (k, (got, want)) in rgba.iter().zip(&expected).enumerate() {
+            assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
+        }
+        let covered = samples.iter().filter(|s| s.depth < Z_FAR).count();
+        assert!(covered > 300 && covered % 4 != 0, "{covered}");
+        assert_eq!(eye.iter().filter(|e| e.is_finite()).count(), covered);
+    }
 
     #[test]
     fn bytes_are_truncated_like_a_scalar_conversion() {

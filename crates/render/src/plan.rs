@@ -75,6 +75,11 @@ pub(crate) struct Item {
     /// Every node has the same albedo (a patch without colours): the
     /// resolve pass takes it as is instead of interpolating it.
     pub(crate) uniform_albedo: bool,
+    /// Mip level of the piece (Phong reads the level's prepared normals).
+    pub(crate) level: u8,
+    /// The piece's first node column and row in its level.
+    pub(crate) i0: u16,
+    pub(crate) j0: u16,
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
@@ -398,6 +403,9 @@ fn plan_piece(
         flags: flags as u32,
         spans: spans as u32,
         uniform_albedo: p.levels[m].colours.is_none(),
+        level: m as u8,
+        i0: range.i0 as u16,
+        j0: range.j0 as u16,
         y0: y0 - pad,
         y1: y1 + pad,
     });
@@ -522,13 +530,14 @@ fn fill_attributes(
     }
 }
 
-/// The Phong attributes (fixed-point normal, albedo) of the nodes of a
-/// piece, identical to [`node_attributes`]. Why: each node's displacement
-/// differences were reduced to a normal-buffer slot once per scene
-/// ([`crate::mip::MipLevel::normal_slots`]), and the buffer hands out
-/// normals already in node format: 241 → ~40 instructions per node
-/// before the slots, and the slots took another ~11 M instructions off a
-/// 500² sphere frame (~75 per node; callgrind, `profile_sphere 500 1`).
+/// The Phong attributes of a piece: none. The resolve pass reads the
+/// normals and albedos of the prepared level
+/// ([`crate::prepare::LevelShading`]); this only counts the normal-buffer
+/// lookups the nodes make (the statistics keep their meaning; a level drawn
+/// whole, whose non-empty nodes are its used nodes, is counted from its
+/// prepared slot set). Why: copying three normal words (and the albedo)
+/// into every node cost ~50 instructions per node, 7.4 M per 500² sphere
+/// frame (callgrind, `profile_sphere 500 1`).
 fn fill_phong_attributes(
     work: &mut ChunkWork,
     p: &PreparedPatch,
@@ -537,33 +546,27 @@ fn fill_phong_attributes(
     first: usize,
 ) {
     let level = &p.levels[m];
-    let ratios = p.ratios_at(m);
-    let (cols, rows) = (level.cols, level.rows);
-    let d = &level.displacements;
     let normals = &mut work.normals;
-    normals.select(m, ratios);
+    normals.select(m, p.ratios_at(m));
+    if range.i0 == 0 && range.j0 == 0 && range.i1 + 1 == level.cols && range.j1 + 1 == level.rows {
+        // The whole level: its used nodes, whose slots preparation found.
+        normals.touch_all(m, &p.shading[m].slots);
+        return;
+    }
     let width = range.i1 - range.i0 + 1;
     let height = range.j1 - range.j0 + 1;
-    let piece = &mut work.nodes[first..first + width * height];
-    for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact_mut(width)) {
-        let row = j * cols + range.i0;
+    let piece = &work.nodes[first..first + width * height];
+    for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact(width)) {
+        let row = j * level.cols + range.i0;
         let slots = &level.normal_slots[row..row + width];
-        for (i, (node, &slot)) in (range.i0..).zip(out.iter_mut().zip(slots)) {
+        for (node, &slot) in out.iter().zip(slots) {
             if node[0] == crate::fixed::EMPTY_NODE {
                 continue;
             }
-            let n = if slot != OUTSIDE_TABLE {
-                normals.normal_bits_at(m, slot)
+            if slot != OUTSIDE_TABLE {
+                normals.touch_at(m, slot);
             } else {
-                let (gi, gj) = node_differences(d, cols, rows, i, j, spatch_format::EMPTY);
-                normals.normal_bits(m, gi, gj)
-            };
-            node[3..6].copy_from_slice(&n);
-            // Without colours the resolve pass takes the base colour as is
-            // ([`Item::uniform_albedo`]) and never reads these words.
-            if let Some(col) = &level.colours {
-                let c = col[j * cols + i];
-                node[6..9].copy_from_slice(&[c[0], c[1], c[2]].map(|v| attr_to_bits(v as f32)));
+                normals.touch_outside();
             }
         }
     }

@@ -7,13 +7,20 @@
 //! one patch to the next; the order is stable, so equal ratios keep file
 //! order.
 //!
-//! Cost: O(nodes) time; about 1.4× the scene's node memory.
+//! Each level also keeps its nodes' unit patch-space normals (and albedos)
+//! in the form the Phong resolve pass interpolates ([`LevelShading`]):
+//! they do not depend on the view, so a frame reads them instead of copying
+//! them into its projected nodes.
+//!
+//! Cost: O(nodes) time; about 1.4× the scene's node memory, plus 16 bytes
+//! per node of every level for the normals (32 with colours).
 
-use glam::{DMat3, DVec3};
-use spatch_format::Scene;
+use glam::{DMat3, DVec3, Vec4};
+use spatch_format::{Scene, EMPTY};
 
 use crate::cull::{compute_normal_cone, NormalCone};
 use crate::mip::{build_mip_pyramid, MipLevel};
+use crate::normal_buffer::{node_differences, NormalBuffer, SlotSet, OUTSIDE_TABLE};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -30,6 +37,71 @@ pub(crate) struct PreparedPatch {
     pub(crate) centre: DVec3,
     pub(crate) radius: f64,
     pub(crate) levels: Vec<MipLevel>,
+    /// Per level, the nodes' shading inputs.
+    pub(crate) shading: Vec<LevelShading>,
+}
+
+/// The shading inputs of one mip level's nodes, row-major like its grid.
+#[derive(Debug, Clone)]
+pub(crate) struct LevelShading {
+    /// Unit patch-space normal (`xyz`, `w` = 0) exactly as a projected node
+    /// would carry it ([`crate::fixed::attr_to_bits`] rounding), zero for
+    /// empty nodes.
+    pub(crate) normals: Vec<Vec4>,
+    /// Albedo (`xyz` = RGB in 0..=255, `w` = 0) when the level has colours,
+    /// else empty.
+    pub(crate) colours: Vec<Vec4>,
+    /// The normal-buffer slots of the used nodes, for counting a frame's
+    /// lookups when the level is drawn whole.
+    pub(crate) slots: SlotSet,
+}
+
+impl LevelShading {
+    /// The inputs of level `m` of a patch with shading ratios `ratios` (at
+    /// that level), through `buffer` (so each distinct normal is computed
+    /// once, as a frame would).
+    fn new(level: &MipLevel, m: usize, ratios: (f32, f32), buffer: &mut NormalBuffer) -> Self {
+        buffer.select(m, ratios);
+        let (cols, rows) = (level.cols, level.rows);
+        let d = &level.displacements;
+        let mut normals = Vec::with_capacity(cols * rows);
+        for j in 0..rows {
+            for i in 0..cols {
+                let k = j * cols + i;
+                if d[k] == EMPTY {
+                    normals.push(Vec4::ZERO);
+                    continue;
+                }
+                let slot = level.normal_slots[k];
+                let bits = if slot != OUTSIDE_TABLE {
+                    buffer.normal_bits_at(m, slot)
+                } else {
+                    let (gi, gj) = node_differences(d, cols, rows, i, j, EMPTY);
+                    buffer.normal_bits(m, gi, gj)
+                };
+                let [x, y, z] = bits.map(crate::fixed::attr_from_bits);
+                normals.push(Vec4::new(x, y, z, 0.0));
+            }
+        }
+        let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
+            c.iter()
+                .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
+                .collect()
+        });
+        let slots = SlotSet::new(
+            level
+                .used
+                .iter()
+                .zip(&level.normal_slots)
+                .filter(|&(&u, _)| u)
+                .map(|(_, &slot)| slot),
+        );
+        Self {
+            normals,
+            colours,
+            slots,
+        }
+    }
 }
 
 impl PreparedPatch {
@@ -59,6 +131,7 @@ impl PreparedScene {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         let mut corners: Vec<[DVec3; 8]> = Vec::with_capacity(scene.patches().len());
+        let mut buffer = NormalBuffer::default();
         for patch in scene.patches() {
             let levels = build_mip_pyramid(patch);
             if levels.is_empty() {
@@ -94,6 +167,15 @@ impl PreparedScene {
             let radius = (phi - plo).length() * 0.5;
             lo = lo.min(plo);
             hi = hi.max(phi);
+            let shading = levels
+                .iter()
+                .enumerate()
+                .map(|(m, level)| {
+                    let s = (1u32 << m) as f32;
+                    let level_ratios = (ratios.0 / s, ratios.1 / s);
+                    LevelShading::new(level, m, level_ratios, &mut buffer)
+                })
+                .collect();
             patches.push(PreparedPatch {
                 origin,
                 axes,
@@ -103,6 +185,7 @@ impl PreparedScene {
                 centre,
                 radius,
                 levels,
+                shading,
             });
         }
         let bounds = (!patches.is_empty()).then_some((lo, hi));
@@ -147,5 +230,43 @@ impl PreparedScene {
     /// A bounding sphere `(centre, radius)` of the scene.
     pub fn bounding_sphere(&self) -> Option<(DVec3, f64)> {
         self.sphere
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::normal_buffer::node_differences;
+
+    #[test]
+    fn prepared_normals_are_the_normals_nodes_carried() {
+        let options = spatch_sphere::SphereOptions::default();
+        let scene = spatch_sphere::build_sphere(&options).unwrap().scene;
+        let prepared = PreparedScene::new(&scene);
+        let mut buffer = NormalBuffer::default();
+        let mut checked = 0;
+        for p in prepared.patches.iter().step_by(97) {
+            for (m, (level, shading)) in p.levels.iter().zip(&p.shading).enumerate() {
+                assert!(shading.colours.is_empty());
+                let (cols, rows) = (level.cols, level.rows);
+                for j in 0..rows {
+                    for i in 0..cols {
+                        let k = j * cols + i;
+                        if level.displacements[k] == EMPTY {
+                            continue;
+                        }
+                        let d = &level.displacements;
+                        let (gi, gj) = node_differences(d, cols, rows, i, j, EMPTY);
+                        let n = buffer.normal(m, p.ratios_at(m), gi, gj);
+                        let bits = n.to_array().map(crate::fixed::attr_to_bits);
+                        let got = shading.normals[k].to_array().map(|v| v.to_bits() as i32);
+                        assert_eq!(got[..3], bits, "node {i}, {j} of level {m}");
+                        assert_eq!(got[3], 0);
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "{checked}");
     }
 }

@@ -14,11 +14,11 @@ use spatch_format::Scene;
 use crate::camera::{Camera, View};
 use crate::cull::Frustum;
 use crate::error::RenderError;
-use crate::framebuffer::{Band, RenderedImage, Resolve};
+use crate::framebuffer::{Band, PhongItems, RenderedImage, Resolve};
 use crate::mesh::{plan_mesh_chunk, TriangleMesh};
 use crate::options::RenderOptions;
 use crate::plan::{plan_chunk, ChunkWork, FrameSetup, PATCH_CHUNK};
-use crate::prepare::PreparedScene;
+use crate::prepare::{PreparedPatch, PreparedScene};
 use crate::shade::{Material, ShadeFrame, WorldLight};
 use crate::stats::{Counters, RenderStats};
 use crate::tiles::{render_band, BandJob, Bins};
@@ -152,7 +152,7 @@ impl Renderer {
                 });
         });
         let plan_wall = start.elapsed();
-        self.finish(start, plan_wall, &view, &setup, camera)
+        self.finish(start, plan_wall, &view, &setup, camera, &scene.patches)
     }
 
     /// Rasterizes a triangle mesh with the same camera, shading and
@@ -182,9 +182,10 @@ impl Renderer {
             });
         });
         let plan_wall = start.elapsed();
-        self.finish(start, plan_wall, &view, &setup, camera)
+        self.finish(start, plan_wall, &view, &setup, camera, &[])
     }
 
+    #[allow(clippy::too_many_arguments)] // the frame's pieces, passed through once
     fn finish(
         &mut self,
         start: Instant,
@@ -192,6 +193,7 @@ impl Renderer {
         view: &View,
         setup: &FrameSetup<'_>,
         camera: &Camera,
+        patches: &[PreparedPatch],
     ) -> Result<RenderOutput, RenderError> {
         let options = setup.options;
         let bin_start = Instant::now();
@@ -202,6 +204,13 @@ impl Renderer {
 
         let raster_start = Instant::now();
         self.bands.resize_with(band_count, Band::default);
+        let phong = PhongItems::new(
+            options.shading,
+            &self.bins.all_items,
+            &self.chunks,
+            patches,
+            &self.frames,
+        );
         let job = BandJob {
             chunks: &self.chunks,
             bins: &self.bins,
@@ -212,7 +221,7 @@ impl Renderer {
                 shading: options.shading,
                 items: &self.bins.all_items,
                 chunks: &self.chunks,
-                frames: &self.frames,
+                phong: &phong,
                 material: setup.material,
                 base_albedo: Vec3::from_array(
                     setup
