@@ -904,24 +904,10 @@ impl RenderedImage {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator: no dependency for a test.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 32) as u32
-        }
-        fn below(&mut self, n: u32) -> u32 {
-            self.next() % n
-        }
-    }
+    use crate::test_rng::XorShift;
 
     /// Two 9 × 9 patches with colours, bumpy, with a few empty nodes.
-    fn coloured_scene(rng: &mut Rng) -> crate::PreparedScene {
+    fn coloured_scene(rng: &mut XorShift) -> crate::PreparedScene {
         use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
         let patches = (0..2)
             .map(|p| {
@@ -953,7 +939,7 @@ mod tests {
 
     #[test]
     fn queued_phong_resolve_matches_scalar_shading_per_pixel() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let prepared = coloured_scene(&mut rng);
         let patches = &prepared.patches;
         assert_eq!(patches.len(), 2);
@@ -1028,7 +1014,7 @@ mod tests {
                 // A triangle sample with its own normal, albedo and frame.
                 let n = Vec3::new(rng.below(200) as f32, rng.below(200) as f32, 100.0);
                 px.w0 = crate::shade::pack_normal((n - Vec3::new(100.0, 100.0, 0.0)) / 200.0);
-                px.w1 = rng.next() & 0xff_ffff;
+                px.w1 = rng.next_u32() & 0xff_ffff;
                 px.w2 = rng.below(2);
                 let c = r.material.shade(
                     unpack_normal(px.w0),

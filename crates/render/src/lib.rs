@@ -53,6 +53,8 @@ mod shade;
 mod shortcuts;
 mod split;
 mod stats;
+#[cfg(test)]
+mod test_rng;
 mod tiles;
 mod traverse;
 mod triangle_raster;

@@ -234,6 +234,18 @@ pub(crate) struct CellMeasure {
 }
 
 impl CellMeasure {
+    /// Nothing measured yet (an empty box).
+    const EMPTY: CellMeasure = CellMeasure {
+        edges: [0; 4],
+        drawable_cells: 0,
+        right_edges: 0,
+        top_edges: 0,
+        both_edges: 0,
+        backfacing_cells: 0,
+        used_nodes: 0,
+        bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
+    };
+
     /// Sub-nodes placed when every cell is cut into `nu × nv`.
     pub(crate) fn refined_nodes(&self, nu: u64, nv: u64) -> u64 {
         self.drawable_cells * nu * nv
@@ -333,16 +345,7 @@ pub(crate) fn measure_cells(
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
     let (ccols, crows) = (cols - 1, rows - 1);
     let (lcols, lccols) = (level.cols, level.cols - 1);
-    let mut m = CellMeasure {
-        edges: [0; 4],
-        drawable_cells: 0,
-        right_edges: 0,
-        top_edges: 0,
-        both_edges: 0,
-        backfacing_cells: 0,
-        used_nodes: 0,
-        bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
-    };
+    let mut m = CellMeasure::EMPTY;
     // Node rows: the used nodes' box and the pixel rows of each row of cells.
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     let first_span = spans.len();
@@ -614,16 +617,7 @@ pub(crate) fn measure_cells_reference(
     flags: &mut Vec<u8>,
     spans: &mut Vec<[i32; 2]>,
 ) -> CellMeasure {
-    let mut m = CellMeasure {
-        edges: [0; 4],
-        drawable_cells: 0,
-        right_edges: 0,
-        top_edges: 0,
-        both_edges: 0,
-        backfacing_cells: 0,
-        used_nodes: 0,
-        bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
-    };
+    let mut m = CellMeasure::EMPTY;
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     // Why spans per row of cells: a band skips the rows of cells outside
     // it without reading their nodes (callgrind, `profile_sphere 500 1`:
@@ -713,6 +707,7 @@ fn mark_drawn_cells<const BACK: i64>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::XorShift;
     use spatch_format::{Frame, GridSize, Patch};
 
     #[test]
@@ -763,24 +758,6 @@ mod tests {
         assert_eq!(m.refined_nodes(2, 1), 45);
     }
 
-    /// A small deterministic generator (xorshift) for the random pieces.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn below(&mut self, n: u64) -> u64 {
-            self.next() % n
-        }
-        fn unit(&mut self) -> f32 {
-            (self.next() >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
-
     /// `measure_cells` (level masks, positions in rows, `i32` lanes, closing
     /// flags copied from the level) gives the same flags, spans and
     /// measures as the straightforward pass over the nodes, on random
@@ -788,17 +765,17 @@ mod tests {
     /// facing away) and both projections.
     #[test]
     fn measure_cells_equals_the_reference_on_random_pieces() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let mut backfacing = 0;
         for case in 0..300 {
-            let (cols, rows) = (2 + rng.below(17) as usize, 2 + rng.below(17) as usize);
+            let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
             let holes = [0, 0, 5, 30][case % 4];
             let d: Vec<u16> = (0..cols * rows)
                 .map(|_| {
-                    if rng.below(100) < holes {
+                    if rng.below64(100) < holes {
                         spatch_format::EMPTY
                     } else {
-                        rng.below(400) as u16
+                        rng.below64(400) as u16
                     }
                 })
                 .collect();
@@ -822,10 +799,10 @@ mod tests {
                 z_offset: 0.0,
             };
             let whole = NodeRange::whole(level);
-            let i0 = rng.below(level.cols as u64 - 1) as usize;
-            let j0 = rng.below(level.rows as u64 - 1) as usize;
-            let i1 = i0 + 1 + rng.below((level.cols - 1 - i0) as u64) as usize;
-            let j1 = j0 + 1 + rng.below((level.rows - 1 - j0) as u64) as usize;
+            let i0 = rng.below64(level.cols as u64 - 1) as usize;
+            let j0 = rng.below64(level.rows as u64 - 1) as usize;
+            let i1 = i0 + 1 + rng.below64((level.cols - 1 - i0) as u64) as usize;
+            let j1 = j0 + 1 + rng.below64((level.rows - 1 - j0) as u64) as usize;
             let part = NodeRange { i0, j0, i1, j1 };
             for range in [whole, part] {
                 let Some(dr) = range.d_range(level) else {
@@ -865,9 +842,9 @@ mod tests {
     /// with undrawn cells, within their ranges.
     #[test]
     fn narrow_and_small_edges_equal_wide_edges() {
-        let mut rng = Rng(12345);
+        let mut rng = XorShift(12345);
         for case in 0..400 {
-            let n = 1 + rng.below(20) as usize;
+            let n = 1 + rng.below64(20) as usize;
             // Positions spanning 2^28 (narrow) or just under 2^24 (small).
             let span = if case % 2 == 0 {
                 1 << 28
@@ -876,11 +853,11 @@ mod tests {
             };
             let mut v = || -> Vec<i32> {
                 (0..=n)
-                    .map(|_| rng.below(span) as i32 + (1 << 20))
+                    .map(|_| rng.below64(span) as i32 + (1 << 20))
                     .collect()
             };
             let (xl, yl, xh, yh) = (v(), v(), v(), v());
-            let row: Vec<u8> = (0..n).map(|_| (rng.below(3) != 0) as u8).collect();
+            let row: Vec<u8> = (0..n).map(|_| (rng.below64(3) != 0) as u8).collect();
             let wide = row_edges_wide(&xl, &yl, &xh, &yh, &row);
             assert_eq!(row_edges_narrow(&xl, &yl, &xh, &yh, &row), wide);
             if case % 2 == 1 {
@@ -897,11 +874,11 @@ mod tests {
     /// neighbour is not drawn (or missing), on narrow and wide rows.
     #[test]
     fn closing_flags_follow_the_neighbours() {
-        let mut rng = Rng(777);
+        let mut rng = XorShift(777);
         for case in 0..200 {
-            let ccols = 1 + rng.below(if case % 4 == 0 { 100 } else { 20 }) as usize;
-            let crows = 1 + rng.below(12) as usize;
-            let drawn: Vec<bool> = (0..ccols * crows).map(|_| rng.below(4) != 0).collect();
+            let ccols = 1 + rng.below64(if case % 4 == 0 { 100 } else { 20 }) as usize;
+            let crows = 1 + rng.below64(12) as usize;
+            let drawn: Vec<bool> = (0..ccols * crows).map(|_| rng.below64(4) != 0).collect();
             let mut flags: Vec<u8> = drawn.iter().map(|&d| d as u8 * CELL_DRAW).collect();
             let counts = close_cells(&mut flags, ccols, crows);
             let mut expected = [0u64; 3];

@@ -1,0 +1,35 @@
+//! A small deterministic generator (xorshift64) for the unit tests' random
+//! pieces, pixels and scenes: reproducible, and no dependency for a test.
+
+/// Xorshift64 state (never zero).
+pub(crate) struct XorShift(pub(crate) u64);
+
+impl XorShift {
+    /// The next 64-bit state.
+    pub(crate) fn next_u64(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// The high 32 bits of the next state.
+    pub(crate) fn next_u32(&mut self) -> u32 {
+        (self.next_u64() >> 32) as u32
+    }
+
+    /// A number in `0..n` from [`Self::next_u32`].
+    pub(crate) fn below(&mut self, n: u32) -> u32 {
+        self.next_u32() % n
+    }
+
+    /// A number in `0..n` from [`Self::next_u64`].
+    pub(crate) fn below64(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+
+    /// A number in `[0, 1)` with 24 random bits.
+    pub(crate) fn unit(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
