@@ -9,7 +9,7 @@ use spatch_cloud::{
     cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, CloudReport, SmoothOptions,
     StageTime,
 };
-use spatch_eval::{Counts, ErrorStats, Report};
+use spatch_eval::{cloud_error_entries, Counts, Report};
 use spatch_format::WriteOptions;
 use spatch_mesh::load_point_cloud;
 
@@ -220,14 +220,7 @@ fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report
     if let Some(e) = &r.error {
         report.measure_stages.push("error", e.seconds);
         report.measure_seconds = e.seconds;
-        report.error.insert(
-            "cloud_to_patch".to_owned(),
-            ErrorStats::from(&e.cloud_to_patch.distance),
-        );
-        report.error.insert(
-            "node_to_cloud".to_owned(),
-            ErrorStats::from(&e.node_to_cloud),
-        );
+        report.error.extend(cloud_error_entries(e));
         set_detail(
             &mut report,
             "cloud_error",

@@ -30,7 +30,9 @@ use spatch_mesh::{
 };
 use spatch_render::PreparedScene;
 
-use crate::geometric::{nearest_patch_cells, node_to_surface_distances, sample_count};
+use crate::geometric::{
+    cloud_error_entries, nearest_patch_cells, node_to_surface_distances, sample_count,
+};
 use crate::histogram::ErrorHistogram;
 use crate::image_error::{image_error, ImageError, ImageOptions};
 use crate::per_patch::{per_patch_errors, quantization_bound, PatchError, QuantizationBound};
@@ -297,14 +299,7 @@ fn measure_cloud(
     let measured = timed(&mut e.stages, "cloud_error", || {
         spatch_cloud::measure_cloud_error(cloud, scene, spacing)
     })?;
-    e.error.insert(
-        "cloud_to_patch".to_owned(),
-        ErrorStats::from(&measured.cloud_to_patch.distance),
-    );
-    e.error.insert(
-        "node_to_cloud".to_owned(),
-        ErrorStats::from(&measured.node_to_cloud),
-    );
+    e.error.extend(cloud_error_entries(&measured));
     let nodes = timed(&mut e.stages, "node_to_cloud_per_node", || {
         node_to_cloud_distances(scene, cloud)
     })?;

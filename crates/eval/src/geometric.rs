@@ -72,6 +72,22 @@ impl From<&spatch_cloud::DistanceStats> for ErrorStats {
     }
 }
 
+/// The two one-way errors of a cloud measurement under the names reports give them
+/// (`cloud_to_patch`, `node_to_cloud`; docs/report-schema.md).
+pub fn cloud_error_entries(
+    e: &spatch_cloud::CloudErrorReport,
+) -> impl Iterator<Item = (String, ErrorStats)> {
+    [
+        (
+            "cloud_to_patch",
+            ErrorStats::from(&e.cloud_to_patch.distance),
+        ),
+        ("node_to_cloud", ErrorStats::from(&e.node_to_cloud)),
+    ]
+    .into_iter()
+    .map(|(name, stats)| (name.to_owned(), stats))
+}
+
 impl ErrorStats {
     /// Summarizes `distances` (reordered in place) relative to `diagonal`.
     pub fn from_distances(distances: &mut [f32], diagonal: f64) -> ErrorStats {

@@ -60,8 +60,8 @@ pub use evaluate::{
     CLOUD_IMAGE_NOTE,
 };
 pub use geometric::{
-    geometric_error, nearest_patch_cells, node_to_surface, sample_count, surface_to_patch,
-    ErrorStats, GeometricError, NO_PATCH,
+    cloud_error_entries, geometric_error, nearest_patch_cells, node_to_surface, sample_count,
+    surface_to_patch, ErrorStats, GeometricError, NO_PATCH,
 };
 pub use histogram::{ErrorHistogram, HISTOGRAM_EDGES};
 pub use holes::{
