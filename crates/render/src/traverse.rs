@@ -21,9 +21,9 @@
 //! sets the subdivision) and the screen bounding box. Cost: O(nodes), no
 //! allocation (the output vector is reused).
 
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec3, Vec4};
 
-use crate::fixed::{depth_to_fixed, position_to_fixed, EMPTY_NODE};
+use crate::fixed::{depth_to_fixed, position_to_fixed, EMPTY_NODE, XY_ONE, Z_FAR};
 use crate::mip::MipLevel;
 use crate::split::NodeRange;
 
@@ -63,6 +63,56 @@ fn fixed_node(s: Vec3) -> Node {
     n
 }
 
+/// Lower and upper clamps of [`fixed_lanes`]: the depth lane only.
+const LANE_LO: Vec4 = Vec4::new(f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0, 0.0);
+const LANE_HI: Vec4 = Vec4::new(f32::INFINITY, f32::INFINITY, 2.0, 0.0);
+/// Fixed-point scales of [`fixed_lanes`]: positions, depth.
+const LANE_SCALE: Vec4 = Vec4::new(XY_ONE, XY_ONE, Z_FAR as f32, 0.0);
+
+/// The fixed-point `[x, y, depth]` of a screen point in lanes `x, y, z`
+/// (lane `w` 0): exactly `position_to_fixed(s.x)`,
+/// `position_to_fixed(s.y)`, `depth_to_fixed(s.z)`, for every input.
+///
+/// Why: the saturating `as` conversions stay scalar (five instructions
+/// each plus the repacking; callgrind, `profile_sphere 500 1`). When every
+/// lane is below 2^31 in magnitude (always, inside the guard band), the
+/// lanes are truncated in one packed step ([`Vec4::trunc`]: `cvttps2dq`
+/// and back, exact) and read as integers by adding `1.5 · 2^52` in `f64`,
+/// which puts an integer below 2^51 in the low mantissa bits, two's
+/// complement; other inputs (huge, infinite, NaN) take the scalar form.
+#[inline(always)]
+fn fixed_lanes(s: Vec4) -> [i32; 3] {
+    const LIMIT: f32 = 2_147_483_648.0; // 2^31
+    let q = s.max(LANE_LO).min(LANE_HI) * LANE_SCALE;
+    if q.abs().cmplt(Vec4::splat(LIMIT)).all() {
+        truncate_lanes(q)
+    } else {
+        [
+            position_to_fixed(s.x),
+            position_to_fixed(s.y),
+            depth_to_fixed(s.z),
+        ]
+    }
+}
+
+/// [`fixed_lanes`] for a point whose lanes are known to stay below 2^31
+/// once scaled (and finite).
+#[inline(always)]
+fn fixed_lanes_in_range(s: Vec4) -> [i32; 3] {
+    truncate_lanes(s.max(LANE_LO).min(LANE_HI) * LANE_SCALE)
+}
+
+/// Lanes `x, y, z` of `q` (each below 2^31 in magnitude) truncated to
+/// integers (see [`fixed_lanes`]).
+#[inline(always)]
+fn truncate_lanes(q: Vec4) -> [i32; 3] {
+    const MAGIC: f64 = 6_755_399_441_055_744.0; // 1.5 · 2^52
+    let t = q.trunc().to_array();
+    let bits = |v: f32| (v as f64 + MAGIC).to_bits() as i32;
+    let b = [bits(t[0]), bits(t[1]), bits(t[2]), bits(t[3])];
+    [b[0], b[1], b[2]]
+}
+
 const EMPTY: Node = {
     let mut n = [0; NODE_WIDTH];
     n[0] = EMPTY_NODE;
@@ -79,6 +129,11 @@ const EMPTY: Node = {
 pub(crate) struct NodeXY {
     pub(crate) xs: Vec<i32>,
     pub(crate) ys: Vec<i32>,
+    /// Scratch of the trilinear projection: per node the displacement
+    /// weight and the used flag, per row its lanes.
+    ws: Vec<f32>,
+    used: Vec<bool>,
+    rows: Vec<RowLanes>,
 }
 
 impl NodeXY {
@@ -160,44 +215,210 @@ pub(crate) fn project_nodes_trilinear(
     } else {
         0.0
     };
-    // Why a pre-sized slice: writing nodes in place instead of pushing
-    // them one by one saves the per-node capacity check and the zeroing of
-    // the attribute words (callgrind, `profile_sphere 500 1`).
     let cols = range.i1 - range.i0 + 1;
-    let base = out.len();
-    out.resize(base + cols * (range.j1 - range.j0 + 1), EMPTY);
-    let mut rows_out = out[base..].chunks_exact_mut(cols);
-    xy.reset(cols * (range.j1 - range.j0 + 1));
-    let mut xy_rows = xy
-        .xs
-        .chunks_exact_mut(cols)
-        .zip(xy.ys.chunks_exact_mut(cols));
+    let count = cols * (range.j1 - range.j0 + 1);
+    xy.reset(count);
+    // The weights along the displacement axis (and the used flags), in one
+    // pass over the piece's rows when they are contiguous in the level.
+    // Why: the pass converts in vector lanes, and per row it cost its
+    // set-up and an odd remainder (callgrind, `profile_sphere 500 1`).
+    let weight = |dk: u16| dk.wrapping_sub(d.0) as f32 * inv_d;
+    let (ws, used) = (&mut xy.ws, &mut xy.used);
+    ws.clear();
+    used.clear();
+    if cols == level.cols {
+        let nodes = range.j0 * cols..(range.j1 + 1) * cols;
+        ws.extend(
+            level.displacements[nodes.clone()]
+                .iter()
+                .map(|&dk| weight(dk)),
+        );
+        used.extend_from_slice(&level.used[nodes]);
+    } else {
+        for j in range.j0..=range.j1 {
+            let row = j * level.cols;
+            let nodes = row + range.i0..=row + range.i1;
+            ws.extend(
+                level.displacements[nodes.clone()]
+                    .iter()
+                    .map(|&dk| weight(dk)),
+            );
+            used.extend_from_slice(&level.used[nodes]);
+        }
+    }
+    // Every interpolated lane is within 3.1 times the largest corner (a
+    // convex combination of corners up to rounding, bounded here by the
+    // triangle inequality over the steps), so corners below
+    // `LANE_SAFE_PX` keep every node's lanes below 2^31 (see
+    // [`fixed_lanes`]), and finite corners keep them finite.
+    let bounded = c
+        .iter()
+        .flatten()
+        .all(|s| s.is_finite() && s.x.abs() < LANE_SAFE_PX && s.y.abs() < LANE_SAFE_PX);
+    // Every cell drawable: every node is used.
+    let all_used = level.drawable_cells as usize == (level.cols - 1) * (level.rows - 1);
+    let c = c.map(|pair| pair.map(|s| s.extend(0.0)));
+    // Each row's first bottom and top points (`d` low and high) and their
+    // steps: `Vec3::lerp`'s operations, lane by lane.
+    xy.rows.clear();
+    xy.rows.extend((range.j0..=range.j1).map(|j| {
+        let v = (j - range.j0) as f32 * inv_j;
+        let lerp = |a: Vec4, b: Vec4| a * (1.0 - v) + b * v;
+        let b0 = lerp(c[0][0], c[1][0]);
+        let b1 = lerp(c[0][1], c[1][1]);
+        let t0 = lerp(c[2][0], c[3][0]);
+        let t1 = lerp(c[2][1], c[3][1]);
+        RowLanes {
+            bottom: b0,
+            top: t0,
+            db: (b1 - b0) * inv_i,
+            dt: (t1 - t0) * inv_i,
+        }
+    }));
+    let piece = PieceLanes {
+        rows: &xy.rows,
+        cols,
+        ws: &xy.ws,
+        used: &xy.used,
+    };
+    let (xs, ys) = (&mut xy.xs[..], &mut xy.ys[..]);
+    match (bounded, all_used) {
+        (true, true) => piece.project::<false, true>(out, xs, ys),
+        (true, false) => piece.project::<false, false>(out, xs, ys),
+        (false, _) => piece.project::<true, false>(out, xs, ys),
+    }
+}
+
+/// Corners below this many pixels from the origin (in x and y) keep every
+/// trilinear node's fixed-point lanes below 2^31 (see
+/// [`project_nodes_trilinear`]).
+const LANE_SAFE_PX: f32 = 8192.0;
+
+/// One row of trilinear nodes in lanes `x, y, depth, 0`: the bottom and
+/// top points of its first node and their steps per node.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RowLanes {
+    bottom: Vec4,
+    top: Vec4,
+    db: Vec4,
+    dt: Vec4,
+}
+
+/// A piece's trilinear rows and its nodes' weights and used flags (row
+/// after row, `cols` per row).
+struct PieceLanes<'a> {
+    rows: &'a [RowLanes],
+    cols: usize,
+    ws: &'a [f32],
+    used: &'a [bool],
+}
+
+impl PieceLanes<'_> {
+    /// Appends the piece's nodes to `out` and writes the used ones'
+    /// positions to `xs` and `ys`. `CHECKED`: lanes may exceed 2^31 (see
+    /// [`fixed_lanes`]); `ALL_USED`: every node is used. Why the steps
+    /// accumulate: the same sums, in the same order, as the `Vec3` form
+    /// this replaced (images bit-identical). Why one `extend` over the
+    /// whole piece: one capacity check, each node written once (attribute
+    /// words included), and a row change costs a compare per node instead
+    /// of a loop set-up per row (callgrind, `profile_sphere 500 1`).
+    #[inline(always)]
+    fn project<const CHECKED: bool, const ALL_USED: bool>(
+        self,
+        out: &mut Vec<Node>,
+        xs: &mut [i32],
+        ys: &mut [i32],
+    ) {
+        let Self {
+            rows,
+            cols,
+            ws,
+            used,
+        } = self;
+        let Some(&first) = rows.first() else {
+            return;
+        };
+        let RowLanes {
+            mut bottom,
+            mut top,
+            mut db,
+            mut dt,
+        } = first;
+        let (mut row, mut col) = (0, 0);
+        let nodes = ws.iter().zip(used).zip(xs.iter_mut().zip(ys.iter_mut()));
+        out.extend(nodes.map(move |((&w, &u), (x, y))| {
+            if col == cols {
+                (row, col) = (row + 1, 0);
+                if let Some(&next) = rows.get(row) {
+                    (bottom, top, db, dt) = (next.bottom, next.top, next.db, next.dt);
+                }
+            }
+            col += 1;
+            let mut node = EMPTY;
+            if ALL_USED || u {
+                let s = bottom + (top - bottom) * w;
+                let [fx, fy, fz] = if CHECKED {
+                    fixed_lanes(s)
+                } else {
+                    fixed_lanes_in_range(s)
+                };
+                (node[0], node[1], node[2]) = (fx, fy, fz);
+                (*x, *y) = (fx, fy);
+            }
+            bottom += db;
+            top += dt;
+            node
+        }));
+    }
+}
+
+/// The straightforward trilinear projection that
+/// [`project_nodes_trilinear`] must equal bit for bit (the reference of its
+/// tests): per node, `Vec3` lanes and the scalar conversions of
+/// [`crate::fixed`].
+#[cfg(test)]
+pub(crate) fn project_nodes_trilinear_reference(
+    level: &MipLevel,
+    range: NodeRange,
+    d: (u16, u16),
+    p: &Projector,
+    out: &mut Vec<Node>,
+) {
+    let (lo, hi) = range.local_box(d);
+    let corner = |a: bool, b: bool, c: bool| {
+        p.screen(Vec3::new(
+            if a { hi.x } else { lo.x },
+            if b { hi.y } else { lo.y },
+            if c { hi.z } else { lo.z },
+        ))
+    };
+    let c = [
+        [corner(false, false, false), corner(true, false, false)],
+        [corner(false, true, false), corner(true, true, false)],
+        [corner(false, false, true), corner(true, false, true)],
+        [corner(false, true, true), corner(true, true, true)],
+    ];
+    let inv_i = 1.0 / (range.i1 - range.i0) as f32;
+    let inv_j = 1.0 / (range.j1 - range.j0) as f32;
+    let inv_d = if d.1 > d.0 {
+        1.0 / (d.1 - d.0) as f32
+    } else {
+        0.0
+    };
     for j in range.j0..=range.j1 {
         let v = (j - range.j0) as f32 * inv_j;
-        // Corners of the bilinear slice at this row: bottom (d lo) and top (d hi).
         let b0 = c[0][0].lerp(c[1][0], v);
         let b1 = c[0][1].lerp(c[1][1], v);
         let t0 = c[2][0].lerp(c[3][0], v);
         let t1 = c[2][1].lerp(c[3][1], v);
         let (db, dt) = ((b1 - b0) * inv_i, (t1 - t0) * inv_i);
         let (mut bottom, mut top) = (b0, t0);
-        let row = j * level.cols;
-        let (Some(dst), Some((xs, ys))) = (rows_out.next(), xy_rows.next()) else {
-            return;
-        };
-        let (used, disp) = (
-            &level.used[row + range.i0..=row + range.i1],
-            &level.displacements[row + range.i0..=row + range.i1],
-        );
-        let positions = xs.iter_mut().zip(ys.iter_mut());
-        for (((node, &u), &dk), (x, y)) in dst.iter_mut().zip(used).zip(disp).zip(positions) {
-            if u {
-                let w = (dk - d.0) as f32 * inv_d;
-                let s = bottom + (top - bottom) * w;
-                node[0] = position_to_fixed(s.x);
-                node[1] = position_to_fixed(s.y);
-                node[2] = depth_to_fixed(s.z);
-                (*x, *y) = (node[0], node[1]);
+        for k in j * level.cols + range.i0..=j * level.cols + range.i1 {
+            if level.used[k] {
+                let w = (level.displacements[k] - d.0) as f32 * inv_d;
+                out.push(fixed_node(bottom + (top - bottom) * w));
+            } else {
+                out.push(EMPTY);
             }
             bottom += db;
             top += dt;
@@ -756,6 +977,118 @@ mod tests {
         assert_eq!(m.refined_nodes(1, 1), 25);
         assert_eq!(m.refined_nodes(2, 2), 81);
         assert_eq!(m.refined_nodes(2, 1), 45);
+    }
+
+    /// The packed conversion equals the scalar ones for every kind of
+    /// input: small and large, negative, fractional, at the 2^31 and 2^23
+    /// edges, infinite and NaN.
+    #[test]
+    fn fixed_lanes_equal_the_scalar_conversions() {
+        let mut rng = XorShift(0x5eed_1234_abcd_0001);
+        let edges = [
+            0.0,
+            -0.0,
+            1.0 / 65536.0,
+            -1.0 / 65536.0,
+            0.999_999_9,
+            -0.999_999_9,
+            127.999_99,
+            128.0,
+            -128.000_01,
+            32_767.998,
+            32_768.0,
+            -32_768.0,
+            -32_769.0,
+            1e9,
+            -1e9,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            f32::MIN_POSITIVE,
+            2.1,
+            -2.1,
+        ];
+        for case in 0..200_000 {
+            let pick = |rng: &mut XorShift| match rng.below(4) {
+                0 => edges[rng.below(edges.len() as u32) as usize],
+                1 => (rng.unit() - 0.5) * 1024.0,
+                2 => (rng.unit() - 0.5) * 70_000.0,
+                _ => f32::from_bits(rng.next_u32()),
+            };
+            let s = Vec4::new(pick(&mut rng), pick(&mut rng), pick(&mut rng), 0.0);
+            let want = [
+                position_to_fixed(s.x),
+                position_to_fixed(s.y),
+                depth_to_fixed(s.z),
+            ];
+            assert_eq!(fixed_lanes(s), want, "case {case}: {s:?}");
+            let q = s * LANE_SCALE;
+            if s.is_finite() && q.x.abs() < 2_147_483_648.0 && q.y.abs() < 2_147_483_648.0 {
+                assert_eq!(fixed_lanes_in_range(s), want, "case {case}: {s:?}");
+            }
+        }
+    }
+
+    /// The lane-wise trilinear projection writes the same nodes and
+    /// positions, bit for bit, as the straightforward `Vec3` form, on
+    /// random pieces (with and without empty nodes, whole and part
+    /// levels) and maps with small and huge screen coordinates (the checked
+    /// path).
+    #[test]
+    fn trilinear_lanes_equal_the_reference() {
+        let mut rng = XorShift(0x1357_9bdf_2468_ace0);
+        for case in 0..400 {
+            let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
+            let holes = [0, 0, 5, 30][case % 4];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| {
+                    if rng.below64(100) < holes {
+                        spatch_format::EMPTY
+                    } else {
+                        rng.below64(400) as u16
+                    }
+                })
+                .collect();
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+            let grid = GridSize::new(cols as u32, rows as u32).unwrap();
+            let patch = Patch::new(frame, grid, d, None).unwrap();
+            let levels = crate::mip::build_mip_pyramid(&patch);
+            let Some(level) = levels.first() else {
+                continue;
+            };
+            let scale = [8.0, 8.0, 3000.0, 1e6][case % 4 / 2 * 2 + (case / 4) % 2];
+            let mut r = |s: f32| (rng.unit() - 0.5) * s;
+            let p = Projector {
+                map: Mat3::from_cols(
+                    Vec3::new(scale + r(6.0), r(6.0), r(0.02)),
+                    Vec3::new(r(6.0), scale + r(6.0), r(0.02)),
+                    Vec3::new(r(0.2), r(0.2), r(0.001)),
+                ),
+                t0: Vec3::new(r(200.0), r(200.0), 2.0),
+                z_scale: 0.1 + r(0.1),
+                z_offset: r(0.5),
+            };
+            let whole = NodeRange::whole(level);
+            let i0 = rng.below64(level.cols as u64 - 1) as usize;
+            let j0 = rng.below64(level.rows as u64 - 1) as usize;
+            let i1 = i0 + 1 + rng.below64((level.cols - 1 - i0) as u64) as usize;
+            let j1 = j0 + 1 + rng.below64((level.rows - 1 - j0) as u64) as usize;
+            for range in [whole, NodeRange { i0, j0, i1, j1 }] {
+                let Some(dr) = range.d_range(level) else {
+                    continue;
+                };
+                let (mut want, mut got) = (vec![EMPTY], vec![EMPTY]);
+                project_nodes_trilinear_reference(level, range, dr, &p, &mut want);
+                let mut xy = NodeXY::default();
+                project_nodes_trilinear(level, range, dr, &p, &mut got, &mut xy);
+                assert_eq!(got, want, "case {case} {range:?}");
+                for (k, n) in want[1..].iter().enumerate() {
+                    if n[0] != EMPTY_NODE {
+                        assert_eq!((xy.xs[k], xy.ys[k]), (n[0], n[1]), "case {case}");
+                    }
+                }
+            }
+        }
     }
 
     /// `measure_cells` (level masks, positions in rows, `i32` lanes, closing
