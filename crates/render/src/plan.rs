@@ -350,7 +350,7 @@ fn plan_piece(
     let measure = measure_cells(
         level,
         range,
-        &work.xy,
+        &mut work.xy,
         back_sign,
         &mut work.cell_flags,
         &mut work.row_spans,

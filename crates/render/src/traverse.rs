@@ -83,7 +83,7 @@ const LANE_SCALE: Vec4 = Vec4::new(XY_ONE, XY_ONE, Z_FAR as f32, 0.0);
 #[inline(always)]
 fn fixed_lanes(s: Vec4) -> [i32; 3] {
     const LIMIT: f32 = 2_147_483_648.0; // 2^31
-    let q = s.max(LANE_LO).min(LANE_HI) * LANE_SCALE;
+    let q = scaled_lanes(s);
     if q.abs().cmplt(Vec4::splat(LIMIT)).all() {
         truncate_lanes(q)
     } else {
@@ -97,9 +97,16 @@ fn fixed_lanes(s: Vec4) -> [i32; 3] {
 
 /// [`fixed_lanes`] for a point whose lanes are known to stay below 2^31
 /// once scaled (and finite).
-#[inline(always)]
+#[cfg(test)]
 fn fixed_lanes_in_range(s: Vec4) -> [i32; 3] {
-    truncate_lanes(s.max(LANE_LO).min(LANE_HI) * LANE_SCALE)
+    truncate_lanes(scaled_lanes(s))
+}
+
+/// The lanes [`fixed_lanes`] truncates: positions in 1/65536 px, depth
+/// clamped to `[0, 2]` and in units of [`Z_FAR`].
+#[inline(always)]
+fn scaled_lanes(s: Vec4) -> Vec4 {
+    s.max(LANE_LO).min(LANE_HI) * LANE_SCALE
 }
 
 /// Lanes `x, y, z` of `q` (each below 2^31 in magnitude) truncated to
@@ -134,11 +141,21 @@ pub(crate) struct NodeXY {
     ws: Vec<f32>,
     used: Vec<bool>,
     rows: Vec<RowLanes>,
+    /// Scratch of [`measure_cells`]: per node, 0 at the end of a row,
+    /// else all ones.
+    wrap: Vec<i32>,
+    /// The row length `wrap` was made for.
+    wrap_cols: usize,
+    /// Per node row, its used positions' box and count, when the
+    /// projection found them (the trilinear one within range; else empty,
+    /// and [`measure_cells`] scans the positions).
+    pub(crate) row_stats: Vec<RowStats>,
 }
 
 impl NodeXY {
     /// Clears and sizes both arrays for `len` nodes (all 0).
     fn reset(&mut self, len: usize) {
+        self.row_stats.clear();
         self.xs.clear();
         self.xs.resize(len, 0);
         self.ys.clear();
@@ -282,10 +299,16 @@ pub(crate) fn project_nodes_trilinear(
         used: &xy.used,
     };
     let (xs, ys) = (&mut xy.xs[..], &mut xy.ys[..]);
+    let stats = &mut xy.row_stats;
+    stats.clear();
+    if bounded {
+        stats.resize(xy.rows.len(), RowStats::EMPTY);
+    }
+    let stats = &mut stats[..];
     match (bounded, all_used) {
-        (true, true) => piece.project::<false, true>(out, xs, ys),
-        (true, false) => piece.project::<false, false>(out, xs, ys),
-        (false, _) => piece.project::<true, false>(out, xs, ys),
+        (true, true) => piece.project::<false, true>(out, xs, ys, stats),
+        (true, false) => piece.project::<false, false>(out, xs, ys, stats),
+        (false, _) => piece.project::<true, false>(out, xs, ys, stats),
     }
 }
 
@@ -322,12 +345,14 @@ impl PieceLanes<'_> {
     /// whole piece: one capacity check, each node written once (attribute
     /// words included), and a row change costs a compare per node instead
     /// of a loop set-up per row (callgrind, `profile_sphere 500 1`).
+    /// With `CHECKED` off, `stats` receives each node row's [`RowStats`].
     #[inline(always)]
     fn project<const CHECKED: bool, const ALL_USED: bool>(
         self,
         out: &mut Vec<Node>,
         xs: &mut [i32],
         ys: &mut [i32],
+        stats: &mut [RowStats],
     ) {
         let Self {
             rows,
@@ -345,30 +370,72 @@ impl PieceLanes<'_> {
             mut dt,
         } = first;
         let (mut row, mut col) = (0, 0);
+        // The row's smallest and largest scaled lanes and used nodes. Why
+        // here: truncation is monotonic, so the truncated extremes are the
+        // extremes of the truncated positions, two packed operations per
+        // node where the measurement scanned every row again (callgrind,
+        // `profile_sphere 500 1`).
+        let (mut lo, mut hi, mut count) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0u32);
         let nodes = ws.iter().zip(used).zip(xs.iter_mut().zip(ys.iter_mut()));
         out.extend(nodes.map(move |((&w, &u), (x, y))| {
-            if col == cols {
-                (row, col) = (row + 1, 0);
-                if let Some(&next) = rows.get(row) {
-                    (bottom, top, db, dt) = (next.bottom, next.top, next.db, next.dt);
-                }
-            }
-            col += 1;
             let mut node = EMPTY;
             if ALL_USED || u {
                 let s = bottom + (top - bottom) * w;
                 let [fx, fy, fz] = if CHECKED {
                     fixed_lanes(s)
                 } else {
-                    fixed_lanes_in_range(s)
+                    let q = scaled_lanes(s);
+                    (lo, hi, count) = (lo.min(q), hi.max(q), count + 1);
+                    truncate_lanes(q)
                 };
                 (node[0], node[1], node[2]) = (fx, fy, fz);
                 (*x, *y) = (fx, fy);
             }
             bottom += db;
             top += dt;
+            col += 1;
+            if col == cols {
+                if let (false, Some(out)) = (CHECKED, stats.get_mut(row)) {
+                    *out = RowStats::of(lo, hi, count);
+                    (lo, hi, count) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0);
+                }
+                (row, col) = (row + 1, 0);
+                if let Some(&next) = rows.get(row) {
+                    (bottom, top, db, dt) = (next.bottom, next.top, next.db, next.dt);
+                }
+            }
             node
         }));
+    }
+}
+
+/// One node row's used positions: the box `[x_lo, y_lo, x_hi, y_hi]`
+/// (empty: `[MAX, MAX, MIN, MIN]`) and the used count.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RowStats {
+    pub(crate) bbox: [i32; 4],
+    pub(crate) used: u32,
+}
+
+impl RowStats {
+    /// A row without used nodes.
+    const EMPTY: RowStats = RowStats {
+        bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
+        used: 0,
+    };
+
+    /// From the row's smallest and largest scaled lanes (see
+    /// [`scaled_lanes`]) over `count` used nodes.
+    #[inline(always)]
+    fn of(lo: Vec4, hi: Vec4, count: u32) -> Self {
+        if count == 0 {
+            return Self::EMPTY;
+        }
+        let (lo, hi) = (truncate_lanes(lo), truncate_lanes(hi));
+        Self {
+            bbox: [lo[0], lo[1], hi[0], hi[1]],
+            used: count,
+        }
     }
 }
 
@@ -558,7 +625,7 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
 pub(crate) fn measure_cells(
     level: &MipLevel,
     range: NodeRange,
-    xy: &NodeXY,
+    xy: &mut NodeXY,
     back_sign: i64,
     flags: &mut Vec<u8>,
     spans: &mut Vec<[i32; 2]>,
@@ -572,24 +639,19 @@ pub(crate) fn measure_cells(
     let first_span = spans.len();
     spans.resize(first_span + crows, [i32::MAX, i32::MIN]);
     let mut below = (i32::MAX, i32::MIN);
+    // Each row's box and count: from the projection when it kept them,
+    // else from the positions.
+    let from_projection = xy.row_stats.len() == rows;
     for j in 0..rows {
-        let used = &level.used[(range.j0 + j) * lcols + range.i0..][..cols];
-        let xs = &xy.xs[j * cols..][..cols];
-        let ys = &xy.ys[j * cols..][..cols];
-        let n = used.iter().filter(|&&u| u).count();
-        let (xl, xh, lo, hi) = if n == cols {
-            // Why a plain pass for full rows: it runs in vector lanes
-            // (callgrind, `profile_sphere 500 1`).
-            let ((xl, xh), (lo, hi)) = (min_max(xs), min_max(ys));
-            (xl, xh, lo, hi)
+        let (xl, xh, lo, hi, n) = if from_projection {
+            let RowStats { bbox, used } = xy.row_stats[j];
+            (bbox[0], bbox[2], bbox[1], bbox[3], used as usize)
         } else {
-            let (mut lo, mut hi, mut xl, mut xh) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
-            for ((&u, &x), &y) in used.iter().zip(xs).zip(ys) {
-                if u {
-                    (xl, xh, lo, hi) = (xl.min(x), xh.max(x), lo.min(y), hi.max(y));
-                }
-            }
-            (xl, xh, lo, hi)
+            row_box(
+                &level.used[(range.j0 + j) * lcols + range.i0..][..cols],
+                &xy.xs[j * cols..][..cols],
+                &xy.ys[j * cols..][..cols],
+            )
         };
         m.used_nodes += n as u64;
         (x0, x1, y0, y1) = (x0.min(xl), x1.max(xh), y0.min(lo), y1.max(hi));
@@ -637,7 +699,23 @@ pub(crate) fn measure_cells(
     // Whether the u edges of the row of nodes below the current row of
     // cells were taken already (the row of cells below was full).
     let mut below_taken = false;
+    let all_drawn = m.drawable_cells as usize == ccols * crows;
+    if small && all_drawn {
+        // Every cell drawn: every edge of the piece, in flat passes. Why:
+        // rows of 17 nodes left a set-up and a remainder per row and per
+        // edge component (callgrind, `profile_sphere 500 1`).
+        if (xy.wrap.len(), xy.wrap_cols) != (cols * rows, cols) {
+            xy.wrap_cols = cols;
+            xy.wrap.clear();
+            xy.wrap
+                .extend((0..cols * rows).map(|k| -((k % cols != cols - 1) as i32)));
+        }
+        edges = piece_edges_small(&xy.xs, &xy.ys, cols, &xy.wrap);
+    }
     for (cj, row) in out.chunks_exact(ccols).enumerate() {
+        if small && all_drawn {
+            break;
+        }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
         let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
         let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
@@ -680,6 +758,55 @@ pub(crate) fn measure_cells(
     };
     (m.right_edges, m.top_edges, m.both_edges) = (right, top, both);
     m
+}
+
+/// The used positions of one node row: smallest and largest x, smallest
+/// and largest y (`MAX, MIN` when none) and the used count.
+fn row_box(used: &[bool], xs: &[i32], ys: &[i32]) -> (i32, i32, i32, i32, usize) {
+    let n = used.iter().filter(|&&u| u).count();
+    if n == xs.len() {
+        // Why a plain pass for full rows: it runs in vector lanes
+        // (callgrind, `profile_sphere 500 1`).
+        let ((xl, xh), (lo, hi)) = (min_max(xs), min_max(ys));
+        return (xl, xh, lo, hi, n);
+    }
+    let (mut lo, mut hi, mut xl, mut xh) = (i32::MAX, i32::MIN, i32::MAX, i32::MIN);
+    for ((&u, &x), &y) in used.iter().zip(xs).zip(ys) {
+        if u {
+            (xl, xh, lo, hi) = (xl.min(x), xh.max(x), lo.min(y), hi.max(y));
+        }
+    }
+    (xl, xh, lo, hi, n)
+}
+
+/// Largest `|x|` and `|y|` of every u and v edge (`[ux, uy, vx, vy]`) of
+/// a piece of `cols` nodes per row whose cells are all drawn and whose
+/// positions differ by less than 2^24 (exact in `f32`, see
+/// [`max_abs_diff`]). `wrap[k]` is 0 for the last node of a row (no u
+/// edge), else all ones.
+fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32]) -> [u64; 4] {
+    let n = xs.len();
+    let m = n - cols;
+    let d = |a: i32, b: i32| (b.wrapping_sub(a) as f32).abs();
+    let du = |a: i32, b: i32, w: i32| (b.wrapping_sub(a) & w) as f32;
+    // Rows 0..rows - 1: their u edges and the v edges above them.
+    let (x0, x1, xv) = (&xs[..m], &xs[1..m + 1], &xs[cols..cols + m]);
+    let (y0, y1, yv) = (&ys[..m], &ys[1..m + 1], &ys[cols..cols + m]);
+    let w = &wrap[..m];
+    let mut e = [0f32; 4];
+    for k in 0..m {
+        e[0] = e[0].max(du(x0[k], x1[k], w[k]).abs());
+        e[1] = e[1].max(du(y0[k], y1[k], w[k]).abs());
+        e[2] = e[2].max(d(x0[k], xv[k]));
+        e[3] = e[3].max(d(y0[k], yv[k]));
+    }
+    // The last row's u edges.
+    let (x0, x1, y0, y1) = (&xs[m..n - 1], &xs[m + 1..], &ys[m..n - 1], &ys[m + 1..]);
+    for k in 0..cols - 1 {
+        e[0] = e[0].max(d(x0[k], x1[k]));
+        e[1] = e[1].max(d(y0[k], y1[k]));
+    }
+    e.map(|v| v as u64)
 }
 
 /// The largest `|b[k] - a[k]|`, for values whose differences are below
@@ -1100,6 +1227,8 @@ mod tests {
     fn measure_cells_equals_the_reference_on_random_pieces() {
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let mut backfacing = 0;
+        // One scratch for every piece, as a chunk keeps it.
+        let mut xy = NodeXY::default();
         for case in 0..300 {
             let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
             let holes = [0, 0, 5, 30][case % 4];
@@ -1142,7 +1271,7 @@ mod tests {
                     continue;
                 };
                 for back_sign in [-1, 0, 1] {
-                    let (mut nodes, mut xy) = (Vec::new(), NodeXY::default());
+                    let mut nodes = Vec::new();
                     if case % 2 == 0 {
                         project_nodes_trilinear(level, range, dr, &p, &mut nodes, &mut xy);
                     } else {
@@ -1151,7 +1280,7 @@ mod tests {
                     let (c, rws) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
                     let (mut f0, mut s0, mut f1, mut s1) = (vec![7], vec![], vec![7], vec![]);
                     let a = measure_cells_reference(&nodes, c, rws, back_sign, &mut f0, &mut s0);
-                    let b = measure_cells(level, range, &xy, back_sign, &mut f1, &mut s1);
+                    let b = measure_cells(level, range, &mut xy, back_sign, &mut f1, &mut s1);
                     assert_eq!(f0, f1, "case {case} {range:?} sign {back_sign}");
                     assert_eq!(s0, s1);
                     assert_eq!(a.edges, b.edges);
