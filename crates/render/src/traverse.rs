@@ -113,11 +113,19 @@ fn scaled_lanes(s: Vec4) -> Vec4 {
 /// integers (see [`fixed_lanes`]).
 #[inline(always)]
 fn truncate_lanes(q: Vec4) -> [i32; 3] {
+    let b = truncate_lanes4(q);
+    [b[0], b[1], b[2]]
+}
+
+/// The four lanes of `q` (each below 2^31 in magnitude) truncated to
+/// integers. Why all four: the two halves convert as two packed `f64`
+/// pairs and store as one word group (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn truncate_lanes4(q: Vec4) -> [i32; 4] {
     const MAGIC: f64 = 6_755_399_441_055_744.0; // 1.5 · 2^52
     let t = q.trunc().to_array();
     let bits = |v: f32| (v as f64 + MAGIC).to_bits() as i32;
-    let b = [bits(t[0]), bits(t[1]), bits(t[2]), bits(t[3])];
-    [b[0], b[1], b[2]]
+    [bits(t[0]), bits(t[1]), bits(t[2]), bits(t[3])]
 }
 
 const EMPTY: Node = {
@@ -384,14 +392,17 @@ impl PieceLanes<'_> {
             let mut node = EMPTY;
             if ALL_USED || u {
                 let s = bottom + (top - bottom) * w;
-                let [fx, fy, fz] = if CHECKED {
-                    fixed_lanes(s)
+                // Lane `w` is 0: the fourth word is the first attribute's 0.
+                let [fx, fy, fz, fw] = if CHECKED {
+                    let [fx, fy, fz] = fixed_lanes(s);
+                    [fx, fy, fz, 0]
                 } else {
                     let q = scaled_lanes(s);
-                    (lo, hi, count) = (lo.min(q), hi.max(q), count + 1);
-                    truncate_lanes(q)
+                    (lo, hi) = (lo.min(q), hi.max(q));
+                    count += !ALL_USED as u32;
+                    truncate_lanes4(q)
                 };
-                (node[0], node[1], node[2]) = (fx, fy, fz);
+                node = [fx, fy, fz, fw, 0, 0, 0, 0, 0];
                 (*x, *y) = (fx, fy);
             }
             bottom += db;
@@ -399,7 +410,8 @@ impl PieceLanes<'_> {
             col += 1;
             if col == cols {
                 if let (false, Some(out)) = (CHECKED, stats.get_mut(row)) {
-                    *out = RowStats::of(lo, hi, count);
+                    let used = if ALL_USED { cols as u32 } else { count };
+                    *out = RowStats::of(lo, hi, used);
                     (lo, hi, count) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0);
                 }
                 (row, col) = (row + 1, 0);
@@ -741,7 +753,9 @@ pub(crate) fn measure_cells(
         edges = piece_edges_small(&xy.xs, &xy.ys, cols, &xy.wrap);
     }
     for (cj, row) in out.chunks_exact(ccols).enumerate() {
-        if small && all_drawn {
+        // Done by the flat passes, or no cell drawn (no edge, nothing to
+        // close: such a piece is dropped).
+        if small && all_drawn || m.drawable_cells == 0 {
             break;
         }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
@@ -781,6 +795,8 @@ pub(crate) fn measure_cells(
     let [right, top, both] = if whole && m.backfacing_cells == 0 {
         out.copy_from_slice(&level.cell_flags);
         level.closing
+    } else if m.drawable_cells == 0 {
+        [0; 3]
     } else {
         close_cells(out, ccols, crows)
     };
