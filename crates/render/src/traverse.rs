@@ -653,27 +653,33 @@ pub(crate) fn measure_cells(
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     let first_span = spans.len();
     spans.resize(first_span + crows, [i32::MAX, i32::MIN]);
-    let mut below = (i32::MAX, i32::MIN);
     // Each row's box and count: from the projection when it kept them,
     // else from the positions.
-    let from_projection = xy.row_stats.len() == rows;
-    for j in 0..rows {
-        let (xl, xh, lo, hi, n) = if from_projection {
-            let RowStats { bbox, used } = xy.row_stats[j];
-            (bbox[0], bbox[2], bbox[1], bbox[3], used as usize)
-        } else {
-            row_box(
+    if xy.row_stats.len() != rows {
+        xy.row_stats.clear();
+        for j in 0..rows {
+            let (xl, xh, lo, hi, n) = row_box(
                 &level.used[(range.j0 + j) * lcols + range.i0..][..cols],
                 &xy.xs[j * cols..][..cols],
                 &xy.ys[j * cols..][..cols],
-            )
-        };
-        m.used_nodes += n as u64;
-        (x0, x1, y0, y1) = (x0.min(xl), x1.max(xh), y0.min(lo), y1.max(hi));
-        if j > 0 {
-            spans[first_span + j - 1] = [below.0.min(lo) >> 16, below.1.max(hi) >> 16];
+            );
+            xy.row_stats.push(RowStats {
+                bbox: [xl, lo, xh, hi],
+                used: n as u32,
+            });
         }
-        below = (lo, hi);
+    }
+    let stats = &xy.row_stats[..rows];
+    // Why separate passes over the row boxes: no branch or index check per
+    // row (callgrind, `profile_sphere 500 1`).
+    for (span, pair) in spans[first_span..].iter_mut().zip(stats.windows(2)) {
+        let (a, b) = (pair[0].bbox, pair[1].bbox);
+        *span = [a[1].min(b[1]) >> 16, a[3].max(b[3]) >> 16];
+    }
+    for s in stats {
+        (x0, y0) = (x0.min(s.bbox[0]), y0.min(s.bbox[1]));
+        (x1, y1) = (x1.max(s.bbox[2]), y1.max(s.bbox[3]));
+        m.used_nodes += s.used as u64;
     }
     if m.used_nodes > 0 {
         m.bbox = [x0 >> 16, y0 >> 16, x1 >> 16, y1 >> 16];
