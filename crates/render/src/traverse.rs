@@ -154,6 +154,10 @@ pub(crate) struct NodeXY {
     wrap: Vec<i32>,
     /// The row length `wrap` was made for.
     wrap_cols: usize,
+    /// Scratch of [`measure_cells`]: per node, all ones when its u (v)
+    /// edge belongs to a drawn cell.
+    umask: Vec<i32>,
+    vmask: Vec<i32>,
     /// Scratch of [`measure_cells`]: per cell, 1 when it faces away (see
     /// [`away_cells_small`]).
     away: Vec<u8>,
@@ -742,9 +746,6 @@ pub(crate) fn measure_cells(
         out
     };
     let mut edges = [0u64; 4];
-    // Whether the u edges of the row of nodes below the current row of
-    // cells were taken already (the row of cells below was full).
-    let mut below_taken = false;
     let all_drawn = m.drawable_cells as usize == ccols * crows;
     if small && all_drawn {
         // Every cell drawn: every edge of the piece, in flat passes. Why:
@@ -757,40 +758,43 @@ pub(crate) fn measure_cells(
                 .extend((0..cols * rows).map(|k| -((k % cols != cols - 1) as i32)));
         }
         edges = piece_edges_small(&xy.xs, &xy.ys, cols, &xy.wrap);
+    } else if small && m.drawable_cells > 0 {
+        // Some cells not drawn: the same passes, each edge masked by
+        // whether a drawn cell has it. Why: as above, for the pieces the
+        // back-face test cut (callgrind, `profile_sphere 500 1`).
+        let (um, vm) = (&mut xy.umask, &mut xy.vmask);
+        um.clear();
+        um.resize(cols * rows, 0);
+        vm.clear();
+        vm.resize(cols * rows, 0);
+        for (cj, row) in out.chunks_exact(ccols).enumerate() {
+            let (lo, hi) = (cj * cols, (cj + 1) * cols);
+            let (ul, uh) = um[lo..hi + cols].split_at_mut(cols);
+            let vl = &mut vm[lo..hi];
+            for (i, &f) in row.iter().enumerate() {
+                let d = -((f & CELL_DRAW) as i32);
+                ul[i] |= d;
+                uh[i] |= d;
+                vl[i] |= d;
+                vl[i + 1] |= d;
+            }
+        }
+        edges = piece_edges_masked_small(&xy.xs, &xy.ys, cols, um, vm);
     }
     for (cj, row) in out.chunks_exact(ccols).enumerate() {
         // Done by the flat passes, or no cell drawn (no edge, nothing to
         // close: such a piece is dropped).
-        if small && all_drawn || m.drawable_cells == 0 {
+        if small || m.drawable_cells == 0 {
             break;
         }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
         let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
         let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
-        let full = small && row.iter().fold(CELL_DRAW, |a, f| a & f) != 0;
-        let e = if full {
-            // Every cell drawn: each edge once, not twice. Why: shared
-            // edges halve the work of the rows of whole patches (callgrind,
-            // `profile_sphere 500 1`).
-            let mut e = [
-                max_abs_diff(&xh[..ccols], &xh[1..]),
-                max_abs_diff(&yh[..ccols], &yh[1..]),
-                max_abs_diff(xl, xh),
-                max_abs_diff(yl, yh),
-            ];
-            if !below_taken {
-                e[0] = e[0].max(max_abs_diff(&xl[..ccols], &xl[1..]));
-                e[1] = e[1].max(max_abs_diff(&yl[..ccols], &yl[1..]));
-            }
-            e.map(u64::from)
-        } else if small {
-            row_edges_small(xl, yl, xh, yh, row)
-        } else if narrow {
+        let e = if narrow {
             row_edges_narrow(xl, yl, xh, yh, row)
         } else {
             row_edges_wide(xl, yl, xh, yh, row)
         };
-        below_taken = full;
         for (a, b) in edges.iter_mut().zip(e) {
             *a = (*a).max(b);
         }
@@ -831,9 +835,10 @@ fn row_box(used: &[bool], xs: &[i32], ys: &[i32]) -> (i32, i32, i32, i32, usize)
 
 /// Largest `|x|` and `|y|` of every u and v edge (`[ux, uy, vx, vy]`) of
 /// a piece of `cols` nodes per row whose cells are all drawn and whose
-/// positions differ by less than 2^24 (exact in `f32`, see
-/// [`max_abs_diff`]). `wrap[k]` is 0 for the last node of a row (no u
-/// edge), else all ones.
+/// positions differ by less than 2^24 (exact in `f32`; `maxps` and `andps`
+/// are single instructions where `u32` lanes need several without
+/// SSE4.1). `wrap[k]` is 0 for the last node of a row (no u edge), else
+/// all ones.
 fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32]) -> [u64; 4] {
     let n = xs.len();
     let m = n - cols;
@@ -859,17 +864,31 @@ fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32]) -> [u64;
     e.map(|v| v as u64)
 }
 
-/// The largest `|b[k] - a[k]|`, for values whose differences are below
-/// 2^24. Why `f32`: `maxps` and `andps` are single instructions where
-/// `u32` lanes need several without SSE4.1 (callgrind,
-/// `profile_sphere 500 1`).
-#[inline]
-fn max_abs_diff(a: &[i32], b: &[i32]) -> u32 {
-    let m = a
-        .iter()
-        .zip(b)
-        .fold(0f32, |m, (&a, &b)| m.max((b.wrapping_sub(a) as f32).abs()));
-    m as u32
+/// [`piece_edges_small`] for a piece whose cells are not all drawn:
+/// `um[k]` (`vm[k]`) is all ones when node `k`'s u (v) edge belongs to a
+/// drawn cell, else 0.
+fn piece_edges_masked_small(
+    xs: &[i32],
+    ys: &[i32],
+    cols: usize,
+    um: &[i32],
+    vm: &[i32],
+) -> [u64; 4] {
+    let n = xs.len();
+    let m = n - cols;
+    let d = |a: i32, b: i32, w: i32| ((b.wrapping_sub(a) & w) as f32).abs();
+    let mut e = [0f32; 4];
+    let (x0, x1, y0, y1, um) = (&xs[..n - 1], &xs[1..], &ys[..n - 1], &ys[1..], &um[..n - 1]);
+    for k in 0..n - 1 {
+        e[0] = e[0].max(d(x0[k], x1[k], um[k]));
+        e[1] = e[1].max(d(y0[k], y1[k], um[k]));
+    }
+    let (x0, xv, y0, yv, vm) = (&xs[..m], &xs[cols..], &ys[..m], &ys[cols..], &vm[..m]);
+    for k in 0..m {
+        e[2] = e[2].max(d(x0[k], xv[k], vm[k]));
+        e[3] = e[3].max(d(y0[k], yv[k], vm[k]));
+    }
+    e.map(|v| v as u64)
 }
 
 /// The smallest and largest values of a non-empty slice. Why through
@@ -964,25 +983,6 @@ fn mark_row<const BACK: i64>(
         drawn += f as u64;
     }
     (drawn, back)
-}
-
-/// [`row_edges_narrow`] for positions whose differences are below 2^24
-/// (exact in `f32`; see [`max_abs_diff`]).
-#[inline]
-fn row_edges_small(xl: &[i32], yl: &[i32], xh: &[i32], yh: &[i32], row: &[u8]) -> [u64; 4] {
-    let n = row.len();
-    let (xl0, xl1, yl0, yl1) = (&xl[..n], &xl[1..n + 1], &yl[..n], &yl[1..n + 1]);
-    let (xh0, xh1, yh0, yh1) = (&xh[..n], &xh[1..n + 1], &yh[..n], &yh[1..n + 1]);
-    let mut e = [0f32; 4];
-    for i in 0..n {
-        let keep = (row[i] & CELL_DRAW) as f32;
-        let d = |a: i32, b: i32| (b.wrapping_sub(a) as f32).abs() * keep;
-        e[0] = e[0].max(d(xl0[i], xl1[i]).max(d(xh0[i], xh1[i])));
-        e[1] = e[1].max(d(yl0[i], yl1[i]).max(d(yh0[i], yh1[i])));
-        e[2] = e[2].max(d(xl0[i], xh0[i]).max(d(xl1[i], xh1[i])));
-        e[3] = e[3].max(d(yl0[i], yh0[i]).max(d(yl1[i], yh1[i])));
-    }
-    e.map(|v| v as u64)
 }
 
 /// Largest `|x|` and `|y|` of the u and v edges of the drawn cells of one
@@ -1379,8 +1379,9 @@ mod tests {
         assert!(backfacing > 0);
     }
 
-    /// The `i32` and `f32` edge lanes equal the `i64` form on random rows
-    /// with undrawn cells, within their ranges.
+    /// The `i32` row lanes and the `f32` piece passes (whole and masked)
+    /// equal the `i64` form on random rows with undrawn cells, within their
+    /// ranges.
     #[test]
     fn narrow_and_small_edges_equal_wide_edges() {
         let mut rng = XorShift(12345);
@@ -1402,11 +1403,22 @@ mod tests {
             let wide = row_edges_wide(&xl, &yl, &xh, &yh, &row);
             assert_eq!(row_edges_narrow(&xl, &yl, &xh, &yh, &row), wide);
             if case % 2 == 1 {
-                assert_eq!(row_edges_small(&xl, &yl, &xh, &yh, &row), wide);
+                // The row as a piece of two node rows.
+                let cols = n + 1;
+                let (xs, ys) = ([&xl[..], &xh].concat(), [&yl[..], &yh].concat());
+                let (mut um, mut vm) = (vec![0; 2 * cols], vec![0; 2 * cols]);
+                for (i, _) in row.iter().enumerate().filter(|(_, &f)| f & CELL_DRAW != 0) {
+                    (um[i], um[cols + i], vm[i], vm[i + 1]) = (-1, -1, -1, -1);
+                }
+                assert_eq!(piece_edges_masked_small(&xs, &ys, cols, &um, &vm), wide);
                 let full = vec![CELL_DRAW; n];
-                let [ux, ..] = row_edges_wide(&xl, &yl, &xh, &yh, &full);
-                let taken = max_abs_diff(&xl[..n], &xl[1..]).max(max_abs_diff(&xh[..n], &xh[1..]));
-                assert_eq!(taken as u64, ux);
+                let wrap: Vec<i32> = (0..2 * cols)
+                    .map(|k| -((k % cols != cols - 1) as i32))
+                    .collect();
+                assert_eq!(
+                    piece_edges_small(&xs, &ys, cols, &wrap),
+                    row_edges_wide(&xl, &yl, &xh, &yh, &full)
+                );
             }
         }
     }
