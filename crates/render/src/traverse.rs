@@ -21,7 +21,7 @@
 //! sets the subdivision) and the screen bounding box. Cost: O(nodes), no
 //! allocation (the output vector is reused).
 
-use glam::{Mat3, Vec3, Vec4};
+use glam::{BVec4A, Mat3, Vec3, Vec4};
 
 use crate::fixed::{depth_to_fixed, position_to_fixed, EMPTY_NODE, XY_ONE, Z_FAR};
 use crate::mip::MipLevel;
@@ -278,18 +278,21 @@ pub(crate) fn project_nodes_trilinear(
             used.extend_from_slice(&level.used[nodes]);
         }
     }
-    // Every interpolated lane is within 3.1 times the largest corner (a
-    // convex combination of corners up to rounding, bounded here by the
-    // triangle inequality over the steps), so corners below
-    // `LANE_SAFE_PX` keep every node's lanes below 2^31 (see
-    // [`fixed_lanes`]), and finite corners keep them finite.
+    // Every node's x and y are convex combinations of the corners' (row
+    // lerps, steps along the row, the displacement weight in [0, 1]) up to
+    // the rounding of at most `cols + 4` `f32` operations in a row of at
+    // most 257 nodes (`GridSize::MAX_SIDE`), below 0.01 % of the largest
+    // corner: corners below `LANE_SAFE_PX` (a NaN fails the test) keep
+    // every node below 8193 px, its lanes below 2^30 (see
+    // [`fixed_lanes`]). The depth lane is clamped (a NaN gives 0 in both
+    // forms).
+    let c = c.map(|pair| pair.map(|s| s.extend(0.0)));
     let bounded = c
         .iter()
         .flatten()
-        .all(|s| s.is_finite() && s.x.abs() < LANE_SAFE_PX && s.y.abs() < LANE_SAFE_PX);
+        .all(|s| (s.abs().cmplt(LANE_SAFE) | DEPTH_LANES).all());
     // Every cell drawable: every node is used.
     let all_used = level.drawable_cells as usize == (level.cols - 1) * (level.rows - 1);
-    let c = c.map(|pair| pair.map(|s| s.extend(0.0)));
     // Each row's first bottom and top points (`d` low and high) and their
     // steps: `Vec3::lerp`'s operations, lane by lane.
     xy.rows.clear();
@@ -331,6 +334,10 @@ pub(crate) fn project_nodes_trilinear(
 /// trilinear node's fixed-point lanes below 2^31 (see
 /// [`project_nodes_trilinear`]).
 const LANE_SAFE_PX: f32 = 8192.0;
+/// [`LANE_SAFE_PX`] in the x and y lanes.
+const LANE_SAFE: Vec4 = Vec4::new(LANE_SAFE_PX, LANE_SAFE_PX, 0.0, 0.0);
+/// The lanes the bound does not apply to (depth, w).
+const DEPTH_LANES: BVec4A = BVec4A::new(false, false, true, true);
 
 /// One row of trilinear nodes in lanes `x, y, depth, 0`: the bottom and
 /// top points of its first node and their steps per node.
