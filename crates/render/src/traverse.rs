@@ -9,7 +9,9 @@
 //!   no division. Depth is exact (it is affine in model space); x and y are
 //!   not perspective-correct: the error grows with the square of the depth
 //!   range of the piece over its distance (see `--stats` for its cost in
-//!   PSNR).
+//!   PSNR). The three values of a node share four `f32` lanes and one
+//!   packed truncation (bit-identical to the scalar conversions of
+//!   [`crate::fixed`]).
 //! - **Exact**: each node is mapped to window clip coordinates by forward
 //!   differences and divided by its depth (one reciprocal per node).
 //!
@@ -19,7 +21,9 @@
 //!
 //! [`measure_cells`] then finds the largest projected cell extent (which
 //! sets the subdivision) and the screen bounding box. Cost: O(nodes), no
-//! allocation (the output vector is reused).
+//! allocation once warm (the output vector and the scratch in [`NodeXY`]
+//! are reused): ≈ 41 instructions per trilinear node and ≈ 27 per node of
+//! measurement on the sphere at 500² (callgrind, `profile_sphere 500 1`).
 
 use glam::{BVec4A, Mat3, Vec3, Vec4};
 
@@ -168,7 +172,8 @@ pub(crate) struct NodeXY {
 }
 
 impl NodeXY {
-    /// Clears and sizes both arrays for `len` nodes (all 0).
+    /// Clears and sizes both arrays for `len` nodes (all 0), and forgets
+    /// the row boxes of the previous piece.
     fn reset(&mut self, len: usize) {
         self.row_stats.clear();
         self.xs.clear();
@@ -646,8 +651,12 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
 /// instructions. Why (callgrind, `profile_sphere 500 1`; ≈ 155
 /// instructions per cell before): which cells have four used corners, and
 /// their closing flags without back-face culling, come from the level
-/// ([`MipLevel::cell_flags`]); the largest edges are taken in `i32` lanes
-/// the compiler vectorises, masked by the drawn flags.
+/// ([`MipLevel::cell_flags`]); the row boxes come from the projection when
+/// it kept them ([`NodeXY::row_stats`]); on pieces spanning less than
+/// 2^24 units (256 px) the back-face test runs in `f64` lanes
+/// ([`away_cells_small`]) and the largest edges in flat `f32` passes over
+/// the whole piece ([`piece_edges_small`], [`piece_edges_masked_small`]);
+/// wider pieces take them row by row in `i32` or `i64`.
 pub(crate) fn measure_cells(
     level: &MipLevel,
     range: NodeRange,
