@@ -16,7 +16,7 @@
 use spatch_format::{Patch, EMPTY};
 
 use crate::normal_buffer::{node_differences, table_slot};
-use crate::traverse::{close_cells, CELL_DRAW};
+use crate::traverse::{close_cells, push_weights, CELL_DRAW};
 
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
@@ -37,6 +37,10 @@ pub(crate) struct MipLevel {
     pub(crate) normal_slots: Vec<u16>,
     /// Smallest and largest used displacement (0, 0 when none).
     pub(crate) d_range: (u16, u16),
+    /// Per node, its trilinear weight along `d_range`
+    /// ([`crate::traverse::push_weights`]): a piece of whole rows at the
+    /// level's range reads them instead of converting every frame.
+    pub(crate) weights: Vec<f32>,
     pub(crate) drawable_cells: u32,
     /// Per cell (row-major, `(cols - 1) × (rows - 1)`), the flags of the
     /// whole level without back-face culling: [`CELL_DRAW`] when its four
@@ -84,6 +88,8 @@ impl MipLevel {
             }
         }
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
+        let mut weights = Vec::with_capacity(displacements.len());
+        push_weights(&displacements, d_range, &mut weights);
         let closing = close_cells(&mut cell_flags, ccols, crows);
         let normal_slots = (0..rows)
             .flat_map(|j| (0..cols).map(move |i| (i, j)))
@@ -101,6 +107,7 @@ impl MipLevel {
             used,
             normal_slots,
             d_range,
+            weights,
             drawable_cells,
             cell_flags,
             closing,
