@@ -173,8 +173,6 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     px: Vec<Sample>,
-    /// The covered pixels' Phong inputs, queued for shading in fours.
-    queue: Vec<Queued>,
     pub(crate) times: BandTimes,
 }
 
@@ -260,127 +258,169 @@ impl Band {
         }
     }
 
-    /// [`Self::resolve`] for Phong, by runs of [`PHONG_RUN`] pixels (the
-    /// queue stays in the L1/L2 caches).
+    /// [`Self::resolve`] for Phong: the band in groups of four pixels
+    /// ([`resolve_phong_pixels`]).
     fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
-        if self.queue.len() < PHONG_RUN + 3 {
-            self.queue.resize(PHONG_RUN + 3, Queued::default());
-        }
-        let runs = self.px.chunks(PHONG_RUN).zip(
-            rgba.chunks_mut(PHONG_RUN)
-                .zip(eye_depth.chunks_mut(PHONG_RUN)),
-        );
-        for (px, (rgba, eye_depth)) in runs {
-            resolve_phong_run(r, px, rgba, eye_depth, &mut self.queue);
-        }
+        resolve_phong_pixels(r, &self.px, rgba, eye_depth);
     }
 }
 
-/// Pixels resolved together by the Phong pass (16 KB of pixels, 32 KB of
-/// queue).
-const PHONG_RUN: usize = 1024;
-
-/// Resolves the Phong pixels `px` into `rgba` and `eye_depth` in three
-/// passes: depths and the queue of covered pixels; their normals and
-/// albedos interpolated into the queue; the queue shaded four pixels at a
-/// time ([`Material::shade4`], bit-identical to shading them one by one;
-/// tested against [`phong_reference`]). Why passes: batching inside one
-/// pixel loop kept its state on the stack and cost ~100 instructions per
-/// pixel around the shading itself (callgrind, `profile_sphere 500 1`);
-/// not inlined: inlined into [`Band::resolve`] it cost 2.5 M instructions
-/// more per frame (register allocation).
+/// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
+/// neighbours at a time: their eye depths, their normals and albedos
+/// interpolated straight into lanes ([`phong_lane`]), shaded together
+/// ([`Material::shade4`], bit-identical to shading them one by one; tested
+/// against [`phong_reference`]), the background where a lane is empty.
+/// Why groups of neighbours rather than a queue of covered pixels: the
+/// queue's round trip through memory, its indices and scattered stores
+/// were ~50 of the ~150 instructions per covered pixel, and groups only
+/// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
+/// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
+/// instructions more per frame (register allocation).
 #[inline(never)]
-fn resolve_phong_run(
+fn resolve_phong_pixels(
     r: &Resolve<'_>,
     px: &[Sample],
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
-    queue: &mut [Queued],
 ) {
-    let scale = (r.far - r.near) / Z_FAR as f32;
-    // Room for every pixel plus the padding to a multiple of four.
-    let queue = &mut queue[..px.len() + 3];
-    let mut n = 0;
-    for (k, (s, eye)) in px.iter().zip(eye_depth.iter_mut()).enumerate() {
-        if s.depth >= Z_FAR {
-            rgba[k] = r.background;
-            *eye = f32::INFINITY;
-            continue;
-        }
-        *eye = r.near + s.depth as f32 * scale;
-        queue[n].at = k as u32;
-        n += 1;
+    let groups = px
+        .chunks_exact(4)
+        .zip(rgba.chunks_exact_mut(4).zip(eye_depth.chunks_exact_mut(4)));
+    for (s, (rgba, eye)) in groups {
+        let s: &[Sample; 4] = s.try_into().expect("groups of four");
+        let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
+        let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
+        resolve_group(r, s, rgba, eye);
     }
-    // Why a pass of its own: inside the pixel loop above, the
-    // interpolation's state spilled to the stack (+3 M instructions per
-    // 500² sphere frame; callgrind, `profile_sphere 500 1`).
-    let (items, weights) = (&r.phong.items[..], &r.phong.weights[..]);
-    for q in &mut queue[..n] {
-        let s = &px[q.at as usize];
-        if s.w2 & PATCH_SAMPLE != 0 {
-            items[(s.w2 & !PATCH_SAMPLE) as usize].interpolate(s.w0, weights, q);
-        } else {
-            let albedo = unpack_rgb(s.w1);
-            q.normal_red = unpack_normal(s.w0).extend(albedo.x);
-            q.green_blue = Vec2::new(albedo.y, albedo.z);
-            q.frame = s.w2;
-        }
-    }
-    if n == 0 {
-        return;
-    }
-    // Padding repeats the last pixel (shaded and written twice alike).
-    while n % 4 != 0 {
-        queue[n] = queue[n - 1];
-        n += 1;
-    }
-    for group in queue[..n].chunks_exact(4) {
-        let group: &[Queued; 4] = group.try_into().expect("chunks of four");
-        let words = shade_group(r, group);
-        let first = group[0].at as usize;
-        if group[3].at as usize == first + 3 {
-            // Four neighbours (the common case): one slice, one check.
-            for (dst, w) in rgba[first..first + 4].iter_mut().zip(words) {
-                *dst = w.to_le_bytes();
-            }
-        } else {
-            for (q, w) in group.iter().zip(words) {
-                rgba[q.at as usize] = w.to_le_bytes();
-            }
-        }
+    // The last pixels of a band whose size is not a multiple of four,
+    // padded with empty pixels.
+    let done = px.len() / 4 * 4;
+    if done < px.len() {
+        let n = px.len() - done;
+        let mut s = [Sample::EMPTY; 4];
+        s[..n].copy_from_slice(&px[done..]);
+        let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
+        resolve_group(r, &s, &mut c, &mut e);
+        rgba[done..].copy_from_slice(&c[..n]);
+        eye_depth[done..].copy_from_slice(&e[..n]);
     }
 }
 
-/// Flag of [`Queued::frame`]: the pixel takes the base albedo.
+/// Resolves four neighbouring Phong pixels (see [`resolve_phong_pixels`]).
+/// Why a fast path: nearly every group of the sphere is four covered patch
+/// samples of items without colours, which need only their normals
+/// interpolated (no albedo lanes, no per-lane choices); empty groups are
+/// next, and the rest (silhouette edges, triangles, colours) goes through
+/// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn resolve_group(r: &Resolve<'_>, s: &[Sample; 4], rgba: &mut [[u8; 4]; 4], eye: &mut [f32; 4]) {
+    let far = s[0].depth.max(s[1].depth).max(s[2].depth.max(s[3].depth));
+    let patches = s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2;
+    if far < Z_FAR && patches & PATCH_SAMPLE != 0 {
+        let items = &r.phong.items[..];
+        let item = |k: usize| &items[(s[k].w2 & !PATCH_SAMPLE) as usize];
+        let it = [item(0), item(1), item(2), item(3)];
+        if it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0 {
+            let scale = (r.far - r.near) / Z_FAR as f32;
+            let depth = Vec4::new(
+                s[0].depth as f32,
+                s[1].depth as f32,
+                s[2].depth as f32,
+                s[3].depth as f32,
+            );
+            *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+            let weights = &r.phong.weights[..];
+            let normal = |k: usize| it[k].normal(s[k].w0, weights);
+            let normals = [normal(0), normal(1), normal(2), normal(3)];
+            let frame = |k: usize| (it[k].frame & !BASE_ALBEDO) as usize;
+            let frames = [frame(0), frame(1), frame(2), frame(3)];
+            let albedo = r.base_albedo.extend(0.0);
+            let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
+            *rgba = shade_normals(r, normals, frames, |_| albedo).map(u32::to_le_bytes);
+            return;
+        }
+    }
+    let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
+    if near >= Z_FAR {
+        *rgba = [r.background; 4];
+        *eye = [f32::INFINITY; 4];
+        return;
+    }
+    resolve_general_group(r, s, rgba, eye);
+}
+
+/// [`resolve_group`] for any group with a covered pixel: lanes with their
+/// own albedos, triangle samples, empty pixels (which take the inputs of a
+/// covered one, then the background).
+#[inline(never)]
+fn resolve_general_group(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    let is = |k: usize| s[k].depth < Z_FAR;
+    let some = s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
+    let (items, weights) = (&r.phong.items[..], &r.phong.weights[..]);
+    let lane = |k: usize| phong_lane(items, weights, if is(k) { &s[k] } else { &some });
+    let g = [lane(0), lane(1), lane(2), lane(3)];
+    let frame = |k: usize| (g[k].frame & !BASE_ALBEDO) as usize;
+    let normals = [0, 1, 2, 3].map(|k| g[k].normal_red);
+    let words = shade_normals(r, normals, [0, 1, 2, 3].map(frame), |red| {
+        own_albedo(r, &g, red)
+    });
+    for k in 0..4 {
+        (rgba[k], eye[k]) = if is(k) {
+            (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
+        } else {
+            (r.background, f32::INFINITY)
+        };
+    }
+}
+
+/// The shading inputs of a covered pixel: a patch sample's interpolated
+/// normal and albedo, or a triangle sample's stored ones.
+#[inline(always)]
+fn phong_lane(items: &[PhongItem<'_>], weights: &[[Vec4; 4]], s: &Sample) -> Lane {
+    if s.w2 & PATCH_SAMPLE != 0 {
+        return items[(s.w2 & !PATCH_SAMPLE) as usize].interpolate(s.w0, weights);
+    }
+    let albedo = unpack_rgb(s.w1);
+    Lane {
+        normal_red: unpack_normal(s.w0).extend(albedo.x),
+        green_blue: Vec2::new(albedo.y, albedo.z),
+        frame: s.w2,
+    }
+}
+
+/// Flag of [`Lane::frame`]: the pixel takes the base albedo.
 const BASE_ALBEDO: u32 = 1 << 31;
 
-/// A covered pixel waiting for Phong shading.
+/// The shading inputs of one pixel of a group of four.
 #[derive(Debug, Clone, Copy, Default)]
-struct Queued {
+struct Lane {
     /// Normal (`xyz`, not unit) and albedo red (`w`, unless the base albedo).
     normal_red: Vec4,
     /// Albedo green and blue (unless the base albedo).
     green_blue: Vec2,
     /// Shade frame index, with [`BASE_ALBEDO`] for the base albedo.
     frame: u32,
-    /// Pixel index in the band.
-    at: u32,
 }
 
-/// Shades four queued pixels into RGBA8 words. Why splats: the four nearly
-/// always share their shade frame and the base albedo, so only the normals
-/// need transposing (callgrind, `profile_sphere 500 1`).
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), shade frames and albedo lanes. Why splats: the
+/// four often share their shade frame, so only the normals need
+/// transposing (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
-    let t = Mat4::from_cols(
-        g[0].normal_red,
-        g[1].normal_red,
-        g[2].normal_red,
-        g[3].normal_red,
-    )
-    .transpose();
+fn shade_normals(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    f: [usize; 4],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
+    let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
     let frames = &r.phong.frames;
-    let f = g.map(|q| (q.frame & !BASE_ALBEDO) as usize);
     let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
     let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
         let [light, half] = frames[f[0]];
@@ -394,25 +434,19 @@ fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
         };
         (rows(0), rows(1))
     };
-    let all = g[0].frame & g[1].frame & g[2].frame & g[3].frame;
-    let albedo = if all & BASE_ALBEDO != 0 {
-        splat(r.base_albedo.extend(0.0))
-    } else {
-        own_albedo(r, g, t.w_axis)
-    };
     let lanes = Lanes {
         normal: [t.x_axis, t.y_axis, t.z_axis],
         light,
         half,
-        albedo,
+        albedo: albedo(t.w_axis),
     };
     pack_rgba(r.material.shade4(&lanes))
 }
 
-/// The albedo lanes of four queued pixels of which some have their own
-/// (red in `red`, green and blue in [`Queued::green_blue`]).
-#[inline(never)]
-fn own_albedo(r: &Resolve<'_>, g: &[Queued; 4], red: Vec4) -> [Vec4; 3] {
+/// The albedo lanes of four pixels, some of which may have their own
+/// (red in `red`, green and blue in [`Lane::green_blue`]).
+#[inline(always)]
+fn own_albedo(r: &Resolve<'_>, g: &[Lane; 4], red: Vec4) -> [Vec4; 3] {
     let base = r.base_albedo;
     let lane = |k: usize| {
         if g[k].frame & BASE_ALBEDO != 0 {
@@ -531,10 +565,24 @@ impl<'a> PhongItem<'a> {
         }
     }
 
-    /// Queues the normal and albedo interpolated at sample `sub`: the same
+    /// The normal interpolated at sample `sub` (`w` unused): the same
     /// operations in the same order as [`phong_reference`].
     #[inline(always)]
-    fn interpolate(&self, sub: u32, weights: &[[Vec4; 4]], q: &mut Queued) {
+    fn normal(&self, sub: u32, weights: &[[Vec4; 4]]) -> Vec4 {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let k = cj * cols + ci;
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let w = &weights[self.weights as usize + a * self.stride as usize + b];
+        // One slice for the four corners: a single bounds check.
+        let quad = &self.normals[k..k + cols + 2];
+        quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+    }
+
+    /// The normal and albedo interpolated at sample `sub`: the same
+    /// operations in the same order as [`phong_reference`].
+    #[inline(always)]
+    fn interpolate(&self, sub: u32, weights: &[[Vec4; 4]]) -> Lane {
         let cols = self.cols as usize;
         let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
         let k = cj * cols + ci;
@@ -545,13 +593,17 @@ impl<'a> PhongItem<'a> {
             let quad = &v[k..k + cols + 2];
             quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
         };
-        q.normal_red = lerp(self.normals);
-        q.frame = self.frame;
+        let mut lane = Lane {
+            normal_red: lerp(self.normals),
+            green_blue: Vec2::ZERO,
+            frame: self.frame,
+        };
         if self.frame & BASE_ALBEDO == 0 {
             let c = lerp(self.colours);
-            q.normal_red.w = c.x;
-            q.green_blue = Vec2::new(c.y, c.z);
+            lane.normal_red.w = c.x;
+            lane.green_blue = Vec2::new(c.y, c.z);
         }
+        lane
     }
 }
 
@@ -937,8 +989,27 @@ mod tests {
         crate::PreparedScene::new(&scene)
     }
 
+    /// Which pixels [`check_phong_resolve`] draws.
+    #[derive(Clone, Copy)]
+    enum Mix {
+        /// Every kind of pixel: empty, triangle samples, patch samples of
+        /// items with and without colours.
+        Everything,
+        /// Nearly all patch samples of items without colours, of both
+        /// shade frames (the fast path of [`resolve_group`]).
+        Uncoloured,
+    }
+
     #[test]
-    fn queued_phong_resolve_matches_scalar_shading_per_pixel() {
+    fn phong_resolve_matches_scalar_shading_per_pixel() {
+        check_phong_resolve(Mix::Everything, 61);
+        check_phong_resolve(Mix::Uncoloured, 64);
+        check_phong_resolve(Mix::Uncoloured, 63);
+    }
+
+    /// Resolves a band of `width × 6` random pixels of `mix` and checks
+    /// every pixel against [`phong_reference`] or [`Material::shade`].
+    fn check_phong_resolve(mix: Mix, width: i32) {
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let prepared = coloured_scene(&mut rng);
         let patches = &prepared.patches;
@@ -999,12 +1070,17 @@ mod tests {
             near: 0.5,
             far: 10.0,
         };
-        let (width, rows) = (61, 6);
+        let rows = 6;
         let mut band = Band::default();
         band.reset(0, rows, width);
         let mut expected = Vec::new();
         for px in band.px.iter_mut() {
-            let choice = rng.below(10);
+            let choice = match mix {
+                Mix::Everything => rng.below(10),
+                Mix::Uncoloured => {
+                    [0, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
+                }
+            };
             if choice == 0 {
                 expected.push(r.background);
                 continue;
@@ -1024,8 +1100,14 @@ mod tests {
                 expected.push(to_rgba8(c));
                 continue;
             }
-            // Runs of one item, as drawn patches leave them, or any item.
-            let id = if choice < 6 { 3 } else { rng.below(8) };
+            // Runs of one item, as drawn patches leave them, or any item
+            // (`Mix::Uncoloured`: an item without colours, runs of one).
+            let id = match mix {
+                Mix::Everything if choice < 6 => 3,
+                Mix::Everything => rng.below(8),
+                Mix::Uncoloured if rng.below(3) == 0 => 4 + rng.below(4),
+                Mix::Uncoloured => 5,
+            };
             let item = &chunks[0].items[id as usize];
             let ci = rng.below(item.cols as u32 - 1);
             let cj = rng.below(item.rows as u32 - 1);
@@ -1043,8 +1125,43 @@ mod tests {
             assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
         }
         let covered = samples.iter().filter(|s| s.depth < Z_FAR).count();
-        assert!(covered > 300 && covered % 4 != 0, "{covered}");
+        assert!(covered > 300, "{covered}");
+        if let Mix::Everything = mix {
+            assert!(covered % 4 != 0, "{covered}");
+        }
         assert_eq!(eye.iter().filter(|e| e.is_finite()).count(), covered);
+        for (e, s) in eye.iter().zip(&samples) {
+            if s.depth < Z_FAR {
+                assert_eq!(
+                    *e,
+                    r.near + s.depth as f32 * ((r.far - r.near) / Z_FAR as f32)
+                );
+            }
+        }
+        // How many groups took the fast path: four covered patch samples
+        // of items without colours, of one shade frame or of several.
+        let fast = |mixed: bool| {
+            samples
+                .chunks_exact(4)
+                .filter(|g| {
+                    let uncoloured = |s: &Sample| {
+                        s.depth < Z_FAR
+                            && s.w2 & PATCH_SAMPLE != 0
+                            && chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].uniform_albedo
+                    };
+                    let frame = |s: &Sample| chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].frame;
+                    g.iter().all(uncoloured) && g.iter().any(|s| frame(s) != frame(&g[0])) == mixed
+                })
+                .count()
+        };
+        if let Mix::Uncoloured = mix {
+            assert!(
+                fast(false) > 10 && fast(true) > 10,
+                "{} {}",
+                fast(false),
+                fast(true)
+            );
+        }
     }
 
     #[test]
