@@ -173,6 +173,9 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     px: Vec<Sample>,
+    /// True when every pixel of `px` is [`Sample::EMPTY`]: the Phong
+    /// resolve pass clears the pixels it reads for the next frame.
+    clean: bool,
     pub(crate) times: BandTimes,
 }
 
@@ -195,14 +198,20 @@ pub(crate) struct Resolve<'a> {
 }
 
 impl Band {
-    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`.
+    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`
+    /// (nothing to clear when the last resolve pass left them empty).
     pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32) {
         let n = (rows * width) as usize;
         self.y0 = y0;
         self.rows = rows;
         self.width = width;
-        self.px.clear();
-        self.px.resize(n, Sample::EMPTY);
+        if !(self.clean && self.px.len() == n) {
+            self.px.clear();
+            self.px.resize(n, Sample::EMPTY);
+        }
+        debug_assert!(self.px.iter().all(|s| *s == Sample::EMPTY));
+        // Drawing follows; only a resolve pass that clears sets it again.
+        self.clean = false;
         self.times = BandTimes::default();
     }
 
@@ -261,7 +270,8 @@ impl Band {
     /// [`Self::resolve`] for Phong: the band in groups of four pixels
     /// ([`resolve_phong_pixels`]).
     fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
-        resolve_phong_pixels(r, &self.px, rgba, eye_depth);
+        resolve_phong_pixels(r, &mut self.px, rgba, eye_depth);
+        self.clean = true;
     }
 }
 
@@ -274,20 +284,24 @@ impl Band {
 /// queue's round trip through memory, its indices and scattered stores
 /// were ~50 of the ~150 instructions per covered pixel, and groups only
 /// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
+/// Every pixel read is cleared to [`Sample::EMPTY`] for the next frame.
+/// Why here: the samples are in registers already, and a separate clear
+/// of the band cost ~0.7 M instructions per 500² sphere frame (callgrind,
+/// `profile_sphere 500 1`).
 /// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
 /// instructions more per frame (register allocation).
 #[inline(never)]
 fn resolve_phong_pixels(
     r: &Resolve<'_>,
-    px: &[Sample],
+    px: &mut [Sample],
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
     let groups = px
-        .chunks_exact(4)
+        .chunks_exact_mut(4)
         .zip(rgba.chunks_exact_mut(4).zip(eye_depth.chunks_exact_mut(4)));
     for (s, (rgba, eye)) in groups {
-        let s: &[Sample; 4] = s.try_into().expect("groups of four");
+        let s: &mut [Sample; 4] = s.try_into().expect("groups of four");
         let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
         let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
         resolve_group(r, s, rgba, eye);
@@ -299,8 +313,9 @@ fn resolve_phong_pixels(
         let n = px.len() - done;
         let mut s = [Sample::EMPTY; 4];
         s[..n].copy_from_slice(&px[done..]);
+        px[done..].fill(Sample::EMPTY);
         let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
-        resolve_group(r, &s, &mut c, &mut e);
+        resolve_group(r, &mut s, &mut c, &mut e);
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
     }
@@ -312,41 +327,65 @@ fn resolve_phong_pixels(
 /// interpolated (no albedo lanes, no per-lane choices); empty groups are
 /// next, and the rest (silhouette edges, triangles, colours) goes through
 /// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
+/// Clears the four samples for the next frame.
 #[inline(always)]
-fn resolve_group(r: &Resolve<'_>, s: &[Sample; 4], rgba: &mut [[u8; 4]; 4], eye: &mut [f32; 4]) {
-    let far = s[0].depth.max(s[1].depth).max(s[2].depth.max(s[3].depth));
+fn resolve_group(
+    r: &Resolve<'_>,
+    s: &mut [Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    // Only a sample that passed the depth test holds a patch sample's
+    // flag, so four patch samples are four covered pixels.
     let patches = s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2;
-    if far < Z_FAR && patches & PATCH_SAMPLE != 0 {
+    if patches & PATCH_SAMPLE != 0 {
+        debug_assert!(s.iter().all(|s| s.depth < Z_FAR));
         let items = &r.phong.items[..];
         let item = |k: usize| &items[(s[k].w2 & !PATCH_SAMPLE) as usize];
         let it = [item(0), item(1), item(2), item(3)];
         if it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0 {
+            let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
+            let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
+            *s = [Sample::EMPTY; 4];
             let scale = (r.far - r.near) / Z_FAR as f32;
             let depth = Vec4::new(
-                s[0].depth as f32,
-                s[1].depth as f32,
-                s[2].depth as f32,
-                s[3].depth as f32,
+                depth[0] as f32,
+                depth[1] as f32,
+                depth[2] as f32,
+                depth[3] as f32,
             );
             *eye = (Vec4::splat(r.near) + depth * scale).to_array();
             let weights = &r.phong.weights[..];
-            let normal = |k: usize| it[k].normal(s[k].w0, weights);
+            let normal = |k: usize| it[k].normal(sub[k], weights);
             let normals = [normal(0), normal(1), normal(2), normal(3)];
-            let frame = |k: usize| (it[k].frame & !BASE_ALBEDO) as usize;
-            let frames = [frame(0), frame(1), frame(2), frame(3)];
+            // Why transposes even when the four share a frame: comparing
+            // frames and choosing cost more than the shuffles (callgrind,
+            // `profile_sphere 500 1`).
+            let rows = |v: [Vec4; 4]| {
+                let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
+                [t.x_axis, t.y_axis, t.z_axis]
+            };
+            let light = rows([it[0].light, it[1].light, it[2].light, it[3].light]);
+            let half = rows([it[0].half, it[1].half, it[2].half, it[3].half]);
             let albedo = r.base_albedo.extend(0.0);
             let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
-            *rgba = shade_normals(r, normals, frames, |_| albedo).map(u32::to_le_bytes);
+            let words = shade_lanes(r, normals, light, half, |_| albedo);
+            *rgba = words.map(u32::to_le_bytes);
             return;
         }
     }
-    let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
+    let read = *s;
+    *s = [Sample::EMPTY; 4];
+    let near = read[0]
+        .depth
+        .min(read[1].depth)
+        .min(read[2].depth.min(read[3].depth));
     if near >= Z_FAR {
         *rgba = [r.background; 4];
         *eye = [f32::INFINITY; 4];
         return;
     }
-    resolve_general_group(r, s, rgba, eye);
+    resolve_general_group(r, &read, rgba, eye);
 }
 
 /// [`resolve_group`] for any group with a covered pixel: lanes with their
@@ -362,8 +401,7 @@ fn resolve_general_group(
     let scale = (r.far - r.near) / Z_FAR as f32;
     let is = |k: usize| s[k].depth < Z_FAR;
     let some = s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
-    let (items, weights) = (&r.phong.items[..], &r.phong.weights[..]);
-    let lane = |k: usize| phong_lane(items, weights, if is(k) { &s[k] } else { &some });
+    let lane = |k: usize| phong_lane(r.phong, if is(k) { &s[k] } else { &some });
     let g = [lane(0), lane(1), lane(2), lane(3)];
     let frame = |k: usize| (g[k].frame & !BASE_ALBEDO) as usize;
     let normals = [0, 1, 2, 3].map(|k| g[k].normal_red);
@@ -382,9 +420,10 @@ fn resolve_general_group(
 /// The shading inputs of a covered pixel: a patch sample's interpolated
 /// normal and albedo, or a triangle sample's stored ones.
 #[inline(always)]
-fn phong_lane(items: &[PhongItem<'_>], weights: &[[Vec4; 4]], s: &Sample) -> Lane {
+fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     if s.w2 & PATCH_SAMPLE != 0 {
-        return items[(s.w2 & !PATCH_SAMPLE) as usize].interpolate(s.w0, weights);
+        let i = (s.w2 & !PATCH_SAMPLE) as usize;
+        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights);
     }
     let albedo = unpack_rgb(s.w1);
     Lane {
@@ -419,7 +458,6 @@ fn shade_normals(
     f: [usize; 4],
     albedo: impl FnOnce(Vec4) -> [Vec4; 3],
 ) -> [u32; 4] {
-    let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
     let frames = &r.phong.frames;
     let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
     let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
@@ -434,6 +472,21 @@ fn shade_normals(
         };
         (rows(0), rows(1))
     };
+    shade_lanes(r, normals, light, half, albedo)
+}
+
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), the lanes of their light and half vectors,
+/// and their albedo lanes.
+#[inline(always)]
+fn shade_lanes(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    light: [Vec4; 3],
+    half: [Vec4; 3],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
+    let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
     let lanes = Lanes {
         normal: [t.x_axis, t.y_axis, t.z_axis],
         light,
@@ -468,6 +521,10 @@ fn own_albedo(r: &Resolve<'_>, g: &[Lane; 4], red: Vec4) -> [Vec4; 3] {
 #[derive(Debug, Default)]
 pub(crate) struct PhongItems<'a> {
     items: Vec<PhongItem<'a>>,
+    /// Per item, its level's prepared albedos from the piece's first node
+    /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
+    /// items index with a shift (callgrind, `profile_sphere 500 1`).
+    colours: Vec<&'a [Vec4]>,
     /// The shade frames' light and half vectors (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
     /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
@@ -499,6 +556,7 @@ impl<'a> PhongItems<'a> {
             .collect();
         let mut built: Vec<(u16, u16, u32)> = Vec::new();
         table.items.reserve(items.len());
+        table.colours.reserve(items.len());
         for &(c, i) in items {
             let item = &chunks[c as usize].items[i as usize];
             let (nu, nv) = (item.nu, item.nv);
@@ -516,19 +574,24 @@ impl<'a> PhongItems<'a> {
                     start
                 }
             };
-            table.items.push(PhongItem::new(item, patches, start));
+            let (entry, colours) = PhongItem::new(item, patches, &table.frames, start);
+            table.items.push(entry);
+            table.colours.push(colours);
         }
         table
     }
 }
 
 /// A draw item as the Phong resolve pass reads it: its level's prepared
-/// normals and albedos from the piece's first node on.
+/// normals from the piece's first node on (its albedos are in
+/// [`PhongItems::colours`]).
 #[derive(Debug, Clone, Copy)]
 struct PhongItem<'a> {
+    /// The light vector of the item's shade frame (`w` = 0).
+    light: Vec4,
+    /// The half vector of the item's shade frame (`w` = 0).
+    half: Vec4,
     normals: &'a [Vec4],
-    /// Empty for the base albedo.
-    colours: &'a [Vec4],
     /// Nodes per row of the level (`u16`: index sums cannot overflow, no
     /// checks).
     cols: u16,
@@ -542,27 +605,37 @@ struct PhongItem<'a> {
 }
 
 impl<'a> PhongItem<'a> {
-    /// The entry of `item` (of a patch of `patches`) whose weights start at
-    /// `weights`.
-    fn new(item: &Item, patches: &'a [PreparedPatch], weights: u32) -> Self {
+    /// The entry of `item` (of a patch of `patches`, shaded in one of
+    /// `frames`) whose weights start at `weights`, and its albedos (empty
+    /// for the base albedo).
+    fn new(
+        item: &Item,
+        patches: &'a [PreparedPatch],
+        frames: &[[Vec4; 2]],
+        weights: u32,
+    ) -> (Self, &'a [Vec4]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let cols = patch.levels[m].cols;
         let shading = &patch.shading[m];
         let start = item.j0 as usize * cols + item.i0 as usize;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
-        Self {
+        let [light, half] = frames[item.frame as usize];
+        let entry = Self {
+            light,
+            half,
             normals: &shading.normals[start..],
-            colours: if uniform {
-                &[]
-            } else {
-                &shading.colours[start..]
-            },
             cols: cols as u16,
             stride: item.nv + 1,
             weights,
             frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
-        }
+        };
+        let colours: &[Vec4] = if uniform {
+            &[]
+        } else {
+            &shading.colours[start..]
+        };
+        (entry, colours)
     }
 
     /// The normal interpolated at sample `sub` (`w` unused): the same
@@ -579,10 +652,11 @@ impl<'a> PhongItem<'a> {
         quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
     }
 
-    /// The normal and albedo interpolated at sample `sub`: the same
-    /// operations in the same order as [`phong_reference`].
+    /// The normal and albedo (from `colours`, the item's) interpolated at
+    /// sample `sub`: the same operations in the same order as
+    /// [`phong_reference`].
     #[inline(always)]
-    fn interpolate(&self, sub: u32, weights: &[[Vec4; 4]]) -> Lane {
+    fn interpolate(&self, sub: u32, colours: &[Vec4], weights: &[[Vec4; 4]]) -> Lane {
         let cols = self.cols as usize;
         let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
         let k = cj * cols + ci;
@@ -599,7 +673,7 @@ impl<'a> PhongItem<'a> {
             frame: self.frame,
         };
         if self.frame & BASE_ALBEDO == 0 {
-            let c = lerp(self.colours);
+            let c = lerp(colours);
             lane.normal_red.w = c.x;
             lane.green_blue = Vec2::new(c.y, c.z);
         }
@@ -1121,6 +1195,8 @@ mod tests {
         let mut rgba = vec![[0u8; 4]; band.px.len()];
         let mut eye = vec![0f32; band.px.len()];
         band.resolve(&r, &mut rgba, &mut eye);
+        // Cleared for the next frame.
+        assert!(band.clean && band.px.iter().all(|s| *s == Sample::EMPTY));
         for (k, (got, want)) in rgba.iter().zip(&expected).enumerate() {
             assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
         }
