@@ -35,7 +35,7 @@ use crate::fixed::Z_FAR;
 use crate::options::Shading;
 use crate::plan::{ChunkWork, Item};
 use crate::prepare::PreparedPatch;
-use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame};
+use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame, ANY_POWER};
 use crate::traverse::Node;
 
 /// A band's buffers, borrowed for drawing.
@@ -270,7 +270,13 @@ impl Band {
     /// [`Self::resolve`] for Phong: the band in groups of four pixels
     /// ([`resolve_phong_pixels`]).
     fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
-        resolve_phong_pixels(r, &mut self.px, rgba, eye_depth);
+        // The default shininess, 32, is five squarings (see
+        // [`Material::shade4_with`]).
+        if r.material.squarings() == 5 {
+            resolve_phong_pixels::<5>(r, &mut self.px, rgba, eye_depth);
+        } else {
+            resolve_phong_pixels::<ANY_POWER>(r, &mut self.px, rgba, eye_depth);
+        }
         self.clean = true;
     }
 }
@@ -278,7 +284,7 @@ impl Band {
 /// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
 /// neighbours at a time: their eye depths, their normals and albedos
 /// interpolated straight into lanes ([`phong_lane`]), shaded together
-/// ([`Material::shade4`], bit-identical to shading them one by one; tested
+/// ([`Material::shade4_with`], bit-identical to shading them one by one; tested
 /// against [`phong_reference`]), the background where a lane is empty.
 /// Why groups of neighbours rather than a queue of covered pixels: the
 /// queue's round trip through memory, its indices and scattered stores
@@ -291,7 +297,7 @@ impl Band {
 /// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
 /// instructions more per frame (register allocation).
 #[inline(never)]
-fn resolve_phong_pixels(
+fn resolve_phong_pixels<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     px: &mut [Sample],
     rgba: &mut [[u8; 4]],
@@ -304,7 +310,7 @@ fn resolve_phong_pixels(
         let s: &mut [Sample; 4] = s.try_into().expect("groups of four");
         let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
         let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
-        resolve_group(r, s, rgba, eye);
+        resolve_group::<SQUARINGS>(r, s, rgba, eye);
     }
     // The last pixels of a band whose size is not a multiple of four,
     // padded with empty pixels.
@@ -315,7 +321,7 @@ fn resolve_phong_pixels(
         s[..n].copy_from_slice(&px[done..]);
         px[done..].fill(Sample::EMPTY);
         let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
-        resolve_group(r, &mut s, &mut c, &mut e);
+        resolve_group::<SQUARINGS>(r, &mut s, &mut c, &mut e);
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
     }
@@ -329,7 +335,7 @@ fn resolve_phong_pixels(
 /// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
 /// Clears the four samples for the next frame.
 #[inline(always)]
-fn resolve_group(
+fn resolve_group<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     s: &mut [Sample; 4],
     rgba: &mut [[u8; 4]; 4],
@@ -369,22 +375,21 @@ fn resolve_group(
             let half = rows([it[0].half, it[1].half, it[2].half, it[3].half]);
             let albedo = r.base_albedo.extend(0.0);
             let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
-            let words = shade_lanes(r, normals, light, half, |_| albedo);
+            let words = shade_lanes::<SQUARINGS>(r, normals, light, half, |_| albedo);
             *rgba = words.map(u32::to_le_bytes);
             return;
         }
     }
-    let read = *s;
-    *s = [Sample::EMPTY; 4];
-    let near = read[0]
-        .depth
-        .min(read[1].depth)
-        .min(read[2].depth.min(read[3].depth));
+    let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
     if near >= Z_FAR {
+        // Empty pixels were never drawn: they are still clear.
+        debug_assert!(s.iter().all(|s| *s == Sample::EMPTY));
         *rgba = [r.background; 4];
         *eye = [f32::INFINITY; 4];
         return;
     }
+    let read = *s;
+    *s = [Sample::EMPTY; 4];
     resolve_general_group(r, &read, rgba, eye);
 }
 
@@ -472,14 +477,14 @@ fn shade_normals(
         };
         (rows(0), rows(1))
     };
-    shade_lanes(r, normals, light, half, albedo)
+    shade_lanes::<ANY_POWER>(r, normals, light, half, albedo)
 }
 
 /// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
 /// `w` passed to `albedo`), the lanes of their light and half vectors,
 /// and their albedo lanes.
 #[inline(always)]
-fn shade_lanes(
+fn shade_lanes<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     normals: [Vec4; 4],
     light: [Vec4; 3],
@@ -493,7 +498,7 @@ fn shade_lanes(
         half,
         albedo: albedo(t.w_axis),
     };
-    pack_rgba(r.material.shade4(&lanes))
+    pack_rgba(r.material.shade4_with::<SQUARINGS>(&lanes))
 }
 
 /// The albedo lanes of four pixels, some of which may have their own
@@ -690,7 +695,7 @@ fn sub_node_weights(a: u32, b: u32, nu: u32, nv: u32) -> [f32; 4] {
     [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t]
 }
 
-/// Red, green and blue lanes in 0..=255 (as [`Material::shade4`] returns
+/// Red, green and blue lanes in 0..=255 (as [`Material::shade4_with`] returns
 /// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
 /// [`truncate_to_bytes`] gives them.
 #[inline(always)]
@@ -737,9 +742,10 @@ fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
 #[inline(always)]
 fn truncated_bits(c: Vec4) -> Vec4 {
     const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
-    let nearest = (c + Vec4::splat(SHIFT)) - Vec4::splat(SHIFT);
-    let down = nearest - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO);
-    down + Vec4::splat(SHIFT)
+    let shifted = c + Vec4::splat(SHIFT);
+    let nearest = shifted - Vec4::splat(SHIFT);
+    // Exact: `shifted` is an integer in 2^23..2^23 + 256.
+    shifted - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO)
 }
 
 /// The four attribute words `[from, from + 4)` of a node as floats.
@@ -1076,14 +1082,17 @@ mod tests {
 
     #[test]
     fn phong_resolve_matches_scalar_shading_per_pixel() {
-        check_phong_resolve(Mix::Everything, 61);
-        check_phong_resolve(Mix::Uncoloured, 64);
-        check_phong_resolve(Mix::Uncoloured, 63);
+        // Shininess 32 takes the five squarings of `resolve_phong_pixels`.
+        check_phong_resolve(Mix::Everything, 61, 7);
+        check_phong_resolve(Mix::Everything, 62, 32);
+        check_phong_resolve(Mix::Uncoloured, 64, 32);
+        check_phong_resolve(Mix::Uncoloured, 63, 7);
     }
 
-    /// Resolves a band of `width × 6` random pixels of `mix` and checks
-    /// every pixel against [`phong_reference`] or [`Material::shade`].
-    fn check_phong_resolve(mix: Mix, width: i32) {
+    /// Resolves a band of `width × 6` random pixels of `mix`, lit with
+    /// `shininess`, and checks every pixel against [`phong_reference`] or
+    /// [`Material::shade`].
+    fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let prepared = coloured_scene(&mut rng);
         let patches = &prepared.patches;
@@ -1120,7 +1129,7 @@ mod tests {
         let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
         let chunks = [chunk];
         let lighting = crate::Lighting {
-            shininess: 7,
+            shininess,
             ..Default::default()
         };
         let light = crate::shade::WorldLight::new(

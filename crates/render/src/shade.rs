@@ -109,6 +109,9 @@ impl Material {
     }
 }
 
+/// [`Material::shade4_with`] for any material.
+pub(crate) const ANY_POWER: u32 = u32::MAX;
+
 /// Four shading inputs, one per lane: each field holds one component of
 /// four normals, lights, half vectors or albedos.
 #[derive(Debug, Clone, Copy)]
@@ -120,14 +123,25 @@ pub(crate) struct Lanes {
 }
 
 impl Material {
+    /// The number of squarings that give the specular power (`shininess`
+    /// a power of two), else [`ANY_POWER`].
+    pub(crate) fn squarings(&self) -> u32 {
+        self.squarings
+    }
+
     /// [`Self::shade`] of four samples at once, lane by lane; returns the
     /// red, green and blue lanes. Every lane performs the same IEEE
     /// operations in the same order as [`Self::shade`], so the results are
     /// bit-identical (tested). Why: the resolve pass shades every covered
     /// pixel, and four lanes share each instruction (callgrind,
     /// `profile_sphere 500 1`).
-    #[inline]
-    pub(crate) fn shade4(&self, l: &Lanes) -> [Vec4; 3] {
+    ///
+    /// `SQUARINGS` is [`ANY_POWER`] or the material's [`Self::squarings`]:
+    /// then the specular power is that many squarings, no choice at run
+    /// time. Why: the choice and its register spills were ~10 instructions
+    /// per group of four pixels (callgrind, `profile_sphere 500 1`).
+    #[inline(always)]
+    pub(crate) fn shade4_with<const SQUARINGS: u32>(&self, l: &Lanes) -> [Vec4; 3] {
         let [x, y, z] = l.normal;
         let dot = |a: [Vec4; 3], b: [Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let rcp = Vec4::ONE / (x * x + y * y + z * z).sqrt();
@@ -135,7 +149,16 @@ impl Material {
         let n = [x, y, z].map(|c| Vec4::select(valid, c * rcp, Vec4::ZERO));
         let nl = dot(n, l.light).max(Vec4::ZERO);
         let nh = dot(n, l.half).max(Vec4::ZERO);
-        let p = self.power4(nh);
+        let p = if SQUARINGS == ANY_POWER {
+            self.power4(nh)
+        } else {
+            debug_assert_eq!(SQUARINGS, self.squarings);
+            let mut p = nh;
+            for _ in 0..SQUARINGS {
+                p *= p;
+            }
+            p
+        };
         let spec = Vec4::select(
             nl.cmpgt(Vec4::ZERO),
             Vec4::splat(self.specular) * p,
@@ -311,7 +334,13 @@ mod tests {
                     half: lane(&|k| samples[k].1.half),
                     albedo: lane(&|k| samples[k].2),
                 };
-                let out = m.shade4(&lanes);
+                let out = m.shade4_with::<ANY_POWER>(&lanes);
+                if shininess == 32 {
+                    assert_eq!(m.squarings(), 5);
+                    let five = m.shade4_with::<5>(&lanes);
+                    let bits = |v: Vec4| v.to_array().map(f32::to_bits);
+                    assert!((0..3).all(|i| bits(five[i]) == bits(out[i])));
+                }
                 for (k, (n, frame, albedo)) in samples.iter().enumerate() {
                     let one = m.shade(*n, frame, *albedo);
                     for i in 0..3 {
