@@ -347,9 +347,13 @@ fn resolve_group<const SQUARINGS: u32>(
     if patches & PATCH_SAMPLE != 0 {
         debug_assert!(s.iter().all(|s| s.depth < Z_FAR));
         let items = &r.phong.items[..];
-        let item = |k: usize| &items[(s[k].w2 & !PATCH_SAMPLE) as usize];
-        let it = [item(0), item(1), item(2), item(3)];
-        if it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0 {
+        let id = |k: usize| (s[k].w2 & !PATCH_SAMPLE) as usize;
+        let last = id(0).max(id(1)).max(id(2).max(id(3)));
+        assert!(last < items.len(), "item index");
+        let it = [&items[id(0)], &items[id(1)], &items[id(2)], &items[id(3)]];
+        let uncoloured =
+            || it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0;
+        if r.phong.uncoloured || uncoloured() {
             let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
             let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
             *s = [Sample::EMPTY; 4];
@@ -530,6 +534,8 @@ pub(crate) struct PhongItems<'a> {
     /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
     /// items index with a shift (callgrind, `profile_sphere 500 1`).
     colours: Vec<&'a [Vec4]>,
+    /// True when no item has colours (all take the base albedo).
+    uncoloured: bool,
     /// The shade frames' light and half vectors (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
     /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
@@ -583,6 +589,7 @@ impl<'a> PhongItems<'a> {
             table.items.push(entry);
             table.colours.push(colours);
         }
+        table.uncoloured = table.colours.iter().all(|c| c.is_empty());
         table
     }
 }
@@ -1078,6 +1085,10 @@ mod tests {
         /// Nearly all patch samples of items without colours, of both
         /// shade frames (the fast path of [`resolve_group`]).
         Uncoloured,
+        /// Items without colours only (a frame without colours: the fast
+        /// path does not look at the items' albedos), patch samples of
+        /// both shade frames and a few triangle samples.
+        NoColours,
     }
 
     #[test]
@@ -1087,6 +1098,8 @@ mod tests {
         check_phong_resolve(Mix::Everything, 62, 32);
         check_phong_resolve(Mix::Uncoloured, 64, 32);
         check_phong_resolve(Mix::Uncoloured, 63, 7);
+        check_phong_resolve(Mix::NoColours, 64, 32);
+        check_phong_resolve(Mix::NoColours, 65, 7);
     }
 
     /// Resolves a band of `width × 6` random pixels of `mix`, lit with
@@ -1118,7 +1131,7 @@ mod tests {
                 frame: frame as u32,
                 flags: 0,
                 spans: 0,
-                uniform_albedo: k >= 4,
+                uniform_albedo: k >= 4 || matches!(mix, Mix::NoColours),
                 level: level as u8,
                 i0: i0 as u16,
                 j0: j0 as u16,
@@ -1142,6 +1155,7 @@ mod tests {
             .map(|(k, p)| light.frame_in(&p.rotation, k == 1))
             .collect();
         let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches, &frames);
+        assert_eq!(phong.uncoloured, matches!(mix, Mix::NoColours));
         let r = Resolve {
             shading: Shading::Phong,
             items: &items,
@@ -1162,6 +1176,9 @@ mod tests {
                 Mix::Everything => rng.below(10),
                 Mix::Uncoloured => {
                     [0, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
+                }
+                Mix::NoColours => {
+                    [0, 1, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
                 }
             };
             if choice == 0 {
@@ -1190,6 +1207,8 @@ mod tests {
                 Mix::Everything => rng.below(8),
                 Mix::Uncoloured if rng.below(3) == 0 => 4 + rng.below(4),
                 Mix::Uncoloured => 5,
+                Mix::NoColours if rng.below(3) == 0 => rng.below(8),
+                Mix::NoColours => 2,
             };
             let item = &chunks[0].items[id as usize];
             let ci = rng.below(item.cols as u32 - 1);
@@ -1239,7 +1258,7 @@ mod tests {
                 })
                 .count()
         };
-        if let Mix::Uncoloured = mix {
+        if let Mix::Uncoloured | Mix::NoColours = mix {
             assert!(
                 fast(false) > 10 && fast(true) > 10,
                 "{} {}",
