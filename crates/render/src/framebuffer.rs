@@ -720,7 +720,10 @@ fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
         ]
     };
     let (r, g, b) = (bits(c[0]), bits(c[1]), bits(c[2]));
-    let word = |k: usize| (r[k] & 0xff) | (g[k] & 0xff) << 8 | (b[k] & 0xff) << 16 | 0xff00_0000;
+    // No masks: each lane's bits are `0x4b00_00vv` (`2^23 + v`, v < 256),
+    // so the shifts push the exponent out of the word and the alpha byte
+    // covers red's.
+    let word = |k: usize| r[k] | g[k] << 8 | b[k] << 16 | 0xff00_0000;
     [word(0), word(1), word(2), word(3)]
 }
 
@@ -1265,6 +1268,33 @@ mod tests {
                 fast(false),
                 fast(true)
             );
+        }
+    }
+
+    #[test]
+    fn packed_words_hold_the_truncated_channels() {
+        let mut rng = XorShift(0x5151_a5a5_0f0f_7777);
+        for round in 0..5000 {
+            let v = |rng: &mut XorShift| match round % 3 {
+                // Integers and their neighbours (the rounding step's edges).
+                0 => {
+                    let k = rng.below(256) as f32;
+                    let up = f32::from_bits(k.to_bits() + 1);
+                    [k, up, k - 0.5, k + 0.5][rng.below(4) as usize].clamp(0.0, 255.0)
+                }
+                _ => rng.below(1 << 24) as f32 / (1 << 24) as f32 * 255.0,
+            };
+            let c =
+                [0, 1, 2].map(|_| Vec4::new(v(&mut rng), v(&mut rng), v(&mut rng), v(&mut rng)));
+            let want: [u32; 4] = std::array::from_fn(|k| {
+                u32::from_le_bytes([
+                    c[0][k] as i32 as u8,
+                    c[1][k] as i32 as u8,
+                    c[2][k] as i32 as u8,
+                    255,
+                ])
+            });
+            assert_eq!(pack_rgba(c), want, "{c:?}");
         }
     }
 
