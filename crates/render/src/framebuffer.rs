@@ -173,9 +173,6 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     px: Vec<Sample>,
-    /// True when every pixel of `px` is [`Sample::EMPTY`]: the Phong
-    /// resolve pass clears the pixels it reads for the next frame.
-    clean: bool,
     pub(crate) times: BandTimes,
 }
 
@@ -198,20 +195,25 @@ pub(crate) struct Resolve<'a> {
 }
 
 impl Band {
-    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`
-    /// (nothing to clear when the last resolve pass left them empty).
+    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`.
+    /// Why a clear pass right before drawing rather than clearing in the
+    /// resolve pass: the pass brings the band into the cache for the
+    /// cells; clearing in the resolve pass saved ~0.45 M instructions per
+    /// 500² sphere frame but cost ~1.5 ms of `cells_cpu` in cache misses
+    /// (`--bench 50 --threads 1`, alternated runs). Why `fill`: stores of
+    /// whole samples, a third of `resize`'s instructions (callgrind,
+    /// `profile_sphere 500 1`).
     pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32) {
         let n = (rows * width) as usize;
         self.y0 = y0;
         self.rows = rows;
         self.width = width;
-        if !(self.clean && self.px.len() == n) {
+        if self.px.len() == n {
+            self.px.fill(Sample::EMPTY);
+        } else {
             self.px.clear();
             self.px.resize(n, Sample::EMPTY);
         }
-        debug_assert!(self.px.iter().all(|s| *s == Sample::EMPTY));
-        // Drawing follows; only a resolve pass that clears sets it again.
-        self.clean = false;
         self.times = BandTimes::default();
     }
 
@@ -273,11 +275,10 @@ impl Band {
         // The default shininess, 32, is five squarings (see
         // [`Material::shade4_with`]).
         if r.material.squarings() == 5 {
-            resolve_phong_pixels::<5>(r, &mut self.px, rgba, eye_depth);
+            resolve_phong_pixels::<5>(r, &self.px, rgba, eye_depth);
         } else {
-            resolve_phong_pixels::<ANY_POWER>(r, &mut self.px, rgba, eye_depth);
+            resolve_phong_pixels::<ANY_POWER>(r, &self.px, rgba, eye_depth);
         }
-        self.clean = true;
     }
 }
 
@@ -290,24 +291,20 @@ impl Band {
 /// queue's round trip through memory, its indices and scattered stores
 /// were ~50 of the ~150 instructions per covered pixel, and groups only
 /// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
-/// Every pixel read is cleared to [`Sample::EMPTY`] for the next frame.
-/// Why here: the samples are in registers already, and a separate clear
-/// of the band cost ~0.7 M instructions per 500² sphere frame (callgrind,
-/// `profile_sphere 500 1`).
 /// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
 /// instructions more per frame (register allocation).
 #[inline(never)]
 fn resolve_phong_pixels<const SQUARINGS: u32>(
     r: &Resolve<'_>,
-    px: &mut [Sample],
+    px: &[Sample],
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
     let groups = px
-        .chunks_exact_mut(4)
+        .chunks_exact(4)
         .zip(rgba.chunks_exact_mut(4).zip(eye_depth.chunks_exact_mut(4)));
     for (s, (rgba, eye)) in groups {
-        let s: &mut [Sample; 4] = s.try_into().expect("groups of four");
+        let s: &[Sample; 4] = s.try_into().expect("groups of four");
         let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
         let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
         resolve_group::<SQUARINGS>(r, s, rgba, eye);
@@ -319,9 +316,8 @@ fn resolve_phong_pixels<const SQUARINGS: u32>(
         let n = px.len() - done;
         let mut s = [Sample::EMPTY; 4];
         s[..n].copy_from_slice(&px[done..]);
-        px[done..].fill(Sample::EMPTY);
         let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
-        resolve_group::<SQUARINGS>(r, &mut s, &mut c, &mut e);
+        resolve_group::<SQUARINGS>(r, &s, &mut c, &mut e);
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
     }
@@ -333,11 +329,10 @@ fn resolve_phong_pixels<const SQUARINGS: u32>(
 /// interpolated (no albedo lanes, no per-lane choices); empty groups are
 /// next, and the rest (silhouette edges, triangles, colours) goes through
 /// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
-/// Clears the four samples for the next frame.
 #[inline(always)]
 fn resolve_group<const SQUARINGS: u32>(
     r: &Resolve<'_>,
-    s: &mut [Sample; 4],
+    s: &[Sample; 4],
     rgba: &mut [[u8; 4]; 4],
     eye: &mut [f32; 4],
 ) {
@@ -356,7 +351,6 @@ fn resolve_group<const SQUARINGS: u32>(
         if r.phong.uncoloured || uncoloured() {
             let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
             let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
-            *s = [Sample::EMPTY; 4];
             let scale = (r.far - r.near) / Z_FAR as f32;
             let depth = Vec4::new(
                 depth[0] as f32,
@@ -386,15 +380,11 @@ fn resolve_group<const SQUARINGS: u32>(
     }
     let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
     if near >= Z_FAR {
-        // Empty pixels were never drawn: they are still clear.
-        debug_assert!(s.iter().all(|s| *s == Sample::EMPTY));
         *rgba = [r.background; 4];
         *eye = [f32::INFINITY; 4];
         return;
     }
-    let read = *s;
-    *s = [Sample::EMPTY; 4];
-    resolve_general_group(r, &read, rgba, eye);
+    resolve_general_group(r, s, rgba, eye);
 }
 
 /// [`resolve_group`] for any group with a covered pixel: lanes with their
@@ -1226,8 +1216,6 @@ mod tests {
         let mut rgba = vec![[0u8; 4]; band.px.len()];
         let mut eye = vec![0f32; band.px.len()];
         band.resolve(&r, &mut rgba, &mut eye);
-        // Cleared for the next frame.
-        assert!(band.clean && band.px.iter().all(|s| *s == Sample::EMPTY));
         for (k, (got, want)) in rgba.iter().zip(&expected).enumerate() {
             assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
         }

@@ -322,9 +322,10 @@ mod tests {
     use super::*;
     use glam::DVec3;
 
-    /// The Phong resolve pass clears the bands it reads for the next frame
-    /// (and `Band::reset` then skips its clear): a renderer reused across
-    /// views, shadings and sizes must give the images of fresh renderers.
+    /// Bands, buffers and tables are reused from frame to frame (bands are
+    /// cleared by `fill` when their size is unchanged): a renderer reused
+    /// across views, shadings and sizes must give the images of fresh
+    /// renderers.
     #[test]
     fn a_reused_renderer_draws_every_frame_as_a_fresh_one() {
         let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
