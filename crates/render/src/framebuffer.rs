@@ -399,14 +399,26 @@ fn resolve_general_group(
 ) {
     let scale = (r.far - r.near) / Z_FAR as f32;
     let is = |k: usize| s[k].depth < Z_FAR;
-    let some = s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
-    let lane = |k: usize| phong_lane(r.phong, if is(k) { &s[k] } else { &some });
-    let g = [lane(0), lane(1), lane(2), lane(3)];
+    let some = &s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
+    let pick = |k: usize| if is(k) { &s[k] } else { some };
+    // Why spelled out rather than a closure per lane or `array::map`: they
+    // became out-of-line calls (~45 instructions per pixel of triangles;
+    // callgrind, `profile_sphere 500 1 1 triangles`).
+    let g = [
+        phong_lane(r.phong, pick(0)),
+        phong_lane(r.phong, pick(1)),
+        phong_lane(r.phong, pick(2)),
+        phong_lane(r.phong, pick(3)),
+    ];
     let frame = |k: usize| (g[k].frame & !BASE_ALBEDO) as usize;
-    let normals = [0, 1, 2, 3].map(|k| g[k].normal_red);
-    let words = shade_normals(r, normals, [0, 1, 2, 3].map(frame), |red| {
-        own_albedo(r, &g, red)
-    });
+    let normals = [
+        g[0].normal_red,
+        g[1].normal_red,
+        g[2].normal_red,
+        g[3].normal_red,
+    ];
+    let frames = [frame(0), frame(1), frame(2), frame(3)];
+    let words = shade_normals(r, normals, frames, |red| own_albedo(r, &g, red));
     for k in 0..4 {
         (rgba[k], eye[k]) = if is(k) {
             (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
