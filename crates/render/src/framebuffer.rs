@@ -823,7 +823,7 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
 /// The Phong colour of a patch sample shaded alone, straight from the
 /// prepared level: the bilinear weights of its sub-node, the corners'
 /// normals and albedos (`base_albedo` for an item without colours) summed
-/// in corner order, [`Material::shade`]. The reference the queued resolve
+/// in corner order, [`Material::shade`]. The reference the grouped resolve
 /// pass is tested against.
 #[cfg(test)]
 fn phong_reference(
