@@ -35,7 +35,7 @@ use crate::fixed::Z_FAR;
 use crate::options::Shading;
 use crate::plan::{ChunkWork, Item};
 use crate::prepare::PreparedPatch;
-use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame};
+use crate::shade::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame, ANY_POWER};
 use crate::traverse::Node;
 
 /// A band's buffers, borrowed for drawing.
@@ -173,8 +173,6 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     px: Vec<Sample>,
-    /// The covered pixels' Phong inputs, queued for shading in fours.
-    queue: Vec<Queued>,
     pub(crate) times: BandTimes,
 }
 
@@ -198,13 +196,24 @@ pub(crate) struct Resolve<'a> {
 
 impl Band {
     /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`.
+    /// Why a clear pass right before drawing rather than clearing in the
+    /// resolve pass: the pass brings the band into the cache for the
+    /// cells; clearing in the resolve pass saved ~0.45 M instructions per
+    /// 500² sphere frame but cost ~1.5 ms of `cells_cpu` in cache misses
+    /// (`--bench 50 --threads 1`, alternated runs). Why `fill`: stores of
+    /// whole samples, a third of `resize`'s instructions (callgrind,
+    /// `profile_sphere 500 1`).
     pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32) {
         let n = (rows * width) as usize;
         self.y0 = y0;
         self.rows = rows;
         self.width = width;
-        self.px.clear();
-        self.px.resize(n, Sample::EMPTY);
+        if self.px.len() == n {
+            self.px.fill(Sample::EMPTY);
+        } else {
+            self.px.clear();
+            self.px.resize(n, Sample::EMPTY);
+        }
         self.times = BandTimes::default();
     }
 
@@ -260,127 +269,207 @@ impl Band {
         }
     }
 
-    /// [`Self::resolve`] for Phong, by runs of [`PHONG_RUN`] pixels (the
-    /// queue stays in the L1/L2 caches).
+    /// [`Self::resolve`] for Phong: the band in groups of four pixels
+    /// ([`resolve_phong_pixels`]).
     fn resolve_phong(&mut self, r: &Resolve<'_>, rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
-        if self.queue.len() < PHONG_RUN + 3 {
-            self.queue.resize(PHONG_RUN + 3, Queued::default());
-        }
-        let runs = self.px.chunks(PHONG_RUN).zip(
-            rgba.chunks_mut(PHONG_RUN)
-                .zip(eye_depth.chunks_mut(PHONG_RUN)),
-        );
-        for (px, (rgba, eye_depth)) in runs {
-            resolve_phong_run(r, px, rgba, eye_depth, &mut self.queue);
+        // The default shininess, 32, is five squarings (see
+        // [`Material::shade4_with`]).
+        if r.material.squarings() == 5 {
+            resolve_phong_pixels::<5>(r, &self.px, rgba, eye_depth);
+        } else {
+            resolve_phong_pixels::<ANY_POWER>(r, &self.px, rgba, eye_depth);
         }
     }
 }
 
-/// Pixels resolved together by the Phong pass (16 KB of pixels, 32 KB of
-/// queue).
-const PHONG_RUN: usize = 1024;
-
-/// Resolves the Phong pixels `px` into `rgba` and `eye_depth` in three
-/// passes: depths and the queue of covered pixels; their normals and
-/// albedos interpolated into the queue; the queue shaded four pixels at a
-/// time ([`Material::shade4`], bit-identical to shading them one by one;
-/// tested against [`phong_reference`]). Why passes: batching inside one
-/// pixel loop kept its state on the stack and cost ~100 instructions per
-/// pixel around the shading itself (callgrind, `profile_sphere 500 1`);
-/// not inlined: inlined into [`Band::resolve`] it cost 2.5 M instructions
-/// more per frame (register allocation).
+/// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
+/// neighbours at a time: their eye depths, their normals and albedos
+/// interpolated straight into lanes ([`phong_lane`]), shaded together
+/// ([`Material::shade4_with`], bit-identical to shading them one by one; tested
+/// against [`phong_reference`]), the background where a lane is empty.
+/// Why groups of neighbours rather than a queue of covered pixels: the
+/// queue's round trip through memory, its indices and scattered stores
+/// were ~50 of the ~150 instructions per covered pixel, and groups only
+/// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
+/// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
+/// instructions more per frame (register allocation).
 #[inline(never)]
-fn resolve_phong_run(
+fn resolve_phong_pixels<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     px: &[Sample],
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
-    queue: &mut [Queued],
 ) {
-    let scale = (r.far - r.near) / Z_FAR as f32;
-    // Room for every pixel plus the padding to a multiple of four.
-    let queue = &mut queue[..px.len() + 3];
-    let mut n = 0;
-    for (k, (s, eye)) in px.iter().zip(eye_depth.iter_mut()).enumerate() {
-        if s.depth >= Z_FAR {
-            rgba[k] = r.background;
-            *eye = f32::INFINITY;
-            continue;
-        }
-        *eye = r.near + s.depth as f32 * scale;
-        queue[n].at = k as u32;
-        n += 1;
+    let groups = px
+        .chunks_exact(4)
+        .zip(rgba.chunks_exact_mut(4).zip(eye_depth.chunks_exact_mut(4)));
+    for (s, (rgba, eye)) in groups {
+        let s: &[Sample; 4] = s.try_into().expect("groups of four");
+        let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
+        let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
+        resolve_group::<SQUARINGS>(r, s, rgba, eye);
     }
-    // Why a pass of its own: inside the pixel loop above, the
-    // interpolation's state spilled to the stack (+3 M instructions per
-    // 500² sphere frame; callgrind, `profile_sphere 500 1`).
-    let (items, weights) = (&r.phong.items[..], &r.phong.weights[..]);
-    for q in &mut queue[..n] {
-        let s = &px[q.at as usize];
-        if s.w2 & PATCH_SAMPLE != 0 {
-            items[(s.w2 & !PATCH_SAMPLE) as usize].interpolate(s.w0, weights, q);
-        } else {
-            let albedo = unpack_rgb(s.w1);
-            q.normal_red = unpack_normal(s.w0).extend(albedo.x);
-            q.green_blue = Vec2::new(albedo.y, albedo.z);
-            q.frame = s.w2;
-        }
-    }
-    if n == 0 {
-        return;
-    }
-    // Padding repeats the last pixel (shaded and written twice alike).
-    while n % 4 != 0 {
-        queue[n] = queue[n - 1];
-        n += 1;
-    }
-    for group in queue[..n].chunks_exact(4) {
-        let group: &[Queued; 4] = group.try_into().expect("chunks of four");
-        let words = shade_group(r, group);
-        let first = group[0].at as usize;
-        if group[3].at as usize == first + 3 {
-            // Four neighbours (the common case): one slice, one check.
-            for (dst, w) in rgba[first..first + 4].iter_mut().zip(words) {
-                *dst = w.to_le_bytes();
-            }
-        } else {
-            for (q, w) in group.iter().zip(words) {
-                rgba[q.at as usize] = w.to_le_bytes();
-            }
-        }
+    // The last pixels of a band whose size is not a multiple of four,
+    // padded with empty pixels.
+    let done = px.len() / 4 * 4;
+    if done < px.len() {
+        let n = px.len() - done;
+        let mut s = [Sample::EMPTY; 4];
+        s[..n].copy_from_slice(&px[done..]);
+        let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
+        resolve_group::<SQUARINGS>(r, &s, &mut c, &mut e);
+        rgba[done..].copy_from_slice(&c[..n]);
+        eye_depth[done..].copy_from_slice(&e[..n]);
     }
 }
 
-/// Flag of [`Queued::frame`]: the pixel takes the base albedo.
+/// Resolves four neighbouring Phong pixels (see [`resolve_phong_pixels`]).
+/// Why a fast path: nearly every group of the sphere is four covered patch
+/// samples of items without colours, which need only their normals
+/// interpolated (no albedo lanes, no per-lane choices); empty groups are
+/// next, and the rest (silhouette edges, triangles, colours) goes through
+/// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn resolve_group<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    // Only a sample that passed the depth test holds a patch sample's
+    // flag, so four patch samples are four covered pixels.
+    let patches = s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2;
+    if patches & PATCH_SAMPLE != 0 {
+        debug_assert!(s.iter().all(|s| s.depth < Z_FAR));
+        let items = &r.phong.items[..];
+        let id = |k: usize| (s[k].w2 & !PATCH_SAMPLE) as usize;
+        let last = id(0).max(id(1)).max(id(2).max(id(3)));
+        assert!(last < items.len(), "item index");
+        let it = [&items[id(0)], &items[id(1)], &items[id(2)], &items[id(3)]];
+        let uncoloured =
+            || it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0;
+        if r.phong.uncoloured || uncoloured() {
+            let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
+            let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
+            let scale = (r.far - r.near) / Z_FAR as f32;
+            let depth = Vec4::new(
+                depth[0] as f32,
+                depth[1] as f32,
+                depth[2] as f32,
+                depth[3] as f32,
+            );
+            *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+            let weights = &r.phong.weights[..];
+            let normal = |k: usize| it[k].normal(sub[k], weights);
+            let normals = [normal(0), normal(1), normal(2), normal(3)];
+            // Why transposes even when the four share a frame: comparing
+            // frames and choosing cost more than the shuffles (callgrind,
+            // `profile_sphere 500 1`).
+            let rows = |v: [Vec4; 4]| {
+                let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
+                [t.x_axis, t.y_axis, t.z_axis]
+            };
+            let light = rows([it[0].light, it[1].light, it[2].light, it[3].light]);
+            let half = rows([it[0].half, it[1].half, it[2].half, it[3].half]);
+            let albedo = r.base_albedo.extend(0.0);
+            let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
+            let words = shade_lanes::<SQUARINGS>(r, normals, light, half, |_| albedo);
+            *rgba = words.map(u32::to_le_bytes);
+            return;
+        }
+    }
+    let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
+    if near >= Z_FAR {
+        *rgba = [r.background; 4];
+        *eye = [f32::INFINITY; 4];
+        return;
+    }
+    resolve_general_group(r, s, rgba, eye);
+}
+
+/// [`resolve_group`] for any group with a covered pixel: lanes with their
+/// own albedos, triangle samples, empty pixels (which take the inputs of a
+/// covered one, then the background).
+#[inline(never)]
+fn resolve_general_group(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    let is = |k: usize| s[k].depth < Z_FAR;
+    let some = &s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
+    let pick = |k: usize| if is(k) { &s[k] } else { some };
+    // Why spelled out rather than a closure per lane or `array::map`: they
+    // became out-of-line calls (~45 instructions per pixel of triangles;
+    // callgrind, `profile_sphere 500 1 1 triangles`).
+    let g = [
+        phong_lane(r.phong, pick(0)),
+        phong_lane(r.phong, pick(1)),
+        phong_lane(r.phong, pick(2)),
+        phong_lane(r.phong, pick(3)),
+    ];
+    let frame = |k: usize| (g[k].frame & !BASE_ALBEDO) as usize;
+    let normals = [
+        g[0].normal_red,
+        g[1].normal_red,
+        g[2].normal_red,
+        g[3].normal_red,
+    ];
+    let frames = [frame(0), frame(1), frame(2), frame(3)];
+    let words = shade_normals(r, normals, frames, |red| own_albedo(r, &g, red));
+    for k in 0..4 {
+        (rgba[k], eye[k]) = if is(k) {
+            (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
+        } else {
+            (r.background, f32::INFINITY)
+        };
+    }
+}
+
+/// The shading inputs of a covered pixel: a patch sample's interpolated
+/// normal and albedo, or a triangle sample's stored ones.
+#[inline(always)]
+fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
+    if s.w2 & PATCH_SAMPLE != 0 {
+        let i = (s.w2 & !PATCH_SAMPLE) as usize;
+        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights);
+    }
+    let albedo = unpack_rgb(s.w1);
+    Lane {
+        normal_red: unpack_normal(s.w0).extend(albedo.x),
+        green_blue: Vec2::new(albedo.y, albedo.z),
+        frame: s.w2,
+    }
+}
+
+/// Flag of [`Lane::frame`]: the pixel takes the base albedo.
 const BASE_ALBEDO: u32 = 1 << 31;
 
-/// A covered pixel waiting for Phong shading.
+/// The shading inputs of one pixel of a group of four.
 #[derive(Debug, Clone, Copy, Default)]
-struct Queued {
+struct Lane {
     /// Normal (`xyz`, not unit) and albedo red (`w`, unless the base albedo).
     normal_red: Vec4,
     /// Albedo green and blue (unless the base albedo).
     green_blue: Vec2,
     /// Shade frame index, with [`BASE_ALBEDO`] for the base albedo.
     frame: u32,
-    /// Pixel index in the band.
-    at: u32,
 }
 
-/// Shades four queued pixels into RGBA8 words. Why splats: the four nearly
-/// always share their shade frame and the base albedo, so only the normals
-/// need transposing (callgrind, `profile_sphere 500 1`).
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), shade frames and albedo lanes. Why splats: the
+/// four often share their shade frame, so only the normals need
+/// transposing (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
-    let t = Mat4::from_cols(
-        g[0].normal_red,
-        g[1].normal_red,
-        g[2].normal_red,
-        g[3].normal_red,
-    )
-    .transpose();
+fn shade_normals(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    f: [usize; 4],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
     let frames = &r.phong.frames;
-    let f = g.map(|q| (q.frame & !BASE_ALBEDO) as usize);
     let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
     let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
         let [light, half] = frames[f[0]];
@@ -394,25 +483,34 @@ fn shade_group(r: &Resolve<'_>, g: &[Queued; 4]) -> [u32; 4] {
         };
         (rows(0), rows(1))
     };
-    let all = g[0].frame & g[1].frame & g[2].frame & g[3].frame;
-    let albedo = if all & BASE_ALBEDO != 0 {
-        splat(r.base_albedo.extend(0.0))
-    } else {
-        own_albedo(r, g, t.w_axis)
-    };
+    shade_lanes::<ANY_POWER>(r, normals, light, half, albedo)
+}
+
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), the lanes of their light and half vectors,
+/// and their albedo lanes.
+#[inline(always)]
+fn shade_lanes<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    light: [Vec4; 3],
+    half: [Vec4; 3],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
+    let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
     let lanes = Lanes {
         normal: [t.x_axis, t.y_axis, t.z_axis],
         light,
         half,
-        albedo,
+        albedo: albedo(t.w_axis),
     };
-    pack_rgba(r.material.shade4(&lanes))
+    pack_rgba(r.material.shade4_with::<SQUARINGS>(&lanes))
 }
 
-/// The albedo lanes of four queued pixels of which some have their own
-/// (red in `red`, green and blue in [`Queued::green_blue`]).
-#[inline(never)]
-fn own_albedo(r: &Resolve<'_>, g: &[Queued; 4], red: Vec4) -> [Vec4; 3] {
+/// The albedo lanes of four pixels, some of which may have their own
+/// (red in `red`, green and blue in [`Lane::green_blue`]).
+#[inline(always)]
+fn own_albedo(r: &Resolve<'_>, g: &[Lane; 4], red: Vec4) -> [Vec4; 3] {
     let base = r.base_albedo;
     let lane = |k: usize| {
         if g[k].frame & BASE_ALBEDO != 0 {
@@ -434,6 +532,12 @@ fn own_albedo(r: &Resolve<'_>, g: &[Queued; 4], red: Vec4) -> [Vec4; 3] {
 #[derive(Debug, Default)]
 pub(crate) struct PhongItems<'a> {
     items: Vec<PhongItem<'a>>,
+    /// Per item, its level's prepared albedos from the piece's first node
+    /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
+    /// items index with a shift (callgrind, `profile_sphere 500 1`).
+    colours: Vec<&'a [Vec4]>,
+    /// True when no item has colours (all take the base albedo).
+    uncoloured: bool,
     /// The shade frames' light and half vectors (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
     /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
@@ -465,6 +569,7 @@ impl<'a> PhongItems<'a> {
             .collect();
         let mut built: Vec<(u16, u16, u32)> = Vec::new();
         table.items.reserve(items.len());
+        table.colours.reserve(items.len());
         for &(c, i) in items {
             let item = &chunks[c as usize].items[i as usize];
             let (nu, nv) = (item.nu, item.nv);
@@ -482,19 +587,25 @@ impl<'a> PhongItems<'a> {
                     start
                 }
             };
-            table.items.push(PhongItem::new(item, patches, start));
+            let (entry, colours) = PhongItem::new(item, patches, &table.frames, start);
+            table.items.push(entry);
+            table.colours.push(colours);
         }
+        table.uncoloured = table.colours.iter().all(|c| c.is_empty());
         table
     }
 }
 
 /// A draw item as the Phong resolve pass reads it: its level's prepared
-/// normals and albedos from the piece's first node on.
+/// normals from the piece's first node on (its albedos are in
+/// [`PhongItems::colours`]).
 #[derive(Debug, Clone, Copy)]
 struct PhongItem<'a> {
+    /// The light vector of the item's shade frame (`w` = 0).
+    light: Vec4,
+    /// The half vector of the item's shade frame (`w` = 0).
+    half: Vec4,
     normals: &'a [Vec4],
-    /// Empty for the base albedo.
-    colours: &'a [Vec4],
     /// Nodes per row of the level (`u16`: index sums cannot overflow, no
     /// checks).
     cols: u16,
@@ -508,33 +619,58 @@ struct PhongItem<'a> {
 }
 
 impl<'a> PhongItem<'a> {
-    /// The entry of `item` (of a patch of `patches`) whose weights start at
-    /// `weights`.
-    fn new(item: &Item, patches: &'a [PreparedPatch], weights: u32) -> Self {
+    /// The entry of `item` (of a patch of `patches`, shaded in one of
+    /// `frames`) whose weights start at `weights`, and its albedos (empty
+    /// for the base albedo).
+    fn new(
+        item: &Item,
+        patches: &'a [PreparedPatch],
+        frames: &[[Vec4; 2]],
+        weights: u32,
+    ) -> (Self, &'a [Vec4]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let cols = patch.levels[m].cols;
         let shading = &patch.shading[m];
         let start = item.j0 as usize * cols + item.i0 as usize;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
-        Self {
+        let [light, half] = frames[item.frame as usize];
+        let entry = Self {
+            light,
+            half,
             normals: &shading.normals[start..],
-            colours: if uniform {
-                &[]
-            } else {
-                &shading.colours[start..]
-            },
             cols: cols as u16,
             stride: item.nv + 1,
             weights,
             frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
-        }
+        };
+        let colours: &[Vec4] = if uniform {
+            &[]
+        } else {
+            &shading.colours[start..]
+        };
+        (entry, colours)
     }
 
-    /// Queues the normal and albedo interpolated at sample `sub`: the same
+    /// The normal interpolated at sample `sub` (`w` unused): the same
     /// operations in the same order as [`phong_reference`].
     #[inline(always)]
-    fn interpolate(&self, sub: u32, weights: &[[Vec4; 4]], q: &mut Queued) {
+    fn normal(&self, sub: u32, weights: &[[Vec4; 4]]) -> Vec4 {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let k = cj * cols + ci;
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let w = &weights[self.weights as usize + a * self.stride as usize + b];
+        // One slice for the four corners: a single bounds check.
+        let quad = &self.normals[k..k + cols + 2];
+        quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+    }
+
+    /// The normal and albedo (from `colours`, the item's) interpolated at
+    /// sample `sub`: the same operations in the same order as
+    /// [`phong_reference`].
+    #[inline(always)]
+    fn interpolate(&self, sub: u32, colours: &[Vec4], weights: &[[Vec4; 4]]) -> Lane {
         let cols = self.cols as usize;
         let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
         let k = cj * cols + ci;
@@ -545,13 +681,17 @@ impl<'a> PhongItem<'a> {
             let quad = &v[k..k + cols + 2];
             quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
         };
-        q.normal_red = lerp(self.normals);
-        q.frame = self.frame;
+        let mut lane = Lane {
+            normal_red: lerp(self.normals),
+            green_blue: Vec2::ZERO,
+            frame: self.frame,
+        };
         if self.frame & BASE_ALBEDO == 0 {
-            let c = lerp(self.colours);
-            q.normal_red.w = c.x;
-            q.green_blue = Vec2::new(c.y, c.z);
+            let c = lerp(colours);
+            lane.normal_red.w = c.x;
+            lane.green_blue = Vec2::new(c.y, c.z);
         }
+        lane
     }
 }
 
@@ -564,7 +704,7 @@ fn sub_node_weights(a: u32, b: u32, nu: u32, nv: u32) -> [f32; 4] {
     [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t]
 }
 
-/// Red, green and blue lanes in 0..=255 (as [`Material::shade4`] returns
+/// Red, green and blue lanes in 0..=255 (as [`Material::shade4_with`] returns
 /// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
 /// [`truncate_to_bytes`] gives them.
 #[inline(always)]
@@ -582,7 +722,10 @@ fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
         ]
     };
     let (r, g, b) = (bits(c[0]), bits(c[1]), bits(c[2]));
-    let word = |k: usize| (r[k] & 0xff) | (g[k] & 0xff) << 8 | (b[k] & 0xff) << 16 | 0xff00_0000;
+    // No masks: each lane's bits are `0x4b00_00vv` (`2^23 + v`, v < 256),
+    // so the shifts push the exponent out of the word and the alpha byte
+    // covers red's.
+    let word = |k: usize| r[k] | g[k] << 8 | b[k] << 16 | 0xff00_0000;
     [word(0), word(1), word(2), word(3)]
 }
 
@@ -611,9 +754,10 @@ fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
 #[inline(always)]
 fn truncated_bits(c: Vec4) -> Vec4 {
     const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
-    let nearest = (c + Vec4::splat(SHIFT)) - Vec4::splat(SHIFT);
-    let down = nearest - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO);
-    down + Vec4::splat(SHIFT)
+    let shifted = c + Vec4::splat(SHIFT);
+    let nearest = shifted - Vec4::splat(SHIFT);
+    // Exact: `shifted` is an integer in 2^23..2^23 + 256.
+    shifted - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO)
 }
 
 /// The four attribute words `[from, from + 4)` of a node as floats.
@@ -679,7 +823,7 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
 /// The Phong colour of a patch sample shaded alone, straight from the
 /// prepared level: the bilinear weights of its sub-node, the corners'
 /// normals and albedos (`base_albedo` for an item without colours) summed
-/// in corner order, [`Material::shade`]. The reference the queued resolve
+/// in corner order, [`Material::shade`]. The reference the grouped resolve
 /// pass is tested against.
 #[cfg(test)]
 fn phong_reference(
@@ -937,8 +1081,36 @@ mod tests {
         crate::PreparedScene::new(&scene)
     }
 
+    /// Which pixels [`check_phong_resolve`] draws.
+    #[derive(Clone, Copy)]
+    enum Mix {
+        /// Every kind of pixel: empty, triangle samples, patch samples of
+        /// items with and without colours.
+        Everything,
+        /// Nearly all patch samples of items without colours, of both
+        /// shade frames (the fast path of [`resolve_group`]).
+        Uncoloured,
+        /// Items without colours only (a frame without colours: the fast
+        /// path does not look at the items' albedos), patch samples of
+        /// both shade frames and a few triangle samples.
+        NoColours,
+    }
+
     #[test]
-    fn queued_phong_resolve_matches_scalar_shading_per_pixel() {
+    fn phong_resolve_matches_scalar_shading_per_pixel() {
+        // Shininess 32 takes the five squarings of `resolve_phong_pixels`.
+        check_phong_resolve(Mix::Everything, 61, 7);
+        check_phong_resolve(Mix::Everything, 62, 32);
+        check_phong_resolve(Mix::Uncoloured, 64, 32);
+        check_phong_resolve(Mix::Uncoloured, 63, 7);
+        check_phong_resolve(Mix::NoColours, 64, 32);
+        check_phong_resolve(Mix::NoColours, 65, 7);
+    }
+
+    /// Resolves a band of `width × 6` random pixels of `mix`, lit with
+    /// `shininess`, and checks every pixel against [`phong_reference`] or
+    /// [`Material::shade`].
+    fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         let prepared = coloured_scene(&mut rng);
         let patches = &prepared.patches;
@@ -964,7 +1136,7 @@ mod tests {
                 frame: frame as u32,
                 flags: 0,
                 spans: 0,
-                uniform_albedo: k >= 4,
+                uniform_albedo: k >= 4 || matches!(mix, Mix::NoColours),
                 level: level as u8,
                 i0: i0 as u16,
                 j0: j0 as u16,
@@ -975,7 +1147,7 @@ mod tests {
         let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
         let chunks = [chunk];
         let lighting = crate::Lighting {
-            shininess: 7,
+            shininess,
             ..Default::default()
         };
         let light = crate::shade::WorldLight::new(
@@ -988,6 +1160,7 @@ mod tests {
             .map(|(k, p)| light.frame_in(&p.rotation, k == 1))
             .collect();
         let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches, &frames);
+        assert_eq!(phong.uncoloured, matches!(mix, Mix::NoColours));
         let r = Resolve {
             shading: Shading::Phong,
             items: &items,
@@ -999,12 +1172,20 @@ mod tests {
             near: 0.5,
             far: 10.0,
         };
-        let (width, rows) = (61, 6);
+        let rows = 6;
         let mut band = Band::default();
         band.reset(0, rows, width);
         let mut expected = Vec::new();
         for px in band.px.iter_mut() {
-            let choice = rng.below(10);
+            let choice = match mix {
+                Mix::Everything => rng.below(10),
+                Mix::Uncoloured => {
+                    [0, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
+                }
+                Mix::NoColours => {
+                    [0, 1, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
+                }
+            };
             if choice == 0 {
                 expected.push(r.background);
                 continue;
@@ -1024,8 +1205,16 @@ mod tests {
                 expected.push(to_rgba8(c));
                 continue;
             }
-            // Runs of one item, as drawn patches leave them, or any item.
-            let id = if choice < 6 { 3 } else { rng.below(8) };
+            // Runs of one item, as drawn patches leave them, or any item
+            // (`Mix::Uncoloured`: an item without colours, runs of one).
+            let id = match mix {
+                Mix::Everything if choice < 6 => 3,
+                Mix::Everything => rng.below(8),
+                Mix::Uncoloured if rng.below(3) == 0 => 4 + rng.below(4),
+                Mix::Uncoloured => 5,
+                Mix::NoColours if rng.below(3) == 0 => rng.below(8),
+                Mix::NoColours => 2,
+            };
             let item = &chunks[0].items[id as usize];
             let ci = rng.below(item.cols as u32 - 1);
             let cj = rng.below(item.rows as u32 - 1);
@@ -1043,8 +1232,70 @@ mod tests {
             assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
         }
         let covered = samples.iter().filter(|s| s.depth < Z_FAR).count();
-        assert!(covered > 300 && covered % 4 != 0, "{covered}");
+        assert!(covered > 300, "{covered}");
+        if let Mix::Everything = mix {
+            assert!(covered % 4 != 0, "{covered}");
+        }
         assert_eq!(eye.iter().filter(|e| e.is_finite()).count(), covered);
+        for (e, s) in eye.iter().zip(&samples) {
+            if s.depth < Z_FAR {
+                assert_eq!(
+                    *e,
+                    r.near + s.depth as f32 * ((r.far - r.near) / Z_FAR as f32)
+                );
+            }
+        }
+        // How many groups took the fast path: four covered patch samples
+        // of items without colours, of one shade frame or of several.
+        let fast = |mixed: bool| {
+            samples
+                .chunks_exact(4)
+                .filter(|g| {
+                    let uncoloured = |s: &Sample| {
+                        s.depth < Z_FAR
+                            && s.w2 & PATCH_SAMPLE != 0
+                            && chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].uniform_albedo
+                    };
+                    let frame = |s: &Sample| chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].frame;
+                    g.iter().all(uncoloured) && g.iter().any(|s| frame(s) != frame(&g[0])) == mixed
+                })
+                .count()
+        };
+        if let Mix::Uncoloured | Mix::NoColours = mix {
+            assert!(
+                fast(false) > 10 && fast(true) > 10,
+                "{} {}",
+                fast(false),
+                fast(true)
+            );
+        }
+    }
+
+    #[test]
+    fn packed_words_hold_the_truncated_channels() {
+        let mut rng = XorShift(0x5151_a5a5_0f0f_7777);
+        for round in 0..5000 {
+            let v = |rng: &mut XorShift| match round % 3 {
+                // Integers and their neighbours (the rounding step's edges).
+                0 => {
+                    let k = rng.below(256) as f32;
+                    let up = f32::from_bits(k.to_bits() + 1);
+                    [k, up, k - 0.5, k + 0.5][rng.below(4) as usize].clamp(0.0, 255.0)
+                }
+                _ => rng.below(1 << 24) as f32 / (1 << 24) as f32 * 255.0,
+            };
+            let c =
+                [0, 1, 2].map(|_| Vec4::new(v(&mut rng), v(&mut rng), v(&mut rng), v(&mut rng)));
+            let want: [u32; 4] = std::array::from_fn(|k| {
+                u32::from_le_bytes([
+                    c[0][k] as i32 as u8,
+                    c[1][k] as i32 as u8,
+                    c[2][k] as i32 as u8,
+                    255,
+                ])
+            });
+            assert_eq!(pack_rgba(c), want, "{c:?}");
+        }
     }
 
     #[test]

@@ -316,3 +316,50 @@ pub fn rasterize_triangles(
 ) -> Result<RenderOutput, RenderError> {
     Renderer::new(*options)?.rasterize(mesh, camera)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// Bands, buffers and tables are reused from frame to frame (bands are
+    /// cleared by `fill` when their size is unchanged): a renderer reused
+    /// across views, shadings and sizes must give the images of fresh
+    /// renderers.
+    #[test]
+    fn a_reused_renderer_draws_every_frame_as_a_fresh_one() {
+        let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
+            .expect("sphere")
+            .scene;
+        let prepared = PreparedScene::new(&scene);
+        let camera = |from: DVec3, size: u32| {
+            Camera::look_at(from * 128.0, DVec3::ZERO, DVec3::Y, 30.0, size, size).expect("camera")
+        };
+        // Eye positions in sphere radii.
+        let views = [
+            camera(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
+            camera(DVec3::new(-0.7, 0.1, 0.4) * 2.5, 90),
+            camera(DVec3::new(0.0, 0.2, 1.0) * 9.0, 90),
+            camera(DVec3::new(0.5, -0.5, 0.5) * 3.0, 70),
+            camera(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
+        ];
+        for shading in [crate::Shading::Phong, crate::Shading::Gouraud] {
+            let options = RenderOptions {
+                shading,
+                threads: 2,
+                ..Default::default()
+            };
+            let mut reused = Renderer::new(options).expect("renderer");
+            for (k, camera) in views.iter().enumerate() {
+                let again = reused.render(&prepared, camera).expect("frame");
+                let fresh = Renderer::new(options)
+                    .expect("renderer")
+                    .render(&prepared, camera)
+                    .expect("frame");
+                assert!(fresh.image.covered_count() > 500, "view {k}");
+                assert!(again.image == fresh.image, "view {k}, {shading:?}");
+                reused.recycle(again.image);
+            }
+        }
+    }
+}

@@ -109,6 +109,9 @@ impl Material {
     }
 }
 
+/// [`Material::shade4_with`] for any material.
+pub(crate) const ANY_POWER: u32 = u32::MAX;
+
 /// Four shading inputs, one per lane: each field holds one component of
 /// four normals, lights, half vectors or albedos.
 #[derive(Debug, Clone, Copy)]
@@ -120,14 +123,25 @@ pub(crate) struct Lanes {
 }
 
 impl Material {
+    /// The number of squarings that give the specular power (`shininess`
+    /// a power of two), else [`ANY_POWER`].
+    pub(crate) fn squarings(&self) -> u32 {
+        self.squarings
+    }
+
     /// [`Self::shade`] of four samples at once, lane by lane; returns the
     /// red, green and blue lanes. Every lane performs the same IEEE
     /// operations in the same order as [`Self::shade`], so the results are
     /// bit-identical (tested). Why: the resolve pass shades every covered
     /// pixel, and four lanes share each instruction (callgrind,
     /// `profile_sphere 500 1`).
-    #[inline]
-    pub(crate) fn shade4(&self, l: &Lanes) -> [Vec4; 3] {
+    ///
+    /// `SQUARINGS` is [`ANY_POWER`] or the material's [`Self::squarings`]:
+    /// then the specular power is that many squarings, no choice at run
+    /// time. Why: the choice and its register spills were ~10 instructions
+    /// per group of four pixels (callgrind, `profile_sphere 500 1`).
+    #[inline(always)]
+    pub(crate) fn shade4_with<const SQUARINGS: u32>(&self, l: &Lanes) -> [Vec4; 3] {
         let [x, y, z] = l.normal;
         let dot = |a: [Vec4; 3], b: [Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let rcp = Vec4::ONE / (x * x + y * y + z * z).sqrt();
@@ -135,25 +149,16 @@ impl Material {
         let n = [x, y, z].map(|c| Vec4::select(valid, c * rcp, Vec4::ZERO));
         let nl = dot(n, l.light).max(Vec4::ZERO);
         let nh = dot(n, l.half).max(Vec4::ZERO);
-        let mut p = nh;
-        if self.squarings == u32::MAX {
-            p = Vec4::ONE;
-            let (mut x, mut e) = (nh, self.shininess as u32);
-            loop {
-                if e & 1 != 0 {
-                    p *= x;
-                }
-                e >>= 1;
-                if e == 0 {
-                    break;
-                }
-                x *= x;
-            }
+        let p = if SQUARINGS == ANY_POWER {
+            self.power4(nh)
         } else {
-            for _ in 0..self.squarings {
+            debug_assert_eq!(SQUARINGS, self.squarings);
+            let mut p = nh;
+            for _ in 0..SQUARINGS {
                 p *= p;
             }
-        }
+            p
+        };
         let spec = Vec4::select(
             nl.cmpgt(Vec4::ZERO),
             Vec4::splat(self.specular) * p,
@@ -161,6 +166,51 @@ impl Material {
         );
         let k = Vec4::splat(self.ambient) + Vec4::splat(self.diffuse) * nl;
         l.albedo.map(|a| (a * k + spec).min(Vec4::splat(255.0)))
+    }
+
+    /// [`Self::power`] of four lanes. Why a `match` of unrolled squarings:
+    /// the squaring loop with its set-up was ~24 instructions per group of
+    /// four pixels, 5 straight multiplications for the default shininess
+    /// 32 (callgrind, `profile_sphere 500 1`).
+    #[inline(always)]
+    fn power4(&self, x: Vec4) -> Vec4 {
+        let sq = |p: Vec4| p * p;
+        match self.squarings {
+            0 => x,
+            1 => sq(x),
+            2 => sq(sq(x)),
+            3 => sq(sq(sq(x))),
+            4 => sq(sq(sq(sq(x)))),
+            5 => sq(sq(sq(sq(sq(x))))),
+            6 => sq(sq(sq(sq(sq(sq(x)))))),
+            7 => sq(sq(sq(sq(sq(sq(sq(x))))))),
+            8 => sq(sq(sq(sq(sq(sq(sq(sq(x)))))))),
+            _ => self.power4_any(x),
+        }
+    }
+
+    /// [`Self::power4`] for any shininess: square-and-multiply as [`powi`].
+    #[inline(never)]
+    fn power4_any(&self, x: Vec4) -> Vec4 {
+        if self.squarings != u32::MAX {
+            let mut p = x;
+            for _ in 0..self.squarings {
+                p *= p;
+            }
+            return p;
+        }
+        let mut p = Vec4::ONE;
+        let (mut x, mut e) = (x, self.shininess as u32);
+        loop {
+            if e & 1 != 0 {
+                p *= x;
+            }
+            e >>= 1;
+            if e == 0 {
+                return p;
+            }
+            x *= x;
+        }
     }
 
     /// `x^shininess`, bit-identical to [`powi`]. Why: for a power of two
@@ -258,7 +308,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
         };
-        for shininess in [1, 7, 32] {
+        for shininess in [1, 2, 7, 32, 64, 100, 256] {
             let m = Material::new(&Lighting {
                 shininess,
                 ..Lighting::default()
@@ -284,7 +334,13 @@ mod tests {
                     half: lane(&|k| samples[k].1.half),
                     albedo: lane(&|k| samples[k].2),
                 };
-                let out = m.shade4(&lanes);
+                let out = m.shade4_with::<ANY_POWER>(&lanes);
+                if shininess == 32 {
+                    assert_eq!(m.squarings(), 5);
+                    let five = m.shade4_with::<5>(&lanes);
+                    let bits = |v: Vec4| v.to_array().map(f32::to_bits);
+                    assert!((0..3).all(|i| bits(five[i]) == bits(out[i])));
+                }
                 for (k, (n, frame, albedo)) in samples.iter().enumerate() {
                     let one = m.shade(*n, frame, *albedo);
                     for i in 0..3 {
