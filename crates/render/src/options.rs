@@ -134,7 +134,9 @@ pub struct RenderOptions {
     /// less but project and discard more.
     pub guard_band: f32,
     /// Rows per framebuffer tile (the unit of parallel work), 4..=256.
-    /// Default 32.
+    /// Default 64: taller bands walk fewer rows of cells twice (500²
+    /// sphere: 89.7 → 86.0 M instructions per frame against 32) and still
+    /// give 2 threads 8 bands to share at 500².
     pub tile_rows: u32,
     /// Colour of pixels with no surface (RGBA). Default transparent black.
     pub background: [u8; 4],
@@ -146,7 +148,7 @@ impl RenderOptions {
     /// Default guard band.
     pub const DEFAULT_GUARD_BAND: f32 = 0.1;
     /// Default tile height.
-    pub const DEFAULT_TILE_ROWS: u32 = 32;
+    pub const DEFAULT_TILE_ROWS: u32 = 64;
     /// Largest supersampling factor.
     pub const MAX_SSAA: u32 = 4;
 
