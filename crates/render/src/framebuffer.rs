@@ -1142,6 +1142,7 @@ mod tests {
                 j0: j0 as u16,
                 y0: 0,
                 y1: 0,
+                inside_columns: false,
             });
         }
         let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();

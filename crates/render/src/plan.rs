@@ -83,6 +83,9 @@ pub(crate) struct Item {
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
+    /// Every used node lies in the image's columns `1..width - 1`, so a
+    /// row of cells inside a band needs no clipping at all.
+    pub(crate) inside_columns: bool,
 }
 
 /// Everything about the frame that planning needs.
@@ -363,7 +366,7 @@ fn plan_piece(
     }
     work.counters.traverse_ns += nanos(start);
     let height = setup.view.height as i32;
-    let [_, y0, _, y1] = measure.bbox;
+    let [x0, y0, x1, y1] = measure.bbox;
     let pad = if smooth { 2 } else { 0 };
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
@@ -408,6 +411,7 @@ fn plan_piece(
         j0: range.j0 as u16,
         y0: y0 - pad,
         y1: y1 + pad,
+        inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
     });
 }
 

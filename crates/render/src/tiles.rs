@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use crate::cell_bilinear::{draw_cells_bilinear, draw_nodes};
+use crate::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
 use crate::cell_smooth::draw_cells_smooth;
 use crate::framebuffer::{
     Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, Resolve, PATCH_SAMPLE,
@@ -158,7 +158,15 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
         let flags = &chunk.cell_flags[f..f + (cols - 1) * (rows - 1)];
         let s = item.spans as usize;
         let spans = &chunk.row_spans[s..s + rows - 1];
-        draw_cells_bilinear(t, nodes, flags, spans, cols, rows, nu, nv, id);
+        let piece = BilinearPiece {
+            nodes,
+            flags,
+            spans,
+            cols,
+            rows,
+            inside_columns: item.inside_columns,
+        };
+        draw_cells_bilinear(t, &piece, nu, nv, id);
     }
 }
 
