@@ -231,20 +231,7 @@ pub(crate) fn project_nodes_trilinear(
     out: &mut Vec<Node>,
     xy: &mut NodeXY,
 ) {
-    let (lo, hi) = range.local_box(d);
-    let corner = |a: bool, b: bool, c: bool| {
-        p.screen(Vec3::new(
-            if a { hi.x } else { lo.x },
-            if b { hi.y } else { lo.y },
-            if c { hi.z } else { lo.z },
-        ))
-    };
-    let c = [
-        [corner(false, false, false), corner(true, false, false)],
-        [corner(false, true, false), corner(true, true, false)],
-        [corner(false, false, true), corner(true, false, true)],
-        [corner(false, true, true), corner(true, true, true)],
-    ];
+    let c = projected_box_corners(range, d, p);
     let inv_i = 1.0 / (range.i1 - range.i0) as f32;
     let inv_j = 1.0 / (range.j1 - range.j0) as f32;
     let cols = range.i1 - range.i0 + 1;
@@ -470,6 +457,26 @@ impl RowStats {
     }
 }
 
+/// The screen corners of a piece's box over displacements `d`:
+/// `[bottom i0, bottom i1]` at `j0` and at `j1` (low `d`), then the same
+/// at high `d`.
+fn projected_box_corners(range: NodeRange, d: (u16, u16), p: &Projector) -> [[Vec3; 2]; 4] {
+    let (lo, hi) = range.local_box(d);
+    let corner = |a: bool, b: bool, c: bool| {
+        p.screen(Vec3::new(
+            if a { hi.x } else { lo.x },
+            if b { hi.y } else { lo.y },
+            if c { hi.z } else { lo.z },
+        ))
+    };
+    [
+        [corner(false, false, false), corner(true, false, false)],
+        [corner(false, true, false), corner(true, true, false)],
+        [corner(false, false, true), corner(true, false, true)],
+        [corner(false, true, true), corner(true, true, true)],
+    ]
+}
+
 /// The straightforward trilinear projection that
 /// [`project_nodes_trilinear`] must equal bit for bit (the reference of its
 /// tests): per node, `Vec3` lanes and the scalar conversions of
@@ -482,20 +489,7 @@ pub(crate) fn project_nodes_trilinear_reference(
     p: &Projector,
     out: &mut Vec<Node>,
 ) {
-    let (lo, hi) = range.local_box(d);
-    let corner = |a: bool, b: bool, c: bool| {
-        p.screen(Vec3::new(
-            if a { hi.x } else { lo.x },
-            if b { hi.y } else { lo.y },
-            if c { hi.z } else { lo.z },
-        ))
-    };
-    let c = [
-        [corner(false, false, false), corner(true, false, false)],
-        [corner(false, true, false), corner(true, true, false)],
-        [corner(false, false, true), corner(true, false, true)],
-        [corner(false, true, true), corner(true, true, true)],
-    ];
+    let c = projected_box_corners(range, d, p);
     let inv_i = 1.0 / (range.i1 - range.i0) as f32;
     let inv_j = 1.0 / (range.j1 - range.j0) as f32;
     let inv_d = if d.1 > d.0 {
@@ -1251,6 +1245,34 @@ mod tests {
         }
     }
 
+    /// The mip levels of a random patch of 2–18 × 2–18 nodes, `holes` % of
+    /// them empty, displacements below 400.
+    fn random_levels(rng: &mut XorShift, holes: u64) -> Vec<MipLevel> {
+        let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
+        let d: Vec<u16> = (0..cols * rows)
+            .map(|_| {
+                if rng.below64(100) < holes {
+                    spatch_format::EMPTY
+                } else {
+                    rng.below64(400) as u16
+                }
+            })
+            .collect();
+        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+        let grid = GridSize::new(cols as u32, rows as u32).unwrap();
+        let patch = Patch::new(frame, grid, d, None).unwrap();
+        crate::mip::build_mip_pyramid(&patch)
+    }
+
+    /// A random part of `level`, at least one cell.
+    fn random_part(rng: &mut XorShift, level: &MipLevel) -> NodeRange {
+        let i0 = rng.below64(level.cols as u64 - 1) as usize;
+        let j0 = rng.below64(level.rows as u64 - 1) as usize;
+        let i1 = i0 + 1 + rng.below64((level.cols - 1 - i0) as u64) as usize;
+        let j1 = j0 + 1 + rng.below64((level.rows - 1 - j0) as u64) as usize;
+        NodeRange { i0, j0, i1, j1 }
+    }
+
     /// The lane-wise trilinear projection writes the same nodes and
     /// positions, bit for bit, as the straightforward `Vec3` form, on
     /// random pieces (with and without empty nodes, whole and part
@@ -1260,21 +1282,7 @@ mod tests {
     fn trilinear_lanes_equal_the_reference() {
         let mut rng = XorShift(0x1357_9bdf_2468_ace0);
         for case in 0..400 {
-            let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
-            let holes = [0, 0, 5, 30][case % 4];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| {
-                    if rng.below64(100) < holes {
-                        spatch_format::EMPTY
-                    } else {
-                        rng.below64(400) as u16
-                    }
-                })
-                .collect();
-            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-            let grid = GridSize::new(cols as u32, rows as u32).unwrap();
-            let patch = Patch::new(frame, grid, d, None).unwrap();
-            let levels = crate::mip::build_mip_pyramid(&patch);
+            let levels = random_levels(&mut rng, [0, 0, 5, 30][case % 4]);
             let Some(level) = levels.first() else {
                 continue;
             };
@@ -1291,11 +1299,7 @@ mod tests {
                 z_offset: r(0.5),
             };
             let whole = NodeRange::whole(level);
-            let i0 = rng.below64(level.cols as u64 - 1) as usize;
-            let j0 = rng.below64(level.rows as u64 - 1) as usize;
-            let i1 = i0 + 1 + rng.below64((level.cols - 1 - i0) as u64) as usize;
-            let j1 = j0 + 1 + rng.below64((level.rows - 1 - j0) as u64) as usize;
-            for range in [whole, NodeRange { i0, j0, i1, j1 }] {
+            for range in [whole, random_part(&mut rng, level)] {
                 let Some(dr) = range.d_range(level) else {
                     continue;
                 };
@@ -1325,21 +1329,7 @@ mod tests {
         // One scratch for every piece, as a chunk keeps it.
         let mut xy = NodeXY::default();
         for case in 0..300 {
-            let (cols, rows) = (2 + rng.below64(17) as usize, 2 + rng.below64(17) as usize);
-            let holes = [0, 0, 5, 30][case % 4];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| {
-                    if rng.below64(100) < holes {
-                        spatch_format::EMPTY
-                    } else {
-                        rng.below64(400) as u16
-                    }
-                })
-                .collect();
-            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-            let grid = GridSize::new(cols as u32, rows as u32).unwrap();
-            let patch = Patch::new(frame, grid, d, None).unwrap();
-            let levels = crate::mip::build_mip_pyramid(&patch);
+            let levels = random_levels(&mut rng, [0, 0, 5, 30][case % 4]);
             let Some(level) = levels.first() else {
                 continue;
             };
@@ -1356,12 +1346,7 @@ mod tests {
                 z_offset: 0.0,
             };
             let whole = NodeRange::whole(level);
-            let i0 = rng.below64(level.cols as u64 - 1) as usize;
-            let j0 = rng.below64(level.rows as u64 - 1) as usize;
-            let i1 = i0 + 1 + rng.below64((level.cols - 1 - i0) as u64) as usize;
-            let j1 = j0 + 1 + rng.below64((level.rows - 1 - j0) as u64) as usize;
-            let part = NodeRange { i0, j0, i1, j1 };
-            for range in [whole, part] {
+            for range in [whole, random_part(&mut rng, level)] {
                 let Some(dr) = range.d_range(level) else {
                     continue;
                 };
