@@ -119,6 +119,11 @@ pub(crate) struct RenderArgs {
     /// Do not minify far patches through their mip pyramid.
     #[arg(long)]
     no_mip: bool,
+    /// Take the coarsest mip level whose projected cells stay below PX
+    /// pixels, 0.1..=16. The default keeps every visible detail; larger
+    /// values trade detail for speed (coarser grids, magnified).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
+    mip_limit: f32,
     /// Guard band beyond each viewport side, as a fraction of its size, 0..=1.
     #[arg(long, value_name = "FRACTION", default_value_t = RenderOptions::DEFAULT_GUARD_BAND)]
     guard_band: f32,
@@ -199,6 +204,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.threads = args.threads;
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
+    o.mip_limit = args.mip_limit;
     o.guard_band = args.guard_band;
     if let Some(bg) = args.background {
         o.background = bg;

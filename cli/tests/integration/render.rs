@@ -61,6 +61,30 @@ fn renders_png_depth_and_stats() {
             > 0.0
     );
     assert!(shortcuts["bilinear_vs_smooth"].get("psnr_db").is_some());
+    assert!(shortcuts["mip_limit_vs_default"].is_null());
+}
+
+#[test]
+fn a_mip_limit_reports_its_cost_against_the_default() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    t.run(&[
+        "render",
+        &name,
+        "-o",
+        "s.png",
+        "--mip-limit",
+        "8",
+        "--stats",
+        "stats.json",
+    ])
+    .success();
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path("stats.json")).unwrap()).unwrap();
+    let mip = &stats["shortcuts"]["mip_limit_vs_default"];
+    assert!(mip["shortcut_ms"].as_f64().unwrap() > 0.0, "{mip}");
+    assert!(mip["reference_ms"].as_f64().unwrap() > 0.0, "{mip}");
+    assert!(mip.get("psnr_db").is_some());
 }
 
 #[test]
@@ -134,7 +158,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
-    let cases: [&[&str]; 5] = [
+    let cases: [&[&str]; 6] = [
         &["render", "missing.spatch", "-o", "out.png"],
         &["render", "junk.spatch", "-o", "out.png"],
         &[
@@ -144,6 +168,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         &[
             "render", &name, "-o", "out.png", "--near", "5", "--far", "2",
         ],
+        &["render", &name, "-o", "out.png", "--mip-limit", "40"],
     ];
     for args in cases {
         let run = t.run(args);

@@ -7,7 +7,8 @@
 //!    ([`crate::cull`]); partially visible patches are split
 //!    ([`crate::split`]);
 //! 2. mip level: for whole patches, the coarsest level whose estimated cell
-//!    extent (from the projected box) stays below [`MIP_LIMIT`] pixel
+//!    extent (from the projected box) stays below
+//!    [`RenderOptions::mip_limit`] pixels
 //!    ([`crate::mip`]);
 //! 3. node traversal ([`crate::traverse`]): trilinear or exact, into a flat
 //!    array of fixed-point nodes;
@@ -53,8 +54,6 @@ pub(crate) const PATCH_CHUNK: usize = 32;
 /// Largest sub-cell extent (pixels, max-norm sum of edges) allowed; below
 /// 1 so that rounding never opens a hole.
 pub(crate) const SUBPIXEL_LIMIT: f32 = 0.95;
-/// A coarser mip level is used when its estimated cell extent is below this.
-pub(crate) const MIP_LIMIT: f32 = 0.9;
 /// Extra subdivision for Catmull-Rom cells, which bulge past their corners.
 pub(crate) const SMOOTH_MARGIN: f32 = 1.3;
 
@@ -303,7 +302,7 @@ fn plan_piece(
     let mut m = 0;
     if whole && opts.mip && p.levels.len() > 1 {
         let extent = estimate_extent(&proj0, piece, p.levels[0].d_range);
-        while m + 1 < p.levels.len() && extent * ((1u32 << (m + 1)) as f32) < MIP_LIMIT {
+        while m + 1 < p.levels.len() && extent * ((1u32 << (m + 1)) as f32) < opts.mip_limit {
             m += 1;
         }
     }

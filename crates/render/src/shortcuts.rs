@@ -1,9 +1,11 @@
 //! What the rendering shortcuts save and cost: the same frame rendered with
-//! trilinear and with exact projection, and with bilinear and with smooth
-//! cells, timed (median of a few runs) and compared by PSNR.
+//! trilinear and with exact projection, with bilinear and with smooth
+//! cells, and (when it is not the default) with the chosen mip limit and
+//! the default one, timed (median of a few runs) and compared by PSNR.
 //!
 //! The reference of each pair is the costlier variant (exact projection,
-//! smooth cells); every other option is kept. Cost: `2 × 2 × runs` frames.
+//! smooth cells, the default mip limit); every other option is kept. Cost:
+//! `2 × runs` frames per pair.
 
 use serde::Serialize;
 
@@ -32,6 +34,9 @@ pub struct ShortcutCosts {
     pub trilinear_vs_exact: ShortcutCost,
     /// Bilinear (shortcut) versus smooth (reference) cells.
     pub bilinear_vs_smooth: ShortcutCost,
+    /// The chosen mip limit (shortcut) versus the default one (reference);
+    /// `None` (JSON null) when the default is chosen.
+    pub mip_limit_vs_default: Option<ShortcutCost>,
     /// Frames timed per variant.
     pub runs: usize,
 }
@@ -54,7 +59,7 @@ fn time_variant(
     Ok((times[times.len() / 2], image))
 }
 
-/// Measures both shortcuts on `scene` from `camera`, `runs` (≥ 1) frames each.
+/// Measures the shortcuts on `scene` from `camera`, `runs` (≥ 1) frames each.
 pub fn measure_shortcuts(
     scene: &PreparedScene,
     camera: &Camera,
@@ -86,6 +91,15 @@ pub fn measure_shortcuts(
             with(options.projection, CellScheme::Bilinear),
             with(options.projection, CellScheme::Smooth),
         )?,
+        mip_limit_vs_default: if options.mip_limit == RenderOptions::DEFAULT_MIP_LIMIT {
+            None
+        } else {
+            let default = RenderOptions {
+                mip_limit: RenderOptions::DEFAULT_MIP_LIMIT,
+                ..*options
+            };
+            Some(pair(*options, default)?)
+        },
         runs,
     })
 }

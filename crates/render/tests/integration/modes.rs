@@ -115,3 +115,31 @@ fn without_mip_far_views_place_more_nodes() {
         .count();
     assert!(differ < 150, "{differ}");
 }
+
+#[test]
+fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
+    let fine = render(RenderOptions::default(), 600.0, 500);
+    let mut o = RenderOptions::default();
+    o.mip_limit = 6.0;
+    let coarse = render(o, 600.0, 500);
+    let coarser = |s: &spatch_render::RenderStats| s.mip_levels[1..].iter().sum::<u64>();
+    // The default keeps these cells (about a pixel) at level 0; a limit of
+    // 6 px moves most patches to a coarser level and places fewer nodes.
+    assert_eq!(coarser(&fine.stats), 0, "{:?}", fine.stats.mip_levels);
+    assert!(coarser(&coarse.stats) * 2 > coarse.stats.mip_levels.iter().sum::<u64>());
+    assert!(coarse.stats.patch_nodes * 2 < fine.stats.patch_nodes);
+    // The sphere is smooth: the image hardly changes.
+    let psnr = fine.image.psnr(&coarse.image).expect("same size");
+    assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
+    let (a, b) = (fine.image.covered_count(), coarse.image.covered_count());
+    assert!(a.abs_diff(b) * 1000 < a, "{a} against {b} covered pixels");
+}
+
+#[test]
+fn a_mip_limit_out_of_range_is_refused() {
+    for bad in [0.0, 20.0, f32::NAN] {
+        let mut o = RenderOptions::default();
+        o.mip_limit = bad;
+        assert!(Renderer::new(o).is_err(), "{bad}");
+    }
+}

@@ -50,6 +50,16 @@ fn silhouette_and_no_holes_at_500() {
 }
 
 #[test]
+fn a_larger_mip_limit_keeps_the_silhouette_and_fills_the_disc() {
+    // Coarser levels magnified instead of level 0: same guarantees.
+    for (distance, size) in [(600.0, 500), (500.0, 1000)] {
+        let mut o = RenderOptions::default();
+        o.mip_limit = 6.0;
+        check_silhouette(distance, size, o);
+    }
+}
+
+#[test]
 fn silhouette_and_no_holes_at_1000() {
     check_silhouette(500.0, 1000, RenderOptions::default());
 }
