@@ -66,8 +66,7 @@ fn convert_writes_the_scene_and_a_report_with_every_key() {
     assert!(run.stdout.contains("patches"), "{}", run.stdout);
     let scene = read_scene(&t.path("ball.spatch")).unwrap();
     assert_eq!(scene.channel(), ColourChannel::None);
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("report.json")).unwrap()).unwrap();
+    let report: serde_json::Value = t.json("report.json");
     crate::report_schema::check_shared_keys(&report, "convert");
     assert_eq!(report["counts"]["patches"], scene.patches().len());
     assert_eq!(

@@ -2,10 +2,6 @@ use serde_json::Value;
 
 use crate::test_command::TestCommand;
 
-fn report(t: &TestCommand, name: &str) -> Value {
-    serde_json::from_slice(&std::fs::read(t.path(name)).unwrap()).unwrap()
-}
-
 #[test]
 fn the_built_in_map_gives_the_original_low_level() {
     let t = TestCommand::new();
@@ -23,7 +19,7 @@ fn the_built_in_map_gives_the_original_low_level() {
         ])
         .success();
     assert!(run.stdout.contains("built-in map"), "{}", run.stdout);
-    let r = report(&t, "r.json");
+    let r = t.json::<Value>("r.json");
     crate::report_schema::check_shared_keys(&r, "earth");
     let patches = r["counts"]["patches"].as_u64().unwrap() as f64;
     assert!(
@@ -75,7 +71,7 @@ fn the_shared_map_and_relief_convert() {
         "earth", "--colour", &map, "--level", "medium", "--report", "m.json", "-o", "m.spatch",
     ])
     .success();
-    let r = report(&t, "m.json");
+    let r = t.json::<Value>("m.json");
     let patches = r["counts"]["patches"].as_u64().unwrap() as f64;
     assert!(
         (1128.0 * 0.85..=1128.0 * 1.15).contains(&patches),

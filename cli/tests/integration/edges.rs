@@ -39,8 +39,7 @@ fn edge_stats(t: &TestCommand, cube: &str, extra: &[&str]) -> serde_json::Value 
     ];
     args.extend_from_slice(extra);
     t.run(&args).success();
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("cube.json")).unwrap()).unwrap();
+    let report: serde_json::Value = t.json("cube.json");
     report["details"]["edges"].clone()
 }
 

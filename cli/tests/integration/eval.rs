@@ -137,7 +137,7 @@ fn a_point_cloud_source_uses_the_cloud_error_and_skips_images() {
         .success();
     assert!(run.stdout.contains("point cloud"), "{}", run.stdout);
     assert!(run.stdout.contains("image error skipped"), "{}", run.stdout);
-    let value: Value = serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    let value: Value = t.json("r.json");
     let r = check_shared_keys(&value, "eval");
     assert_eq!(
         r.error.keys().collect::<Vec<_>>(),
@@ -313,8 +313,7 @@ fn a_tiny_sweep_writes_its_table_json_and_plot_with_a_correct_front() {
             assert_eq!(on_front, !dominated, "{k}: {c:?}");
         }
     }
-    let json: Value =
-        serde_json::from_slice(&std::fs::read(t.path("sw/sweep.json")).unwrap()).unwrap();
+    let json: Value = t.json("sw/sweep.json");
     assert_eq!(json["command"], "eval --sweep");
     assert_eq!(json["rows"].as_array().unwrap().len(), 10);
     assert!(json["samples"].as_u64().unwrap() >= 100_000);

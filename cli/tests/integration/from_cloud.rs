@@ -35,16 +35,14 @@ fn xyz_cloud_becomes_a_scene_with_a_report() {
     assert!(run.stdout.contains("cloud_to_patch"), "{}", run.stdout);
     let scene = read_scene(&t.path("sheet.spatch")).unwrap();
     assert!(!scene.patches().is_empty());
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = t.json("r.json");
     crate::report_schema::check_shared_keys(&report, "from-cloud");
     assert_eq!(report["counts"]["patches"], scene.patches().len());
     assert_eq!(report["details"]["points"], 14_400);
     assert!(report["counts"]["nodes"].as_u64().unwrap() < 14_400);
     assert!(report["counts"]["bytes"].as_u64().unwrap() > 0);
     // Stage order survives in the typed report.
-    let typed: spatch_eval::Report<serde_json::Value> =
-        serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    let typed: spatch_eval::Report<serde_json::Value> = t.json("r.json");
     let stages: Vec<&str> = typed.stages.names().collect();
     assert_eq!(stages.first(), Some(&"load"));
     assert_eq!(stages.last(), Some(&"write"));

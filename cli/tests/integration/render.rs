@@ -36,8 +36,7 @@ fn renders_png_depth_and_stats() {
     assert_eq!(png_size(&depth), (120, 90));
     assert_eq!(depth[24], 16, "16-bit depth");
     assert_eq!(depth[25], 0, "greyscale");
-    let stats: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("stats.json")).unwrap()).unwrap();
+    let stats: serde_json::Value = t.json("stats.json");
     for key in [
         "patch_nodes",
         "interpolated_nodes",
@@ -79,8 +78,7 @@ fn a_mip_limit_reports_its_cost_against_the_default() {
         "stats.json",
     ])
     .success();
-    let stats: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("stats.json")).unwrap()).unwrap();
+    let stats: serde_json::Value = t.json("stats.json");
     let mip = &stats["shortcuts"]["mip_limit_vs_default"];
     assert!(mip["shortcut_ms"].as_f64().unwrap() > 0.0, "{mip}");
     assert!(mip["reference_ms"].as_f64().unwrap() > 0.0, "{mip}");

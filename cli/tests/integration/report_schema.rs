@@ -77,10 +77,6 @@ pub(crate) fn check_shared_keys(value: &Value, command: &str) -> Report<Value> {
     report
 }
 
-fn read(t: &TestCommand, name: &str) -> Value {
-    serde_json::from_slice(&std::fs::read(t.path(name)).unwrap()).unwrap()
-}
-
 /// An icosphere of radius 1 as OBJ.
 pub(crate) fn write_ball(t: &TestCommand, name: &str, radius: f32) -> String {
     let shape = spatch_fixtures::shapes::icosphere(radius, 3);
@@ -153,10 +149,10 @@ fn every_command_writes_the_shared_shape() {
     ])
     .success();
 
-    let convert = check_shared_keys(&read(&t, "convert.json"), "convert");
-    let cloud = check_shared_keys(&read(&t, "cloud.json"), "from-cloud");
-    let earth = check_shared_keys(&read(&t, "earth.json"), "earth");
-    let eval = check_shared_keys(&read(&t, "eval.json"), "eval");
+    let convert = check_shared_keys(&t.json("convert.json"), "convert");
+    let cloud = check_shared_keys(&t.json("cloud.json"), "from-cloud");
+    let earth = check_shared_keys(&t.json("earth.json"), "earth");
+    let eval = check_shared_keys(&t.json("eval.json"), "eval");
 
     // The same scene measured by convert and by eval: same counts and the same error.
     assert_eq!(convert.counts, eval.counts);
@@ -173,9 +169,7 @@ fn every_command_writes_the_shared_shape() {
     assert_eq!(names(&earth), ["node_to_surface", "surface_to_patch"]);
     assert_eq!(names(&cloud), ["cloud_to_patch", "node_to_cloud"]);
     // Stages in the order they ran (read from the text: a `Value` sorts its keys).
-    let typed = |name: &str| -> Report<Value> {
-        serde_json::from_slice(&std::fs::read(t.path(name)).unwrap()).unwrap()
-    };
+    let typed = |name: &str| -> Report<Value> { t.json(name) };
     let (convert, earth, cloud, eval) = (
         typed("convert.json"),
         typed("earth.json"),

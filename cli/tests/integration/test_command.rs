@@ -45,6 +45,12 @@ impl TestCommand {
         }
     }
 
+    /// The JSON file `name` in the folder (a report or statistics),
+    /// deserialized as `T` (`serde_json::Value` for untyped access).
+    pub(crate) fn json<T: serde::de::DeserializeOwned>(&self, name: &str) -> T {
+        serde_json::from_slice(&std::fs::read(self.path(name)).unwrap()).unwrap()
+    }
+
     /// A path inside the folder.
     pub(crate) fn path(&self, name: &str) -> PathBuf {
         self.dir.path().join(name)

@@ -131,8 +131,7 @@ fn nan_in_a_point_cloud_is_dropped_and_counted() {
             "r.json",
         ])
         .success();
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(t.path("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = t.json("r.json");
     assert_eq!(report["details"]["dropped_non_finite"], 2, "{report}");
     assert_eq!(report["details"]["points"], 1600, "{report}");
     assert!(

@@ -54,7 +54,7 @@ pub(crate) fn convert_report(t: &TestCommand, input: &str, extra: &[&str]) -> se
     ];
     args.extend_from_slice(extra);
     t.run(&args).success();
-    serde_json::from_slice(&std::fs::read(t.path("report.json")).unwrap()).unwrap()
+    t.json("report.json")
 }
 
 /// `report.error.<side>.<stat>` as a number.
