@@ -61,6 +61,28 @@ fn renders_png_depth_and_stats() {
     );
     assert!(shortcuts["bilinear_vs_smooth"].get("psnr_db").is_some());
     assert!(shortcuts["mip_limit_vs_default"].is_null());
+    // Trimming is not the default; its cost is measured all the same.
+    assert_eq!(stats["overlap_cells_trimmed"], 0);
+    let trim = &shortcuts["trimmed_vs_kept_overlaps"];
+    assert!(trim["shortcut_ms"].as_f64().unwrap() > 0.0, "{trim}");
+}
+
+#[test]
+fn trim_overlaps_trims_the_default_sphere() {
+    // The small sphere's patches bend too much for the 1° normal test, so
+    // this takes the default one (1362 patches of 17 × 17).
+    let t = TestCommand::new();
+    t.run(&["sphere", "-o", "big.spatch"]).success();
+    let args = ["render", "big.spatch", "-o", "s.png", "--width", "200"];
+    let args = [&args[..], &["--height", "200", "--trim-overlaps"]].concat();
+    t.run(&[&args[..], &["--stats", "stats.json"]].concat())
+        .success();
+    let stats: serde_json::Value = t.json("stats.json");
+    let trimmed = stats["overlap_cells_trimmed"].as_u64().unwrap();
+    assert!(trimmed > 348_672 / 4, "{trimmed}");
+    assert_eq!(stats["overlap_cells_trimmable"], trimmed);
+    let trim = &stats["shortcuts"]["trimmed_vs_kept_overlaps"];
+    assert!(trim["psnr_db"].as_f64().unwrap() > 35.0, "{trim}");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Prints the statistics of a few frames of the perfect sphere (auto camera).
 //!
-//! `profile_sphere [SIZE=500] [THREADS=2] [FRAMES=20] [patches|triangles]`;
+//! `profile_sphere [SIZE=500] [THREADS=2] [FRAMES=20] [patches|triangles|trimmed]`
+//! (`trimmed`: patches, prepared with overlaps trimmed);
 //! under `valgrind --tool=callgrind`, run it with 1 and with N + 1 frames
 //! and take the difference over N for the instructions of one frame.
 fn main() {
@@ -9,10 +10,15 @@ fn main() {
     let threads: usize = arg(2).and_then(|s| s.parse().ok()).unwrap_or(2);
     let frames: usize = arg(3).and_then(|s| s.parse().ok()).unwrap_or(20).max(1);
     let triangles = arg(4).is_some_and(|m| m == "triangles");
+    let trimmed = arg(4).is_some_and(|m| m == "trimmed");
     let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
         .unwrap()
         .scene;
-    let prepared = spatch_render::PreparedScene::new(&scene);
+    let prepared = if trimmed {
+        spatch_render::PreparedScene::trimming_overlaps(&scene)
+    } else {
+        spatch_render::PreparedScene::new(&scene)
+    };
     let camera = prepared.auto_camera(size, size).unwrap();
     let mut options = spatch_render::RenderOptions::default();
     options.threads = threads;

@@ -46,6 +46,7 @@ mod mesh;
 mod mip;
 mod normal_buffer;
 mod options;
+mod overlap;
 mod plan;
 mod prepare;
 mod render;

@@ -62,21 +62,70 @@ impl MipLevel {
         displacements: Vec<u16>,
         colours: Option<Vec<[u8; 4]>>,
     ) -> Self {
+        let (ccols, crows) = (cols - 1, rows - 1);
+        let filled = |k: usize| displacements[k] != EMPTY;
+        let drawn: Vec<bool> = (0..ccols * crows)
+            .map(|c| {
+                let k = (c / ccols) * cols + c % ccols;
+                filled(k) && filled(k + 1) && filled(k + cols) && filled(k + cols + 1)
+            })
+            .collect();
+        let normal_slots = (0..rows)
+            .flat_map(|j| (0..cols).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let (gi, gj) = node_differences(&displacements, cols, rows, i, j, EMPTY);
+                table_slot(gi, gj)
+            })
+            .collect();
+        Self::with_drawn_cells(
+            [cols, rows],
+            spacing,
+            displacements,
+            colours,
+            normal_slots,
+            &drawn,
+        )
+    }
+
+    /// This level without the cells `trimmed` marks (row-major per cell;
+    /// see [`crate::overlap`]).
+    pub(crate) fn without_cells(&self, trimmed: &[bool]) -> Self {
+        let drawn: Vec<bool> = self
+            .cell_flags
+            .iter()
+            .zip(trimmed)
+            .map(|(&f, &t)| f & CELL_DRAW != 0 && !t)
+            .collect();
+        Self::with_drawn_cells(
+            [self.cols, self.rows],
+            self.spacing,
+            self.displacements.clone(),
+            self.colours.clone(),
+            self.normal_slots.clone(),
+            &drawn,
+        )
+    }
+
+    /// A level drawing the cells `drawn` marks (each with four filled
+    /// corners).
+    fn with_drawn_cells(
+        [cols, rows]: [usize; 2],
+        spacing: u32,
+        displacements: Vec<u16>,
+        colours: Option<Vec<[u8; 4]>>,
+        normal_slots: Vec<u16>,
+        drawn: &[bool],
+    ) -> Self {
         let mut used = vec![false; cols * rows];
         let mut drawable_cells = 0;
         let (ccols, crows) = (cols - 1, rows - 1);
         let mut cell_flags = vec![0u8; ccols * crows];
-        for j in 0..rows - 1 {
-            for i in 0..cols - 1 {
-                let k = j * cols + i;
-                let corners = [k, k + 1, k + cols, k + cols + 1];
-                if corners.iter().all(|&c| displacements[c] != EMPTY) {
-                    drawable_cells += 1;
-                    cell_flags[j * ccols + i] = CELL_DRAW;
-                    for c in corners {
-                        used[c] = true;
-                    }
-                }
+        for (c, _) in drawn.iter().enumerate().filter(|&(_, &d)| d) {
+            let k = (c / ccols) * cols + c % ccols;
+            drawable_cells += 1;
+            cell_flags[c] = CELL_DRAW;
+            for corner in [k, k + 1, k + cols, k + cols + 1] {
+                used[corner] = true;
             }
         }
         let mut lo = u16::MAX;
@@ -91,13 +140,6 @@ impl MipLevel {
         let mut weights = Vec::with_capacity(displacements.len());
         push_weights(&displacements, d_range, &mut weights);
         let closing = close_cells(&mut cell_flags, ccols, crows);
-        let normal_slots = (0..rows)
-            .flat_map(|j| (0..cols).map(move |i| (i, j)))
-            .map(|(i, j)| {
-                let (gi, gj) = node_differences(&displacements, cols, rows, i, j, EMPTY);
-                table_slot(gi, gj)
-            })
-            .collect();
         Self {
             cols,
             rows,
@@ -114,14 +156,10 @@ impl MipLevel {
         }
     }
 
-    /// True when the four corners of cell `(i, j)` are filled.
+    /// True when cell `(i, j)` is drawn: its four corners are filled and it
+    /// was not trimmed away ([`crate::overlap`]).
     pub(crate) fn cell_is_drawable(&self, i: usize, j: usize) -> bool {
-        let k = j * self.cols + i;
-        let d = &self.displacements;
-        d[k] != EMPTY
-            && d[k + 1] != EMPTY
-            && d[k + self.cols] != EMPTY
-            && d[k + self.cols + 1] != EMPTY
+        self.cell_flags[j * (self.cols - 1) + i] & CELL_DRAW != 0
     }
 }
 

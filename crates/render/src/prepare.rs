@@ -120,11 +120,25 @@ pub struct PreparedScene {
     pub(crate) bounds: Option<(DVec3, DVec3)>,
     pub(crate) sphere: Option<(DVec3, f64)>,
     skipped: usize,
+    trimmed_cells: u64,
 }
 
 impl PreparedScene {
     /// Prepares `scene`. Patches without a drawable cell are left out.
     pub fn new(scene: &Scene) -> Self {
+        Self::prepare(scene, false)
+    }
+
+    /// Prepares `scene` and trims the level-0 cells that an earlier patch
+    /// already draws ([`crate::overlap`]): frames of scenes whose patches
+    /// overlap draw fewer cells, for a one-off cost here (the perfect
+    /// sphere: 98,559 of 348,672 cells, about 12 % of each 500² frame, for
+    /// about 45 ms).
+    pub fn trimming_overlaps(scene: &Scene) -> Self {
+        Self::prepare(scene, true)
+    }
+
+    fn prepare(scene: &Scene, trim: bool) -> Self {
         let offset = scene.offset();
         let mut patches: Vec<PreparedPatch> = Vec::with_capacity(scene.patches().len());
         let mut skipped = 0;
@@ -167,15 +181,6 @@ impl PreparedScene {
             let radius = (phi - plo).length() * 0.5;
             lo = lo.min(plo);
             hi = hi.max(phi);
-            let shading = levels
-                .iter()
-                .enumerate()
-                .map(|(m, level)| {
-                    let s = (1u32 << m) as f32;
-                    let level_ratios = (ratios.0 / s, ratios.1 / s);
-                    LevelShading::new(level, m, level_ratios, &mut buffer)
-                })
-                .collect();
             patches.push(PreparedPatch {
                 origin,
                 axes,
@@ -185,8 +190,21 @@ impl PreparedScene {
                 centre,
                 radius,
                 levels,
-                shading,
+                shading: Vec::new(),
             });
+        }
+        let trimmed_cells = if trim {
+            crate::overlap::trim_overlaps(&mut patches)
+        } else {
+            0
+        };
+        for p in &mut patches {
+            p.shading = p
+                .levels
+                .iter()
+                .enumerate()
+                .map(|(m, level)| LevelShading::new(level, m, p.ratios_at(m), &mut buffer))
+                .collect();
         }
         let bounds = (!patches.is_empty()).then_some((lo, hi));
         // Bounding sphere: the box centre, and the farthest patch-box corner.
@@ -209,6 +227,7 @@ impl PreparedScene {
             bounds,
             sphere,
             skipped,
+            trimmed_cells,
         }
     }
 
@@ -220,6 +239,12 @@ impl PreparedScene {
     /// Patches left out because they have no drawable cell.
     pub fn skipped_patches(&self) -> usize {
         self.skipped
+    }
+
+    /// Level-0 cells left out because an earlier patch draws them (0 unless
+    /// prepared with [`Self::trimming_overlaps`]).
+    pub fn trimmed_cells(&self) -> u64 {
+        self.trimmed_cells
     }
 
     /// Model-space box of the scene (loose: built from patch boxes).

@@ -1,11 +1,13 @@
 //! What the rendering shortcuts save and cost: the same frame rendered with
 //! trilinear and with exact projection, with bilinear and with smooth
-//! cells, and (when it is not the default) with the chosen mip limit and
-//! the default one, timed (median of a few runs) and compared by PSNR.
+//! cells, (when it is not the default) with the chosen mip limit and the
+//! default one, and (when the caller passes both preparations) with
+//! overlaps trimmed and kept, timed (median of a few runs) and compared by
+//! PSNR.
 //!
 //! The reference of each pair is the costlier variant (exact projection,
-//! smooth cells, the default mip limit); every other option is kept. Cost:
-//! `2 × runs` frames per pair.
+//! smooth cells, the default mip limit, every overlap kept); every other
+//! option is kept. Cost: `2 × runs` frames per pair.
 
 use serde::Serialize;
 
@@ -37,6 +39,9 @@ pub struct ShortcutCosts {
     /// The chosen mip limit (shortcut) versus the default one (reference);
     /// `None` (JSON null) when the default is chosen.
     pub mip_limit_vs_default: Option<ShortcutCost>,
+    /// Overlaps trimmed at preparation (shortcut) versus kept (reference);
+    /// `None` (JSON null) when not measured.
+    pub trimmed_vs_kept_overlaps: Option<ShortcutCost>,
     /// Frames timed per variant.
     pub runs: usize,
 }
@@ -59,24 +64,32 @@ fn time_variant(
     Ok((times[times.len() / 2], image))
 }
 
-/// Measures the shortcuts on `scene` from `camera`, `runs` (≥ 1) frames each.
+/// Measures the shortcuts on `scene` from `camera`, `runs` (≥ 1) frames
+/// each; `overlaps` is the same scene prepared with
+/// [`PreparedScene::trimming_overlaps`] and with [`PreparedScene::new`]
+/// when the trimming is to be measured.
 pub fn measure_shortcuts(
     scene: &PreparedScene,
+    overlaps: Option<(&PreparedScene, &PreparedScene)>,
     camera: &Camera,
     options: &RenderOptions,
     runs: usize,
 ) -> Result<ShortcutCosts, RenderError> {
     let runs = runs.max(1);
-    let pair =
-        |shortcut: RenderOptions, reference: RenderOptions| -> Result<ShortcutCost, RenderError> {
-            let (shortcut_ms, a) = time_variant(scene, camera, shortcut, runs)?;
-            let (reference_ms, b) = time_variant(scene, camera, reference, runs)?;
-            Ok(ShortcutCost {
-                shortcut_ms,
-                reference_ms,
-                psnr_db: a.psnr(&b),
-            })
-        };
+    let scenes = |shortcut: &PreparedScene,
+                  reference: &PreparedScene,
+                  a: RenderOptions,
+                  b: RenderOptions|
+     -> Result<ShortcutCost, RenderError> {
+        let (shortcut_ms, a) = time_variant(shortcut, camera, a, runs)?;
+        let (reference_ms, b) = time_variant(reference, camera, b, runs)?;
+        Ok(ShortcutCost {
+            shortcut_ms,
+            reference_ms,
+            psnr_db: a.psnr(&b),
+        })
+    };
+    let pair = |a: RenderOptions, b: RenderOptions| scenes(scene, scene, a, b);
     let with = |p: Projection, c: CellScheme| RenderOptions {
         projection: p,
         cells: c,
@@ -99,6 +112,10 @@ pub fn measure_shortcuts(
                 ..*options
             };
             Some(pair(*options, default)?)
+        },
+        trimmed_vs_kept_overlaps: match overlaps {
+            Some((trimmed, kept)) => Some(scenes(trimmed, kept, *options, *options)?),
+            None => None,
         },
         runs,
     })
