@@ -16,7 +16,7 @@
 use spatch_format::{Patch, EMPTY};
 
 use crate::normal_buffer::{node_differences, table_slot};
-use crate::traverse::{close_cells, push_weights, CELL_DRAW};
+use crate::traverse::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
@@ -52,6 +52,10 @@ pub(crate) struct MipLevel {
     pub(crate) cell_flags: Vec<u8>,
     /// Closing counts of [`Self::cell_flags`]: right, top, both.
     pub(crate) closing: [u64; 3],
+    /// When some cells are not drawn, the edge masks of
+    /// [`crate::traverse::drawn_edge_masks`] for [`Self::cell_flags`], so a
+    /// frame drawing the whole level need not build them.
+    pub(crate) edge_masks: Option<(Vec<i32>, Vec<i32>)>,
 }
 
 impl MipLevel {
@@ -140,6 +144,11 @@ impl MipLevel {
         let mut weights = Vec::with_capacity(displacements.len());
         push_weights(&displacements, d_range, &mut weights);
         let closing = close_cells(&mut cell_flags, ccols, crows);
+        let edge_masks = ((drawable_cells as usize) < ccols * crows).then(|| {
+            let (mut um, mut vm) = (Vec::new(), Vec::new());
+            drawn_edge_masks(&cell_flags, cols, rows, &mut um, &mut vm);
+            (um, vm)
+        });
         Self {
             cols,
             rows,
@@ -153,6 +162,7 @@ impl MipLevel {
             drawable_cells,
             cell_flags,
             closing,
+            edge_masks,
         }
     }
 
