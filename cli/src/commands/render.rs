@@ -127,8 +127,8 @@ pub(crate) struct RenderArgs {
     /// Trim, once per scene, the level-0 cells that an earlier patch
     /// already draws (same surface within 5 % of a cell, normals within
     /// 1°): each frame then draws fewer cells where patches overlap, for a
-    /// one-off cost (the perfect sphere: 12 % fewer instructions per 500²
-    /// frame for about 45 ms). Worth it with --bench or many frames.
+    /// one-off cost (the perfect sphere: 13 % fewer instructions per 500²
+    /// frame for about 50 ms). Worth it with --bench or many frames.
     #[arg(long)]
     trim_overlaps: bool,
     /// Guard band beyond each viewport side, as a fraction of its size, 0..=1.
