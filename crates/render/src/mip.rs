@@ -93,7 +93,7 @@ impl MipLevel {
 
     /// This level without the cells `trimmed` marks (row-major per cell;
     /// see [`crate::overlap`]).
-    pub(crate) fn without_cells(&self, trimmed: &[bool]) -> Self {
+    pub(crate) fn without_cells(self, trimmed: &[bool]) -> Self {
         let drawn: Vec<bool> = self
             .cell_flags
             .iter()
@@ -103,9 +103,9 @@ impl MipLevel {
         Self::with_drawn_cells(
             [self.cols, self.rows],
             self.spacing,
-            self.displacements.clone(),
-            self.colours.clone(),
-            self.normal_slots.clone(),
+            self.displacements,
+            self.colours,
+            self.normal_slots,
             &drawn,
         )
     }
@@ -164,6 +164,11 @@ impl MipLevel {
             closing,
             edge_masks,
         }
+    }
+
+    /// True when every cell of the level is drawn.
+    pub(crate) fn draws_every_cell(&self) -> bool {
+        self.drawable_cells as usize == self.cell_flags.len()
     }
 
     /// True when cell `(i, j)` is drawn: its four corners are filled and it

@@ -100,8 +100,12 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
                         continue;
                     };
                     let corners = [a, b, c, d];
-                    let normal =
-                        (nodes[n + cols + 1] - nodes[n]).cross(nodes[n + cols] - nodes[n + 1]);
+                    let normal = diagonal_normal(
+                        nodes[n],
+                        nodes[n + 1],
+                        nodes[n + cols],
+                        nodes[n + cols + 1],
+                    );
                     let agree = corners.iter().all(|c| normals_agree(c.normal, normal));
                     if !agree || !span_fits(&corners) {
                         continue;
@@ -115,7 +119,8 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
     }
     for (patch, cells) in patches.iter_mut().zip(&trimmed) {
         if cells.iter().any(|&t| t) {
-            patch.levels[0] = patch.levels[0].without_cells(cells);
+            let level = patch.levels.remove(0);
+            patch.levels.insert(0, level.without_cells(cells));
         }
     }
     count
@@ -158,6 +163,12 @@ fn level_nodes(p: &PreparedPatch) -> Vec<DVec3> {
         }
     }
     out
+}
+
+/// Normal (not unit) of the cell with corners `x00, x10, x01, x11`: the
+/// cross product of its diagonals.
+fn diagonal_normal(x00: DVec3, x10: DVec3, x01: DVec3, x11: DVec3) -> DVec3 {
+    (x11 - x00).cross(x01 - x10)
 }
 
 /// True when the angle between `a` and `b` (any lengths) is within the
@@ -254,9 +265,9 @@ struct Cover<'a> {
     /// `|az|` over the smaller node spacing: a height code difference in
     /// node spacings.
     height_scale: f64,
-    /// Per level from 1 on, whether every cell is drawn: the margin test of
-    /// level 0 then stands for it (every level spans the same extent).
-    whole: Vec<bool>,
+    /// Every cell of every coarser level is drawn: level 0's margin test
+    /// then stands for them all (every level spans the same extent).
+    coarse_whole: bool,
 }
 
 impl<'a> Cover<'a> {
@@ -267,10 +278,7 @@ impl<'a> Cover<'a> {
             trimmed,
             inverse_axes: patch.axes.map(|a| a / a.length_squared()),
             height_scale: patch.axes[2].length() / spacing,
-            whole: patch.levels[1..]
-                .iter()
-                .map(|l| l.drawable_cells as usize == (l.cols - 1) * (l.rows - 1))
-                .collect(),
+            coarse_whole: patch.levels[1..].iter().all(MipLevel::draws_every_cell),
         }
     }
 
@@ -317,19 +325,23 @@ impl<'a> Cover<'a> {
                     [floor_index(u1), floor_index(v1)],
                 )
         };
-        let coarse = q.levels[1..].iter().zip(&self.whole);
+        // A coarser level with every cell drawn spans level 0's extent, so
+        // level 0's test stands for it.
         let all_levels = block_inside(base, self.trimmed)
-            && coarse
-                .filter(|(_, &w)| !w)
-                .all(|(l, _)| block_inside(l, &[]));
-        // The normal of the cover's cell there (cross product of its
-        // diagonals, in model space).
-        let dz = |i: usize, j: usize| q.axes[2] * d(i, j);
-        let rising = q.axes[0] + q.axes[1] + dz(fi + 1, fj + 1) - dz(fi, fj);
-        let falling = q.axes[1] - q.axes[0] + dz(fi, fj + 1) - dz(fi + 1, fj);
+            && (self.coarse_whole
+                || q.levels[1..]
+                    .iter()
+                    .all(|l| l.draws_every_cell() || block_inside(l, &[])));
+        // The cover's cell there, its corners relative to node (fi, fj)
+        // (the normal does not depend on where the cell sits).
+        let corner = |i: usize, j: usize| {
+            q.axes[0] * i as u32 as f64
+                + q.axes[1] * j as u32 as f64
+                + q.axes[2] * d(fi + i, fj + j)
+        };
         all_levels.then(|| Corner {
             uv: [u, v],
-            normal: rising.cross(falling),
+            normal: diagonal_normal(corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)),
         })
     }
 }
