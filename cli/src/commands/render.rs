@@ -131,6 +131,11 @@ pub(crate) struct RenderArgs {
     /// frame for about 50 ms). Worth it with --bench or many frames.
     #[arg(long)]
     trim_overlaps: bool,
+    /// Rows per framebuffer band, 4..=256: the unit of work a thread takes.
+    /// Taller bands walk fewer cells twice; shorter ones keep a band's
+    /// buffer in a smaller cache and share the work more evenly.
+    #[arg(long, value_name = "ROWS", default_value_t = RenderOptions::DEFAULT_TILE_ROWS)]
+    tile_rows: u32,
     /// Guard band beyond each viewport side, as a fraction of its size, 0..=1.
     #[arg(long, value_name = "FRACTION", default_value_t = RenderOptions::DEFAULT_GUARD_BAND)]
     guard_band: f32,
@@ -214,6 +219,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.mip = !args.no_mip;
     o.mip_limit = args.mip_limit;
     o.guard_band = args.guard_band;
+    o.tile_rows = args.tile_rows;
     if let Some(bg) = args.background {
         o.background = bg;
     }
@@ -254,14 +260,14 @@ fn classify(err: RenderError) -> anyhow::Error {
 /// Renders (and benchmarks) the scene and writes the requested files.
 pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (scene, _) = read_spatch(&args.input)?;
-    let prepared = if args.trim_overlaps {
-        PreparedScene::trimming_overlaps(&scene)
-    } else {
-        PreparedScene::new(&scene)
-    };
-    let camera = camera(args, &prepared).map_err(classify)?;
     let options = render_options(args);
     let mut renderer = Renderer::new(options).map_err(classify)?;
+    let prepared = if args.trim_overlaps {
+        renderer.prepare_trimming_overlaps(&scene)
+    } else {
+        renderer.prepare(&scene)
+    };
+    let camera = camera(args, &prepared).map_err(classify)?;
     let out = renderer.render(&prepared, &camera).map_err(classify)?;
     if let Some(frames) = args.bench {
         bench(
@@ -283,9 +289,9 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.stats {
         // The other preparation, for the cost of trimming.
         let other = if args.trim_overlaps {
-            PreparedScene::new(&scene)
+            renderer.prepare(&scene)
         } else {
-            PreparedScene::trimming_overlaps(&scene)
+            renderer.prepare_trimming_overlaps(&scene)
         };
         let overlaps = if args.trim_overlaps {
             (&prepared, &other)

@@ -34,9 +34,11 @@
 //! corners a normal and span test. See docs/algorithms/overlap.md.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
 use crate::mip::MipLevel;
 use crate::prepare::PreparedPatch;
+use crate::traverse::CELL_DRAW;
 
 /// Largest distance between a trimmed cell's corners and the covering
 /// surface, in units of the covering patch's node spacing.
@@ -61,69 +63,115 @@ const MIN_AXIS_COS: f64 = 0.5;
 
 /// Trims level 0 of every patch against its neighbours (see the module
 /// header). Returns the number of cells trimmed.
+///
+/// Why two passes: a cover's trimmed cells must be final before a later
+/// patch relies on them, which orders the patches. The geometric search
+/// ignores trimming and runs on every patch at once; it records, for each
+/// cell and cover, the cover's level-0 cells the corners' margins rest on.
+/// A serial pass in scene order then trims a cell when one of its covers
+/// has none of those cells trimmed: the same cells as a serial search, for
+/// a fraction of its time on one core.
 pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
     let neighbours = neighbours(patches);
+    let shared: &[PreparedPatch] = patches;
+    let found: Vec<Vec<Candidate>> = (0..shared.len())
+        .into_par_iter()
+        .map(|p| candidates(shared, p, &neighbours[p]))
+        .collect();
     let cells = |p: &PreparedPatch| vec![false; p.levels[0].cell_flags.len()];
     let mut trimmed: Vec<Vec<bool>> = patches.iter().map(cells).collect();
     let mut count = 0;
-    for p in 0..patches.len() {
-        let level = &patches[p].levels[0];
-        let (cols, ccols) = (level.cols, level.cols - 1);
-        let nodes = level_nodes(&patches[p]);
-        let mut covers = vec![None; nodes.len()];
-        let mut ranges = Vec::with_capacity(level.rows);
+    for (p, list) in found.iter().enumerate() {
         // Covers come before `p`, so their trimmed cells are final here.
         let mut mine = std::mem::take(&mut trimmed[p]);
-        for &q in &neighbours[p] {
-            row_ranges(&patches[p], &patches[q], &mut ranges);
-            let cover = Cover::new(&patches[q], &trimmed[q]);
-            for (j, range) in ranges.iter().enumerate() {
-                for i in range.clone() {
-                    covers[j * cols + i] = cover.covered_corner(nodes[j * cols + i]);
-                }
-            }
-            for (j, pair) in ranges.windows(2).enumerate() {
-                // Cells with all four corners in both rows' ranges.
-                let (first, end) = (
-                    pair[0].start.max(pair[1].start),
-                    pair[0].end.min(pair[1].end),
-                );
-                for i in first..end.saturating_sub(1) {
-                    let k = j * ccols + i;
-                    if mine[k] || !level.cell_is_drawable(i, j) {
-                        continue;
-                    }
-                    let n = j * cols + i;
-                    let [Some(a), Some(b), Some(c), Some(d)] =
-                        [n, n + 1, n + cols, n + cols + 1].map(|c| covers[c])
-                    else {
-                        continue;
-                    };
-                    let corners = [a, b, c, d];
-                    let normal = diagonal_normal(
-                        nodes[n],
-                        nodes[n + 1],
-                        nodes[n + cols],
-                        nodes[n + cols + 1],
-                    );
-                    let agree = corners.iter().all(|c| normals_agree(c.normal, normal));
-                    if !agree || !span_fits(&corners) {
-                        continue;
-                    }
-                    mine[k] = true;
-                    count += 1;
-                }
+        for c in list {
+            let cover = &trimmed[c.cover as usize];
+            let ccols = patches[c.cover as usize].levels[0].cols - 1;
+            let untrimmed = |b: &[u8; 4]| {
+                (b[1] as usize..=b[3] as usize).all(|j| {
+                    let row = &cover[j * ccols..(j + 1) * ccols];
+                    !row[b[0] as usize..=b[2] as usize].contains(&true)
+                })
+            };
+            if !mine[c.cell as usize] && c.blocks.iter().all(untrimmed) {
+                mine[c.cell as usize] = true;
+                count += 1;
             }
         }
         trimmed[p] = mine;
     }
-    for (patch, cells) in patches.iter_mut().zip(&trimmed) {
-        if cells.iter().any(|&t| t) {
+    patches
+        .par_iter_mut()
+        .zip(&trimmed)
+        .filter(|(_, cells)| cells.contains(&true))
+        .for_each(|(patch, cells)| {
             let level = patch.levels.remove(0);
             patch.levels.insert(0, level.without_cells(cells));
+        });
+    count
+}
+
+/// A level-0 cell of a patch that a cover draws unless the cover loses one
+/// of the cells its corners' margins rest on.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    /// The cell (row-major).
+    cell: u32,
+    /// The covering patch (earlier in the scene).
+    cover: u32,
+    /// Per corner, the cover's level-0 cells under its margin: first
+    /// column, first row, last column, last row.
+    blocks: [[u8; 4]; 4],
+}
+
+/// The cells of patch `p` that its earlier neighbours `covers` draw as far
+/// as geometry goes (none of the covers' cells trimmed), in cover order.
+fn candidates(patches: &[PreparedPatch], p: usize, covers: &[usize]) -> Vec<Candidate> {
+    let level = &patches[p].levels[0];
+    let (cols, ccols) = (level.cols, level.cols - 1);
+    let nodes = level_nodes(&patches[p]);
+    let mut corners = vec![None; nodes.len()];
+    let mut ranges = Vec::with_capacity(level.rows);
+    let mut found = Vec::new();
+    for &q in covers {
+        row_ranges(&patches[p], &patches[q], &mut ranges);
+        let cover = Cover::new(&patches[q]);
+        for (j, range) in ranges.iter().enumerate() {
+            for i in range.clone() {
+                corners[j * cols + i] = cover.covered_corner(nodes[j * cols + i]);
+            }
+        }
+        for (j, pair) in ranges.windows(2).enumerate() {
+            // Cells with all four corners in both rows' ranges.
+            let (first, end) = (
+                pair[0].start.max(pair[1].start),
+                pair[0].end.min(pair[1].end),
+            );
+            for i in first..end.saturating_sub(1) {
+                if !level.cell_is_drawable(i, j) {
+                    continue;
+                }
+                let n = j * cols + i;
+                let [Some(a), Some(b), Some(c), Some(d)] =
+                    [n, n + 1, n + cols, n + cols + 1].map(|c| corners[c])
+                else {
+                    continue;
+                };
+                let four = [a, b, c, d];
+                let normal =
+                    diagonal_normal(nodes[n], nodes[n + 1], nodes[n + cols], nodes[n + cols + 1]);
+                let agree = four.iter().all(|c| normals_agree(c.normal, normal));
+                if agree && span_fits(&four) {
+                    found.push(Candidate {
+                        cell: (j * ccols + i) as u32,
+                        cover: q as u32,
+                        blocks: four.map(|c| c.block),
+                    });
+                }
+            }
         }
     }
-    count
+    found
 }
 
 /// For each patch, the patches before it whose bounding spheres meet its
@@ -252,14 +300,15 @@ struct Corner {
     uv: [f64; 2],
     /// Normal of the cover's cell holding it (not unit).
     normal: DVec3,
+    /// The cover's level-0 cells under the margin around it: first column,
+    /// first row, last column, last row.
+    block: [u8; 4],
 }
 
 /// One patch seen as a cover: grid coordinates of a point and the tests of
 /// [`Cover::covered_corner`], with the per-patch factors computed once.
 struct Cover<'a> {
     patch: &'a PreparedPatch,
-    /// Level-0 cells already trimmed from this patch.
-    trimmed: &'a [bool],
     /// `axes[k] / |axes[k]|²`: dot products give grid coordinates.
     inverse_axes: [DVec3; 3],
     /// `|az|` over the smaller node spacing: a height code difference in
@@ -271,11 +320,10 @@ struct Cover<'a> {
 }
 
 impl<'a> Cover<'a> {
-    fn new(patch: &'a PreparedPatch, trimmed: &'a [bool]) -> Self {
+    fn new(patch: &'a PreparedPatch) -> Self {
         let spacing = patch.axes[0].length().min(patch.axes[1].length());
         Self {
             patch,
-            trimmed,
             inverse_axes: patch.axes.map(|a| a / a.length_squared()),
             height_scale: patch.axes[2].length() / spacing,
             coarse_whole: patch.levels[1..].iter().all(MipLevel::draws_every_cell),
@@ -312,26 +360,27 @@ impl<'a> Cover<'a> {
             return None;
         }
         let margin = MIN_MARGIN + offset * MAX_TAN;
-        let block_inside = |level: &MipLevel, trimmed: &[bool]| {
+        // The cells of `level` under the margin, when it lies inside it.
+        let block = |level: &MipLevel| {
             let s = level.spacing as f64;
             let (u0, v0) = ((u - margin) / s, (v - margin) / s);
             let (u1, v1) = ((u + margin) / s, (v + margin) / s);
-            inside(u0, v0, level)
-                && inside(u1, v1, level)
-                && block_is_drawn(
-                    level,
-                    trimmed,
-                    [floor_index(u0), floor_index(v0)],
-                    [floor_index(u1), floor_index(v1)],
-                )
+            (inside(u0, v0, level) && inside(u1, v1, level)).then(|| {
+                [
+                    floor_index(u0),
+                    floor_index(v0),
+                    floor_index(u1),
+                    floor_index(v1),
+                ]
+            })
         };
+        let base_block = block(base).filter(|b| block_is_drawn(base, b))?;
         // A coarser level with every cell drawn spans level 0's extent, so
         // level 0's test stands for it.
-        let all_levels = block_inside(base, self.trimmed)
-            && (self.coarse_whole
-                || q.levels[1..]
-                    .iter()
-                    .all(|l| l.draws_every_cell() || block_inside(l, &[])));
+        let all_levels = self.coarse_whole
+            || q.levels[1..]
+                .iter()
+                .all(|l| l.draws_every_cell() || block(l).is_some_and(|b| block_is_drawn(l, &b)));
         // The cover's cell there, its corners relative to node (fi, fj)
         // (the normal does not depend on where the cell sits).
         let corner = |i: usize, j: usize| {
@@ -342,6 +391,8 @@ impl<'a> Cover<'a> {
         all_levels.then(|| Corner {
             uv: [u, v],
             normal: diagonal_normal(corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)),
+            // Grids have at most 256 nodes a side.
+            block: base_block.map(|x| x as u8),
         })
     }
 }
@@ -359,14 +410,13 @@ fn floor_index(x: f64) -> usize {
     x as i32 as usize
 }
 
-/// True when every cell of `level` from `lo` to `hi` (inclusive column and
-/// row) is drawn and not in `trimmed` (empty: none trimmed).
-fn block_is_drawn(level: &MipLevel, trimmed: &[bool], lo: [usize; 2], hi: [usize; 2]) -> bool {
+/// True when every cell of `level` in `block` (first column, first row,
+/// last column, last row) is drawn.
+fn block_is_drawn(level: &MipLevel, block: &[usize; 4]) -> bool {
     let ccols = level.cols - 1;
-    (lo[1]..=hi[1]).all(|j| {
-        (lo[0]..=hi[0]).all(|i| {
-            level.cell_is_drawable(i, j) && !trimmed.get(j * ccols + i).copied().unwrap_or(false)
-        })
+    (block[1]..=block[3]).all(|j| {
+        let row = &level.cell_flags[j * ccols..(j + 1) * ccols];
+        row[block[0]..=block[2]].iter().all(|f| f & CELL_DRAW != 0)
     })
 }
 
@@ -425,6 +475,31 @@ mod tests {
         assert_eq!(got, vec![vec![], expected]);
         assert_eq!(prepared.trimmed_cells(), 18);
         assert_eq!(PreparedScene::new(&s).trimmed_cells(), 0);
+    }
+
+    #[test]
+    fn a_cell_never_rests_on_a_trimmed_cell() {
+        // Patches 0, 1, 2 span x 0..8, 4..12 and 6..14 of one plane. Patch 1
+        // loses columns 0..=2 (x 4..7) to patch 0. Patch 2 loses column 0
+        // (x 6..7) to patch 0 and columns 2..=4 (x 8..11) to patch 1; its
+        // column 1 (x 7..8) lies inside patch 1 too, but the margin around
+        // its corners at x = 7 rests on patch 1's trimmed column 2.
+        let s = scene(vec![
+            flat(Vec3::ZERO, Vec3::X, Vec3::Y, 7),
+            flat(Vec3::new(4.0, 0.0, 0.0), Vec3::X, Vec3::Y, 7),
+            flat(Vec3::new(6.0, 0.0, 0.0), Vec3::X, Vec3::Y, 7),
+        ]);
+        let prepared = PreparedScene::trimming_overlaps(&s);
+        let rows = |cols: &[usize]| -> Vec<(usize, usize)> {
+            (1..=6)
+                .flat_map(|j| cols.iter().map(move |&i| (i, j)))
+                .collect()
+        };
+        let mut got = undrawn(&prepared);
+        got.iter_mut()
+            .for_each(|cells| cells.sort_by_key(|&(i, j)| (j, i)));
+        assert_eq!(got, vec![vec![], rows(&[0, 1, 2]), rows(&[0, 2, 3, 4])]);
+        assert_eq!(prepared.trimmed_cells(), 42);
     }
 
     #[test]

@@ -98,6 +98,18 @@ impl Renderer {
         self.pool.current_num_threads()
     }
 
+    /// Prepares `scene` on this renderer's threads ([`PreparedScene::new`]).
+    pub fn prepare(&self, scene: &Scene) -> PreparedScene {
+        self.pool.install(|| PreparedScene::new(scene))
+    }
+
+    /// Prepares `scene` with its overlaps trimmed, on this renderer's
+    /// threads ([`PreparedScene::trimming_overlaps`]).
+    pub fn prepare_trimming_overlaps(&self, scene: &Scene) -> PreparedScene {
+        self.pool
+            .install(|| PreparedScene::trimming_overlaps(scene))
+    }
+
     fn setup<'a>(&self, view: &'a View, options: &'a RenderOptions) -> FrameSetup<'a> {
         let (z_scale, z_offset) = view.depth_scale();
         let [r, g, b] = options.lighting.base_colour;

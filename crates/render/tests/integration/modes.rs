@@ -4,7 +4,7 @@
 
 use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions, Renderer, Shading};
 
-use crate::common::{known_camera, prepared_sphere};
+use crate::common::{known_camera, prepared_sphere, sphere_scene};
 
 fn render(options: RenderOptions, distance: f64, size: u32) -> spatch_render::RenderOutput {
     Renderer::new(options)
@@ -55,6 +55,44 @@ fn one_and_many_threads_give_the_same_image() {
             assert_eq!(one.stats.normals_needed, three.stats.normals_needed);
         }
     }
+}
+
+#[test]
+fn preparation_does_not_depend_on_the_thread_count() {
+    // Patches are prepared (and overlaps searched) in parallel on the
+    // renderer's threads; the scene must come out the same.
+    let camera = known_camera(420.0, 300);
+    let mut images = Vec::new();
+    for threads in [1, 2, 3] {
+        let mut o = RenderOptions::default();
+        o.threads = threads;
+        let mut renderer = Renderer::new(o).unwrap();
+        for trim in [false, true] {
+            let prepared = if trim {
+                renderer.prepare_trimming_overlaps(sphere_scene())
+            } else {
+                renderer.prepare(sphere_scene())
+            };
+            let out = renderer.render(&prepared, &camera).unwrap();
+            images.push((threads, trim, prepared.trimmed_cells(), out.image));
+        }
+    }
+    for (threads, trim, cells, image) in &images[2..] {
+        let (_, _, first_cells, first) = &images[*trim as usize];
+        assert_eq!(cells, first_cells, "{threads} threads, trim {trim}");
+        assert!(image == first, "{threads} threads, trim {trim}");
+    }
+    assert!(images[1].2 > 80_000, "{}", images[1].2);
+    assert!(images[0].3 == prepared_sphere_image(&camera));
+}
+
+/// The image of the shared prepared sphere (prepared on the global pool).
+fn prepared_sphere_image(camera: &spatch_render::Camera) -> spatch_render::RenderedImage {
+    Renderer::new(RenderOptions::default())
+        .unwrap()
+        .render(prepared_sphere(), camera)
+        .unwrap()
+        .image
 }
 
 #[test]
