@@ -15,7 +15,7 @@
 
 use spatch_format::{Patch, EMPTY};
 
-use crate::normal_buffer::{node_differences, table_slot};
+use crate::normal_buffer::grid_slots;
 use crate::traverse::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 
 /// Most levels kept per patch (including level 0).
@@ -68,19 +68,16 @@ impl MipLevel {
     ) -> Self {
         let (ccols, crows) = (cols - 1, rows - 1);
         let filled = |k: usize| displacements[k] != EMPTY;
-        let drawn: Vec<bool> = (0..ccols * crows)
-            .map(|c| {
-                let k = (c / ccols) * cols + c % ccols;
-                filled(k) && filled(k + 1) && filled(k + cols) && filled(k + cols + 1)
-            })
-            .collect();
-        let normal_slots = (0..rows)
-            .flat_map(|j| (0..cols).map(move |i| (i, j)))
-            .map(|(i, j)| {
-                let (gi, gj) = node_differences(&displacements, cols, rows, i, j, EMPTY);
-                table_slot(gi, gj)
-            })
-            .collect();
+        let mut drawn = Vec::with_capacity(ccols * crows);
+        for j in 0..crows {
+            let k = j * cols;
+            drawn.extend(
+                (k..k + ccols).map(|k| {
+                    filled(k) && filled(k + 1) && filled(k + cols) && filled(k + cols + 1)
+                }),
+            );
+        }
+        let normal_slots = grid_slots(&displacements, cols, rows, EMPTY);
         Self::with_drawn_cells(
             [cols, rows],
             spacing,
@@ -124,12 +121,14 @@ impl MipLevel {
         let mut drawable_cells = 0;
         let (ccols, crows) = (cols - 1, rows - 1);
         let mut cell_flags = vec![0u8; ccols * crows];
-        for (c, _) in drawn.iter().enumerate().filter(|&(_, &d)| d) {
-            let k = (c / ccols) * cols + c % ccols;
-            drawable_cells += 1;
-            cell_flags[c] = CELL_DRAW;
-            for corner in [k, k + 1, k + cols, k + cols + 1] {
-                used[corner] = true;
+        for (j, row) in drawn.chunks_exact(ccols).take(crows).enumerate() {
+            for (i, _) in row.iter().enumerate().filter(|&(_, &d)| d) {
+                let k = j * cols + i;
+                drawable_cells += 1;
+                cell_flags[j * ccols + i] = CELL_DRAW;
+                for corner in [k, k + 1, k + cols, k + cols + 1] {
+                    used[corner] = true;
+                }
             }
         }
         let mut lo = u16::MAX;

@@ -205,8 +205,16 @@ impl PreparedScene {
         } else {
             0
         };
+        // Drawing order (after trimming, which relies on scene order).
+        patches.sort_by(|a, b| {
+            (a.ratios.0, a.ratios.1)
+                .partial_cmp(&(b.ratios.0, b.ratios.1))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
         // Each worker keeps its own normal buffer: it only caches values,
-        // so the inputs are the same whoever computes them.
+        // so the inputs are the same whoever computes them. Why after the
+        // sort: a worker's patches then share their ratios, and its buffer
+        // its normals (callgrind, `profile_sphere 500 1 1`).
         patches
             .par_iter_mut()
             .for_each_init(NormalBuffer::default, |buffer, p| {
@@ -230,11 +238,6 @@ impl PreparedScene {
                 .map(|p| (*p - c).length())
                 .fold(0.0, f64::max);
             (c, r)
-        });
-        patches.sort_by(|a, b| {
-            (a.ratios.0, a.ratios.1)
-                .partial_cmp(&(b.ratios.0, b.ratios.1))
-                .unwrap_or(std::cmp::Ordering::Equal)
         });
         Self {
             patches,
