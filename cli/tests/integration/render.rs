@@ -174,11 +174,24 @@ fn bench_prints_median_and_min_per_stage() {
 }
 
 #[test]
+fn band_height_does_not_change_the_image() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    for (rows, png) in [("64", "a.png"), ("5", "b.png"), ("256", "c.png")] {
+        let args = ["render", &name, "-o", png, "--tile-rows", rows];
+        t.run(&[&args[..], &["--width", "150", "--height", "130"]].concat())
+            .success();
+    }
+    let read = |f: &str| std::fs::read(t.path(f)).unwrap();
+    assert!(read("a.png") == read("b.png") && read("a.png") == read("c.png"));
+}
+
+#[test]
 fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
-    let cases: [&[&str]; 6] = [
+    let cases: [&[&str]; 7] = [
         &["render", "missing.spatch", "-o", "out.png"],
         &["render", "junk.spatch", "-o", "out.png"],
         &[
@@ -189,6 +202,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
             "render", &name, "-o", "out.png", "--near", "5", "--far", "2",
         ],
         &["render", &name, "-o", "out.png", "--mip-limit", "40"],
+        &["render", &name, "-o", "out.png", "--tile-rows", "2"],
     ];
     for args in cases {
         let run = t.run(args);
