@@ -74,9 +74,10 @@ const MIN_AXIS_COS: f64 = 0.5;
 pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
     let neighbours = neighbours(patches);
     let shared: &[PreparedPatch] = patches;
+    let normals: Vec<Vec<DVec3>> = shared.par_iter().map(cell_normals).collect();
     let found: Vec<Vec<Candidate>> = (0..shared.len())
         .into_par_iter()
-        .map(|p| candidates(shared, p, &neighbours[p]))
+        .map(|p| candidates(shared, &normals, p, &neighbours[p]))
         .collect();
     let cells = |p: &PreparedPatch| vec![false; p.levels[0].cell_flags.len()];
     let mut trimmed: Vec<Vec<bool>> = patches.iter().map(cells).collect();
@@ -125,20 +126,28 @@ struct Candidate {
 }
 
 /// The cells of patch `p` that its earlier neighbours `covers` draw as far
-/// as geometry goes (none of the covers' cells trimmed), in cover order.
-fn candidates(patches: &[PreparedPatch], p: usize, covers: &[usize]) -> Vec<Candidate> {
+/// as geometry goes (none of the covers' cells trimmed), in cover order;
+/// `normals` holds every patch's [`cell_normals`].
+fn candidates(
+    patches: &[PreparedPatch],
+    normals: &[Vec<DVec3>],
+    p: usize,
+    covers: &[usize],
+) -> Vec<Candidate> {
     let level = &patches[p].levels[0];
     let (cols, ccols) = (level.cols, level.cols - 1);
-    let nodes = level_nodes(&patches[p]);
-    let mut corners = vec![None; nodes.len()];
+    let codes = &level.displacements;
+    let mut corners = vec![None; cols * level.rows];
     let mut ranges = Vec::with_capacity(level.rows);
     let mut found = Vec::new();
     for &q in covers {
-        row_ranges(&patches[p], &patches[q], &mut ranges);
-        let cover = Cover::new(&patches[q]);
+        let map = GridMap::new(&patches[p], &patches[q]);
+        map.row_ranges(level, &patches[q].levels[0], &mut ranges);
+        let cover = Cover::new(&patches[q], &normals[q]);
         for (j, range) in ranges.iter().enumerate() {
             for i in range.clone() {
-                corners[j * cols + i] = cover.covered_corner(nodes[j * cols + i]);
+                let k = j * cols + i;
+                corners[k] = cover.covered_corner(map.at(i, j, codes[k]));
             }
         }
         for (j, pair) in ranges.windows(2).enumerate() {
@@ -158,8 +167,7 @@ fn candidates(patches: &[PreparedPatch], p: usize, covers: &[usize]) -> Vec<Cand
                     continue;
                 };
                 let four = [a, b, c, d];
-                let normal =
-                    diagonal_normal(nodes[n], nodes[n + 1], nodes[n + cols], nodes[n + cols + 1]);
+                let normal = normals[p][j * ccols + i];
                 let agree = four.iter().all(|c| normals_agree(c.normal, normal));
                 if agree && span_fits(&four) {
                     found.push(Candidate {
@@ -199,15 +207,27 @@ fn neighbours(patches: &[PreparedPatch]) -> Vec<Vec<usize>> {
     neighbours
 }
 
-/// Model-space positions of the nodes of level 0 of `p` (row-major; empty
-/// nodes anywhere).
-fn level_nodes(p: &PreparedPatch) -> Vec<DVec3> {
+/// The normal (not unit, along model-space axes) of every level-0 cell of
+/// `p`, row-major (meaningless for cells with an empty corner). Why once
+/// per patch: a patch covers about ten neighbours, and the normal of its
+/// cell is read for every corner it covers.
+fn cell_normals(p: &PreparedPatch) -> Vec<DVec3> {
     let level = &p.levels[0];
-    let mut out = Vec::with_capacity(level.cols * level.rows);
-    for j in 0..level.rows {
-        for i in 0..level.cols {
-            let d = level.displacements[j * level.cols + i] as f64;
-            out.push(p.origin + p.axes[0] * i as f64 + p.axes[1] * j as f64 + p.axes[2] * d);
+    let (cols, rows) = (level.cols, level.rows);
+    let d = |k: usize| level.displacements[k] as f64;
+    // Corners relative to the cell's first node (the normal does not
+    // depend on where the cell sits).
+    let corner = |i: f64, j: f64, k: usize| p.axes[0] * i + p.axes[1] * j + p.axes[2] * d(k);
+    let mut out = Vec::with_capacity((cols - 1) * (rows - 1));
+    for j in 0..rows - 1 {
+        for i in 0..cols - 1 {
+            let k = j * cols + i;
+            out.push(diagonal_normal(
+                corner(0.0, 0.0, k),
+                corner(1.0, 0.0, k + 1),
+                corner(0.0, 1.0, k + cols),
+                corner(1.0, 1.0, k + cols + 1),
+            ));
         }
     }
     out
@@ -227,57 +247,87 @@ fn normals_agree(a: DVec3, b: DVec3) -> bool {
         && dot * dot >= MIN_NORMAL_COS * MIN_NORMAL_COS * a.length_squared() * b.length_squared()
 }
 
-/// Per row of `p`'s level-0 nodes, the columns whose nodes can fall inside
-/// `q`'s level-0 square (into `out`, empty ranges elsewhere). A node's grid
-/// coordinates in `q` are affine in its column, row and height code, so
-/// each row's columns follow from four linear bounds, widened by `p`'s
-/// height range. Why: most of a neighbour's nodes lie outside the square
-/// (callgrind, `profile_sphere 500 1 1 trimmed`: trimming 267 → 227 M
-/// instructions).
-fn row_ranges(p: &PreparedPatch, q: &PreparedPatch, out: &mut Vec<std::ops::Range<usize>>) {
-    let (lp, lq) = (&p.levels[0], &q.levels[0]);
-    let rel = p.origin - q.origin;
-    let (d0, d1) = (lp.d_range.0 as f64, lp.d_range.1 as f64);
-    // [0, top) along each of q's axes: `base + j·per_row + i·per_col + d·per_code`.
-    let axes = [0, 1].map(|a| {
-        let inv = q.axes[a] / q.axes[a].length_squared();
-        let per_code = p.axes[2].dot(inv);
-        let top = [lq.cols - 1, lq.rows - 1][a] as f64;
-        let slack = (per_code * d0).min(per_code * d1)..=(per_code * d0).max(per_code * d1);
-        (
-            rel.dot(inv),
-            p.axes[1].dot(inv),
-            p.axes[0].dot(inv),
-            slack,
-            top,
-        )
-    });
-    out.clear();
-    for j in 0..lp.rows {
-        let (mut lo, mut hi) = (0.0f64, (lp.cols - 1) as f64);
-        for (base, per_row, per_col, slack, top) in &axes {
-            // base + j·per_row + i·per_col + s in [0, top) for some s in slack.
-            let at = base + j as f64 * per_row;
-            let (need_lo, need_hi) = (-at - slack.end(), top - at - slack.start());
-            if per_col.abs() < 1e-12 {
-                if !(need_lo <= 0.0 && 0.0 <= need_hi) {
-                    hi = -1.0;
-                }
-                continue;
-            }
-            let (a, b) = (need_lo / per_col, need_hi / per_col);
-            lo = lo.max(a.min(b));
-            hi = hi.min(a.max(b));
+/// The affine map from a patch `p`'s level-0 grid (column, row, height
+/// code) to a patch `q`'s (`u`, `v` in node spacings, `w` in height codes).
+/// Why a map per pair: a corner's coordinates in the cover are then three
+/// sums of products, instead of its model-space position and three dot
+/// products (callgrind, `profile_sphere 500 1 1 trimmed`).
+#[derive(Debug, Clone, Copy)]
+struct GridMap {
+    /// Coordinates of `p`'s node (0, 0) at height code 0.
+    base: [f64; 3],
+    /// Change per column of `p`.
+    per_col: [f64; 3],
+    /// Change per row of `p`.
+    per_row: [f64; 3],
+    /// Change per height code of `p`.
+    per_code: [f64; 3],
+}
+
+impl GridMap {
+    fn new(p: &PreparedPatch, q: &PreparedPatch) -> Self {
+        let inverse = q.axes.map(|a| a / a.length_squared());
+        let along = |x: DVec3| inverse.map(|inv| x.dot(inv));
+        Self {
+            base: along(p.origin - q.origin),
+            per_col: along(p.axes[0]),
+            per_row: along(p.axes[1]),
+            per_code: along(p.axes[2]),
         }
-        // Whole columns in [lo, hi]: truncation after the bounds checks
-        // (NaN fails them) floors non-negative values.
-        let range = if lo <= hi && hi >= 0.0 {
-            let first = lo as usize + usize::from(lo > (lo as usize) as f64);
-            first..hi as usize + 1
-        } else {
-            0..0
-        };
-        out.push(range);
+    }
+
+    /// `q`'s coordinates of `p`'s node `(i, j)` with height code `code`.
+    #[inline]
+    fn at(&self, i: usize, j: usize, code: u16) -> [f64; 3] {
+        let (i, j, d) = (i as u32 as f64, j as u32 as f64, code as f64);
+        std::array::from_fn(|k| {
+            self.base[k] + i * self.per_col[k] + j * self.per_row[k] + d * self.per_code[k]
+        })
+    }
+
+    /// Per row of `p`'s level-0 nodes (`lp`), the columns whose nodes can
+    /// fall inside `q`'s level-0 square (`lq`), into `out` (empty ranges
+    /// elsewhere). A node's `u` and `v` are affine in its column, so each
+    /// row's columns follow from four linear bounds, widened by `p`'s
+    /// height range. Why: most of a neighbour's nodes lie outside the
+    /// square (callgrind, `profile_sphere 500 1 1 trimmed`: trimming 267 →
+    /// 227 M instructions).
+    fn row_ranges(&self, lp: &MipLevel, lq: &MipLevel, out: &mut Vec<std::ops::Range<usize>>) {
+        let (d0, d1) = (lp.d_range.0 as f64, lp.d_range.1 as f64);
+        // [0, top) along each of q's axes: `base + j·per_row + i·per_col + d·per_code`.
+        let axes = [0, 1].map(|a| {
+            let per_code = self.per_code[a];
+            let top = [lq.cols - 1, lq.rows - 1][a] as f64;
+            let slack = (per_code * d0).min(per_code * d1)..=(per_code * d0).max(per_code * d1);
+            (self.base[a], self.per_row[a], self.per_col[a], slack, top)
+        });
+        out.clear();
+        for j in 0..lp.rows {
+            let (mut lo, mut hi) = (0.0f64, (lp.cols - 1) as f64);
+            for (base, per_row, per_col, slack, top) in &axes {
+                // base + j·per_row + i·per_col + s in [0, top) for some s in slack.
+                let at = base + j as f64 * per_row;
+                let (need_lo, need_hi) = (-at - slack.end(), top - at - slack.start());
+                if per_col.abs() < 1e-12 {
+                    if !(need_lo <= 0.0 && 0.0 <= need_hi) {
+                        hi = -1.0;
+                    }
+                    continue;
+                }
+                let (a, b) = (need_lo / per_col, need_hi / per_col);
+                lo = lo.max(a.min(b));
+                hi = hi.min(a.max(b));
+            }
+            // Whole columns in [lo, hi]: truncation after the bounds checks
+            // (NaN fails them) floors non-negative values.
+            let range = if lo <= hi && hi >= 0.0 {
+                let first = lo as usize + usize::from(lo > (lo as usize) as f64);
+                first..hi as usize + 1
+            } else {
+                0..0
+            };
+            out.push(range);
+        }
     }
 }
 
@@ -305,38 +355,40 @@ struct Corner {
     block: [u8; 4],
 }
 
-/// One patch seen as a cover: grid coordinates of a point and the tests of
-/// [`Cover::covered_corner`], with the per-patch factors computed once.
+/// One patch seen as a cover: the tests of [`Cover::covered_corner`], with
+/// the per-patch factors computed once.
 struct Cover<'a> {
     patch: &'a PreparedPatch,
-    /// `axes[k] / |axes[k]|²`: dot products give grid coordinates.
-    inverse_axes: [DVec3; 3],
+    /// Its [`cell_normals`].
+    normals: &'a [DVec3],
     /// `|az|` over the smaller node spacing: a height code difference in
     /// node spacings.
     height_scale: f64,
+    /// Every level-0 cell is drawn: a margin inside the square is inside
+    /// drawn cells.
+    base_whole: bool,
     /// Every cell of every coarser level is drawn: level 0's margin test
     /// then stands for them all (every level spans the same extent).
     coarse_whole: bool,
 }
 
 impl<'a> Cover<'a> {
-    fn new(patch: &'a PreparedPatch) -> Self {
+    fn new(patch: &'a PreparedPatch, normals: &'a [DVec3]) -> Self {
         let spacing = patch.axes[0].length().min(patch.axes[1].length());
         Self {
             patch,
-            inverse_axes: patch.axes.map(|a| a / a.length_squared()),
+            normals,
             height_scale: patch.axes[2].length() / spacing,
+            base_whole: patch.levels[0].draws_every_cell(),
             coarse_whole: patch.levels[1..].iter().all(MipLevel::draws_every_cell),
         }
     }
 
-    /// The corner `x` when this patch covers it: `x` lies near its surface
-    /// and a margin inside its drawn cells at every level (see the module
-    /// header).
-    fn covered_corner(&self, x: DVec3) -> Option<Corner> {
+    /// The corner at grid coordinates `[u, v, w]` of this patch when it
+    /// covers it: the point lies near its surface and a margin inside its
+    /// drawn cells at every level (see the module header).
+    fn covered_corner(&self, [u, v, w]: [f64; 3]) -> Option<Corner> {
         let q = self.patch;
-        let rel = x - q.origin;
-        let (u, v) = (rel.dot(self.inverse_axes[0]), rel.dot(self.inverse_axes[1]));
         let base = &q.levels[0];
         // `u, v` at least 0 and inside the grid (NaN fails too), so the
         // truncations below are floors.
@@ -348,7 +400,6 @@ impl<'a> Cover<'a> {
         if !inside(u, v, base) {
             return None;
         }
-        let w = rel.dot(self.inverse_axes[2]);
         let (fi, fj) = (floor_index(u), floor_index(v));
         let (fu, fv) = (u - fi as i32 as f64, v - fj as i32 as f64);
         let d = |i: usize, j: usize| base.displacements[j * base.cols + i] as f64;
@@ -374,23 +425,16 @@ impl<'a> Cover<'a> {
                 ]
             })
         };
-        let base_block = block(base).filter(|b| block_is_drawn(base, b))?;
+        let base_block = block(base).filter(|b| self.base_whole || block_is_drawn(base, b))?;
         // A coarser level with every cell drawn spans level 0's extent, so
         // level 0's test stands for it.
         let all_levels = self.coarse_whole
             || q.levels[1..]
                 .iter()
                 .all(|l| l.draws_every_cell() || block(l).is_some_and(|b| block_is_drawn(l, &b)));
-        // The cover's cell there, its corners relative to node (fi, fj)
-        // (the normal does not depend on where the cell sits).
-        let corner = |i: usize, j: usize| {
-            q.axes[0] * i as u32 as f64
-                + q.axes[1] * j as u32 as f64
-                + q.axes[2] * d(fi + i, fj + j)
-        };
         all_levels.then(|| Corner {
             uv: [u, v],
-            normal: diagonal_normal(corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)),
+            normal: self.normals[fj * (base.cols - 1) + fi],
             // Grids have at most 256 nodes a side.
             block: base_block.map(|x| x as u8),
         })
