@@ -31,7 +31,9 @@
 //! Cost: the neighbours of each patch by bounding spheres (a sweep over
 //! them sorted along x); per pair, the nodes whose columns can fall inside
 //! the cover's square get a point test, then each cell with four covered
-//! corners a normal and span test. See docs/algorithms/overlap.md.
+//! corners a normal and span test. The pairs are searched in parallel, and
+//! a serial pass in scene order keeps the cells that rest on trimmed ones
+//! ([`trim_overlaps`]). See docs/algorithms/overlap.md.
 
 use glam::DVec3;
 use rayon::prelude::*;
