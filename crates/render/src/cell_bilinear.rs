@@ -167,9 +167,12 @@ pub(crate) fn draw_cells_bilinear(
             // combinations of the corners, up to 2^-12 px), so it skips the
             // per-row and per-sample clipping. Why: most cells are inside;
             // see the "why" in `draw_cell`.
-            let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
-            let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
-            let inside = y_min > y_lo && y_max < y_hi - 1 && x_min > 0 && x_max < t.width - 1;
+            let inside_columns = piece.inside_columns || {
+                let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
+                let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
+                x_min > 0 && x_max < t.width - 1
+            };
+            let inside = y_min > y_lo && y_max < y_hi - 1 && inside_columns;
             if inside {
                 draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
             } else {
