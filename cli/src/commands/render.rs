@@ -128,7 +128,8 @@ pub(crate) struct RenderArgs {
     /// already draws (same surface within 5 % of a cell, normals within
     /// 1°): each frame then draws fewer cells where patches overlap, for a
     /// one-off cost (the perfect sphere: 13 % fewer instructions per 500²
-    /// frame for about 50 ms). Worth it with --bench or many frames.
+    /// frame for about 40 ms more with 2 threads). Worth it with --bench or
+    /// many frames.
     #[arg(long)]
     trim_overlaps: bool,
     /// Rows per framebuffer band, 4..=256: the unit of work a thread takes.
