@@ -279,6 +279,38 @@ impl PreparedScene {
 mod tests {
     use super::*;
     use crate::normal_buffer::node_differences;
+    use glam::Vec3;
+    use spatch_format::{ColourChannel, Frame, GridSize};
+
+    /// A 5 × 5 patch at `x` whose codes are `codes` (a code may be EMPTY).
+    fn patch_at(x: f32, codes: [u16; 25]) -> Patch {
+        let frame = Frame::new(Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
+        Patch::new(frame, GridSize::new(5, 5).unwrap(), codes.to_vec(), None).unwrap()
+    }
+
+    #[test]
+    fn patches_without_a_drawable_cell_are_left_out_in_order() {
+        // Patch 1 has no cell with four filled corners (a checkerboard of
+        // empty nodes); the others keep their order and their boxes.
+        let full = [3; 25];
+        let sparse: [u16; 25] = std::array::from_fn(|k| if k % 2 == 0 { 3 } else { EMPTY });
+        let patches = vec![
+            patch_at(0.0, full),
+            patch_at(10.0, sparse),
+            patch_at(20.0, full),
+        ];
+        let scene = Scene::new(DVec3::ZERO, ColourChannel::None, patches).unwrap();
+        let prepared = PreparedScene::new(&scene);
+        assert_eq!((prepared.patch_count(), prepared.skipped_patches()), (2, 1));
+        let origins: Vec<f64> = prepared.patches.iter().map(|p| p.origin.x).collect();
+        assert_eq!(origins, [0.0, 20.0]);
+        let (lo, hi) = prepared.bounds().unwrap();
+        assert_eq!((lo.x, hi.x), (0.0, 24.0));
+        let empty = Scene::new(DVec3::ZERO, ColourChannel::None, Vec::new()).unwrap();
+        let none = PreparedScene::new(&empty);
+        assert_eq!(none.patch_count(), 0);
+        assert!(none.bounds().is_none() && none.bounding_sphere().is_none());
+    }
 
     #[test]
     fn prepared_normals_are_the_normals_nodes_carried() {
