@@ -117,18 +117,27 @@ impl MipLevel {
         normal_slots: Vec<u16>,
         drawn: &[bool],
     ) -> Self {
-        let mut used = vec![false; cols * rows];
-        let mut drawable_cells = 0;
         let (ccols, crows) = (cols - 1, rows - 1);
-        let mut cell_flags = vec![0u8; ccols * crows];
-        for (j, row) in drawn.chunks_exact(ccols).take(crows).enumerate() {
-            for (i, _) in row.iter().enumerate().filter(|&(_, &d)| d) {
-                let k = j * cols + i;
-                drawable_cells += 1;
-                cell_flags[j * ccols + i] = CELL_DRAW;
-                for corner in [k, k + 1, k + cols, k + cols + 1] {
-                    used[corner] = true;
-                }
+        let drawn = &drawn[..ccols * crows];
+        let drawable_cells = drawn.iter().filter(|&&d| d).count() as u32;
+        let mut cell_flags: Vec<u8> = drawn.iter().map(|&d| if d { CELL_DRAW } else { 0 }).collect();
+        // A node is used when a drawn cell of the row of cells below or
+        // above it has it as a corner. Why by rows of nodes: four indexed
+        // stores per drawn cell were a third of this function (callgrind,
+        // `profile_sphere 500 1 1 trimmed`).
+        let mut used = vec![false; cols * rows];
+        let mut corner = vec![false; cols];
+        for (j, row) in drawn.chunks_exact(ccols).enumerate() {
+            // Nodes of this row of cells that are a corner of a drawn cell.
+            corner[0] = row[0];
+            corner[ccols] = row[ccols - 1];
+            for (c, pair) in corner[1..ccols].iter_mut().zip(row.windows(2)) {
+                *c = pair[0] | pair[1];
+            }
+            let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
+            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(&corner) {
+                *b |= c;
+                *a |= c;
             }
         }
         let mut lo = u16::MAX;

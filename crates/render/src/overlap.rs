@@ -210,35 +210,31 @@ fn neighbours(patches: &[PreparedPatch]) -> Vec<Vec<usize>> {
 }
 
 /// The normal (not unit, along model-space axes) of every level-0 cell of
-/// `p`, row-major (meaningless for cells with an empty corner). Why once
-/// per patch: a patch covers about ten neighbours, and the normal of its
-/// cell is read for every corner it covers.
+/// `p`, row-major (meaningless for cells with an empty corner): the cross
+/// product of its diagonals. With `A = ax + ay`, `B = ay - ax` and the
+/// diagonals `A + α·az`, `B + β·az` (α, β their height-code differences),
+/// it is `A×B + β·(A×az) + α·(az×B)`, three products fixed per patch. Why
+/// once per patch and in this form: a patch covers about ten neighbours,
+/// and the normal of its cell is read for every corner it covers
+/// (callgrind, `profile_sphere 500 1 1 trimmed`: 30 M instructions as four
+/// corners and a cross product per cell).
 fn cell_normals(p: &PreparedPatch) -> Vec<DVec3> {
     let level = &p.levels[0];
     let (cols, rows) = (level.cols, level.rows);
-    let d = |k: usize| level.displacements[k] as f64;
-    // Corners relative to the cell's first node (the normal does not
-    // depend on where the cell sits).
-    let corner = |i: f64, j: f64, k: usize| p.axes[0] * i + p.axes[1] * j + p.axes[2] * d(k);
+    let [ax, ay, az] = p.axes;
+    let (a, b) = (ax + ay, ay - ax);
+    let (fixed, per_beta, per_alpha) = (a.cross(b), a.cross(az), az.cross(b));
+    let d = |k: usize| level.displacements[k] as i32;
     let mut out = Vec::with_capacity((cols - 1) * (rows - 1));
     for j in 0..rows - 1 {
         for i in 0..cols - 1 {
             let k = j * cols + i;
-            out.push(diagonal_normal(
-                corner(0.0, 0.0, k),
-                corner(1.0, 0.0, k + 1),
-                corner(0.0, 1.0, k + cols),
-                corner(1.0, 1.0, k + cols + 1),
-            ));
+            let alpha = (d(k + cols + 1) - d(k)) as f64;
+            let beta = (d(k + cols) - d(k + 1)) as f64;
+            out.push(fixed + per_beta * beta + per_alpha * alpha);
         }
     }
     out
-}
-
-/// Normal (not unit) of the cell with corners `x00, x10, x01, x11`: the
-/// cross product of its diagonals.
-fn diagonal_normal(x00: DVec3, x10: DVec3, x01: DVec3, x11: DVec3) -> DVec3 {
-    (x11 - x00).cross(x01 - x10)
 }
 
 /// True when the angle between `a` and `b` (any lengths) is within the
@@ -317,8 +313,12 @@ impl GridMap {
                     continue;
                 }
                 let (a, b) = (need_lo / per_col, need_hi / per_col);
-                lo = lo.max(a.min(b));
-                hi = hi.min(a.max(b));
+                // Plain compares: the operands are finite or the row is
+                // dropped below, and `f64::min`'s NaN rules cost a dozen
+                // instructions a call here.
+                let (first, last) = if a < b { (a, b) } else { (b, a) };
+                lo = if first > lo { first } else { lo };
+                hi = if last < hi { last } else { hi };
             }
             // Whole columns in [lo, hi]: truncation after the bounds checks
             // (NaN fails them) floors non-negative values.
