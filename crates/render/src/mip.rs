@@ -120,7 +120,10 @@ impl MipLevel {
         let (ccols, crows) = (cols - 1, rows - 1);
         let drawn = &drawn[..ccols * crows];
         let drawable_cells = drawn.iter().filter(|&&d| d).count() as u32;
-        let mut cell_flags: Vec<u8> = drawn.iter().map(|&d| if d { CELL_DRAW } else { 0 }).collect();
+        let mut cell_flags: Vec<u8> = drawn
+            .iter()
+            .map(|&d| if d { CELL_DRAW } else { 0 })
+            .collect();
         // A node is used when a drawn cell of the row of cells below or
         // above it has it as a corner. Why by rows of nodes: four indexed
         // stores per drawn cell were a third of this function (callgrind,
