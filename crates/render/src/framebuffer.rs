@@ -631,7 +631,7 @@ impl<'a> PhongItem<'a> {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let cols = patch.levels[m].cols;
-        let shading = &patch.shading[m];
+        let shading = patch.shading(m);
         let start = item.j0 as usize * cols + item.i0 as usize;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
         let [light, half] = frames[item.frame as usize];
@@ -854,7 +854,7 @@ fn phong_reference(
         }
         sum
     };
-    let shading = &patch.shading[m];
+    let shading = patch.shading(m);
     let albedo = if item.uniform_albedo {
         r.base_albedo
     } else {

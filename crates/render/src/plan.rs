@@ -549,11 +549,14 @@ fn fill_phong_attributes(
     first: usize,
 ) {
     let level = &p.levels[m];
+    // The level's shading inputs are built here on a frame's first use, on
+    // the planning threads.
+    let shading = p.shading(m);
     let normals = &mut work.normals;
     normals.select(m, p.ratios_at(m));
     if range.i0 == 0 && range.j0 == 0 && range.i1 + 1 == level.cols && range.j1 + 1 == level.rows {
         // The whole level: its used nodes, whose slots preparation found.
-        normals.touch_all(m, &p.shading[m].slots);
+        normals.touch_all(m, &shading.slots);
         return;
     }
     let width = range.i1 - range.i0 + 1;

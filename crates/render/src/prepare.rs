@@ -10,10 +10,14 @@
 //! Each level also keeps its nodes' unit patch-space normals (and albedos)
 //! in the form the Phong resolve pass interpolates ([`LevelShading`]):
 //! they do not depend on the view, so a frame reads them instead of copying
-//! them into its projected nodes.
+//! them into its projected nodes. They are built the first time a Phong
+//! frame draws the level ([`PreparedPatch::shading`]), and kept.
 //!
 //! Cost: O(nodes) time; about 1.4× the scene's node memory, plus 16 bytes
-//! per node of every level for the normals (32 with colours).
+//! per node of every level drawn so far for the normals (32 with colours).
+
+use std::cell::RefCell;
+use std::sync::OnceLock;
 
 use glam::{DMat3, DVec3, Vec4};
 use rayon::prelude::*;
@@ -22,6 +26,12 @@ use spatch_format::{Patch, Scene, EMPTY};
 use crate::cull::{compute_normal_cone, NormalCone};
 use crate::mip::{build_mip_pyramid, MipLevel};
 use crate::normal_buffer::{node_differences, NormalBuffer, SlotSet, OUTSIDE_TABLE};
+
+thread_local! {
+    /// The normal buffer through which a thread builds shading inputs
+    /// ([`PreparedPatch::shading`]).
+    static SHADING_BUFFER: RefCell<NormalBuffer> = RefCell::new(NormalBuffer::default());
+}
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -38,8 +48,9 @@ pub(crate) struct PreparedPatch {
     pub(crate) centre: DVec3,
     pub(crate) radius: f64,
     pub(crate) levels: Vec<MipLevel>,
-    /// Per level, the nodes' shading inputs.
-    pub(crate) shading: Vec<LevelShading>,
+    /// Per level, the nodes' shading inputs, built on first use
+    /// ([`Self::shading`]).
+    shading: Vec<OnceLock<LevelShading>>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -145,10 +156,26 @@ impl PreparedPatch {
             cone,
             centre: (lo + hi) * 0.5,
             radius: (hi - lo).length() * 0.5,
+            shading: levels.iter().map(|_| OnceLock::new()).collect(),
             levels,
-            shading: Vec::new(),
         };
         Some((prepared, corners))
+    }
+
+    /// The shading inputs of level `m`, built the first time a frame asks
+    /// for them (on the thread that asks, through that thread's normal
+    /// buffer: it only caches values, so the inputs are the same whoever
+    /// builds them). Why on first use: a view draws few of a scene's
+    /// levels (the 500² sphere: level 0 of 567 of 1,362 patches), so a
+    /// one-frame render builds a fraction of them, and flat and Gouraud
+    /// frames none (callgrind, `profile_sphere 500 1 1`).
+    pub(crate) fn shading(&self, m: usize) -> &LevelShading {
+        self.shading[m].get_or_init(|| {
+            SHADING_BUFFER.with(|buffer| {
+                let mut buffer = buffer.borrow_mut();
+                LevelShading::new(&self.levels[m], m, self.ratios_at(m), &mut buffer)
+            })
+        })
     }
 
     /// Shading ratios at mip level `m` (node spacing doubles per level).
@@ -211,20 +238,6 @@ impl PreparedScene {
                 .partial_cmp(&(b.ratios.0, b.ratios.1))
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
-        // Each worker keeps its own normal buffer: it only caches values,
-        // so the inputs are the same whoever computes them. Why after the
-        // sort: a worker's patches then share their ratios, and its buffer
-        // its normals (callgrind, `profile_sphere 500 1 1`).
-        patches
-            .par_iter_mut()
-            .for_each_init(NormalBuffer::default, |buffer, p| {
-                p.shading = p
-                    .levels
-                    .iter()
-                    .enumerate()
-                    .map(|(m, level)| LevelShading::new(level, m, p.ratios_at(m), buffer))
-                    .collect();
-            });
         let bounds = corners.iter().flatten().fold(None, |b, &p| {
             let (lo, hi) = b.unwrap_or((p, p));
             Some((p.min(lo), p.max(hi)))
@@ -320,7 +333,8 @@ mod tests {
         let mut buffer = NormalBuffer::default();
         let mut checked = 0;
         for p in prepared.patches.iter().step_by(97) {
-            for (m, (level, shading)) in p.levels.iter().zip(&p.shading).enumerate() {
+            for (m, level) in p.levels.iter().enumerate() {
+                let shading = p.shading(m);
                 assert!(shading.colours.is_empty());
                 let (cols, rows) = (level.cols, level.rows);
                 for j in 0..rows {
