@@ -263,11 +263,14 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (scene, _) = read_spatch(&args.input)?;
     let options = render_options(args);
     let mut renderer = Renderer::new(options).map_err(classify)?;
-    let prepared = if args.trim_overlaps {
-        renderer.prepare_trimming_overlaps(&scene)
-    } else {
-        renderer.prepare(&scene)
+    let prepare = |renderer: &Renderer, trim: bool| {
+        if trim {
+            renderer.prepare_trimming_overlaps(&scene)
+        } else {
+            renderer.prepare(&scene)
+        }
     };
+    let prepared = prepare(&renderer, args.trim_overlaps);
     let camera = camera(args, &prepared).map_err(classify)?;
     let out = renderer.render(&prepared, &camera).map_err(classify)?;
     if let Some(frames) = args.bench {
@@ -289,11 +292,7 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     if let Some(path) = &args.stats {
         // The other preparation, for the cost of trimming.
-        let other = if args.trim_overlaps {
-            renderer.prepare(&scene)
-        } else {
-            renderer.prepare_trimming_overlaps(&scene)
-        };
+        let other = prepare(&renderer, !args.trim_overlaps);
         let overlaps = if args.trim_overlaps {
             (&prepared, &other)
         } else {

@@ -117,9 +117,9 @@ impl LevelShading {
 }
 
 impl PreparedPatch {
-    /// `patch` ready to draw (without its shading inputs, which
-    /// [`PreparedScene`] adds) and the corners of its box in model space;
-    /// `None` when it has no drawable cell.
+    /// `patch` ready to draw (its shading inputs are built on first use,
+    /// [`Self::shading`]) and the corners of its box in model space; `None`
+    /// when it has no drawable cell.
     fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
         let levels = build_mip_pyramid(patch);
         if levels.is_empty() {
@@ -212,9 +212,10 @@ impl PreparedScene {
     }
 
     /// Why in parallel: every patch is prepared on its own (its pyramid,
-    /// cone, box and shading inputs), and preparation is most of a
-    /// one-frame render (the perfect sphere: ≈ 320 M instructions against
-    /// ≈ 80 M for a 500² frame). It runs on the current rayon pool
+    /// cone and box), and preparation was most of a one-frame render (the
+    /// perfect sphere: ≈ 320 M instructions against ≈ 80 M for a 500²
+    /// frame, before the shading inputs moved to first use). It runs on the
+    /// current rayon pool
     /// ([`crate::Renderer::prepare`] uses the renderer's); the result does
     /// not depend on the number of threads.
     fn prepare(scene: &Scene, trim: bool) -> Self {
