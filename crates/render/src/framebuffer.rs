@@ -630,7 +630,7 @@ impl<'a> PhongItem<'a> {
     ) -> (Self, &'a [Vec4]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
-        let cols = patch.levels[m].cols;
+        let cols = patch.level(m).cols;
         let shading = patch.shading(m);
         let start = item.j0 as usize * cols + item.i0 as usize;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
@@ -837,7 +837,7 @@ fn phong_reference(
     let item = &r.chunks[c as usize].items[i as usize];
     let patch = &patches[item.frame as usize];
     let m = item.level as usize;
-    let cols = patch.levels[m].cols;
+    let cols = patch.level(m).cols;
     let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
     let k = (item.j0 as usize + cj) * cols + item.i0 as usize + ci;
     let w = sub_node_weights(
@@ -1115,13 +1115,13 @@ mod tests {
         let prepared = coloured_scene(&mut rng);
         let patches = &prepared.patches;
         assert_eq!(patches.len(), 2);
-        assert!(patches.iter().all(|p| p.levels.len() >= 2));
+        assert!(patches.iter().all(|p| p.level_count() >= 2));
         // Pieces at levels 0 and 1, cut in several ways, with and without
         // their colours.
         let mut chunk = ChunkWork::default();
         for k in 0..8u32 {
             let (frame, level) = ((k % 2) as usize, (k / 2 % 2) as usize);
-            let lc = patches[frame].levels[level].cols;
+            let lc = patches[frame].level(level).cols;
             let (i0, j0) = if level == 0 {
                 (k as usize % 3, 1)
             } else {

@@ -10,8 +10,10 @@
 //! Each level also records which nodes belong to a drawable cell (`used`),
 //! its displacement range and its number of drawable cells.
 //!
-//! Cost: O(nodes) per level, 4/3 of the patch's memory for all levels;
-//! built once per scene in [`crate::PreparedScene::new`].
+//! Cost: O(nodes) per level, 4/3 of the patch's memory for all levels.
+//! Level 0 is built once per scene in [`crate::PreparedScene::new`], the
+//! others the first time a frame draws them (a view draws few: the 500²
+//! sphere only level 0).
 
 use spatch_format::{Patch, EMPTY};
 
@@ -21,8 +23,8 @@ use crate::traverse::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
 
-/// One level of a patch's pyramid.
-#[derive(Debug, Clone)]
+/// One level of a patch's pyramid (the default is an empty placeholder).
+#[derive(Debug, Clone, Default)]
 pub(crate) struct MipLevel {
     pub(crate) cols: usize,
     pub(crate) rows: usize,
@@ -189,9 +191,9 @@ impl MipLevel {
     }
 }
 
-/// Builds the pyramid of `patch` (level 0 first). Returns an empty vector
-/// when the patch has no drawable cell.
-pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
+/// Level 0 of `patch`'s pyramid, or `None` when the patch has no drawable
+/// cell.
+pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
     let grid = patch.grid();
     let base = MipLevel::new(
         grid.cols() as usize,
@@ -200,23 +202,57 @@ pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
         patch.displacements().to_vec(),
         patch.colours().map(<[_]>::to_vec),
     );
-    if base.drawable_cells == 0 {
-        return Vec::new();
-    }
-    let mut levels = vec![base];
-    while levels.len() < MAX_MIP_LEVELS {
-        let Some(next) = halve_level(levels.last().expect("at least level 0")) else {
-            break;
-        };
-        if next.drawable_cells == 0 {
+    (base.drawable_cells > 0).then_some(base)
+}
+
+/// How many levels the pyramid over `base` has above it: levels halve
+/// while both sides have an even number of cells and the halved grid has
+/// a drawable cell (up to [`MAX_MIP_LEVELS`] in all). Counted from level
+/// 0's nodes (level `m`'s node `(i, j)` is level 0's `(2^m i, 2^m j)`)
+/// without building the levels, so that they can be built on first use.
+pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
+    let filled = |i: usize, j: usize| base.displacements[j * base.cols + i] != EMPTY;
+    let (mut cols, mut rows, mut step) = (base.cols, base.rows, 1);
+    let mut count = 0;
+    while count + 1 < MAX_MIP_LEVELS {
+        if cols < 3 || rows < 3 || (cols - 1) % 2 != 0 || (rows - 1) % 2 != 0 {
             break;
         }
-        levels.push(next);
+        (cols, rows, step) = ((cols - 1) / 2 + 1, (rows - 1) / 2 + 1, step * 2);
+        let corner = |i: usize, j: usize| filled(i * step, j * step);
+        let drawable = (0..rows - 1).any(|j| {
+            (0..cols - 1).any(|i| {
+                corner(i, j) && corner(i + 1, j) && corner(i, j + 1) && corner(i + 1, j + 1)
+            })
+        });
+        if !drawable {
+            break;
+        }
+        count += 1;
+    }
+    count
+}
+
+/// Builds the whole pyramid of `patch` (level 0 first); empty when the
+/// patch has no drawable cell. A prepared patch builds its levels above 0
+/// on first use instead ([`crate::prepare::PreparedPatch::level`]).
+#[cfg(test)]
+pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
+    let Some(base) = base_level(patch) else {
+        return Vec::new();
+    };
+    let count = coarse_level_count(&base);
+    let mut levels = vec![base];
+    for _ in 0..count {
+        let next = halve_level(levels.last().expect("at least level 0"));
+        levels.push(next.expect("a counted level halves"));
     }
     levels
 }
 
-fn halve_level(level: &MipLevel) -> Option<MipLevel> {
+/// Level `m + 1` from level `m`, or `None` when a side has an odd number
+/// of cells (or fewer than two).
+pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
     let (cols, rows) = (level.cols, level.rows);
     if cols < 3 || rows < 3 || (cols - 1) % 2 != 0 || (rows - 1) % 2 != 0 {
         return None;
@@ -291,5 +327,53 @@ mod tests {
         assert_eq!(last.spacing, 16);
         assert_eq!(last.displacements, vec![0, 16, 16, 32]);
         assert_eq!(last.d_range, (0, 32));
+    }
+
+    #[test]
+    fn coarse_levels_are_counted_as_halving_finds_them() {
+        // Grids of 2–33 nodes a side (odd and even cell counts), with holes
+        // from none to most nodes: the count from level 0's nodes equals
+        // the halvings that exist and still have a drawable cell.
+        let mut rng = crate::test_rng::XorShift(0x001e_7e15);
+        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+        let mut deep = 0;
+        for case in 0..600 {
+            // Half the sides halve cleanly (2^k + 1 nodes), half are any size.
+            let side = |r: &mut crate::test_rng::XorShift| match r.below(2) {
+                0 => [3, 5, 9, 17, 33][r.below(5) as usize],
+                _ => 2 + r.below(32),
+            };
+            let (cols, rows) = (side(&mut rng), side(&mut rng));
+            let holes = [0, 3, 30, 70, 95][case % 5];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| {
+                    if rng.below(100) < holes {
+                        EMPTY
+                    } else {
+                        rng.below(50) as u16
+                    }
+                })
+                .collect();
+            let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+            let Some(base) = base_level(&patch) else {
+                continue;
+            };
+            let mut expected = 0;
+            let mut level = base.clone();
+            while expected + 1 < MAX_MIP_LEVELS {
+                match halve_level(&level) {
+                    Some(next) if next.drawable_cells > 0 => level = next,
+                    _ => break,
+                }
+                expected += 1;
+            }
+            assert_eq!(
+                coarse_level_count(&base),
+                expected,
+                "{cols} x {rows}, {holes} %"
+            );
+            deep += (expected >= 2) as usize;
+        }
+        assert!(deep > 20, "{deep} grids with two coarse levels or more");
     }
 }

@@ -81,7 +81,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         .into_par_iter()
         .map(|p| candidates(shared, &normals, p, &neighbours[p]))
         .collect();
-    let cells = |p: &PreparedPatch| vec![false; p.levels[0].cell_flags.len()];
+    let cells = |p: &PreparedPatch| vec![false; p.base.cell_flags.len()];
     let mut trimmed: Vec<Vec<bool>> = patches.iter().map(cells).collect();
     let mut count = 0;
     for (p, list) in found.iter().enumerate() {
@@ -89,7 +89,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         let mut mine = std::mem::take(&mut trimmed[p]);
         for c in list {
             let cover = &trimmed[c.cover as usize];
-            let ccols = patches[c.cover as usize].levels[0].cols - 1;
+            let ccols = patches[c.cover as usize].base.cols - 1;
             let untrimmed = |b: &[u8; 4]| {
                 (b[1] as usize..=b[3] as usize).all(|j| {
                     let row = &cover[j * ccols..(j + 1) * ccols];
@@ -108,8 +108,8 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         .zip(&trimmed)
         .filter(|(_, cells)| cells.contains(&true))
         .for_each(|(patch, cells)| {
-            let level = patch.levels.remove(0);
-            patch.levels.insert(0, level.without_cells(cells));
+            let level = std::mem::take(&mut patch.base);
+            patch.base = level.without_cells(cells);
         });
     count
 }
@@ -136,7 +136,7 @@ fn candidates(
     p: usize,
     covers: &[usize],
 ) -> Vec<Candidate> {
-    let level = &patches[p].levels[0];
+    let level = &patches[p].base;
     let (cols, ccols) = (level.cols, level.cols - 1);
     let codes = &level.displacements;
     let mut corners = vec![None; cols * level.rows];
@@ -144,7 +144,7 @@ fn candidates(
     let mut found = Vec::new();
     for &q in covers {
         let map = GridMap::new(&patches[p], &patches[q]);
-        map.row_ranges(level, &patches[q].levels[0], &mut ranges);
+        map.row_ranges(level, &patches[q].base, &mut ranges);
         let cover = Cover::new(&patches[q], &normals[q]);
         for (j, range) in ranges.iter().enumerate() {
             for i in range.clone() {
@@ -219,7 +219,7 @@ fn neighbours(patches: &[PreparedPatch]) -> Vec<Vec<usize>> {
 /// (callgrind, `profile_sphere 500 1 1 trimmed`: 30 M instructions as four
 /// corners and a cross product per cell).
 fn cell_normals(p: &PreparedPatch) -> Vec<DVec3> {
-    let level = &p.levels[0];
+    let level = &p.base;
     let (cols, rows) = (level.cols, level.rows);
     let [ax, ay, az] = p.axes;
     let (a, b) = (ax + ay, ay - ax);
@@ -381,8 +381,8 @@ impl<'a> Cover<'a> {
             patch,
             normals,
             height_scale: patch.axes[2].length() / spacing,
-            base_whole: patch.levels[0].draws_every_cell(),
-            coarse_whole: patch.levels[1..].iter().all(MipLevel::draws_every_cell),
+            base_whole: patch.base.draws_every_cell(),
+            coarse_whole: (1..patch.level_count()).all(|m| patch.level(m).draws_every_cell()),
         }
     }
 
@@ -391,7 +391,7 @@ impl<'a> Cover<'a> {
     /// drawn cells at every level (see the module header).
     fn covered_corner(&self, [u, v, w]: [f64; 3]) -> Option<Corner> {
         let q = self.patch;
-        let base = &q.levels[0];
+        let base = &q.base;
         // `u, v` at least 0 and inside the grid (NaN fails too), so the
         // truncations below are floors.
         let inside = |u: f64, v: f64, level: &MipLevel| {
@@ -431,8 +431,8 @@ impl<'a> Cover<'a> {
         // A coarser level with every cell drawn spans level 0's extent, so
         // level 0's test stands for it.
         let all_levels = self.coarse_whole
-            || q.levels[1..]
-                .iter()
+            || (1..q.level_count())
+                .map(|m| q.level(m))
                 .all(|l| l.draws_every_cell() || block(l).is_some_and(|b| block_is_drawn(l, &b)));
         all_levels.then(|| Corner {
             uv: [u, v],
@@ -494,7 +494,7 @@ mod tests {
             .patches
             .iter()
             .map(|p| {
-                let l = &p.levels[0];
+                let l = &p.base;
                 (0..l.rows - 1)
                     .flat_map(|j| (0..l.cols - 1).map(move |i| (i, j)))
                     .filter(|&(i, j)| !l.cell_is_drawable(i, j))

@@ -167,7 +167,7 @@ pub(crate) fn plan_chunk(
             && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, facing_away);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
-        let level0 = &p.levels[0];
+        let level0 = &p.base;
         let root = NodeRange::whole(level0);
         let (lo, hi) = root.local_box(level0.d_range);
         let class = setup.frustum.classify(&map, t0, lo, hi);
@@ -300,13 +300,13 @@ fn plan_piece(
     let start = Instant::now();
     // 2. Mip level.
     let mut m = 0;
-    if whole && opts.mip && p.levels.len() > 1 {
-        let extent = estimate_extent(&proj0, piece, p.levels[0].d_range);
-        while m + 1 < p.levels.len() && extent * ((1u32 << (m + 1)) as f32) < opts.mip_limit {
+    if whole && opts.mip && p.level_count() > 1 {
+        let extent = estimate_extent(&proj0, piece, p.base.d_range);
+        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < opts.mip_limit {
             m += 1;
         }
     }
-    let level = &p.levels[m];
+    let level = p.level(m);
     let range = if m == 0 {
         piece
     } else {
@@ -404,7 +404,7 @@ fn plan_piece(
         frame: index,
         flags: flags as u32,
         spans: spans as u32,
-        uniform_albedo: p.levels[m].colours.is_none(),
+        uniform_albedo: p.level(m).colours.is_none(),
         level: m as u8,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
@@ -518,7 +518,7 @@ fn fill_attributes(
         fill_phong_attributes(work, p, m, range, first);
         return;
     }
-    let level = &p.levels[m];
+    let level = p.level(m);
     let mut k = first;
     for j in range.j0..=range.j1 {
         for i in range.i0..=range.i1 {
@@ -548,7 +548,7 @@ fn fill_phong_attributes(
     range: NodeRange,
     first: usize,
 ) {
-    let level = &p.levels[m];
+    let level = p.level(m);
     // The level's shading inputs are built here on a frame's first use, on
     // the planning threads.
     let shading = p.shading(m);
@@ -592,7 +592,7 @@ fn emit_cell_triangles(
     frame: &ShadeFrame,
     setup: &FrameSetup<'_>,
 ) -> u64 {
-    let level = &p.levels[m];
+    let level = p.level(m);
     let lmap = level_map(map, m);
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
     let mut vertices = std::mem::take(&mut work.vertices);
