@@ -2,7 +2,7 @@
 //! each command measured.
 
 use serde_json::{Map, Value};
-use spatch_eval::{Counts, Report, Stages};
+use spatch_eval::{Report, Stages};
 
 use crate::failure::InternalFailure;
 
@@ -56,16 +56,6 @@ pub(crate) fn details_from(
         map.remove(key);
     }
     Ok(map)
-}
-
-/// The counts of a scene and its encoded size.
-pub(crate) fn counts(scene: &spatch_format::Scene, bytes: usize) -> Counts {
-    Counts {
-        patches: scene.patches().len(),
-        nodes: scene.node_count(),
-        filled_nodes: scene.filled_node_count(),
-        bytes,
-    }
 }
 
 /// Inserts `value` (any serializable figure) under `key` in the report's details.

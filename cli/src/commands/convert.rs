@@ -10,7 +10,7 @@ use spatch_convert::{
     convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
 };
 use spatch_eval::{
-    geometric_error, hole_fraction, Counts, GeometricError, HoleOptions, HoleReport, Report, Stages,
+    geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport, Report, Stages,
 };
 use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
@@ -351,12 +351,7 @@ pub(crate) fn report_json(
     let r = &c.report;
     let mut report = new_report(command, input);
     report.output = Some(output.display().to_string());
-    report.counts = Counts {
-        patches: r.patches,
-        nodes: r.nodes,
-        filled_nodes: r.filled_nodes,
-        bytes: r.bytes,
-    };
+    report.counts = r.counts;
     report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));
     report.stages.push("write", write_seconds);
     report.seconds = seconds;
@@ -389,10 +384,10 @@ pub(crate) fn summary(
     let mut text = format!(
         "{}: {} patches, {} nodes ({} filled), {} bytes, colour {}\n",
         output.display(),
-        r.patches,
-        r.nodes,
-        r.filled_nodes,
-        r.bytes,
+        r.counts.patches,
+        r.counts.nodes,
+        r.counts.filled_nodes,
+        r.counts.bytes,
         r.colour
     );
     let stages: Vec<String> = r

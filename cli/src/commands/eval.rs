@@ -8,7 +8,7 @@ use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_eval::sweep::{Width, SWEEP_CSV_COLUMNS};
 use spatch_eval::{
-    evaluate, load_source, per_patch_csv, run_sweep, sweep_csv, sweep_svg, views_for_count,
+    evaluate, load_source, per_patch_csv, run_sweep, sweep_csv, sweep_svg, views_for_count, Counts,
     EvalError, EvalOptions, Evaluation, ImageOptions, PatchError, Report, Source, SweepOptions,
     SweepResult, MAX_VIEWS,
 };
@@ -18,7 +18,7 @@ use super::convert::Progress;
 use super::render::{CellsArg, ProjectionArg};
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, read_spatch, write_json_report, write_output};
-use crate::report::{counts, new_report, set_detail, tool};
+use crate::report::{new_report, set_detail, tool};
 
 /// Default number of views of `spatch eval` (the 6 axes and 8 diagonals).
 const EVAL_VIEWS: usize = 14;
@@ -239,7 +239,7 @@ fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Resul
     }
     let mut report = new_report("eval", &scene_path.display().to_string());
     report.output = args.per_patch.as_ref().map(|p| p.display().to_string());
-    report.counts = counts(&scene, bytes);
+    report.counts = Counts::of(&scene, bytes);
     report.stages.push("load", load_seconds);
     report
         .stages
@@ -508,8 +508,8 @@ fn sweep_summary(out: &Path, result: &SweepResult) -> String {
             r.label(),
             r.convert_seconds,
             r.surface_to_patch.rms_rel * 100.0,
-            r.patches,
-            r.bytes
+            r.counts.patches,
+            r.counts.bytes
         ));
     }
     if conversions < result.rows.len() {

@@ -9,7 +9,7 @@ use spatch_cloud::{
     cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, CloudReport, SmoothOptions,
     StageTime,
 };
-use spatch_eval::{cloud_error_entries, Counts, Report};
+use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
 use spatch_mesh::load_point_cloud;
 
@@ -147,11 +147,11 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let mut text = format!(
         "{}: {} patches, {} nodes ({} filled) from {} points, {} bytes\n",
         args.output.display(),
-        report.patches,
-        report.nodes,
-        report.filled_nodes,
+        report.counts.patches,
+        report.counts.nodes,
+        report.counts.filled_nodes,
         report.points,
-        report.bytes,
+        report.counts.bytes,
     );
     text.push_str(&format!(
         "  spacing {:.4e} ({} normals), pixel {:.4e}, {} views, {} points uncovered\n",
@@ -205,12 +205,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
 fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report<Value>> {
     let mut report = new_report("from-cloud", &args.input.display().to_string());
     report.output = Some(args.output.display().to_string());
-    report.counts = Counts {
-        patches: r.patches,
-        nodes: r.nodes,
-        filled_nodes: r.filled_nodes,
-        bytes: r.bytes,
-    };
+    report.counts = r.counts;
     report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));
     report.seconds = r.seconds;
     report.threads = r.threads;

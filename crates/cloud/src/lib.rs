@@ -34,7 +34,7 @@
 //!     .collect();
 //! let cloud = PointCloud { origin: DVec3::ZERO, positions, colours: None, normals: None };
 //! let conversion = cloud_to_scene(&cloud, &CloudOptions::default())?;
-//! assert!(conversion.report.filled_nodes < cloud.len());
+//! assert!(conversion.report.counts.filled_nodes < cloud.len());
 //! let error = measure_cloud_error(&cloud, &conversion.scene, conversion.report.spacing)?;
 //! assert!(error.cloud_to_patch.distance.rms < 0.5 * f64::from(conversion.report.spacing));
 //! # Ok::<(), spatch_cloud::CloudError>(())
@@ -65,7 +65,7 @@ pub use options::{CloudOptions, SmoothOptions};
 pub use pipeline::{
     cloud_to_scene, CloudConversion, BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,
 };
-pub use report::{CloudReport, StageTime};
+pub use report::{CloudReport, Counts, StageTime};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,
     SPACING_SUBSET,

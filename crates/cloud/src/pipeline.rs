@@ -48,7 +48,7 @@ use crate::normals::estimate_normals;
 use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
-use crate::{CloudError, CloudOptions, CloudReport, PointId, StageTime};
+use crate::{CloudError, CloudOptions, CloudReport, Counts, PointId, StageTime};
 
 /// Largest total number of range-image pixels over all views (about 360 MB of images).
 pub const PIXEL_BUDGET: usize = 40_000_000;
@@ -286,10 +286,7 @@ pub fn cloud_to_scene(
         input_points,
         dropped_non_finite: dropped,
         points: n,
-        patches: scene.patches().len(),
-        nodes: scene.node_count(),
-        filled_nodes: scene.filled_node_count(),
-        bytes: bytes.len(),
+        counts: Counts::of(&scene, bytes.len()),
         seconds: clock.stages.iter().map(|s| s.seconds).sum(),
         stages: clock.stages,
         threads: rayon::current_num_threads(),

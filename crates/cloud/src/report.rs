@@ -1,19 +1,9 @@
 //! What a conversion reports: counts, stage timings and (when measured) the error.
 
 use serde::Serialize;
+pub use spatch_report::{Counts, StageTime};
 
 use crate::CloudErrorReport;
-
-/// Wall time of one stage.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct StageTime {
-    /// Stage name: `filter`, `sort`, `spacing`, `normals`, `range_images`, `extract`,
-    /// `encode` (and
-    /// `load`, `write` when the CLI adds them).
-    pub name: &'static str,
-    /// Wall time in seconds.
-    pub seconds: f64,
-}
 
 /// Counts and timings of one point cloud conversion.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -24,17 +14,15 @@ pub struct CloudReport {
     pub dropped_non_finite: u64,
     /// Points converted.
     pub points: usize,
-    /// Patches in the scene.
-    pub patches: usize,
-    /// Grid nodes of all patches, filled or not.
-    pub nodes: usize,
-    /// Non-empty nodes.
-    pub filled_nodes: usize,
-    /// Bytes of the encoded `.spatch`.
-    pub bytes: usize,
+    /// Sizes of the scene and of its encoded `.spatch` (serialized as the
+    /// keys `patches`, `nodes`, `filled_nodes` and `bytes`).
+    #[serde(flatten)]
+    pub counts: Counts,
     /// Total wall time of the stages, in seconds.
     pub seconds: f64,
-    /// Each stage's wall time, in pipeline order.
+    /// Each stage's wall time, in pipeline order: `filter`, `sort`,
+    /// `spacing`, `normals`, `range_images`, `extract`, `encode` (and `load`,
+    /// `write` when the CLI adds them).
     pub stages: Vec<StageTime>,
     /// Worker threads available to the parallel stages.
     pub threads: usize,

@@ -14,7 +14,7 @@
 //! use spatch_convert::{convert, ConvertInput, ConvertOptions};
 //!
 //! let conversion = convert(ConvertInput::Path("bunny.ply".as_ref()), &ConvertOptions::default())?;
-//! println!("{} patches in {:.2} s", conversion.report.patches, conversion.report.seconds);
+//! println!("{} patches in {:.2} s", conversion.report.counts.patches, conversion.report.seconds);
 //! std::fs::write("bunny.spatch", &conversion.bytes)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -28,6 +28,6 @@ mod report;
 pub use error::ConvertError;
 pub use options::ConvertOptions;
 pub use pipeline::{convert, convert_with_progress, Conversion, ConvertInput, Stage};
-pub use report::{ConvertReport, PrepareCounts, StageTime};
+pub use report::{ConvertReport, Counts, PrepareCounts, StageTime};
 /// The sharp-edge stage's options and counts, re-exported for callers of the pipeline.
 pub use spatch_edges::{EdgeOptions, EdgeStats};

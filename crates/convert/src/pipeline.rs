@@ -13,7 +13,7 @@ use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
 use spatch_segment::segment;
 
-use crate::{ConvertError, ConvertOptions, ConvertReport, PrepareCounts, StageTime};
+use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts, StageTime};
 
 /// What to convert.
 #[derive(Debug, Clone)]
@@ -180,10 +180,7 @@ pub fn convert_with_progress(
     })?;
 
     let report = ConvertReport {
-        patches: scene.patches().len(),
-        nodes: scene.node_count(),
-        filled_nodes: scene.filled_node_count(),
-        bytes: bytes.len(),
+        counts: Counts::of(&scene, bytes.len()),
         seconds: stages.iter().map(|s| s.seconds).sum(),
         stages,
         threads: rayon::current_num_threads(),

@@ -1,15 +1,7 @@
 //! What a conversion reports: stage timings and counts.
 
 use serde::Serialize;
-
-/// Wall time of one stage.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct StageTime {
-    /// Stage name: `load`, `prepare`, `adjacency`, `segment`, `fit`, `edges` or `encode`.
-    pub name: &'static str,
-    /// Wall time in seconds.
-    pub seconds: f64,
-}
+pub use spatch_report::{Counts, StageTime};
 
 /// What preparation changed (see `spatch_mesh::PrepareReport`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
@@ -33,17 +25,14 @@ pub struct PrepareCounts {
 /// Timings and counts of one conversion.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConvertReport {
-    /// Patches in the scene.
-    pub patches: usize,
-    /// Grid nodes of all patches, filled or not.
-    pub nodes: usize,
-    /// Non-empty nodes.
-    pub filled_nodes: usize,
-    /// Bytes of the encoded `.spatch`.
-    pub bytes: usize,
+    /// Sizes of the scene and of its encoded `.spatch` (serialized as the
+    /// keys `patches`, `nodes`, `filled_nodes` and `bytes`).
+    #[serde(flatten)]
+    pub counts: Counts,
     /// Total wall time of the stages, in seconds.
     pub seconds: f64,
-    /// Each stage's wall time, in pipeline order.
+    /// Each stage's wall time, in pipeline order: `load`, `prepare`,
+    /// `adjacency`, `segment`, `fit`, `edges`, `encode`.
     pub stages: Vec<StageTime>,
     /// Worker threads available to the parallel stages.
     pub threads: usize,

@@ -15,6 +15,8 @@ use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::ser::{SerializeMap, Serializer};
 use serde::{Deserialize, Serialize};
 
+pub use spatch_report::Counts;
+
 use crate::geometric::ErrorStats;
 
 /// The version of the report shape, written as `schema`. Raised when a shared key changes
@@ -79,19 +81,6 @@ impl<D> Report<D> {
             details,
         }
     }
-}
-
-/// Sizes of a scene.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Counts {
-    /// Patches.
-    pub patches: usize,
-    /// Grid nodes of all patches, filled or not.
-    pub nodes: usize,
-    /// Non-empty nodes.
-    pub filled_nodes: usize,
-    /// Bytes of the encoded `.spatch` file.
-    pub bytes: usize,
 }
 
 /// Stage names and their wall times in seconds, in the order they ran; serialized as a JSON

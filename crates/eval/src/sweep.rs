@@ -34,6 +34,7 @@ use spatch_render::{CellScheme, PreparedScene, Projection};
 use crate::geometric::{nearest_patch_cells, node_to_surface_distances, sample_count, ErrorStats};
 use crate::image_error::{compare_views, median, ImageOptions, SourceViews};
 use crate::pareto::pareto_front;
+use crate::Counts;
 use crate::EvalError;
 
 /// The fitter's error budget (fraction of the node spacing) of [`Width::Sixteen`] rows:
@@ -167,14 +168,10 @@ pub struct SweepRow {
     pub projection: Option<Projection>,
     /// Cell scheme (render rows).
     pub cells: Option<CellScheme>,
-    /// Patches of the scene.
-    pub patches: usize,
-    /// Grid nodes of the scene.
-    pub nodes: usize,
-    /// Filled nodes of the scene.
-    pub filled_nodes: usize,
-    /// Bytes of the encoded scene.
-    pub bytes: usize,
+    /// Sizes of the scene and of its encoded file (serialized as the keys
+    /// `patches`, `nodes`, `filled_nodes` and `bytes`).
+    #[serde(flatten)]
+    pub counts: Counts,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
     /// Median conversion wall time (seconds) of the scene.
@@ -422,10 +419,7 @@ pub fn run_sweep(
             width: setting.width,
             projection: None,
             cells: None,
-            patches: c.report.patches,
-            nodes: c.report.nodes,
-            filled_nodes: c.report.filled_nodes,
-            bytes: c.report.bytes,
+            counts: c.report.counts,
             wide_patches: c.report.wide_patches,
             convert_seconds: median(&mut times),
             render_ms: None,
@@ -568,10 +562,10 @@ pub fn sweep_csv(result: &SweepResult) -> String {
             r.projection
                 .map_or(String::new(), |p| projection_name(p).to_owned()),
             r.cells.map_or(String::new(), |c| cells_name(c).to_owned()),
-            r.patches.to_string(),
-            r.nodes.to_string(),
-            r.filled_nodes.to_string(),
-            r.bytes.to_string(),
+            r.counts.patches.to_string(),
+            r.counts.nodes.to_string(),
+            r.counts.filled_nodes.to_string(),
+            r.counts.bytes.to_string(),
             r.wide_patches.to_string(),
             format!("{}", r.convert_seconds),
             opt(r.render_ms),

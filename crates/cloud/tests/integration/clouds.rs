@@ -83,9 +83,9 @@ pub(crate) fn assert_targets(
     eprintln!(
         "{name}: {} points, {} patches, {} nodes ({} filled), spacing {:.3e}; cloud_to_patch rms {:.3e} ({:.3} s), max {:.3e}, beyond 2s {:.4} %; node_to_cloud rms {:.3e}",
         cloud.len(),
-        r.patches,
-        r.nodes,
-        r.filled_nodes,
+        r.counts.patches,
+        r.counts.nodes,
+        r.counts.filled_nodes,
         r.spacing,
         e.cloud_to_patch.distance.rms,
         e.cloud_to_patch.distance.rms / e.spacing,
@@ -94,9 +94,9 @@ pub(crate) fn assert_targets(
         e.node_to_cloud.rms,
     );
     assert!(
-        r.nodes < cloud.len(),
+        r.counts.nodes < cloud.len(),
         "{name}: {} nodes for {} points",
-        r.nodes,
+        r.counts.nodes,
         cloud.len()
     );
     assert!(

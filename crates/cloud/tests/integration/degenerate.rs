@@ -143,5 +143,5 @@ fn a_few_far_outliers_do_not_blow_up_the_images() {
     points.push(Vec3::splat(-5_000.0));
     let conversion = cloud_to_scene(&cloud(DVec3::ZERO, points), &CloudOptions::default()).unwrap();
     assert!(!conversion.report.warnings.is_empty());
-    assert!(conversion.report.patches > 0);
+    assert!(conversion.report.counts.patches > 0);
 }

@@ -30,10 +30,10 @@ fn a_torus_converts_with_every_stage_timed() {
             "encode"
         ]
     );
-    assert!(c.report.patches > 4);
-    assert_eq!(c.report.patches, c.scene.patches().len());
-    assert!(c.report.filled_nodes <= c.report.nodes);
-    assert_eq!(c.report.bytes, c.bytes.len());
+    assert!(c.report.counts.patches > 4);
+    assert_eq!(c.report.counts.patches, c.scene.patches().len());
+    assert!(c.report.counts.filled_nodes <= c.report.counts.nodes);
+    assert_eq!(c.report.counts.bytes, c.bytes.len());
     assert_eq!(c.report.colour, "none");
     assert_eq!(c.scene.channel(), ColourChannel::None);
     assert_eq!(decode_scene(&c.bytes).unwrap(), c.scene);

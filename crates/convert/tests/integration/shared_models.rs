@@ -19,7 +19,7 @@ fn textured_models_convert_with_colour() {
         let _ = require_shared!(rel);
         let c = run(rel);
         assert_ne!(c.report.colour, "none", "{rel} lost its colour");
-        assert!(c.report.patches > 0);
+        assert!(c.report.counts.patches > 0);
     }
 }
 
@@ -33,7 +33,7 @@ fn colourless_models_get_no_colour_channel() {
         let _ = require_shared!(rel);
         let c = run(rel);
         assert_eq!(c.report.colour, "none", "{rel}");
-        assert!(c.report.patches > 0);
+        assert!(c.report.counts.patches > 0);
     }
 }
 

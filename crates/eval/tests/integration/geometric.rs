@@ -112,8 +112,16 @@ fn bunny_meets_the_issue_targets() {
     // patches leave a gap at a crease).
     let c = convert(ConvertInput::Path(&path), &ConvertOptions::default()).unwrap();
     assert_eq!(c.mesh.face_count(), 69_451);
-    assert!(c.report.nodes <= 441_014, "{} nodes", c.report.nodes);
-    assert!(c.report.bytes <= 1_830_000, "{} bytes", c.report.bytes);
+    assert!(
+        c.report.counts.nodes <= 441_014,
+        "{} nodes",
+        c.report.counts.nodes
+    );
+    assert!(
+        c.report.counts.bytes <= 1_830_000,
+        "{} bytes",
+        c.report.counts.bytes
+    );
     let e = geometric_error(&c.scene, &c.mesh, 1);
     let diag = e.diagonal;
     assert!(e.surface_to_patch.max_rel <= 0.005, "{e:?}");

@@ -1,0 +1,92 @@
+//! What a spatch pipeline reports about its run, in the pieces every
+//! pipeline (`spatch-convert`, `spatch-cloud`) and the shared JSON report
+//! (`spatch-eval`, docs/report-schema.md) have in common: the sizes of the
+//! scene it wrote ([`Counts`]) and the wall time of each of its stages
+//! ([`StageTime`]).
+//!
+//! ```
+//! use spatch_report::{Counts, StageTime};
+//! # use glam::{DVec3, Vec3};
+//! # use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
+//! # let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01)?;
+//! # let patch = Patch::new(frame, GridSize::new(3, 3)?, vec![0; 9], None)?;
+//! # let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch])?;
+//! let counts = Counts::of(&scene, 120);
+//! assert_eq!((counts.patches, counts.nodes, counts.filled_nodes), (1, 9, 9));
+//! let stage = StageTime { name: "encode", seconds: 0.002 };
+//! assert_eq!(stage.name, "encode");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![forbid(unsafe_code)]
+
+use serde::{Deserialize, Serialize};
+use spatch_format::Scene;
+
+/// Sizes of a scene and of its encoded file.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counts {
+    /// Patches.
+    pub patches: usize,
+    /// Grid nodes of all patches, filled or not.
+    pub nodes: usize,
+    /// Non-empty nodes.
+    pub filled_nodes: usize,
+    /// Bytes of the encoded `.spatch` file.
+    pub bytes: usize,
+}
+
+impl Counts {
+    /// The counts of `scene`, encoded in `bytes` bytes.
+    pub fn of(scene: &Scene, bytes: usize) -> Self {
+        Self {
+            patches: scene.patches().len(),
+            nodes: scene.node_count(),
+            filled_nodes: scene.filled_node_count(),
+            bytes,
+        }
+    }
+}
+
+/// Wall time of one stage of a pipeline.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StageTime {
+    /// Stage name, e.g. `load`, `segment`, `range_images` or `encode`.
+    pub name: &'static str,
+    /// Wall time in seconds.
+    pub seconds: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{DVec3, Vec3};
+    use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
+
+    #[test]
+    fn counts_of_a_scene_leave_out_empty_nodes_and_serialize_flat() {
+        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
+        let grid = GridSize::new(3, 2).unwrap();
+        let patch = |empty: usize| {
+            let mut d = vec![5u16; 6];
+            d[..empty].fill(EMPTY);
+            Patch::new(frame, grid, d, None).unwrap()
+        };
+        let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch(0), patch(2)]).unwrap();
+        let counts = Counts::of(&scene, 77);
+        assert_eq!(
+            counts,
+            Counts {
+                patches: 2,
+                nodes: 12,
+                filled_nodes: 10,
+                bytes: 77
+            }
+        );
+        let json = serde_json::to_string(&counts).unwrap();
+        assert_eq!(
+            json,
+            r#"{"patches":2,"nodes":12,"filled_nodes":10,"bytes":77}"#
+        );
+        assert_eq!(serde_json::from_str::<Counts>(&json).unwrap(), counts);
+    }
+}
