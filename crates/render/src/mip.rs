@@ -23,8 +23,8 @@ use crate::traverse::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
 
-/// One level of a patch's pyramid (the default is an empty placeholder).
-#[derive(Debug, Clone, Default)]
+/// One level of a patch's pyramid.
+#[derive(Debug, Clone)]
 pub(crate) struct MipLevel {
     pub(crate) cols: usize,
     pub(crate) rows: usize,
@@ -69,15 +69,10 @@ impl MipLevel {
         colours: Option<Vec<[u8; 4]>>,
     ) -> Self {
         let (ccols, crows) = (cols - 1, rows - 1);
-        let filled = |k: usize| displacements[k] != EMPTY;
         let mut drawn = Vec::with_capacity(ccols * crows);
         for j in 0..crows {
             let k = j * cols;
-            drawn.extend(
-                (k..k + ccols).map(|k| {
-                    filled(k) && filled(k + 1) && filled(k + cols) && filled(k + cols + 1)
-                }),
-            );
+            drawn.extend((k..k + ccols).map(|k| corners_filled(&displacements, k, 1, cols)));
         }
         let normal_slots = grid_slots(&displacements, cols, rows, EMPTY);
         Self::with_drawn_cells(
@@ -90,23 +85,23 @@ impl MipLevel {
         )
     }
 
-    /// This level without the cells `trimmed` marks (row-major per cell;
-    /// see [`crate::overlap`]).
-    pub(crate) fn without_cells(self, trimmed: &[bool]) -> Self {
+    /// Leaves out the cells `trimmed` marks (row-major per cell; see
+    /// [`crate::overlap`]), keeping the level's nodes.
+    pub(crate) fn trim_cells(&mut self, trimmed: &[bool]) {
         let drawn: Vec<bool> = self
             .cell_flags
             .iter()
             .zip(trimmed)
             .map(|(&f, &t)| f & CELL_DRAW != 0 && !t)
             .collect();
-        Self::with_drawn_cells(
+        *self = Self::with_drawn_cells(
             [self.cols, self.rows],
             self.spacing,
-            self.displacements,
-            self.colours,
-            self.normal_slots,
+            std::mem::take(&mut self.displacements),
+            self.colours.take(),
+            std::mem::take(&mut self.normal_slots),
             &drawn,
-        )
+        );
     }
 
     /// A level drawing the cells `drawn` marks (each with four filled
@@ -191,6 +186,15 @@ impl MipLevel {
     }
 }
 
+/// True when the four corners of the cell whose first corner is node `k`
+/// of `displacements` are filled; `di` and `dj` are the steps to the next
+/// corner along the row and across rows.
+#[inline(always)]
+fn corners_filled(displacements: &[u16], k: usize, di: usize, dj: usize) -> bool {
+    let filled = |k: usize| displacements[k] != EMPTY;
+    filled(k) && filled(k + di) && filled(k + dj) && filled(k + di + dj)
+}
+
 /// Level 0 of `patch`'s pyramid, or `None` when the patch has no drawable
 /// cell.
 pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
@@ -211,7 +215,6 @@ pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
 /// 0's nodes (level `m`'s node `(i, j)` is level 0's `(2^m i, 2^m j)`)
 /// without building the levels, so that they can be built on first use.
 pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
-    let filled = |i: usize, j: usize| base.displacements[j * base.cols + i] != EMPTY;
     let (mut cols, mut rows, mut step) = (base.cols, base.rows, 1);
     let mut count = 0;
     while count + 1 < MAX_MIP_LEVELS {
@@ -219,11 +222,11 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
             break;
         }
         (cols, rows, step) = ((cols - 1) / 2 + 1, (rows - 1) / 2 + 1, step * 2);
-        let corner = |i: usize, j: usize| filled(i * step, j * step);
+        // Level 0's index of this level's node (i, j), and its neighbours'
+        // distances along a row and across rows.
+        let (di, dj) = (step, step * base.cols);
         let drawable = (0..rows - 1).any(|j| {
-            (0..cols - 1).any(|i| {
-                corner(i, j) && corner(i + 1, j) && corner(i, j + 1) && corner(i + 1, j + 1)
-            })
+            (0..cols - 1).any(|i| corners_filled(&base.displacements, j * dj + i * di, di, dj))
         });
         if !drawable {
             break;

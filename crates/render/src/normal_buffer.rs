@@ -41,12 +41,18 @@ pub(crate) const OUTSIDE_TABLE: u16 = u16::MAX;
 /// frame), or [`OUTSIDE_TABLE`]. Why slots: the differences depend on the
 /// displacements only, so [`crate::mip`] finds them once per scene and a
 /// frame starts from the slot (callgrind, `profile_sphere 500 1`: the
-/// per-node border logic was ~4 M instructions per frame).
+/// per-node border logic was ~4 M instructions per frame). One unsigned
+/// compare per difference: it runs for every node of a scene.
+#[inline(always)]
 pub(crate) fn table_slot(gi: i32, gj: i32) -> u16 {
-    if gi.abs() > RADIUS || gj.abs() > RADIUS {
-        OUTSIDE_TABLE
+    let (x, y) = (
+        gi.wrapping_add(RADIUS) as u32,
+        gj.wrapping_add(RADIUS) as u32,
+    );
+    if x < SIDE as u32 && y < SIDE as u32 {
+        (y as usize * SIDE + x as usize) as u16
     } else {
-        ((gj + RADIUS) as usize * SIDE + (gi + RADIUS) as usize) as u16
+        OUTSIDE_TABLE
     }
 }
 
@@ -325,13 +331,19 @@ impl NormalBuffer {
     }
 }
 
+/// The differences `(gi, gj)` of table slot `index` (the inverse of
+/// [`table_slot`]).
+fn slot_differences(index: usize) -> (i32, i32) {
+    (
+        (index % SIDE) as i32 - RADIUS,
+        (index / SIDE) as i32 - RADIUS,
+    )
+}
+
 /// The entry of table slot `index` for `ratios`.
 #[inline(never)]
 fn compute_entry(index: usize, ratios: (f32, f32)) -> Entry {
-    let (gi, gj) = (
-        (index % SIDE) as i32 - RADIUS,
-        (index / SIDE) as i32 - RADIUS,
-    );
+    let (gi, gj) = slot_differences(index);
     let normal = reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize();
     Entry {
         normal,
@@ -436,26 +448,31 @@ fn filled_row_slots(
     let gj = |i: usize| scale * (hi[i] as i32 - lo[i] as i32);
     let d = |a: u16, b: u16| b as i32 - a as i32;
     // Along the row: one-sided (doubled) at the ends, central inside.
-    slots.push(slot_in_range(2 * d(row[0], row[1]), gj(0)));
+    slots.push(table_slot(2 * d(row[0], row[1]), gj(0)));
     let inside = row.iter().zip(&row[2..]).zip(lo[1..].iter().zip(&hi[1..]));
-    slots.extend(inside.map(|((&l, &r), (&b, &a))| slot_in_range(d(l, r), scale * d(b, a))));
-    slots.push(slot_in_range(2 * d(row[n - 2], row[n - 1]), gj(n - 1)));
-}
-
-/// [`table_slot`] with one unsigned compare per difference.
-#[inline(always)]
-fn slot_in_range(gi: i32, gj: i32) -> u16 {
-    let (x, y) = ((gi + RADIUS) as u32, (gj + RADIUS) as u32);
-    if x < SIDE as u32 && y < SIDE as u32 {
-        (y as usize * SIDE + x as usize) as u16
-    } else {
-        OUTSIDE_TABLE
-    }
+    slots.extend(inside.map(|((&l, &r), (&b, &a))| table_slot(d(l, r), scale * d(b, a))));
+    slots.push(table_slot(2 * d(row[n - 2], row[n - 1]), gj(n - 1)));
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_slot_exists_exactly_within_the_radius() {
+        for gi in -RADIUS - 3..=RADIUS + 3 {
+            for gj in [-RADIUS - 1, -RADIUS, -1, 0, 7, RADIUS, RADIUS + 1] {
+                let slot = table_slot(gi, gj);
+                if gi.abs() > RADIUS || gj.abs() > RADIUS {
+                    assert_eq!(slot, OUTSIDE_TABLE, "{gi}, {gj}");
+                } else {
+                    assert_eq!(slot_differences(slot as usize), (gi, gj));
+                }
+            }
+        }
+        assert_eq!(table_slot(i32::MAX, 0), OUTSIDE_TABLE);
+        assert_eq!(table_slot(0, i32::MIN), OUTSIDE_TABLE);
+    }
 
     #[test]
     fn grid_slots_are_the_slots_of_each_nodes_differences() {

@@ -107,10 +107,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         .par_iter_mut()
         .zip(&trimmed)
         .filter(|(_, cells)| cells.contains(&true))
-        .for_each(|(patch, cells)| {
-            let level = std::mem::take(&mut patch.base);
-            patch.base = level.without_cells(cells);
-        });
+        .for_each(|(patch, cells)| patch.base.trim_cells(cells));
     count
 }
 

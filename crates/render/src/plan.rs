@@ -404,7 +404,7 @@ fn plan_piece(
         frame: index,
         flags: flags as u32,
         spans: spans as u32,
-        uniform_albedo: p.level(m).colours.is_none(),
+        uniform_albedo: level.colours.is_none(),
         level: m as u8,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
