@@ -24,7 +24,7 @@ pub enum MeshError {
     },
     /// The file name's extension names no format this crate reads.
     #[error(
-        "{}: unknown file type (expected .obj, .gltf, .glb, .ply or .off for meshes; \
+        "{}: unknown file type (expected .obj, .gltf, .glb, .ply, .off or .stl for meshes; \
          .ply, .xyz, .txt or .pts for point clouds)",
         path.display()
     )]
@@ -105,6 +105,27 @@ pub enum MeshError {
         /// The extension's name, as written in `extensionsRequired`.
         extension: String,
     },
+    /// A glTF buffer's bytes cannot be had.
+    #[error("{}: glTF buffer {buffer}: {problem}", path.display())]
+    GltfBuffer {
+        /// The file.
+        path: PathBuf,
+        /// Index of the buffer in the file.
+        buffer: usize,
+        /// What is wrong.
+        problem: BufferProblem,
+    },
+    /// A file reference inside the model (glTF URI, OBJ `mtllib`) points outside the model's
+    /// folder, or in a way this crate does not follow.
+    #[error("{}: refusing to read {reference:?}: {reason}", path.display())]
+    ReferenceOutsideFolder {
+        /// The model file.
+        path: PathBuf,
+        /// The reference as written in the file.
+        reference: String,
+        /// Why it was refused.
+        reason: OutsideReason,
+    },
     /// A glTF accessor's data is not what the specification allows for its attribute.
     #[error("{}: mesh {mesh} primitive {primitive}: {problem}", path.display())]
     GltfPrimitive {
@@ -133,6 +154,22 @@ pub enum MeshError {
         path: PathBuf,
         /// What is missing or malformed.
         problem: PlyProblem,
+    },
+    /// A binary STL's triangle count does not match its length (and the file does not start
+    /// with `solid`, so it is not ASCII STL either).
+    #[error(
+        "{}: not a readable STL file: the binary header declares {declared} triangles \
+         ({} bytes), but the file holds {length} bytes",
+        path.display(),
+        84 + 50 * *declared
+    )]
+    StlLength {
+        /// The file.
+        path: PathBuf,
+        /// The triangle count in the binary header.
+        declared: u64,
+        /// The file's length in bytes.
+        length: u64,
     },
     /// A line of a text format (OFF, XYZ) could not be parsed.
     #[error("{}: line {line}: {problem}", path.display())]
@@ -214,6 +251,69 @@ impl fmt::Display for ElementKind {
     }
 }
 
+/// Why a reference was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum OutsideReason {
+    /// An absolute path (or a `file:` URI, or a Windows drive or share).
+    Absolute,
+    /// A `..` component.
+    ParentComponent,
+    /// A URI scheme this crate does not read (`http:`, `https:`, ...).
+    UnsupportedScheme,
+    /// A percent-encoding that is malformed or decodes to bytes that are not UTF-8.
+    BadEncoding,
+    /// The reference is empty.
+    Empty,
+}
+
+impl fmt::Display for OutsideReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            OutsideReason::Absolute => {
+                "it is an absolute path (only files in the model's folder are read)"
+            }
+            OutsideReason::ParentComponent => {
+                "it contains '..' (only files in the model's folder are read)"
+            }
+            OutsideReason::UnsupportedScheme => {
+                "its URI scheme is not read (only data: URIs and relative paths)"
+            }
+            OutsideReason::BadEncoding => "its percent-encoding is malformed",
+            OutsideReason::Empty => "it is empty",
+        })
+    }
+}
+
+/// What is wrong with a glTF buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BufferProblem {
+    /// No URI, and no GLB binary chunk left to fill it.
+    NoData,
+    /// A `data:` URI whose payload is not valid base64.
+    BadDataUri,
+    /// Fewer bytes than its `byteLength`.
+    TooShort {
+        /// `byteLength`.
+        declared: usize,
+        /// Bytes read.
+        actual: usize,
+    },
+}
+
+impl fmt::Display for BufferProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BufferProblem::NoData => f.write_str("it has no URI and there is no GLB binary chunk"),
+            BufferProblem::BadDataUri => f.write_str("its data: URI is not valid base64"),
+            BufferProblem::TooShort { declared, actual } => {
+                write!(f, "it declares {declared} bytes but holds {actual}")
+            }
+        }
+    }
+}
+
 /// What is wrong with a glTF primitive's data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -241,6 +341,15 @@ pub enum GltfProblem {
         index: u32,
         /// The vertex count.
         vertex_count: usize,
+    },
+    /// An attribute or the index list names an accessor the file does not have.
+    MissingAccessor {
+        /// Which attribute.
+        attribute: GltfAttribute,
+        /// The accessor index as written.
+        index: usize,
+        /// How many accessors there are.
+        accessor_count: usize,
     },
 }
 
@@ -293,6 +402,15 @@ impl fmt::Display for GltfProblem {
                 index,
                 vertex_count,
             } => write!(f, "index {index} is out of range ({vertex_count} vertices)"),
+            GltfProblem::MissingAccessor {
+                attribute,
+                index,
+                accessor_count,
+            } => write!(
+                f,
+                "the {attribute} attribute names accessor {index}, but there are \
+                 {accessor_count} accessors"
+            ),
         }
     }
 }
@@ -324,6 +442,16 @@ pub enum PlyProblem {
         /// Number of indices it lists.
         len: usize,
     },
+    /// A `tristrips` list holds an index past the vertices (or a negative one other than the
+    /// `-1` restart).
+    StripIndexOutOfRange {
+        /// Index of the strip list in the file.
+        strip: u64,
+        /// The index.
+        index: i64,
+        /// How many vertices there are.
+        vertex_count: u64,
+    },
 }
 
 impl fmt::Display for PlyProblem {
@@ -345,6 +473,15 @@ impl fmt::Display for PlyProblem {
             PlyProblem::FaceTooSmall { face, len } => {
                 write!(f, "PLY face {face} has {len} vertices (at least 3 needed)")
             }
+            PlyProblem::StripIndexOutOfRange {
+                strip,
+                index,
+                vertex_count,
+            } => write!(
+                f,
+                "PLY triangle strip {strip} refers to vertex {index}, but there are \
+                 {vertex_count} vertices"
+            ),
         }
     }
 }
@@ -399,6 +536,10 @@ pub enum SyntaxProblem {
         /// Vertices listed.
         len: usize,
     },
+    /// An ASCII STL `vertex` or `endloop` outside an `outer loop`.
+    StlVertexOutsideLoop,
+    /// An ASCII STL ends inside an `outer loop`.
+    StlUnclosedLoop,
 }
 
 impl fmt::Display for SyntaxProblem {
@@ -433,6 +574,12 @@ impl fmt::Display for SyntaxProblem {
             ),
             SyntaxProblem::FaceTooSmall { len } => {
                 write!(f, "a face lists {len} vertices (at least 3 needed)")
+            }
+            SyntaxProblem::StlVertexOutsideLoop => {
+                f.write_str("'vertex' or 'endloop' outside an 'outer loop'")
+            }
+            SyntaxProblem::StlUnclosedLoop => {
+                f.write_str("the file ends inside an 'outer loop' (no 'endloop')")
             }
         }
     }

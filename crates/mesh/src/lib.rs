@@ -46,8 +46,8 @@ pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
 pub use bvh::{Bvh, BIN_COUNT, MAX_DEPTH, MAX_LEAF_SIZE};
 pub use closest_point::ClosestPoint;
 pub use error::{
-    Element, ElementKind, GltfAttribute, GltfProblem, LoadWarning, MeshArray, MeshError,
-    MeshProblem, PlyProblem, SyntaxProblem,
+    BufferProblem, Element, ElementKind, GltfAttribute, GltfProblem, LoadWarning, MeshArray,
+    MeshError, MeshProblem, OutsideReason, PlyProblem, SyntaxProblem,
 };
 pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
 pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud};

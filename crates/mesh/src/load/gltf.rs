@@ -12,23 +12,33 @@
 //! applied to the UVs); `COLOR_0` (any component type) becomes sRGB vertex colours. UVs are
 //! flipped to `v` up (`v' = 1 - v`), the convention of every mesh here.
 //!
-//! Refused with [`MeshError::GltfExtensionRequired`]: files that *require* an extension this
-//! reader cannot honour (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`,
-//! `KHR_mesh_quantization`, and any other required extension not known to affect only
-//! shading). Accessors are checked (type, component type, count and byte range) before they
-//! are read, so a malformed file gives an error, not a panic.
+//! Compression and quantization: `KHR_mesh_quantization` (integer and normalized-integer
+//! attributes, dequantized by [`gltf_accessor`](super::gltf_accessor)) and
+//! `EXT_meshopt_compression` (views decoded by [`gltf_buffers`](super::gltf_buffers)) are
+//! read. Refused with [`MeshError::GltfExtensionRequired`]: files that *require* any other
+//! extension not known to affect only shading (`KHR_draco_mesh_compression` among them: no
+//! maintained pure-Rust Draco decoder was found fit to rely on). Accessors are checked (type,
+//! component type, count and byte range) before they are read, and every primitive's accessor
+//! indices before the gltf crate's validation (which indexes them unchecked), so a malformed
+//! file gives an error, not a panic.
+//!
+//! External files (buffers, images) are read only from the model's folder or below
+//! ([`local_reference`](super::local_reference)).
 //!
 //! Cost: O(vertices + indices) after the JSON parse; buffers are held in memory.
 //!
 //! Based on: the Khronos glTF 2.0 specification (2021), sections 3.6 (buffers, accessors),
 //! 3.7 (meshes), 3.9 (materials) and 3.5 (node hierarchy).
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
+use super::gltf_accessor::{read_accessor, AccessorValues};
+use super::gltf_buffers::{load_buffers, read_uri, resolve_views};
 use super::texture::load_texture_bytes;
 use super::{parent_dir, read_file, LoadedMesh, MeshBuilder};
 use crate::error::{Element, GltfAttribute, GltfProblem};
@@ -50,6 +60,13 @@ const IGNORABLE_REQUIRED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
 ];
 
+/// Required extensions that this reader decodes itself (the gltf crate's validation refuses
+/// them, so they are taken off the required list before it runs).
+const DECODED_REQUIRED_EXTENSIONS: &[&str] = &["KHR_mesh_quantization", "EXT_meshopt_compression"];
+
+/// Bytes of each buffer view, resolved (meshopt views decoded); `None` when unreadable.
+type Views<'a> = [Option<Cow<'a, [u8]>>];
+
 /// Geometry of one primitive instance, in world space.
 struct Piece {
     positions: Vec<DVec3>,
@@ -67,29 +84,23 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
         path: path.to_path_buf(),
         source,
     };
-    // Check required extensions before validation, which would reject some of them with a
-    // less helpful message.
     let unvalidated = gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
-    if let Some(ext) = unvalidated
-        .extensions_required()
-        .find(|e| !IGNORABLE_REQUIRED_EXTENSIONS.contains(e))
-    {
-        return Err(MeshError::GltfExtensionRequired {
-            path: path.to_path_buf(),
-            extension: ext.to_owned(),
-        });
-    }
-    drop(unvalidated);
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(gltf_err)?;
+    let blob = unvalidated.blob;
+    let mut json = unvalidated.document.into_json();
+    check_required_extensions(path, &json)?;
+    check_primitive_indices(path, &json)?;
+    json.extensions_required
+        .retain(|e| !DECODED_REQUIRED_EXTENSIONS.contains(&e.as_str()));
+    let document = gltf::Document::from_json(json).map_err(gltf_err)?;
     let dir = parent_dir(path);
     let base = if dir.as_os_str().is_empty() {
         Path::new(".")
     } else {
         dir.as_path()
     };
-    let buffers =
-        gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone()).map_err(gltf_err)?;
-    let document = &gltf.document;
+    let buffers = load_buffers(path, base, &document, blob)?;
+    let views = resolve_views(&document, &buffers);
+    let document = &document;
     let mut warnings = Vec::new();
 
     // Materials and their textures.
@@ -121,7 +132,7 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
             let image = info.texture().source();
             let slot = &mut texture_cache[image.index()];
             if slot.is_none() {
-                *slot = Some(match decode_image(&image, base, &buffers, path) {
+                *slot = Some(match decode_image(&image, base, &views, path) {
                     Ok(t) => Some(t),
                     Err(w) => {
                         warnings.push(w);
@@ -176,7 +187,7 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
                     path,
                     &mesh,
                     &primitive,
-                    &buffers,
+                    &views,
                     &world,
                     &material_uv_set,
                     &material_uv_transform,
@@ -233,128 +244,98 @@ fn sanitise_factor(f: [f32; 4]) -> [f32; 4] {
     })
 }
 
-/// Whether an accessor has one of the allowed shapes, a non-zero count and a byte range inside
-/// its buffer view and buffer.
-fn accessor_ok(
+/// Refuses a file that requires an extension this reader neither decodes nor may ignore.
+fn check_required_extensions(path: &Path, json: &gltf::json::Root) -> Result<(), MeshError> {
+    match json.extensions_required.iter().find(|e| {
+        !IGNORABLE_REQUIRED_EXTENSIONS.contains(&e.as_str())
+            && !DECODED_REQUIRED_EXTENSIONS.contains(&e.as_str())
+    }) {
+        Some(ext) => Err(MeshError::GltfExtensionRequired {
+            path: path.to_path_buf(),
+            extension: ext.clone(),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that every primitive's attribute and index accessors exist (the gltf crate's
+/// validation indexes the `POSITION` accessor before checking it, and panics on a bad one).
+fn check_primitive_indices(path: &Path, json: &gltf::json::Root) -> Result<(), MeshError> {
+    let count = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let attributes = primitive.attributes.iter().map(|(semantic, index)| {
+                let attribute = match semantic {
+                    gltf::json::validation::Checked::Valid(gltf::Semantic::Positions) => {
+                        GltfAttribute::Position
+                    }
+                    gltf::json::validation::Checked::Valid(gltf::Semantic::Normals) => {
+                        GltfAttribute::Normal
+                    }
+                    gltf::json::validation::Checked::Valid(gltf::Semantic::Colors(_)) => {
+                        GltfAttribute::Colour
+                    }
+                    _ => GltfAttribute::TexCoord,
+                };
+                (attribute, index.value())
+            });
+            let indices = primitive
+                .indices
+                .map(|i| (GltfAttribute::Indices, i.value()));
+            if let Some((attribute, index)) = attributes.chain(indices).find(|&(_, i)| i >= count) {
+                return Err(MeshError::GltfPrimitive {
+                    path: path.to_path_buf(),
+                    mesh: m,
+                    primitive: p,
+                    problem: GltfProblem::MissingAccessor {
+                        attribute,
+                        index,
+                        accessor_count: count,
+                    },
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads an accessor if it has one of the allowed shapes, a non-zero count and a byte range
+/// inside its view.
+fn read_checked(
     accessor: &gltf::Accessor,
     dimensions: &[Dimensions],
     types: &[DataType],
-    buffers: &[gltf::buffer::Data],
-) -> bool {
-    if !dimensions.contains(&accessor.dimensions()) || !types.contains(&accessor.data_type()) {
-        return false;
+    views: &Views,
+) -> Option<AccessorValues> {
+    if !dimensions.contains(&accessor.dimensions())
+        || !types.contains(&accessor.data_type())
+        || accessor.count() == 0
+    {
+        return None;
     }
-    let count = accessor.count();
-    if count == 0 {
-        return false;
-    }
-    if let Some(sparse) = accessor.sparse() {
-        if sparse.count() == 0 {
-            return false;
-        }
-    }
-    let Some(view) = accessor.view() else {
-        // Without a view the values are zeros (plus sparse substitutions): fine to read.
-        return accessor.sparse().is_some();
-    };
-    let size = accessor.size();
-    let stride = view.stride().unwrap_or(size);
-    if stride < size {
-        return false;
-    }
-    let end = (count - 1)
-        .checked_mul(stride)
-        .and_then(|x| x.checked_add(size))
-        .and_then(|x| x.checked_add(accessor.offset()));
-    let Some(buffer) = buffers.get(view.buffer().index()) else {
-        return false;
-    };
-    matches!(end, Some(end) if end <= view.length())
-        && view
-            .offset()
-            .checked_add(view.length())
-            .is_some_and(|e| e <= buffer.len())
+    read_accessor(accessor, views)
 }
 
-#[allow(clippy::too_many_arguments)] // reason: a private helper; the arguments are one call's context
-fn read_primitive(
-    path: &Path,
-    mesh: &gltf::Mesh,
-    primitive: &gltf::Primitive,
-    buffers: &[gltf::buffer::Data],
-    world: &DMat4,
-    material_uv_set: &[u32],
-    material_uv_transform: &[UvTransform],
-) -> Result<Option<Piece>, MeshError> {
-    let mode = primitive.mode();
-    if !matches!(
-        mode,
-        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-    ) {
-        return Ok(None);
-    }
-    let fail = |problem| MeshError::GltfPrimitive {
-        path: path.to_path_buf(),
-        mesh: mesh.index(),
-        primitive: primitive.index(),
-        problem,
-    };
-    let bad = |attribute| fail(GltfProblem::BadAccessor { attribute });
-    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+/// Component types a position may have: `FLOAT`, or any 8/16-bit integer
+/// (`KHR_mesh_quantization`).
+const POSITION_TYPES: &[DataType] = &[
+    DataType::F32,
+    DataType::I8,
+    DataType::U8,
+    DataType::I16,
+    DataType::U16,
+];
+/// Component types a normal may have (`FLOAT`, or normalized signed 8/16-bit).
+const NORMAL_TYPES: &[DataType] = &[DataType::F32, DataType::I8, DataType::I16];
+/// Component types a texture coordinate may have.
+const TEXCOORD_TYPES: &[DataType] = POSITION_TYPES;
+/// Component types a colour may have.
+const COLOUR_TYPES: &[DataType] = &[DataType::F32, DataType::U8, DataType::U16];
+/// Component types an index may have.
+const INDEX_TYPES: &[DataType] = &[DataType::U8, DataType::U16, DataType::U32];
 
-    let position_accessor = primitive
-        .get(&gltf::Semantic::Positions)
-        .ok_or_else(|| fail(GltfProblem::NoPositions))?;
-    if !accessor_ok(
-        &position_accessor,
-        &[Dimensions::Vec3],
-        &[DataType::F32],
-        buffers,
-    ) {
-        return Err(bad(GltfAttribute::Position));
-    }
-    let local: Vec<[f32; 3]> = reader
-        .read_positions()
-        .ok_or_else(|| bad(GltfAttribute::Position))?
-        .collect();
-    let n = local.len();
-    let mut positions = Vec::with_capacity(n);
-    for (i, p) in local.iter().enumerate() {
-        let p = DVec3::from_array(p.map(f64::from));
-        if !p.is_finite() {
-            return Err(MeshError::NonFinite {
-                path: path.to_path_buf(),
-                element: Element::Vertex(i as u64),
-            });
-        }
-        positions.push(world.transform_point3(p));
-    }
-
-    let indices: Vec<u32> = match primitive.indices() {
-        Some(accessor) => {
-            if !accessor_ok(
-                &accessor,
-                &[Dimensions::Scalar],
-                &[DataType::U8, DataType::U16, DataType::U32],
-                buffers,
-            ) {
-                return Err(bad(GltfAttribute::Indices));
-            }
-            reader
-                .read_indices()
-                .ok_or_else(|| bad(GltfAttribute::Indices))?
-                .into_u32()
-                .collect()
-        }
-        None => (0..n as u32).collect(),
-    };
-    if let Some(&index) = indices.iter().find(|&&i| i as usize >= n) {
-        return Err(fail(GltfProblem::IndexOutOfRange {
-            index,
-            vertex_count: n,
-        }));
-    }
-    let mirrored = DMat3::from_mat4(*world).determinant() < 0.0;
+/// Triangles of a primitive's index list in its mode, counter-clockwise after `mirrored`.
+fn assemble_triangles(mode: Mode, indices: &[u32], mirrored: bool) -> Vec<[u32; 3]> {
     let mut triangles = Vec::with_capacity(indices.len() / 3);
     let mut push = |a: u32, b: u32, c: u32| {
         triangles.push(if mirrored { [a, c, b] } else { [a, b, c] });
@@ -381,6 +362,74 @@ fn read_primitive(
             }
         }
     }
+    triangles
+}
+
+#[allow(clippy::too_many_arguments)] // reason: a private helper; the arguments are one call's context
+fn read_primitive(
+    path: &Path,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    views: &Views,
+    world: &DMat4,
+    material_uv_set: &[u32],
+    material_uv_transform: &[UvTransform],
+) -> Result<Option<Piece>, MeshError> {
+    let mode = primitive.mode();
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
+        return Ok(None);
+    }
+    let fail = |problem| MeshError::GltfPrimitive {
+        path: path.to_path_buf(),
+        mesh: mesh.index(),
+        primitive: primitive.index(),
+        problem,
+    };
+    let bad = |attribute| fail(GltfProblem::BadAccessor { attribute });
+
+    let position_accessor = primitive
+        .get(&gltf::Semantic::Positions)
+        .ok_or_else(|| fail(GltfProblem::NoPositions))?;
+    let local = read_checked(
+        &position_accessor,
+        &[Dimensions::Vec3],
+        POSITION_TYPES,
+        views,
+    )
+    .ok_or_else(|| bad(GltfAttribute::Position))?;
+    let n = local.len();
+    let mut positions = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = DVec3::from_array(local.get::<3>(i));
+        if !p.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: path.to_path_buf(),
+                element: Element::Vertex(i as u64),
+            });
+        }
+        positions.push(world.transform_point3(p));
+    }
+
+    let indices: Vec<u32> = match primitive.indices() {
+        Some(accessor) => read_checked(&accessor, &[Dimensions::Scalar], INDEX_TYPES, views)
+            .ok_or_else(|| bad(GltfAttribute::Indices))?
+            .values
+            .iter()
+            .map(|&i| i as u32)
+            .collect(),
+        None => (0..n as u32).collect(),
+    };
+    if let Some(&index) = indices.iter().find(|&&i| i as usize >= n) {
+        return Err(fail(GltfProblem::IndexOutOfRange {
+            index,
+            vertex_count: n,
+        }));
+    }
+    let mirrored = DMat3::from_mat4(*world).determinant() < 0.0;
+    let triangles = assemble_triangles(mode, &indices, mirrored);
 
     let count_check = |attribute, count: usize| {
         if count == n {
@@ -396,17 +445,13 @@ fn read_primitive(
 
     let normals = match primitive.get(&gltf::Semantic::Normals) {
         Some(accessor) => {
-            if !accessor_ok(&accessor, &[Dimensions::Vec3], &[DataType::F32], buffers) {
-                return Err(bad(GltfAttribute::Normal));
-            }
+            let values = read_checked(&accessor, &[Dimensions::Vec3], NORMAL_TYPES, views)
+                .ok_or_else(|| bad(GltfAttribute::Normal))?;
+            count_check(GltfAttribute::Normal, values.len())?;
             let normal_matrix = DMat3::from_mat4(*world).inverse().transpose();
             let mut out = Vec::with_capacity(n);
-            for (i, v) in reader
-                .read_normals()
-                .ok_or_else(|| bad(GltfAttribute::Normal))?
-                .enumerate()
-            {
-                let v = DVec3::from_array(v.map(f64::from));
+            for i in 0..n {
+                let v = DVec3::from_array(values.get::<3>(i));
                 if !v.is_finite() {
                     return Err(MeshError::NonFinite {
                         path: path.to_path_buf(),
@@ -420,7 +465,6 @@ fn read_primitive(
                     Vec3::ZERO
                 });
             }
-            count_check(GltfAttribute::Normal, out.len())?;
             Some(out)
         }
         None => None,
@@ -433,22 +477,13 @@ fn read_primitive(
         .unwrap_or(UvTransform::IDENTITY);
     let uvs = match primitive.get(&gltf::Semantic::TexCoords(set)) {
         Some(accessor) => {
-            if !accessor_ok(
-                &accessor,
-                &[Dimensions::Vec2],
-                &[DataType::F32, DataType::U8, DataType::U16],
-                buffers,
-            ) {
-                return Err(bad(GltfAttribute::TexCoord));
-            }
+            let values = read_checked(&accessor, &[Dimensions::Vec2], TEXCOORD_TYPES, views)
+                .ok_or_else(|| bad(GltfAttribute::TexCoord))?;
+            count_check(GltfAttribute::TexCoord, values.len())?;
             let mut out = Vec::with_capacity(n);
-            for (i, uv) in reader
-                .read_tex_coords(set)
-                .ok_or_else(|| bad(GltfAttribute::TexCoord))?
-                .into_f32()
-                .enumerate()
-            {
-                let uv = transform.apply(Vec2::from_array(uv));
+            for i in 0..n {
+                let [u, v] = values.get::<2>(i);
+                let uv = transform.apply(Vec2::new(u as f32, v as f32));
                 if !uv.is_finite() {
                     return Err(MeshError::NonFinite {
                         path: path.to_path_buf(),
@@ -457,7 +492,6 @@ fn read_primitive(
                 }
                 out.push(Vec2::new(uv.x, 1.0 - uv.y));
             }
-            count_check(GltfAttribute::TexCoord, out.len())?;
             Some(out)
         }
         None => None,
@@ -465,35 +499,15 @@ fn read_primitive(
 
     let colours = match primitive.get(&gltf::Semantic::Colors(0)) {
         Some(accessor) => {
-            if !accessor_ok(
+            let values = read_checked(
                 &accessor,
                 &[Dimensions::Vec3, Dimensions::Vec4],
-                &[DataType::F32, DataType::U8, DataType::U16],
-                buffers,
-            ) {
-                return Err(bad(GltfAttribute::Colour));
-            }
-            // COLOR_0 is linear; vertex colours here are sRGB bytes.
-            let out: Vec<[u8; 4]> = reader
-                .read_colors(0)
-                .ok_or_else(|| bad(GltfAttribute::Colour))?
-                .into_rgba_f32()
-                .map(|c| {
-                    let a = if c[3].is_nan() {
-                        1.0
-                    } else {
-                        c[3].clamp(0.0, 1.0)
-                    };
-                    [
-                        linear_to_srgb(c[0]),
-                        linear_to_srgb(c[1]),
-                        linear_to_srgb(c[2]),
-                        (a * 255.0 + 0.5) as u8,
-                    ]
-                })
-                .collect();
-            count_check(GltfAttribute::Colour, out.len())?;
-            Some(out)
+                COLOUR_TYPES,
+                views,
+            )
+            .ok_or_else(|| bad(GltfAttribute::Colour))?;
+            count_check(GltfAttribute::Colour, values.len())?;
+            Some((0..n).map(|i| linear_colour_to_srgb(&values, i)).collect())
         }
         None => None,
     };
@@ -506,6 +520,22 @@ fn read_primitive(
         colours,
         material,
     }))
+}
+
+/// `COLOR_0` element `i` (linear, RGB or RGBA) as sRGB bytes with alpha.
+fn linear_colour_to_srgb(values: &AccessorValues, i: usize) -> [u8; 4] {
+    let at = i * values.components;
+    let c = &values.values[at..at + values.components];
+    let a = match c.get(3) {
+        Some(a) if !a.is_nan() => a.clamp(0.0, 1.0),
+        _ => 1.0,
+    };
+    [
+        linear_to_srgb(c[0] as f32),
+        linear_to_srgb(c[1] as f32),
+        linear_to_srgb(c[2] as f32),
+        (a * 255.0 + 0.5) as u8,
+    ]
 }
 
 /// Joins the primitive instances into one mesh: optional attributes are kept when at least
@@ -577,92 +607,45 @@ fn merge_pieces(
     b
 }
 
-/// Decodes a glTF image (buffer view bytes, data URI or external file) to a texture.
+/// Decodes a glTF image (buffer view bytes, data URI or external file in the model's folder)
+/// to a texture.
 fn decode_image(
     image: &gltf::Image,
     base: &Path,
-    buffers: &[gltf::buffer::Data],
+    views: &Views,
     gltf_path: &Path,
 ) -> Result<Texture, LoadWarning> {
     let label = gltf_path.join(format!("#image{}", image.index()));
     match image.source() {
         gltf::image::Source::View { view, .. } => {
-            let bytes = buffers
-                .get(view.buffer().index())
-                .and_then(|b| {
-                    b.0.get(view.offset()..view.offset().checked_add(view.length())?)
-                })
+            let bytes = views
+                .get(view.index())
+                .and_then(|v| v.as_deref())
                 .ok_or_else(|| LoadWarning::TextureUnreadable {
                     path: label.clone(),
                     reason: "the image's buffer view is out of range".to_owned(),
                 })?;
             load_texture_bytes(bytes, &label)
         }
-        source @ gltf::image::Source::Uri { uri, .. } => {
+        gltf::image::Source::Uri { uri, .. } => {
             let label = if uri.starts_with("data:") {
                 label
             } else {
                 base.join(uri)
             };
-            let data =
-                gltf::image::Data::from_source(source, Some(base), buffers).map_err(|e| {
-                    LoadWarning::TextureUnreadable {
-                        path: label.clone(),
-                        reason: e.to_string(),
-                    }
+            let bytes =
+                read_uri(gltf_path, base, uri).map_err(|e| LoadWarning::TextureUnreadable {
+                    path: label.clone(),
+                    reason: match e {
+                        Some(MeshError::Io { source, .. }) => source.to_string(),
+                        Some(MeshError::ReferenceOutsideFolder { reason, .. }) => {
+                            format!("not read: {reason}")
+                        }
+                        Some(other) => other.to_string(),
+                        None => "its data: URI is not valid base64".to_owned(),
+                    },
                 })?;
-            image_data_to_texture(&data).ok_or(LoadWarning::TextureUnreadable {
-                path: label,
-                reason: "unsupported pixel layout".to_owned(),
-            })
+            load_texture_bytes(&bytes, &label)
         }
     }
-}
-
-/// Converts gltf's decoded pixels to RGBA8.
-fn image_data_to_texture(data: &gltf::image::Data) -> Option<Texture> {
-    use gltf::image::Format;
-    let (channels, bytes_per_channel) = match data.format {
-        Format::R8 => (1, 1),
-        Format::R8G8 => (2, 1),
-        Format::R8G8B8 => (3, 1),
-        Format::R8G8B8A8 => (4, 1),
-        Format::R16 => (1, 2),
-        Format::R16G16 => (2, 2),
-        Format::R16G16B16 => (3, 2),
-        Format::R16G16B16A16 => (4, 2),
-        Format::R32G32B32FLOAT => (3, 4),
-        Format::R32G32B32A32FLOAT => (4, 4),
-    };
-    let pixel = channels * bytes_per_channel;
-    let count = data.width as usize * data.height as usize;
-    if data.pixels.len() < count * pixel {
-        return None;
-    }
-    let mut rgba = Vec::with_capacity(count * 4);
-    for px in data.pixels.chunks_exact(pixel).take(count) {
-        let channel = |k: usize| -> u8 {
-            let at = k * bytes_per_channel;
-            match bytes_per_channel {
-                1 => px[at],
-                2 => (u16::from_ne_bytes([px[at], px[at + 1]]) >> 8) as u8,
-                _ => {
-                    let v = f32::from_ne_bytes([px[at], px[at + 1], px[at + 2], px[at + 3]]);
-                    if v.is_nan() {
-                        0
-                    } else {
-                        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-                    }
-                }
-            }
-        };
-        let (r, g, b, a) = match channels {
-            1 => (channel(0), channel(0), channel(0), 255),
-            2 => (channel(0), channel(0), channel(0), channel(1)),
-            3 => (channel(0), channel(1), channel(2), 255),
-            _ => (channel(0), channel(1), channel(2), channel(3)),
-        };
-        rgba.extend_from_slice(&[r, g, b, a]);
-    }
-    Texture::new(data.width, data.height, rgba).ok()
 }

@@ -9,6 +9,7 @@
 //! | `.gltf`, `.glb` | [`gltf`] | — |
 //! | `.ply` (ASCII, binary LE/BE) | [`ply`] | [`ply`] (the vertices of any PLY) |
 //! | `.off` (ASCII) | [`off`] | — |
+//! | `.stl` (binary, ASCII) | [`stl`] | — |
 //! | `.xyz`, `.txt`, `.pts` | — | [`xyz`] |
 //!
 //! Rules every reader keeps:
@@ -33,11 +34,16 @@ use crate::mesh::world_bounds_centre;
 use crate::{LoadWarning, Material, MaterialId, MeshError, PointCloud, TriangleMesh};
 
 pub mod gltf;
+mod gltf_accessor;
+mod gltf_buffers;
+mod local_reference;
 pub mod obj;
 pub mod off;
 pub mod ply;
 mod ply_fast;
+pub mod stl;
 mod texture;
+mod tristrips;
 pub mod xyz;
 
 /// A mesh read from a file, with the warnings the reader collected.
@@ -72,6 +78,8 @@ pub enum FileFormat {
     Ply,
     /// Object File Format (ASCII).
     Off,
+    /// STL, binary or ASCII.
+    Stl,
     /// Plain point text (`.xyz`, `.txt`).
     Xyz,
     /// Leica-style point text (`.pts`): an optional count line, then `x y z [i] [r g b]`.
@@ -87,6 +95,7 @@ impl FileFormat {
             "gltf" | "glb" => FileFormat::Gltf,
             "ply" => FileFormat::Ply,
             "off" => FileFormat::Off,
+            "stl" => FileFormat::Stl,
             "xyz" | "txt" => FileFormat::Xyz,
             "pts" => FileFormat::Pts,
             _ => return None,
@@ -95,7 +104,7 @@ impl FileFormat {
 }
 
 /// Loads a triangle mesh, choosing the reader by extension (`.obj`, `.gltf`, `.glb`, `.ply`,
-/// `.off`).
+/// `.off`, `.stl`).
 pub fn load_mesh(path: impl AsRef<Path>) -> Result<LoadedMesh, MeshError> {
     let path = path.as_ref();
     match FileFormat::from_path(path) {
@@ -103,6 +112,7 @@ pub fn load_mesh(path: impl AsRef<Path>) -> Result<LoadedMesh, MeshError> {
         Some(FileFormat::Gltf) => gltf::load_gltf(path),
         Some(FileFormat::Ply) => ply::load_ply_mesh(path),
         Some(FileFormat::Off) => off::load_off(path),
+        Some(FileFormat::Stl) => stl::load_stl(path),
         _ => Err(MeshError::UnsupportedFormat {
             path: path.to_path_buf(),
         }),

@@ -3,7 +3,9 @@
 //! One reader serves both: the `vertex` element gives positions (`x y z`, any numeric type,
 //! read as f64), optional normals (`nx ny nz`) and optional colours (`red green blue [alpha]`,
 //! `r g b [a]` or `diffuse_red ...`); the `face` element gives polygons through a
-//! `vertex_indices` or `vertex_index` list of any integer type, fanned into triangles. Other
+//! `vertex_indices` or `vertex_index` list of any integer type, fanned into triangles, or,
+//! when there is no `face` element, a `tristrips` element's `vertex_indices` lists (strips
+//! with `-1` restarts, see [`tristrips`](super::tristrips)). Other
 //! vertex properties (confidence, intensity, ...) and other elements (`range_grid` of raw
 //! scans, `edge`, `material`, ...) before or after are skipped; reading stops once the needed
 //! elements are read.
@@ -27,6 +29,7 @@ use ply_rs_bw::ply::{
     ElementDef, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
+use super::tristrips::strips_to_triangles;
 use super::{build_point_cloud, LoadedMesh, LoadedPointCloud, MeshBuilder};
 use crate::error::{Element, PlyProblem};
 use crate::{LoadWarning, MeshError};
@@ -52,7 +55,43 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
     let mut warnings = Vec::new();
     let mut builder = MeshBuilder::default();
     let mut fanned = 0u64;
-    for (f, face) in data.faces.iter().enumerate() {
+    match data.face_layout {
+        FaceLayout::Polygons => {
+            fanned = fan_faces(path, &data.faces, vertex_count, &mut builder.triangles)?;
+        }
+        FaceLayout::Strips => {
+            builder.triangles =
+                strips_to_triangles(data.faces.iter().map(|f| &f.indices), vertex_count).map_err(
+                    |problem| MeshError::PlyStructure {
+                        path: path.to_path_buf(),
+                        problem,
+                    },
+                )?;
+        }
+    }
+    if fanned > 0 {
+        warnings.push(LoadWarning::PolygonsFanned { count: fanned });
+    }
+    builder.positions = data.vertices.iter().map(PlyVertex::position).collect();
+    if data.layout.normals {
+        builder.vertex_normals = Some(data.vertices.iter().map(PlyVertex::normal).collect());
+    }
+    if let Some(scale) = data.layout.colours {
+        builder.vertex_colours = Some(data.vertices.iter().map(|v| v.colour(scale)).collect());
+    }
+    let mesh = builder.finish(path)?;
+    Ok(LoadedMesh { mesh, warnings })
+}
+
+/// Fans polygon faces into `triangles`; returns how many had more than three vertices.
+fn fan_faces(
+    path: &Path,
+    faces: &[PlyFace],
+    vertex_count: usize,
+    triangles: &mut Vec<[u32; 3]>,
+) -> Result<u64, MeshError> {
+    let mut fanned = 0u64;
+    for (f, face) in faces.iter().enumerate() {
         if face.indices.len() < 3 {
             return Err(MeshError::PlyStructure {
                 path: path.to_path_buf(),
@@ -74,28 +113,13 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
                 vertex_count: vertex_count as u64,
             });
         }
-        if face.indices.len() > 3 {
-            fanned += 1;
-        }
+        fanned += u64::from(face.indices.len() > 3);
         let first = face.indices[0] as u32;
         for k in 1..face.indices.len() - 1 {
-            builder
-                .triangles
-                .push([first, face.indices[k] as u32, face.indices[k + 1] as u32]);
+            triangles.push([first, face.indices[k] as u32, face.indices[k + 1] as u32]);
         }
     }
-    if fanned > 0 {
-        warnings.push(LoadWarning::PolygonsFanned { count: fanned });
-    }
-    builder.positions = data.vertices.iter().map(PlyVertex::position).collect();
-    if data.layout.normals {
-        builder.vertex_normals = Some(data.vertices.iter().map(PlyVertex::normal).collect());
-    }
-    if let Some(scale) = data.layout.colours {
-        builder.vertex_colours = Some(data.vertices.iter().map(|v| v.colour(scale)).collect());
-    }
-    let mesh = builder.finish(path)?;
-    Ok(LoadedMesh { mesh, warnings })
+    Ok(fanned)
 }
 
 /// Loads the vertices of any PLY file (faces, if any, are not read) as a point cloud.
@@ -130,9 +154,19 @@ struct VertexLayout {
     colours: Option<ColourScale>,
 }
 
+/// How the face element lists its triangles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum FaceLayout {
+    /// A `face` element: one polygon per entry.
+    Polygons,
+    /// A `tristrips` element: strips with `-1` restarts.
+    Strips,
+}
+
 struct PlyData {
     vertices: Vec<PlyVertex>,
     faces: Vec<PlyFace>,
+    face_layout: FaceLayout,
     layout: VertexLayout,
 }
 
@@ -165,7 +199,15 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
         .find(|e| is_vertex_element(&e.name))
         .ok_or_else(|| structure(PlyProblem::NoVertexElement))?;
     let layout = vertex_layout(vertex_def).map_err(structure)?;
-    let face_def = header.elements.values().find(|e| is_face_element(&e.name));
+    let face_def = header
+        .elements
+        .values()
+        .find(|e| is_face_element(&e.name))
+        .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)));
+    let face_layout = match face_def {
+        Some(def) if is_strip_element(&def.name) => FaceLayout::Strips,
+        _ => FaceLayout::Polygons,
+    };
     if let Some(face_def) = face_def.filter(|_| want_faces) {
         let ok = face_def
             .properties
@@ -188,7 +230,7 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
                 .read_payload_for_element(&mut reader, def, &header)
                 .map_err(ply_err)?;
             have_vertices = true;
-        } else if want_faces && is_face_element(&def.name) && !have_faces {
+        } else if want_faces && face_def.is_some_and(|f| f.name == def.name) && !have_faces {
             faces = Parser::<PlyFace>::new()
                 .read_payload_for_element(&mut reader, def, &header)
                 .map_err(ply_err)?;
@@ -213,6 +255,7 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
     Ok(PlyData {
         vertices,
         faces,
+        face_layout,
         layout,
     })
 }
@@ -223,6 +266,10 @@ fn is_vertex_element(name: &str) -> bool {
 
 fn is_face_element(name: &str) -> bool {
     matches!(name, "face" | "faces")
+}
+
+fn is_strip_element(name: &str) -> bool {
+    matches!(name, "tristrips" | "tristrip")
 }
 
 fn is_index_list(name: &str) -> bool {

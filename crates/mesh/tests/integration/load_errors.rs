@@ -142,7 +142,7 @@ fn bad_indices_and_empty_files_are_typed_errors() {
         load_mesh(&no_faces),
         Err(MeshError::NoFaces { .. })
     ));
-    let unknown = write(dir.path(), "x.stl", b"solid");
+    let unknown = write(dir.path(), "x.3mf", b"solid");
     assert!(matches!(
         load_mesh(&unknown),
         Err(MeshError::UnsupportedFormat { .. })

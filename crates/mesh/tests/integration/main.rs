@@ -8,6 +8,8 @@
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
 //! - `prepare`: welding and cleaning counts;
 //! - `ply_points`: the direct binary PLY cloud reader against the general one;
+//! - `stl`: the STL reader on files written by stl_io and by hand;
+//! - `tristrips`: PLY triangle strips against the same mesh as a face list;
 //! - `queries`: BVH ray casts and closest points against brute force; surface sampling.
 
 mod adjacency;
@@ -16,6 +18,8 @@ mod load_real;
 mod ply_points;
 mod prepare;
 mod queries;
+mod stl;
+mod tristrips;
 
 use spatch_fixtures::Shape;
 use spatch_mesh::TriangleMesh;
