@@ -5,6 +5,8 @@
 //! - `load_real`: the real files of `../shared/data` (skipped politely when absent);
 //! - `load_errors`: hostile and broken inputs written to a temporary folder: NaN, truncation,
 //!   bad indices, missing materials and textures; never a panic;
+//! - `gltf_compressed`: gltfpack's quantized and meshopt files against the f32 original;
+//!   hostile URIs and accessor indices;
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
 //! - `prepare`: welding and cleaning counts;
 //! - `ply_points`: the direct binary PLY cloud reader against the general one;
@@ -13,6 +15,7 @@
 //! - `queries`: BVH ray casts and closest points against brute force; surface sampling.
 
 mod adjacency;
+mod gltf_compressed;
 mod load_errors;
 mod load_real;
 mod ply_points;
