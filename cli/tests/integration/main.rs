@@ -9,6 +9,8 @@
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
 //! - `from_cloud`: `spatch from-cloud` scene, report keys and error targets, determinism,
 //!   bad clouds.
+//! - `golden`: small renders (shadings, modes, the sphere, textured Spot, an open tube, a
+//!   concave crease) compared pixel for pixel with `testdata/golden/render/`.
 //! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
 //! - `report_schema`: every command's JSON report parses into the shared shape.
@@ -24,6 +26,7 @@ mod edges;
 mod eval;
 mod export;
 mod from_cloud;
+mod golden;
 mod merge;
 mod render;
 mod report_schema;
