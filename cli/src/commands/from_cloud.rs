@@ -1,4 +1,5 @@
-//! `spatch from-cloud`: a point cloud (PLY, XYZ) to patches through range images.
+//! `spatch from-cloud`: point clouds and scan sets (PLY, XYZ, PTS, Stanford `.conf`) to
+//! patches through range images.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,7 +12,7 @@ use spatch_cloud::{
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
-use spatch_mesh::load_point_cloud;
+use spatch_scan::{load_scans, LoadedScans, ScanOptions};
 
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
@@ -20,10 +21,11 @@ use crate::report::{details_from, new_report, set_detail, stages_from};
 /// Arguments of `spatch from-cloud`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct FromCloudArgs {
-    /// Input point cloud: .ply (ASCII or binary, optional colours and normals), .xyz, .txt
-    /// or .pts.
-    #[arg(value_name = "CLOUD")]
-    input: PathBuf,
+    /// Input point clouds, converted together: .ply (ASCII or binary, optional colours and
+    /// normals), .xyz, .txt, .pts, or a Stanford .conf scan set (each `bmesh FILE tx ty tz qx
+    /// qy qz qw` line is a scan and its pose; files relative to the .conf).
+    #[arg(value_name = "CLOUD", required = true, num_args = 1..)]
+    inputs: Vec<PathBuf>,
     /// Output .spatch file.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
@@ -80,6 +82,20 @@ pub(crate) struct FromCloudArgs {
 }
 
 impl FromCloudArgs {
+    /// How to read the inputs.
+    fn scan_options(&self) -> ScanOptions {
+        ScanOptions::default()
+    }
+
+    /// The inputs for messages: the one file, or the first and how many more.
+    fn input_label(&self) -> String {
+        match self.inputs.as_slice() {
+            [one] => one.display().to_string(),
+            [first, rest @ ..] => format!("{} (+{} more)", first.display(), rest.len()),
+            [] => String::new(),
+        }
+    }
+
     /// The library options these arguments ask for.
     fn options(&self) -> CloudOptions {
         let mut options = CloudOptions::default();
@@ -108,13 +124,14 @@ impl FromCloudArgs {
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let options = args.options();
     let started = Instant::now();
-    let loaded = load_point_cloud(&args.input)?;
+    let loaded = read_inputs(args)?;
     let load_seconds = started.elapsed().as_secs_f64();
+    let label = args.input_label();
     let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {
         CloudError::Bug(_) | CloudError::Internal { .. } => {
-            anyhow::Error::new(InternalFailure(format!("{}: {e}", args.input.display())))
+            anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
         }
-        e => anyhow::Error::new(e).context(format!("{}", args.input.display())),
+        e => anyhow::Error::new(e).context(label.clone()),
     })?;
     let write_started = Instant::now();
     write_output(&args.output, &conversion.bytes)?;
@@ -140,11 +157,20 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     report.seconds = report.stages.iter().map(|s| s.seconds).sum();
     if args.error || args.report.is_some() {
         let error = measure_cloud_error(&loaded.cloud, &conversion.scene, report.spacing)
-            .with_context(|| format!("{}: measuring the error", args.input.display()))?;
+            .with_context(|| format!("{label}: measuring the error"))?;
         report.error = Some(error);
     }
 
-    let mut text = format!(
+    let mut text = String::new();
+    if loaded.scans.len() > 1 {
+        text.push_str(&format!(
+            "read {} scans from {} inputs ({} points)\n",
+            loaded.scans.len(),
+            args.inputs.len(),
+            loaded.cloud.len()
+        ));
+    }
+    text.push_str(&format!(
         "{}: {} patches, {} nodes ({} filled) from {} points, {} bytes\n",
         args.output.display(),
         report.counts.patches,
@@ -152,7 +178,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         report.counts.filled_nodes,
         report.points,
         report.counts.bytes,
-    );
+    ));
     text.push_str(&format!(
         "  spacing {:.4e} ({} normals), pixel {:.4e}, {} views, {} points uncovered\n",
         report.spacing, report.normals, report.pixel, report.views, report.uncovered_points,
@@ -199,11 +225,21 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     print_stdout(&text)
 }
 
+/// Reads and merges every input; a scan library's bug exits 1, anything else is the input's.
+/// The message is the error's own one line (it names the file and carries its cause, so the
+/// cause is not chained a second time).
+fn read_inputs(args: &FromCloudArgs) -> anyhow::Result<LoadedScans> {
+    load_scans(&args.inputs, &args.scan_options()).map_err(|e| match e {
+        spatch_scan::ScanError::Bug(_) => anyhow::Error::new(InternalFailure(e.to_string())),
+        e => anyhow::Error::msg(e.to_string()),
+    })
+}
+
 /// The shared JSON report (docs/report-schema.md) of a cloud conversion: the cloud's own
 /// figures under `details`, the error's spacing and share of far points under
 /// `details.cloud_error`.
 fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report<Value>> {
-    let mut report = new_report("from-cloud", &args.input.display().to_string());
+    let mut report = new_report("from-cloud", &args.input_label());
     report.output = Some(args.output.display().to_string());
     report.counts = r.counts;
     report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));

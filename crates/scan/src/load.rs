@@ -1,0 +1,151 @@
+//! Reading scan inputs: one or more files, each a cloud or a scan set, into one cloud.
+//!
+//! [`load_scans`] expands every input (a `.conf` pose file into its scans), reads the scans
+//! in parallel (one reader per file, chosen by extension), applies each scan's pose and merges
+//! them in input order ([`merge_scans`](crate::merge_scans)).
+//!
+//! | extension | reader | poses |
+//! |---|---|---|
+//! | `.conf` | [`read_conf`](crate::read_conf), then each listed scan | one per `bmesh` line |
+//! | `.ply`, `.xyz`, `.txt`, `.pts` | `spatch_mesh::load_point_cloud` | identity |
+//!
+//! Cost: the readers' (all files are held in memory at once as f64 positions before merging).
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use rayon::prelude::*;
+use spatch_mesh::{load_point_cloud, PointCloud};
+
+use crate::{merge_scans, read_conf, Pose, PosedScan, ScanError, ScanSummary, ScanWarning};
+
+/// How to read the inputs.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct ScanOptions {}
+
+/// The merged cloud of every input and what happened on the way.
+#[derive(Clone, Debug)]
+pub struct LoadedScans {
+    /// All points in the common frame.
+    pub cloud: PointCloud,
+    /// One entry per scan, in input order.
+    pub scans: Vec<ScanSummary>,
+    /// The `camera` pose of the first `.conf` that has one (a suggested viewpoint).
+    pub camera: Option<Pose>,
+    /// Points dropped because a coordinate or normal was NaN or infinite.
+    pub dropped_non_finite: u64,
+    /// What the readers worked around.
+    pub warnings: Vec<ScanWarning>,
+}
+
+/// A file to read and the pose to apply to all its scans.
+struct Job {
+    path: PathBuf,
+    pose: Pose,
+}
+
+/// Reads every input (see the module docs) and merges them into one cloud.
+pub fn load_scans(inputs: &[PathBuf], options: &ScanOptions) -> Result<LoadedScans, ScanError> {
+    if inputs.is_empty() {
+        return Err(ScanError::NoInputs);
+    }
+    let mut jobs = Vec::new();
+    let mut camera = None;
+    for input in inputs {
+        if is_scan_set(input) {
+            let set = read_conf(input)?;
+            camera = camera.or(set.camera);
+            for entry in set.scans {
+                if is_scan_set(&entry.path) {
+                    return Err(ScanError::NestedScanSet {
+                        path: input.clone(),
+                        nested: entry.path,
+                    });
+                }
+                jobs.push(Job {
+                    path: entry.path,
+                    pose: entry.pose,
+                });
+            }
+        } else {
+            jobs.push(Job {
+                path: input.clone(),
+                pose: Pose::IDENTITY,
+            });
+        }
+    }
+    let read: Vec<(Vec<PosedScan>, Vec<ScanWarning>)> = jobs
+        .par_iter()
+        .map(|job| read_scan_file(&job.path, job.pose, options))
+        .collect::<Result<_, _>>()?;
+    let mut warnings = Vec::new();
+    let mut scans = Vec::new();
+    for (file_scans, file_warnings) in read {
+        warnings.extend(file_warnings);
+        scans.extend(file_scans);
+    }
+    let dropped_non_finite = scans.iter().map(|s| s.dropped_non_finite).sum();
+    let (cloud, scans) = merge_scans(scans, &mut warnings)?;
+    Ok(LoadedScans {
+        cloud,
+        scans,
+        camera,
+        dropped_non_finite,
+        warnings,
+    })
+}
+
+/// Whether `path` names a scan-set (pose) file.
+pub fn is_scan_set(path: &Path) -> bool {
+    extension(path).as_deref() == Some("conf")
+}
+
+/// The lower-case extension of `path`.
+fn extension(path: &Path) -> Option<String> {
+    Some(path.extension()?.to_str()?.to_ascii_lowercase())
+}
+
+/// Reads the scans of one file, each posed by `pose` after any pose the file holds.
+fn read_scan_file(
+    path: &Path,
+    pose: Pose,
+    _options: &ScanOptions,
+) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanError> {
+    match extension(path).as_deref() {
+        Some("ply" | "xyz" | "txt" | "pts") => {
+            let loaded = load_point_cloud(path)?;
+            let warnings = loaded
+                .warnings
+                .into_iter()
+                .map(|warning| ScanWarning::Load {
+                    path: path.to_path_buf(),
+                    warning,
+                })
+                .collect();
+            let scan = posed_from_cloud(path, loaded.cloud, pose, loaded.dropped_non_finite);
+            Ok((vec![scan], warnings))
+        }
+        _ => Err(ScanError::UnsupportedFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
+/// A loaded cloud as a posed scan (its f32 positions back to f64 world coordinates).
+fn posed_from_cloud(path: &Path, cloud: PointCloud, pose: Pose, dropped: u64) -> PosedScan {
+    let origin: DVec3 = cloud.origin;
+    PosedScan {
+        path: path.to_path_buf(),
+        index: 0,
+        positions: cloud
+            .positions
+            .iter()
+            .map(|p| origin + p.as_dvec3())
+            .collect(),
+        colours: cloud.colours,
+        normals: cloud.normals,
+        pose,
+        dropped_non_finite: dropped,
+    }
+}

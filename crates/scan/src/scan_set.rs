@@ -1,0 +1,193 @@
+//! Merging posed scans into one point cloud.
+//!
+//! Input: scans as read ([`PosedScan`]: f64 positions in the scan's own frame, optional
+//! colours and normals, a [`Pose`]). Output: one [`PointCloud`] in the common frame, its
+//! positions f32 relative to the f64 centre of the merged bounding box, and a
+//! [`ScanSummary`] per scan (which points came from it).
+//!
+//! Invariants: points keep their scan order, scans keep their input order (so the result is
+//! deterministic); normals are rotated with their scan; colours survive when any scan has them
+//! (scans without get white, with a [`ScanWarning::ColoursMissing`]); normals survive only when
+//! every scan has them (else [`ScanWarning::NormalsDropped`] and the pipeline estimates them).
+//!
+//! Cost: one pass over the points, O(n) f64 scratch for the world positions.
+
+use std::ops::Range;
+use std::path::PathBuf;
+
+use glam::{DVec3, Vec3};
+use spatch_mesh::PointCloud;
+
+use crate::{Pose, ScanError, ScanWarning};
+
+/// Largest number of points a merged cloud may hold (32-bit point ids, one kept free).
+pub const MAX_POINTS: usize = u32::MAX as usize - 1;
+
+/// One scan as read from its file, before it is moved into the common frame.
+#[derive(Clone, Debug, Default)]
+pub struct PosedScan {
+    /// The file it came from (for messages).
+    pub path: PathBuf,
+    /// Which scan of the file (E57 files hold several; 0 otherwise).
+    pub index: usize,
+    /// Finite positions in the scan's own frame.
+    pub positions: Vec<DVec3>,
+    /// sRGB RGBA8 colour per point.
+    pub colours: Option<Vec<[u8; 4]>>,
+    /// Normal per point in the scan's own frame.
+    pub normals: Option<Vec<Vec3>>,
+    /// Scan frame to common frame.
+    pub pose: Pose,
+    /// Points the reader dropped because a value was NaN or infinite.
+    pub dropped_non_finite: u64,
+}
+
+/// Where one scan's points ended up in the merged cloud.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScanSummary {
+    /// The file it came from.
+    pub path: PathBuf,
+    /// Which scan of the file (E57 files hold several; 0 otherwise).
+    pub index: usize,
+    /// Its points' indices in the merged cloud.
+    pub points: Range<usize>,
+    /// The pose that was applied.
+    pub pose: Pose,
+}
+
+/// Moves every scan into the common frame and concatenates them; see the module docs.
+pub fn merge_scans(
+    scans: Vec<PosedScan>,
+    warnings: &mut Vec<ScanWarning>,
+) -> Result<(PointCloud, Vec<ScanSummary>), ScanError> {
+    let total: usize = scans.iter().map(|s| s.positions.len()).sum();
+    if total > MAX_POINTS {
+        return Err(ScanError::TooManyPoints {
+            count: total as u64,
+        });
+    }
+    let any_colour = scans.iter().any(|s| s.colours.is_some());
+    let all_normals = scans.iter().all(|s| s.normals.is_some());
+    let mut world: Vec<DVec3> = Vec::with_capacity(total);
+    let mut colours: Option<Vec<[u8; 4]>> = any_colour.then(|| Vec::with_capacity(total));
+    let mut normals: Option<Vec<Vec3>> = all_normals.then(|| Vec::with_capacity(total));
+    let mut summaries = Vec::with_capacity(scans.len());
+    for scan in scans {
+        let start = world.len();
+        let pose = scan.pose;
+        if pose.is_identity() {
+            world.extend_from_slice(&scan.positions);
+        } else {
+            world.extend(scan.positions.iter().map(|&p| pose.apply_point(p)));
+        }
+        if let Some(out) = colours.as_mut() {
+            match &scan.colours {
+                Some(c) => out.extend_from_slice(c),
+                None => {
+                    warnings.push(ScanWarning::ColoursMissing {
+                        path: scan.path.clone(),
+                    });
+                    out.resize(world.len(), [255; 4]);
+                }
+            }
+        }
+        match (normals.as_mut(), &scan.normals) {
+            (Some(out), Some(n)) => {
+                out.extend(n.iter().map(|&v| pose.apply_vector(v.as_dvec3()).as_vec3()))
+            }
+            (None, Some(_)) => warnings.push(ScanWarning::NormalsDropped {
+                path: scan.path.clone(),
+            }),
+            _ => {}
+        }
+        summaries.push(ScanSummary {
+            path: scan.path,
+            index: scan.index,
+            points: start..world.len(),
+            pose,
+        });
+    }
+    let origin = bounds_centre(&world);
+    let cloud = PointCloud {
+        origin,
+        positions: world.iter().map(|&p| (p - origin).as_vec3()).collect(),
+        colours,
+        normals,
+    };
+    Ok((cloud, summaries))
+}
+
+/// The centre of the bounding box of `points` (zero when empty).
+fn bounds_centre(points: &[DVec3]) -> DVec3 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for &p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let centre = (lo + hi) * 0.5;
+    if centre.is_finite() {
+        centre
+    } else {
+        DVec3::ZERO
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DQuat;
+
+    use super::*;
+
+    fn scan(points: &[[f64; 3]], pose: Pose) -> PosedScan {
+        PosedScan {
+            path: PathBuf::from("s.xyz"),
+            positions: points.iter().map(|&p| DVec3::from(p)).collect(),
+            pose,
+            ..PosedScan::default()
+        }
+    }
+
+    #[test]
+    fn poses_apply_and_origin_is_the_centre() {
+        let turn = Pose::new(
+            DQuat::from_rotation_z(std::f64::consts::PI),
+            DVec3::new(10.0, 0.0, 0.0),
+        )
+        .unwrap();
+        let mut warnings = Vec::new();
+        let (cloud, summaries) = merge_scans(
+            vec![
+                scan(&[[1.0, 0.0, 0.0]], Pose::IDENTITY),
+                scan(&[[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]], turn),
+            ],
+            &mut warnings,
+        )
+        .unwrap();
+        assert_eq!(cloud.len(), 3);
+        assert_eq!(summaries[1].points, 1..3);
+        let xs: Vec<f64> = (0..3).map(|i| cloud.world_position(i).x).collect();
+        assert!(
+            (xs[1] - 9.0).abs() < 1e-6 && (xs[2] - 8.0).abs() < 1e-6,
+            "{xs:?}"
+        );
+        assert!((cloud.origin.x - 5.0).abs() < 1e-12);
+        assert!(warnings.is_empty());
+    }
+
+    #[test]
+    fn missing_colours_are_white_and_partial_normals_dropped() {
+        let mut a = scan(&[[0.0; 3]], Pose::IDENTITY);
+        a.colours = Some(vec![[10, 20, 30, 255]]);
+        let mut b = scan(&[[1.0; 3]], Pose::IDENTITY);
+        b.normals = Some(vec![Vec3::Z]);
+        let mut warnings = Vec::new();
+        let (cloud, _) = merge_scans(vec![a, b], &mut warnings).unwrap();
+        assert_eq!(
+            cloud.colours,
+            Some(vec![[10, 20, 30, 255], [255, 255, 255, 255]])
+        );
+        assert!(cloud.normals.is_none());
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+    }
+}
