@@ -50,7 +50,7 @@ pub use error::{
     MeshError, MeshProblem, OutsideReason, PlyProblem, SyntaxProblem,
 };
 pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
-pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud};
+pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud, MAX_EXTENT};
 pub use material::{Material, Texture};
 pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;
