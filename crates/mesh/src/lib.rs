@@ -9,7 +9,7 @@
 //! - [`FaceAdjacency`]: faces sharing each edge, in CSR form ([`build_face_adjacency`]);
 //! - [`Bvh`]: ray casting ([`Bvh::ray_cast`], [`Bvh::ray_cast_filtered`]) and closest-point
 //!   queries ([`Bvh::closest_point`]);
-//! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, XYZ), then
+//! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, STL, XYZ), then
 //!   [`prepare_mesh`] to weld and clean; [`sample_surface`] for area-uniform samples;
 //! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
 //! - [`MeshError`]: the one error type, naming the file and the element at fault.

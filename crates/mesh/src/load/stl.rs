@@ -138,7 +138,7 @@ fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
     let mut fanned = 0u64;
     let mut loop_start: Option<usize> = None;
     let mut last_line = 1;
-    let mut it = words(&text);
+    let mut it = words(text);
     while let Some(word) = it.next() {
         last_line = word.line;
         let keyword = word.text.to_ascii_lowercase();
