@@ -20,7 +20,7 @@ pub(crate) enum Command {
     /// Convert the built-in model (a textured cow) into a folder: source, scene and report.
     #[command(after_help = "Example:\n  spatch demo\n  spatch demo -o my-demo --grid 9")]
     Demo(commands::demo::DemoArgs),
-    /// Convert a mesh (.obj, .gltf, .glb, .ply, .off) into spatial patches.
+    /// Convert a mesh (.obj, .gltf, .glb, .ply, .off, .stl) into spatial patches.
     #[command(
         after_help = "Example:\n  spatch convert bunny.ply -o bunny.spatch\n  spatch convert duck.glb -o duck.spatch --report report.json --grid 9 --threads 2"
     )]

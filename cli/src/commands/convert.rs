@@ -22,7 +22,9 @@ use crate::report::{details_from, new_report, set_detail, stages_from};
 /// Arguments of `spatch convert`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct ConvertArgs {
-    /// Input mesh: .obj (with .mtl and textures), .gltf, .glb, .ply or .off.
+    /// Input mesh: .obj (with .mtl and textures), .gltf, .glb (also quantized or
+    /// meshopt-compressed, as gltfpack writes), .ply (faces or tristrips), .off or .stl (binary or
+    /// ASCII).
     #[arg(value_name = "MESH")]
     input: PathBuf,
     /// Output .spatch file.

@@ -37,7 +37,7 @@ pub(crate) struct EvalArgs {
         conflicts_with = "sweep"
     )]
     scene: Option<PathBuf>,
-    /// The source the scene was made from: a mesh (.obj, .gltf, .glb, .ply, .off) or a point
+    /// The source the scene was made from: a mesh (.obj, .gltf, .glb, .ply, .off, .stl) or a point
     /// cloud (.xyz, .txt, .pts, or a .ply without faces).
     #[arg(
         long,

@@ -18,7 +18,7 @@ use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts, 
 /// What to convert.
 #[derive(Debug, Clone)]
 pub enum ConvertInput<'a> {
-    /// A mesh file (`.obj`, `.gltf`, `.glb`, `.ply`, `.off`), loaded by `spatch-mesh`.
+    /// A mesh file (`.obj`, `.gltf`, `.glb`, `.ply`, `.off`, `.stl`), loaded by `spatch-mesh`.
     Path(&'a Path),
     /// A mesh already in memory (the load stage then takes no time).
     Mesh(TriangleMesh),

@@ -58,6 +58,20 @@ pub enum MeshError {
         /// Which element holds the value.
         element: Element,
     },
+    /// A vertex lies so far from the model's centre that f32 geometry would overflow.
+    #[error(
+        "{}: vertex {vertex} lies {distance:e} from the model's centre (at most 1e15 is \
+         supported: is the file's unit or scale wrong?)",
+        path.display()
+    )]
+    ExtentTooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Index of the farthest vertex (0-based, in file order).
+        vertex: u64,
+        /// Its largest per-axis distance from the centre of the bounding box.
+        distance: f64,
+    },
     /// A face refers to a vertex that does not exist.
     #[error(
         "{}: face {face} refers to vertex {index}, but there are {vertex_count} vertices",

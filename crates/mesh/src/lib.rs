@@ -9,7 +9,7 @@
 //! - [`FaceAdjacency`]: faces sharing each edge, in CSR form ([`build_face_adjacency`]);
 //! - [`Bvh`]: ray casting ([`Bvh::ray_cast`], [`Bvh::ray_cast_filtered`]) and closest-point
 //!   queries ([`Bvh::closest_point`]);
-//! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, XYZ), then
+//! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, STL, XYZ), then
 //!   [`prepare_mesh`] to weld and clean; [`sample_surface`] for area-uniform samples;
 //! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
 //! - [`MeshError`]: the one error type, naming the file and the element at fault.
@@ -50,7 +50,7 @@ pub use error::{
     MeshError, MeshProblem, OutsideReason, PlyProblem, SyntaxProblem,
 };
 pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
-pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud};
+pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud, MAX_EXTENT};
 pub use material::{Material, Texture};
 pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;

@@ -276,14 +276,32 @@ impl TriangleMesh {
     #[inline]
     pub fn face_normal(&self, face: FaceId) -> Vec3 {
         let [a, b, c] = self.face_positions(face);
-        (b - a).cross(c - a).normalize_or_zero()
+        let n = (b - a).cross(c - a);
+        let unit = n.normalize_or_zero();
+        if unit != Vec3::ZERO || n == Vec3::ZERO {
+            return unit;
+        }
+        // The f32 length over- or underflowed (edges beyond ~1e9 or below ~1e-19): f64.
+        self.face_cross_f64(face).normalize_or_zero().as_vec3()
+    }
+
+    /// The face's edge cross product `(b - a) x (c - a)` in f64 (never overflows for f32
+    /// positions).
+    fn face_cross_f64(&self, face: FaceId) -> DVec3 {
+        let [a, b, c] = self.face_positions(face).map(Vec3::as_dvec3);
+        (b - a).cross(c - a)
     }
 
     /// Area of a face.
     #[inline]
     pub fn face_area(&self, face: FaceId) -> f32 {
         let [a, b, c] = self.face_positions(face);
-        0.5 * (b - a).cross(c - a).length()
+        let area = 0.5 * (b - a).cross(c - a).length();
+        if area.is_finite() {
+            return area;
+        }
+        // The f32 squared length overflowed (edges beyond ~1e9): f64.
+        (0.5 * self.face_cross_f64(face).length()) as f32
     }
 
     /// Centroid (mean of the corners) of a face.

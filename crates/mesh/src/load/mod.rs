@@ -19,6 +19,11 @@
 //!   [`MeshError::NonFinite`] naming the file and the element (`vertex 17`); point clouds drop
 //!   such points and count them instead;
 //! - an index past the vertex list is refused with [`MeshError::IndexOutOfRange`];
+//! - a model spanning more than [`MAX_EXTENT`] from its centre is refused with
+//!   [`MeshError::ExtentTooLarge`] naming the farthest vertex;
+//! - a UTF-8 byte-order mark before the first line of a text format is skipped;
+//! - files a model refers to (glTF buffers and images, OBJ material libraries and textures)
+//!   are read only from the model's folder or below (no absolute paths, no `..`);
 //! - polygons are split into triangle fans (counted in [`LoadWarning::PolygonsFanned`]);
 //! - problems that leave a usable mesh (a missing texture or material library, ignored
 //!   options) become [`LoadWarning`]s, never errors and never prints;
@@ -192,6 +197,7 @@ impl MeshBuilder {
             });
         }
         let origin = world_bounds_centre(&self.positions);
+        check_extent(path, &self.positions, origin)?;
         let mesh = TriangleMesh {
             origin,
             positions: self
@@ -211,6 +217,35 @@ impl MeshBuilder {
         mesh.validate()?;
         Ok(mesh)
     }
+}
+
+/// The largest distance (per axis) of a vertex from its mesh's centre: positions are stored
+/// in f32 relative to that centre, and the geometry computed from them (squared lengths,
+/// cross products) must stay finite in f32. A model spanning more is refused, naming its
+/// farthest vertex.
+pub const MAX_EXTENT: f64 = 1e15;
+
+/// Refuses positions farther than [`MAX_EXTENT`] from `origin` on any axis.
+fn check_extent(path: &Path, positions: &[DVec3], origin: DVec3) -> Result<(), MeshError> {
+    let far = positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (i, (p - origin).abs().max_element()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    match far {
+        Some((vertex, distance)) if distance > MAX_EXTENT => Err(MeshError::ExtentTooLarge {
+            path: path.to_path_buf(),
+            vertex: vertex as u64,
+            distance,
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// The text of a file with a leading UTF-8 byte-order mark removed (editors on Windows write
+/// one; left in place it would hide the first keyword).
+pub(crate) fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
 /// Builds a cloud from f64 points, dropping the non-finite ones (and their colour and normal).

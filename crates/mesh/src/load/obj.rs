@@ -31,9 +31,10 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
 
+use super::local_reference::resolve_name;
 use super::texture::load_texture_file;
 use super::{parent_dir, read_file, unit_to_byte, LoadedMesh, MeshBuilder};
-use crate::error::{Element, ElementKind, SyntaxProblem};
+use crate::error::{Element, ElementKind, OutsideReason, SyntaxProblem};
 use crate::{LoadWarning, Material, MaterialId, MeshError, Texture};
 
 /// One face corner: indices into the file's position, UV and normal lists.
@@ -58,6 +59,7 @@ struct MtlDef {
 pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
+    let text = super::strip_bom(&text);
     let dir = parent_dir(path);
     let err = |line: usize, problem| MeshError::Syntax {
         path: path.to_path_buf(),
@@ -221,6 +223,16 @@ pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
                 saw_mtllib = true;
                 let rest = content.trim_start()["mtllib".len()..].trim();
                 for lib in library_candidates(&dir, rest) {
+                    let lib = match lib {
+                        Ok(lib) => lib,
+                        Err((name, reason)) => {
+                            warnings.push(LoadWarning::MissingMaterialLibrary {
+                                path: PathBuf::from(name),
+                                reason: format!("not read: {reason}"),
+                            });
+                            continue;
+                        }
+                    };
                     match std::fs::read(&lib) {
                         Ok(mtl) => parse_mtl(
                             &String::from_utf8_lossy(&mtl),
@@ -466,21 +478,19 @@ fn attribute_index(
     }
 }
 
+/// A library or texture name resolved inside the model's folder, or the name and why it was
+/// refused.
+type Resolved = Result<PathBuf, (String, OutsideReason)>;
+
 /// The files an `mtllib` statement names: the whole rest of the line if that file exists
-/// (names may hold spaces), else each whitespace-separated name.
-fn library_candidates(dir: &Path, rest: &str) -> Vec<PathBuf> {
-    let whole = dir.join(normalise_separators(rest));
-    if whole.is_file() || !rest.contains(char::is_whitespace) {
+/// (names may hold spaces), else each whitespace-separated name; each only inside `dir`.
+fn library_candidates(dir: &Path, rest: &str) -> Vec<Resolved> {
+    let resolve = |name: &str| resolve_name(dir, name).map_err(|r| (name.to_owned(), r));
+    let whole = resolve(rest);
+    if whole.as_ref().is_ok_and(|p| p.is_file()) || !rest.contains(char::is_whitespace) {
         return vec![whole];
     }
-    rest.split_ascii_whitespace()
-        .map(|name| dir.join(normalise_separators(name)))
-        .collect()
-}
-
-/// Windows exporters write `textures\wood.png`.
-fn normalise_separators(name: &str) -> String {
-    name.replace('\\', "/")
+    rest.split_ascii_whitespace().map(resolve).collect()
 }
 
 /// Parses MTL text into `library` (the first definition of a name wins).
@@ -571,7 +581,13 @@ fn parse_mtl(
                     }
                 }
                 if !file.is_empty() {
-                    def.texture = Some(dir.join(normalise_separators(&file)));
+                    match resolve_name(dir, &file) {
+                        Ok(texture) => def.texture = Some(texture),
+                        Err(reason) => warnings.push(LoadWarning::TextureUnreadable {
+                            path: PathBuf::from(&file),
+                            reason: format!("not read: {reason}"),
+                        }),
+                    }
                 }
             }
             _ => {}

@@ -24,6 +24,7 @@ use crate::{LoadWarning, MeshError};
 pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
+    let text = super::strip_bom(&text);
     let err = |line: usize, problem| MeshError::Syntax {
         path: path.to_path_buf(),
         line,

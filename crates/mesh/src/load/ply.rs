@@ -20,7 +20,7 @@
 //! Based on: Greg Turk, *The PLY Polygon File Format* (1994).
 
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
@@ -180,6 +180,53 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
             path: path.to_path_buf(),
         });
     }
+    let mut file = BufReader::with_capacity(1 << 16, file);
+    let start = file.fill_buf().map_err(|source| MeshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    if has_cr_only_header(start) {
+        let mut bytes = Vec::new();
+        file.read_to_end(&mut bytes)
+            .map_err(|source| MeshError::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        normalise_cr_line_ends(&mut bytes);
+        return read_ply_from(path, Reader::new(std::io::Cursor::new(bytes)), want_faces);
+    }
+    read_ply_from(path, Reader::new(file), want_faces)
+}
+
+/// Whether the header's lines end in a lone CR (classic Mac OS files): ply-rs-bw reads lines up
+/// to LF, so such a header would be one long line.
+fn has_cr_only_header(start: &[u8]) -> bool {
+    start.starts_with(b"ply\r") && start.get(4) != Some(&b'\n')
+}
+
+/// Turns the lone CRs of a CR-only file into LFs: in the header always, and in the body too
+/// when it is ASCII (a binary body is left as it is).
+fn normalise_cr_line_ends(bytes: &mut [u8]) {
+    let header_end = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\r")
+        .map_or(bytes.len(), |at| at + 11);
+    let ascii = bytes[..header_end]
+        .windows(12)
+        .any(|w| w == b"format ascii");
+    let end = if ascii { bytes.len() } else { header_end };
+    for b in &mut bytes[..end] {
+        if *b == b'\r' {
+            *b = b'\n';
+        }
+    }
+}
+
+fn read_ply_from<R: BufRead>(
+    path: &Path,
+    mut reader: Reader<R>,
+    want_faces: bool,
+) -> Result<PlyData, MeshError> {
     let ply_err = |source: ParseError| MeshError::Ply {
         path: path.to_path_buf(),
         reason: one_line_reason(&source),
@@ -188,7 +235,6 @@ fn read_ply(path: &Path, want_faces: bool) -> Result<PlyData, MeshError> {
         path: path.to_path_buf(),
         problem,
     };
-    let mut reader = Reader::new(BufReader::with_capacity(1 << 16, file));
     let header: Header = Parser::<Skip>::new()
         .read_header(&mut reader)
         .map_err(ply_err)?;
@@ -499,8 +545,10 @@ fn one_line_reason(error: &ParseError) -> String {
         .and_then(|rest| rest.split('\'').next())
         .map(str::trim)
         .filter(|q| !q.is_empty());
+    // Control characters of the file (a stray CR, ...) are shown escaped, never raw.
+    let first = first.escape_debug();
     match quoted {
-        Some(q) => format!("{first}: cannot read '{q}'"),
-        None => first.to_owned(),
+        Some(q) => format!("{first}: cannot read '{}'", q.escape_debug()),
+        None => first.to_string(),
     }
 }

@@ -63,8 +63,10 @@ fn binary_count(bytes: &[u8]) -> Option<usize> {
     (expected == bytes.len()).then_some(count)
 }
 
-/// Whether the file opens with the ASCII keyword `solid` (after optional whitespace).
+/// Whether the file opens with the ASCII keyword `solid` (after an optional byte-order mark
+/// and whitespace).
 fn starts_with_solid(bytes: &[u8]) -> bool {
+    let bytes = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
     let start = bytes
         .iter()
         .position(|b| !b.is_ascii_whitespace())
@@ -126,6 +128,7 @@ fn words(text: &str) -> impl Iterator<Item = Word<'_>> {
 
 fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
     let text = String::from_utf8_lossy(bytes);
+    let text = super::strip_bom(&text);
     let err = |line: usize, problem| MeshError::Syntax {
         path: path.to_path_buf(),
         line,
@@ -135,7 +138,7 @@ fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
     let mut fanned = 0u64;
     let mut loop_start: Option<usize> = None;
     let mut last_line = 1;
-    let mut it = words(&text);
+    let mut it = words(text);
     while let Some(word) = it.next() {
         last_line = word.line;
         let keyword = word.text.to_ascii_lowercase();

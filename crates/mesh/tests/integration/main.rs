@@ -7,6 +7,7 @@
 //!   bad indices, missing materials and textures; never a panic;
 //! - `gltf_compressed`: gltfpack's quantized and meshopt files against the f32 original;
 //!   hostile URIs and accessor indices;
+//! - `issue_20_loaders`: BOM, CR-only PLY headers, extents beyond f32, outside references;
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
 //! - `prepare`: welding and cleaning counts;
 //! - `ply_points`: the direct binary PLY cloud reader against the general one;
@@ -16,6 +17,7 @@
 
 mod adjacency;
 mod gltf_compressed;
+mod issue_20_loaders;
 mod load_errors;
 mod load_real;
 mod ply_points;
