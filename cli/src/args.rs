@@ -25,10 +25,11 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch convert bunny.ply -o bunny.spatch\n  spatch convert duck.glb -o duck.spatch --report report.json --grid 9 --threads 2"
     )]
     Convert(commands::convert::ConvertArgs),
-    /// Convert a point cloud (.ply, .xyz, .pts) into spatial patches through range images.
+    /// Convert point clouds and scan sets (.ply, .xyz, .pts, .las, .laz, .e57, .conf) into
+    /// spatial patches through range images.
     #[command(
         name = "from-cloud",
-        after_help = "Example:\n  spatch from-cloud bun000.ply -o bun000.spatch\n  spatch from-cloud scan.ply -o scan.spatch --smooth --report report.json"
+        after_help = "Example:\n  spatch from-cloud bun000.ply -o bun000.spatch\n  spatch from-cloud bun.conf -o bunny.spatch        # a registered scan set (poses)\n  spatch from-cloud a.ply b.ply c.xyz -o abc.spatch  # several clouds, one frame\n  spatch from-cloud site.laz -o site.spatch\n  spatch from-cloud scan.txt --columns x,y,z,nx,ny,nz,r,g,b -o scan.spatch\n  spatch from-cloud scan.ply -o scan.spatch --smooth --report report.json"
     )]
     FromCloud(commands::from_cloud::FromCloudArgs),
     /// Build the perfect sphere of the original work as patches.

@@ -12,7 +12,8 @@ use spatch_cloud::{
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
-use spatch_scan::{load_scans, LoadedScans, ScanOptions};
+use spatch_mesh::load::xyz::XyzLayout;
+use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions};
 
 use crate::failure::InternalFailure;
 use crate::output::{print_stdout, write_json_report, write_output};
@@ -21,11 +22,20 @@ use crate::report::{details_from, new_report, set_detail, stages_from};
 /// Arguments of `spatch from-cloud`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct FromCloudArgs {
-    /// Input point clouds, converted together: .ply (ASCII or binary, optional colours and
-    /// normals), .xyz, .txt, .pts, or a Stanford .conf scan set (each `bmesh FILE tx ty tz qx
-    /// qy qz qw` line is a scan and its pose; files relative to the .conf).
+    /// Input point clouds, converted together in one frame: .ply (ASCII or binary, optional
+    /// colours and normals), .xyz/.txt/.pts text (see --columns; Leica .pts may start with its
+    /// point count), .las/.laz (LAS 1.0-1.4), .e57 (every scan, each with its pose), or a
+    /// Stanford .conf scan set (each `bmesh FILE tx ty tz qx qy qz qw` line is a scan and its
+    /// pose; files relative to the .conf). Colours are kept where present; a file with
+    /// intensity but no colour shows its intensity as grey.
     #[arg(value_name = "CLOUD", required = true, num_args = 1..)]
     inputs: Vec<PathBuf>,
+    /// What each column of .xyz/.txt/.pts inputs holds, comma separated: x y z, nx ny nz,
+    /// r g b, a, intensity, skip (e.g. `x,y,z,nx,ny,nz,r,g,b`). Default: a header line
+    /// (CloudCompare's `//X Y Z R G B`, or names alone) when there is one, else guessed from
+    /// the number of columns.
+    #[arg(long, value_name = "LAYOUT", value_parser = parse_layout)]
+    columns: Option<XyzLayout>,
     /// Output .spatch file.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
@@ -84,7 +94,9 @@ pub(crate) struct FromCloudArgs {
 impl FromCloudArgs {
     /// How to read the inputs.
     fn scan_options(&self) -> ScanOptions {
-        ScanOptions::default()
+        let mut options = ScanOptions::default();
+        options.columns = self.columns.clone();
+        options
     }
 
     /// The inputs for messages: the one file, or the first and how many more.
@@ -223,6 +235,11 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         write_json_report(path, &shared_report(args, &report)?)?;
     }
     print_stdout(&text)
+}
+
+/// `--columns` as a layout (clap prints the message).
+fn parse_layout(spec: &str) -> Result<XyzLayout, String> {
+    parse_columns(spec).map_err(|e| e.to_string())
 }
 
 /// Reads and merges every input; a scan library's bug exits 1, anything else is the input's.

@@ -53,6 +53,48 @@ pub enum ScanError {
         /// The scan-set file it names.
         nested: PathBuf,
     },
+    /// The LAS/LAZ reader refused the file (bad signature, header, VLRs or compressed data).
+    #[error("{}: not a readable LAS/LAZ file: {source}", path.display())]
+    Las {
+        /// The file.
+        path: PathBuf,
+        /// The `las` crate's reason (its message includes the cause, so it is not chained).
+        source: Box<las::Error>,
+    },
+    /// The E57 reader refused the file (bad header, XML, checksum or binary section).
+    #[error("{}: not a readable E57 file: {source}", path.display())]
+    E57 {
+        /// The file.
+        path: PathBuf,
+        /// The `e57` crate's reason.
+        source: Box<e57::Error>,
+    },
+    /// An E57 scan's pose is not a rigid transform (a NaN, or a zero quaternion).
+    #[error("{}: scan `{scan}`: {problem}", path.display())]
+    BadScanPose {
+        /// The file.
+        path: PathBuf,
+        /// The scan's name in the file (empty when it has none).
+        scan: String,
+        /// What is wrong.
+        problem: PoseProblem,
+    },
+    /// The file ends before the points its header declares.
+    #[error("{}: the file is truncated: {read} of {declared} declared points read", path.display())]
+    Truncated {
+        /// The file.
+        path: PathBuf,
+        /// Points the header declares.
+        declared: u64,
+        /// Points present.
+        read: u64,
+    },
+    /// The file holds no (valid) points.
+    #[error("{}: the file has no points", path.display())]
+    NoPoints {
+        /// The file.
+        path: PathBuf,
+    },
     /// The file name's extension names no format this crate (or the mesh crate) reads.
     #[error(
         "{}: unknown point cloud type (expected .ply, .xyz, .txt, .pts, .las, .laz, .e57 \

@@ -7,6 +7,8 @@
 //! - [`read_conf`] / [`parse_conf`] → [`ScanSetFile`] of [`ScanEntry`]s: the pose files;
 //! - [`Pose`]: a rigid transform (rotation, then translation);
 //! - [`merge_scans`] of [`PosedScan`]s → the cloud and a [`ScanSummary`] per scan;
+//! - the readers on their own: [`read_las`] (LAS 1.0-1.4, LAZ), [`read_e57`] (every scan with
+//!   its pose), text clouds through [`parse_columns`] and `spatch_mesh::load::xyz`;
 //! - [`measure_alignment`] → [`ScanAlignment`]: how well the scans of a set line up;
 //! - [`ScanError`] (the one error type) and [`ScanWarning`].
 //!
@@ -29,16 +31,22 @@
 #![forbid(unsafe_code)]
 
 mod alignment;
+mod columns;
 mod conf;
+mod e57;
 mod error;
+mod las;
 mod load;
 mod pose;
 mod scan_set;
 mod warning;
 
 pub use alignment::{measure_alignment, ScanAlignment};
+pub use columns::parse_columns;
 pub use conf::{parse_conf, read_conf, ScanEntry, ScanSetFile};
+pub use e57::read_e57;
 pub use error::{ColumnSpecProblem, ConfProblem, ScanError};
+pub use las::{intensity_to_grey, read_las, rgb16_to_bytes, LAS_CHUNK};
 pub use load::{is_scan_set, load_scans, LoadedScans, ScanOptions};
 pub use pose::{Pose, PoseProblem};
 pub use scan_set::{merge_scans, PosedScan, ScanSummary, MAX_POINTS};

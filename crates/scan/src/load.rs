@@ -7,7 +7,10 @@
 //! | extension | reader | poses |
 //! |---|---|---|
 //! | `.conf` | [`read_conf`](crate::read_conf), then each listed scan | one per `bmesh` line |
-//! | `.ply`, `.xyz`, `.txt`, `.pts` | `spatch_mesh::load_point_cloud` | identity |
+//! | `.ply` | `spatch_mesh::load_point_cloud` | identity |
+//! | `.xyz`, `.txt`, `.pts` | `spatch_mesh::load::xyz` (with [`ScanOptions::columns`]) | identity |
+//! | `.las`, `.laz` | [`read_las`](crate::read_las) | identity |
+//! | `.e57` | [`read_e57`](crate::read_e57) | each scan's own pose (then the `.conf`'s, if any) |
 //!
 //! Cost: the readers' (all files are held in memory at once as f64 positions before merging).
 
@@ -15,14 +18,23 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use rayon::prelude::*;
-use spatch_mesh::{load_point_cloud, PointCloud};
+use spatch_mesh::load::xyz::{load_xyz_columns, XyzLayout};
+use spatch_mesh::{load_point_cloud, LoadedPointCloud, PointCloud};
 
-use crate::{merge_scans, read_conf, Pose, PosedScan, ScanError, ScanSummary, ScanWarning};
+use crate::{
+    merge_scans, read_conf, read_e57, read_las, Pose, PosedScan, ScanError, ScanSummary,
+    ScanWarning,
+};
 
 /// How to read the inputs.
 #[derive(Clone, Debug, Default, PartialEq)]
 #[non_exhaustive]
-pub struct ScanOptions {}
+pub struct ScanOptions {
+    /// What each column of the text inputs (`.xyz`, `.txt`, `.pts`) holds, overriding their
+    /// header line and the column-count rules (see [`parse_columns`](crate::parse_columns)).
+    /// Default: none (header or count rules).
+    pub columns: Option<XyzLayout>,
+}
 
 /// The merged cloud of every input and what happened on the way.
 #[derive(Clone, Debug)]
@@ -110,30 +122,47 @@ fn extension(path: &Path) -> Option<String> {
 fn read_scan_file(
     path: &Path,
     pose: Pose,
-    _options: &ScanOptions,
+    options: &ScanOptions,
 ) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanError> {
-    match extension(path).as_deref() {
-        Some("ply" | "xyz" | "txt" | "pts") => {
-            let loaded = load_point_cloud(path)?;
-            let warnings = loaded
-                .warnings
-                .into_iter()
-                .map(|warning| ScanWarning::Load {
-                    path: path.to_path_buf(),
-                    warning,
-                })
-                .collect();
-            let scan = posed_from_cloud(path, loaded.cloud, pose, loaded.dropped_non_finite);
-            Ok((vec![scan], warnings))
+    let columns = options.columns.as_ref();
+    let (mut scans, warnings) = match extension(path).as_deref() {
+        Some("ply") => from_mesh_loader(path, load_point_cloud(path)?),
+        Some(ext @ ("xyz" | "txt" | "pts")) => {
+            from_mesh_loader(path, load_xyz_columns(path, ext == "pts", columns)?)
         }
-        _ => Err(ScanError::UnsupportedFormat {
-            path: path.to_path_buf(),
-        }),
+        Some("las" | "laz") => {
+            let (scan, warnings) = read_las(path)?;
+            (vec![scan], warnings)
+        }
+        Some("e57") => read_e57(path)?,
+        _ => {
+            return Err(ScanError::UnsupportedFormat {
+                path: path.to_path_buf(),
+            })
+        }
+    };
+    for scan in &mut scans {
+        scan.pose = pose.after(&scan.pose);
     }
+    Ok((scans, warnings))
 }
 
-/// A loaded cloud as a posed scan (its f32 positions back to f64 world coordinates).
-fn posed_from_cloud(path: &Path, cloud: PointCloud, pose: Pose, dropped: u64) -> PosedScan {
+/// A cloud from the mesh crate's readers as one scan with its warnings.
+fn from_mesh_loader(path: &Path, loaded: LoadedPointCloud) -> (Vec<PosedScan>, Vec<ScanWarning>) {
+    let warnings = loaded
+        .warnings
+        .into_iter()
+        .map(|warning| ScanWarning::Load {
+            path: path.to_path_buf(),
+            warning,
+        })
+        .collect();
+    let scan = posed_from_cloud(path, loaded.cloud, loaded.dropped_non_finite);
+    (vec![scan], warnings)
+}
+
+/// A loaded cloud as an unposed scan (its f32 positions back to f64 world coordinates).
+fn posed_from_cloud(path: &Path, cloud: PointCloud, dropped: u64) -> PosedScan {
     let origin: DVec3 = cloud.origin;
     PosedScan {
         path: path.to_path_buf(),
@@ -145,7 +174,7 @@ fn posed_from_cloud(path: &Path, cloud: PointCloud, pose: Pose, dropped: u64) ->
             .collect(),
         colours: cloud.colours,
         normals: cloud.normals,
-        pose,
+        pose: Pose::IDENTITY,
         dropped_non_finite: dropped,
     }
 }

@@ -2,5 +2,10 @@
 //!
 //! - `bunny_conf`: the ten Stanford bunny scans through `bun.conf` line up (skips without
 //!   ../shared/data).
+//! - `formats`: LAS 1.2-1.4, LAZ, E57 (with poses), PTS and XYZ round trips, several files,
+//!   malformed files.
+//! - `writers`: writing the small test files with the formats' own crates.
 
 mod bunny_conf;
+mod formats;
+mod writers;

@@ -1,0 +1,183 @@
+//! ASPRS LAS 1.0-1.4 and LAZ (compressed LAS) lidar files, through the `las` crate (with its
+//! `laz` feature, the laz-rs decoder).
+//!
+//! Input: a `.las` or `.laz` file. Output: one [`PosedScan`] (identity pose: LAS coordinates
+//! are already in the project's frame, scaled and offset by the header; they are kept in f64
+//! so georeferenced coordinates in the millions stay exact before centring).
+//!
+//! Colours: point formats with RGB (2, 3, 5, 7, 8, 10) give colours. LAS stores 16-bit
+//! channels; files whose every channel is at most 255 were written with 8-bit values and are
+//! taken as they are, otherwise the high byte is used. Formats without RGB give the intensity
+//! as a grey level (scaled so the file's largest intensity is white) with a
+//! [`ScanWarning::IntensityAsGrey`]; a file whose intensities are all zero has no colour.
+//!
+//! Invariants: points are read in chunks of [`LAS_CHUNK`], so a header that claims more points
+//! than the file holds costs no allocation beyond one chunk and ends in
+//! [`ScanError::Truncated`]. Non-finite coordinates cannot occur (LAS stores integers).
+//!
+//! Cost: one pass over the point records; memory 24 bytes (f64 position) + 4 (colour) + 2
+//! (intensity, while reading) per point.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::{Pose, PosedScan, ScanError, ScanWarning};
+
+/// Points decoded per call into the `las` reader.
+pub const LAS_CHUNK: u64 = 1 << 16;
+
+/// Reads a LAS or LAZ file; see the module docs.
+pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError> {
+    let file = std::fs::File::open(path).map_err(|source| ScanError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let refuse = |source| las_error(path, source);
+    let mut reader = las::Reader::new(std::io::BufReader::new(file)).map_err(refuse)?;
+    let declared = reader.header().number_of_points();
+    let mut data = las::PointDataBuilder::new()
+        .for_header(reader.header())
+        .build();
+    let mut positions: Vec<DVec3> = Vec::new();
+    let mut rgb: Vec<[u16; 3]> = Vec::new();
+    let mut intensity: Vec<u16> = Vec::new();
+    loop {
+        let n = reader
+            .fill_points(LAS_CHUNK, &mut data)
+            .map_err(|source| truncation_or(path, source, declared, positions.len() as u64))?;
+        if n == 0 {
+            break;
+        }
+        positions.extend(
+            data.x()
+                .zip(data.y())
+                .zip(data.z())
+                .map(|((x, y), z)| DVec3::new(x, y, z)),
+        );
+        match data.rgb() {
+            Some(colours) => rgb.extend(colours.map(|(r, g, b)| [r, g, b])),
+            None => intensity.extend(data.intensity()),
+        }
+    }
+    if positions.is_empty() {
+        return Err(ScanError::NoPoints {
+            path: path.to_path_buf(),
+        });
+    }
+    let mut warnings = Vec::new();
+    let colours = if rgb.is_empty() {
+        let grey = intensity_to_grey(&intensity);
+        if grey.is_some() {
+            warnings.push(ScanWarning::IntensityAsGrey {
+                path: path.to_path_buf(),
+            });
+        }
+        grey
+    } else {
+        Some(rgb16_to_bytes(&rgb))
+    };
+    let scan = PosedScan {
+        path: path.to_path_buf(),
+        index: 0,
+        positions,
+        colours,
+        normals: None,
+        pose: Pose::IDENTITY,
+        dropped_non_finite: 0,
+    };
+    Ok((scan, warnings))
+}
+
+/// A `las` error as this crate's: file system errors as [`ScanError::Io`], the rest as
+/// [`ScanError::Las`].
+fn las_error(path: &Path, source: las::Error) -> ScanError {
+    match source {
+        las::Error::Io(source) if source.kind() != std::io::ErrorKind::UnexpectedEof => {
+            ScanError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        }
+        source => ScanError::Las {
+            path: path.to_path_buf(),
+            source: Box::new(source),
+        },
+    }
+}
+
+/// An end of file while reading points is a truncated file; anything else as [`las_error`].
+fn truncation_or(path: &Path, source: las::Error, declared: u64, read: u64) -> ScanError {
+    match &source {
+        las::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            ScanError::Truncated {
+                path: path.to_path_buf(),
+                declared,
+                read,
+            }
+        }
+        _ => las_error(path, source),
+    }
+}
+
+/// 16-bit LAS colours to bytes: as they are when every channel fits a byte (an 8-bit writer),
+/// else the high byte.
+pub fn rgb16_to_bytes(rgb: &[[u16; 3]]) -> Vec<[u8; 4]> {
+    let max = rgb.iter().flatten().copied().max().unwrap_or(0);
+    let shift = if max <= 255 { 0 } else { 8 };
+    rgb.iter()
+        .map(|c| {
+            [
+                (c[0] >> shift) as u8,
+                (c[1] >> shift) as u8,
+                (c[2] >> shift) as u8,
+                255,
+            ]
+        })
+        .collect()
+}
+
+/// Intensities as grey levels, the largest white; `None` when every intensity is zero.
+pub fn intensity_to_grey(intensity: &[u16]) -> Option<Vec<[u8; 4]>> {
+    let max = u32::from(intensity.iter().copied().max()?);
+    if max == 0 {
+        return None;
+    }
+    Some(
+        intensity
+            .iter()
+            .map(|&i| {
+                let g = ((u32::from(i) * 255 + max / 2) / max) as u8;
+                [g, g, g, 255]
+            })
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eight_bit_colours_stay_and_sixteen_bit_take_the_high_byte() {
+        assert_eq!(rgb16_to_bytes(&[[255, 0, 10]]), vec![[255, 0, 10, 255]]);
+        assert_eq!(
+            rgb16_to_bytes(&[[65535, 256, 0x1234]]),
+            vec![[255, 1, 0x12, 255]]
+        );
+    }
+
+    #[test]
+    fn intensity_scales_to_the_largest() {
+        assert_eq!(
+            intensity_to_grey(&[0, 2000, 4000]),
+            Some(vec![
+                [0, 0, 0, 255],
+                [128, 128, 128, 255],
+                [255, 255, 255, 255]
+            ])
+        );
+        assert_eq!(intensity_to_grey(&[0, 0]), None);
+        assert_eq!(intensity_to_grey(&[]), None);
+    }
+}
