@@ -47,13 +47,17 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch stats sphere.spatch\n  spatch stats sphere.spatch --json"
     )]
     Stats(commands::stats::StatsArgs),
-    /// Write the nodes (or the cells) of a .spatch file as a standard PLY file.
+    /// Write the nodes (or the cells, one welded mesh per patch) of a .spatch
+    /// file as PLY, OBJ, glTF or GLB.
     #[command(
-        after_help = "Example:\n  spatch export sphere.spatch -o nodes.ply\n  spatch export sphere.spatch --cells -o cells.ply"
+        after_help = "Example:\n  spatch export sphere.spatch -o nodes.ply\n  spatch export sphere.spatch --cells -o cells.glb\n  spatch export utm.spatch --cells -o utm.obj --origin 500000,4000000,0"
     )]
     Export(commands::export::ExportArgs),
-    /// Concatenate scenes into one file.
-    #[command(after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch")]
+    /// Concatenate scenes into one file, each kept at full precision however
+    /// far apart.
+    #[command(
+        after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch\n  spatch merge a.spatch a.spatch --translate 0,0,0 --translate 1e7,0,0 -o aa.spatch"
+    )]
     Merge(commands::merge::MergeArgs),
     /// Render a .spatch file to a PNG on the CPU (patches or triangles).
     #[command(

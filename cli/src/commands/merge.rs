@@ -1,7 +1,9 @@
-//! `spatch merge`: concatenation of scenes.
+//! `spatch merge`: concatenation of scenes, each kept at full precision
+//! however far apart they are (see `Scene::merge`).
 
 use std::path::PathBuf;
 
+use glam::DVec3;
 use spatch_format::{encode_scene, Scene, WriteOptions};
 
 use crate::output::{print_stdout, read_spatch, write_output};
@@ -18,13 +20,30 @@ pub(crate) struct MergeArgs {
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
+    /// Move an input by X,Y,Z model units (f64, exact) before merging; give
+    /// it once per input, in input order, or not at all.
+    #[arg(long, value_name = "X,Y,Z", value_parser = super::render::parse_vec3, allow_hyphen_values = true)]
+    translate: Vec<DVec3>,
 }
 
 /// Reads every input, merges, writes.
 pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
+    if !args.translate.is_empty() && args.translate.len() != args.inputs.len() {
+        anyhow::bail!(
+            "--translate is given {} times for {} inputs: give it once per input or not at all",
+            args.translate.len(),
+            args.inputs.len()
+        );
+    }
     let mut scenes = Vec::with_capacity(args.inputs.len());
-    for path in &args.inputs {
-        scenes.push(read_spatch(path)?.0);
+    for (k, path) in args.inputs.iter().enumerate() {
+        let scene = read_spatch(path)?.0;
+        let shift = args.translate.get(k).copied().unwrap_or(DVec3::ZERO);
+        scenes.push(
+            scene
+                .translated(shift)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+        );
     }
     let counts: Vec<usize> = scenes.iter().map(|s| s.patches().len()).collect();
     let merged = Scene::merge(scenes).map_err(|e| match &e {

@@ -143,10 +143,15 @@ pub(crate) struct RenderArgs {
     /// Background colour r,g,b or r,g,b,a (0..=255); default transparent.
     #[arg(long, value_name = "R,G,B[,A]", value_parser = parse_colour)]
     background: Option<[u8; 4]>,
-    /// Also write the depth as 16-bit greyscale PNG (0 = no surface, else
-    /// linear between near and far).
+    /// Also write the depth: as 16-bit greyscale PNG (0 = no surface, else
+    /// linear between near and far), or with --depth-format tiff as a
+    /// 32-bit float TIFF of eye depth in model units (NaN = no surface) with
+    /// the camera in FILE's name with extension `camera.json`.
     #[arg(long, value_name = "FILE")]
     depth: Option<PathBuf>,
+    /// Depth file format [default: tiff for a .tif/.tiff name, else png].
+    #[arg(long, value_enum, requires = "depth")]
+    depth_format: Option<DepthFormatArg>,
     /// Also write statistics as JSON, with the cost of the shortcuts
     /// (trilinear vs exact, bilinear vs smooth, trimmed vs kept overlaps:
     /// time and PSNR).
@@ -161,7 +166,51 @@ pub(crate) struct RenderArgs {
     json: bool,
 }
 
-fn parse_vec3(s: &str) -> Result<DVec3, String> {
+/// The depth file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum DepthFormatArg {
+    /// 16-bit greyscale PNG, linear between near and far.
+    Png,
+    /// 32-bit float TIFF of eye depth in model units, with a camera JSON.
+    Tiff,
+}
+
+/// `chosen`, or the format `path`'s extension names.
+fn depth_format(chosen: Option<DepthFormatArg>, path: &std::path::Path) -> DepthFormatArg {
+    chosen.unwrap_or_else(|| {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext.eq_ignore_ascii_case("tif") || ext.eq_ignore_ascii_case("tiff") {
+            DepthFormatArg::Tiff
+        } else {
+            DepthFormatArg::Png
+        }
+    })
+}
+
+/// The camera of a float depth image, enough to turn its pixels back into
+/// model-space points.
+fn depth_camera_json(
+    camera: &Camera,
+    image: &spatch_render::RenderedImage,
+) -> anyhow::Result<Vec<u8>> {
+    let value = json!({
+        "projection": "perspective",
+        "eye": camera.eye().to_array(),
+        "target": camera.target().to_array(),
+        "up": camera.up().to_array(),
+        "fov_y_degrees": camera.fov_y_degrees(),
+        "width": image.width(),
+        "height": image.height(),
+        "near": image.near(),
+        "far": image.far(),
+        "depth": "distance along the view direction (target - eye) in model units; NaN where no surface; row 0 is the top; pixel centres at +0.5",
+    });
+    let mut text = serde_json::to_string_pretty(&value).context("camera")?;
+    text.push('\n');
+    Ok(text.into_bytes())
+}
+
+pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
         return Err(format!("expected three numbers x,y,z, found {s:?}"));
@@ -287,8 +336,20 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.output {
         files.push((path, out.image.encode_png().map_err(classify)?));
     }
+    let camera_path = args.depth.as_ref().map(|p| p.with_extension("camera.json"));
     if let Some(path) = &args.depth {
-        files.push((path, out.image.encode_depth_png().map_err(classify)?));
+        if depth_format(args.depth_format, path) == DepthFormatArg::Tiff {
+            let image = &out.image;
+            let bytes =
+                spatch_export::encode_depth_tiff(image.width(), image.height(), image.depth())
+                    .map_err(|e| InternalFailure(e.to_string()))?;
+            files.push((path, bytes));
+            if let Some(camera_path) = &camera_path {
+                files.push((camera_path, depth_camera_json(&camera, image)?));
+            }
+        } else {
+            files.push((path, out.image.encode_depth_png().map_err(classify)?));
+        }
     }
     if let Some(path) = &args.stats {
         // The other preparation, for the cost of trimming.

@@ -228,3 +228,44 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         run.stderr
     );
 }
+
+/// Issue 22, item 6: float depth as TIFF, with the camera beside it.
+#[test]
+fn issue_22_depth_as_float_tiff_with_its_camera() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    t.run(&[
+        "render", &name, "-o", "s.png", "--width", "64", "--height", "48", "--depth", "d.tiff",
+    ])
+    .success();
+    let bytes = std::fs::read(t.path("d.tiff")).unwrap();
+    let mut decoder = tiff::decoder::Decoder::new(std::io::Cursor::new(bytes)).unwrap();
+    assert_eq!(decoder.dimensions().unwrap(), (64, 48));
+    let tiff::decoder::DecodingResult::F32(depth) = decoder.read_image().unwrap() else {
+        panic!("not a float TIFF");
+    };
+    let camera: serde_json::Value = t.json("d.camera.json");
+    let eye =
+        glam::DVec3::from_array(serde_json::from_value::<[f64; 3]>(camera["eye"].clone()).unwrap());
+    assert_eq!(camera["width"], 64);
+    // The centre pixel sees the sphere (radius 10 at the origin) head on.
+    let centre = depth[24 * 64 + 32];
+    assert!(
+        (f64::from(centre) - (eye.length() - 10.0)).abs() < 0.05,
+        "{centre}"
+    );
+    assert!(depth[0].is_nan(), "a corner sees nothing");
+    // --depth-format png overrides the extension.
+    t.run(&[
+        "render",
+        &name,
+        "-o",
+        "s.png",
+        "--depth",
+        "e.tiff",
+        "--depth-format",
+        "png",
+    ])
+    .success();
+    assert_eq!(&std::fs::read(t.path("e.tiff")).unwrap()[1..4], b"PNG");
+}

@@ -273,8 +273,11 @@ fn measure_mesh(
     stats_and_histogram("node_to_surface", &nodes, e);
     stats_and_histogram("surface_to_patch", &distances, e);
     if let Some(image_options) = &options.image {
+        // A colourless scene is compared with a grey source: colour would only add error.
+        let mut image_options = image_options.clone();
+        image_options.colour_source &= scene.channel() != spatch_format::ColourChannel::None;
         let image = timed(&mut e.stages, "image", || {
-            image_error(prepared, mesh, image_options)
+            image_error(prepared, mesh, &image_options)
         })?;
         e.image = Some(image);
     }

@@ -1,6 +1,8 @@
 //! The image error of a scene against its source mesh (DESIGN §6), with frame times.
 //!
 //! For each view the source is drawn by the project's scan-line triangle rasterizer
+//! (in colour when [`ImageOptions::colour_source`] is set and the source has colours or a
+//! texture: see [`crate::source_colours`]; the result's `source_drawn_with` says how)
 //! (`Renderer::rasterize`) and the scene by the patch renderer (`Renderer::render`), with the
 //! same camera, the same lights and the same options (shading, culling; projection and cells
 //! only matter to the patches). Per view and pooled over all views:
@@ -35,6 +37,7 @@ use spatch_render::{
 };
 
 use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use crate::source_colours::{colour_source, SourceDrawing};
 
 /// Largest number of views [`views_for_count`] accepts.
 pub const MAX_VIEWS: usize = 256;
@@ -79,6 +82,11 @@ pub struct ImageOptions {
     /// Timed patch frames per view (after one warm-up), 1..=1000; the median is reported.
     /// Default 3.
     pub runs: usize,
+    /// Draw the source with its colours and texture when it has them (so PSNR measures
+    /// the patches' colour too); off, or without source colour, it is drawn grey like
+    /// colourless patches. Default on; [`crate::evaluate()`] turns it off for a
+    /// colourless scene.
+    pub colour_source: bool,
 }
 
 impl Default for ImageOptions {
@@ -90,6 +98,7 @@ impl Default for ImageOptions {
             fov_y_degrees: holes.fov_y_degrees,
             render: RenderOptions::default(),
             runs: 3,
+            colour_source: true,
         }
     }
 }
@@ -115,6 +124,7 @@ pub struct SourceViews {
     /// Hole depth tolerance in model units.
     tolerance: f32,
     diagonal: f64,
+    drawing: SourceDrawing,
 }
 
 impl SourceViews {
@@ -123,12 +133,24 @@ impl SourceViews {
         source: &spatch_mesh::TriangleMesh,
         options: &ImageOptions,
     ) -> Result<SourceViews, RenderError> {
-        let mesh = RasterMesh::new(
-            source.origin,
-            &source.positions,
-            &source.triangles,
-            MeshColours::None,
-        )?;
+        let coloured = options
+            .colour_source
+            .then(|| colour_source(source))
+            .flatten();
+        let mesh = match &coloured {
+            Some(c) => RasterMesh::new(
+                source.origin,
+                &c.positions,
+                &c.triangles,
+                MeshColours::PerCorner(&c.corner_colours),
+            )?,
+            None => RasterMesh::new(
+                source.origin,
+                &source.positions,
+                &source.triangles,
+                MeshColours::None,
+            )?,
+        };
         let (centre, radius) = mesh
             .bounding_sphere()
             .ok_or(spatch_render::CameraProblem::NothingToFrame)?;
@@ -141,6 +163,7 @@ impl SourceViews {
             directions: Vec::with_capacity(options.views.len()),
             tolerance: (HOLE_DEPTH_TOLERANCE * radius) as f32,
             diagonal: f64::from(source.diagonal()),
+            drawing: coloured.as_ref().map_or(SourceDrawing::Grey, |c| c.drawing),
         };
         for &direction in &options.views {
             let camera = view_camera(centre, radius, direction, &hole_options)?;
@@ -161,6 +184,11 @@ impl SourceViews {
     /// True when there are no views.
     pub fn is_empty(&self) -> bool {
         self.cameras.is_empty()
+    }
+
+    /// What the source was drawn with.
+    pub fn drawing(&self) -> SourceDrawing {
+        self.drawing
     }
 }
 
@@ -211,6 +239,8 @@ pub struct ImageError {
     pub runs: usize,
     /// Worker threads of the renderer.
     pub threads: usize,
+    /// What the source was drawn with (`grey`, `colours` or `texture`).
+    pub source_drawn_with: SourceDrawing,
 }
 
 /// Sums over pixels of one view.
@@ -334,6 +364,7 @@ pub fn compare_views(
         source_ms: median(&mut source_ms),
         runs,
         threads: renderer.threads(),
+        source_drawn_with: source.drawing,
         views,
     })
 }

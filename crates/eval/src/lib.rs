@@ -10,7 +10,8 @@
 //!   source's bounding-box diagonal); [`ErrorHistogram`] bins the distances;
 //! - the hole fraction ([`holes`]) and the full image error ([`mod@image_error`]: PSNR, holes,
 //!   depth error, frame times) of the patch renderer against the source drawn by the
-//!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals);
+//!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals),
+//!   in its colours and textures when the scene has colour ([`source_colours`]);
 //! - per-patch errors beside the quantization-only bound `|az| / 2` ([`per_patch`]);
 //! - [`evaluate()`]: all of them for one scene against a mesh or a point cloud ([`load_source`]),
 //!   each measurement timed (what `spatch eval` prints).
@@ -52,6 +53,7 @@ pub mod pareto;
 pub mod per_patch;
 pub mod plot;
 pub mod report;
+pub mod source_colours;
 pub mod sweep;
 
 pub use error::EvalError;
@@ -79,4 +81,5 @@ pub use per_patch::{
 };
 pub use plot::sweep_svg;
 pub use report::{Counts, Report, Stages, REPORT_SCHEMA};
+pub use source_colours::SourceDrawing;
 pub use sweep::{run_sweep, sweep_csv, SweepOptions, SweepResult, SweepRow};

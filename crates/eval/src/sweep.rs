@@ -444,7 +444,10 @@ pub fn run_sweep(
         None
     } else {
         progress("rendering the source");
-        Some(SourceViews::render(&mesh, &options.image)?)
+        // The source in colour only when the sweep's scenes sample colour.
+        let mut image = options.image.clone();
+        image.colour_source &= options.base.fit.colour;
+        Some(SourceViews::render(&mesh, &image)?)
     };
     let render_work = source_views.iter().flat_map(|views| {
         render_scenes

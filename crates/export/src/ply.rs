@@ -1,115 +1,100 @@
-//! Binary PLY writing of nodes and cells.
+//! Binary little-endian PLY writing of patch meshes or points.
 //!
-//! Positions are `offset + local` computed in f64 and stored as f32 (the
-//! PLY `float` type most tools expect). Cost: one pass over the nodes.
+//! Vertices carry `x y z` (`float`, or `double` when
+//! [`crate::precision::needs_f64`] says f32 would lose precision),
+//! `nx ny nz` (float) and `red green blue` (uchar) when the scene has
+//! colour; meshes add a `face` element of `vertex_indices` (uchar count,
+//! int indices). Patches follow each other in the vertex list; a patch's
+//! triangles index its own vertices only. Positions are `world - origin`
+//! computed in f64; a non-zero origin is recorded in a `comment origin X Y Z`
+//! header line (full f64 precision), so `world = written + origin`.
+//!
+//! Cost: one pass over the vertices and one over the triangles.
 
-use spatch_format::{ColourChannel, Patch, Scene};
+use glam::DVec3;
 
-fn header(scene: &Scene, vertices: usize, faces: Option<usize>) -> String {
+use crate::PatchMesh;
+
+fn header(
+    meshes: &[PatchMesh],
+    coloured: bool,
+    doubles: bool,
+    origin: DVec3,
+    faces: bool,
+) -> String {
+    let vertices: usize = meshes.iter().map(|m| m.positions.len()).sum();
+    let number = if doubles { "double" } else { "float" };
     let mut h = format!(
-        "ply\nformat binary_little_endian 1.0\ncomment written by spatch {}\nelement vertex {vertices}\n\
-         property float x\nproperty float y\nproperty float z\n\
-         property float nx\nproperty float ny\nproperty float nz\n",
+        "ply\nformat binary_little_endian 1.0\ncomment written by spatch {}\n",
         env!("CARGO_PKG_VERSION")
     );
-    if scene.channel() != ColourChannel::None {
+    if origin != DVec3::ZERO {
+        h.push_str(&format!(
+            "comment origin {} {} {} (model position = written position + origin)\n",
+            origin.x, origin.y, origin.z
+        ));
+    }
+    h.push_str(&format!(
+        "element vertex {vertices}\nproperty {number} x\nproperty {number} y\nproperty {number} z\n\
+         property float nx\nproperty float ny\nproperty float nz\n"
+    ));
+    if coloured {
         h.push_str("property uchar red\nproperty uchar green\nproperty uchar blue\n");
     }
-    if let Some(faces) = faces {
+    if faces {
+        let count: usize = meshes.iter().map(|m| m.triangles.len()).sum();
         h.push_str(&format!(
-            "element face {faces}\nproperty list uchar int vertex_indices\n"
+            "element face {count}\nproperty list uchar int vertex_indices\n"
         ));
     }
     h.push_str("end_header\n");
     h
 }
 
-/// Appends one vertex record for node `(i, j)` of `patch`; returns false
-/// (writing nothing) when the node is empty.
-fn push_node(out: &mut Vec<u8>, scene: &Scene, patch: &Patch, i: usize, j: usize) -> bool {
-    let (Some(local), Some(normal)) = (patch.node_position(i, j), patch.node_normal(i, j)) else {
-        return false;
-    };
-    let world = scene.offset() + local.as_dvec3();
-    for v in [
-        world.x as f32,
-        world.y as f32,
-        world.z as f32,
-        normal.x,
-        normal.y,
-        normal.z,
-    ] {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    if let Some(colours) = patch.colours() {
-        out.extend_from_slice(&colours[patch.grid().index(i, j)][..3]);
-    }
-    true
-}
-
-/// The non-empty nodes of `scene` as a binary PLY point cloud.
-pub fn export_nodes_ply(scene: &Scene) -> Vec<u8> {
-    let mut body = Vec::new();
-    let mut count = 0;
-    for patch in scene.patches() {
-        let (cols, rows) = (
-            usize::from(patch.grid().cols()),
-            usize::from(patch.grid().rows()),
-        );
-        for j in 0..rows {
-            for i in 0..cols {
-                count += usize::from(push_node(&mut body, scene, patch, i, j));
+/// `meshes` as one binary PLY file: points only, or with faces when
+/// `faces` is set. `coloured` adds the colour properties (every mesh must
+/// then have colours); positions are written minus `origin`, as f64 when
+/// `doubles` is set.
+pub fn write_ply(
+    meshes: &[PatchMesh],
+    coloured: bool,
+    doubles: bool,
+    origin: DVec3,
+    faces: bool,
+) -> Vec<u8> {
+    let mut out = header(meshes, coloured, doubles, origin, faces).into_bytes();
+    for mesh in meshes {
+        for (k, normal) in mesh.normals.iter().enumerate() {
+            let p = mesh.world_position(k) - origin;
+            if doubles {
+                for v in p.to_array() {
+                    out.extend_from_slice(&v.to_le_bytes());
+                }
+            } else {
+                for v in p.as_vec3().to_array() {
+                    out.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+            for v in normal.to_array() {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+            if coloured {
+                let c = mesh.colours.as_ref().map_or([255; 4], |c| c[k]);
+                out.extend_from_slice(&c[..3]);
             }
         }
     }
-    let mut out = header(scene, count, None).into_bytes();
-    out.extend_from_slice(&body);
-    out
-}
-
-/// The drawable cells of `scene` as a binary PLY triangle mesh.
-pub fn export_cells_ply(scene: &Scene) -> Vec<u8> {
-    let mut vertices = Vec::new();
-    let mut faces = Vec::new();
-    let mut vertex_count: u32 = 0;
-    let mut face_count = 0usize;
-    let mut index_of = Vec::new();
-    for patch in scene.patches() {
-        let (cols, rows) = (
-            usize::from(patch.grid().cols()),
-            usize::from(patch.grid().rows()),
-        );
-        index_of.clear();
-        for j in 0..rows {
-            for i in 0..cols {
-                if push_node(&mut vertices, scene, patch, i, j) {
-                    index_of.push(vertex_count);
-                    vertex_count += 1;
-                } else {
-                    index_of.push(u32::MAX);
+    if faces {
+        let mut first = 0u32;
+        for mesh in meshes {
+            for triangle in &mesh.triangles {
+                out.push(3);
+                for v in triangle {
+                    out.extend_from_slice(&((first + v) as i32).to_le_bytes());
                 }
             }
-        }
-        for j in 0..rows - 1 {
-            for i in 0..cols - 1 {
-                if !patch.cell_is_drawable(i, j) {
-                    continue;
-                }
-                let at = |a: usize, b: usize| index_of[b * cols + a];
-                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                // Counter-clockwise seen from +z (the outward side).
-                for tri in [[a, b, c], [a, c, d]] {
-                    faces.push(3u8);
-                    for v in tri {
-                        faces.extend_from_slice(&(v as i32).to_le_bytes());
-                    }
-                    face_count += 1;
-                }
-            }
+            first += mesh.positions.len() as u32;
         }
     }
-    let mut out = header(scene, vertex_count as usize, Some(face_count)).into_bytes();
-    out.extend_from_slice(&vertices);
-    out.extend_from_slice(&faces);
     out
 }

@@ -5,8 +5,12 @@
 //! Stored as 40 bytes: origin (3 × f32), unit rotation quaternion (4 × f32),
 //! lengths (3 × f32). The quaternion maps the unit axes X, Y, Z onto the
 //! directions of `ax`, `ay`, `az`.
+//!
+//! A frame may also carry an origin *residual* (`P_exact - P` as f32, see
+//! [`Frame::precise_origin`]): a merged scene places a far part's patches
+//! with it, and the optional ORGR section stores it (docs/format.md).
 
-use glam::{Mat3, Quat, Vec3};
+use glam::{DVec3, Mat3, Quat, Vec3};
 
 use crate::FormatError;
 
@@ -23,10 +27,12 @@ const QUATERNION_NORM_TOLERANCE: f32 = 1e-3;
 /// # Guarantees
 /// All numbers are finite; the lengths are positive; the quaternion's norm is
 /// within 1e-3 of 1 (it is normalized before use); the axes are orthogonal
-/// and right-handed (`ax × ay` points along `az`).
+/// and right-handed (`ax × ay` points along `az`); the origin residual is
+/// finite and at most one f32 ulp of the origin per coordinate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Frame {
     origin: Vec3,
+    residual: Vec3,
     rotation: Quat,
     lengths: [f32; 3],
 }
@@ -70,6 +76,7 @@ impl Frame {
         }
         Ok(Self {
             origin,
+            residual: Vec3::ZERO,
             rotation,
             lengths,
         })
@@ -101,6 +108,7 @@ impl Frame {
         }
         Ok(Self {
             origin,
+            residual: Vec3::ZERO,
             rotation,
             lengths,
         })
@@ -110,6 +118,21 @@ impl Frame {
     /// scene offset.
     pub fn origin(&self) -> Vec3 {
         self.origin
+    }
+
+    /// The origin in f64 relative to the scene offset: `P + residual`.
+    ///
+    /// Frames built by producers have no residual, so this is `P`; a frame
+    /// moved by [`Self::with_precise_origin`] keeps what f32 rounding of `P`
+    /// lost, to within 2^-24 of the residual (3.5e-15·|P|: 4e-8 at 1e7).
+    pub fn precise_origin(&self) -> DVec3 {
+        self.origin.as_dvec3() + self.residual.as_dvec3()
+    }
+
+    /// `P_exact - P` (zero unless the frame was placed by
+    /// [`Self::with_precise_origin`] or read with an ORGR section).
+    pub fn origin_residual(&self) -> Vec3 {
+        self.residual
     }
 
     /// The stored rotation quaternion (maps X, Y, Z onto the axis directions).
@@ -138,10 +161,42 @@ impl Frame {
         ]
     }
 
-    /// The same frame moved to another origin.
+    /// The same frame moved to another origin (no residual).
     pub fn with_origin(&self, origin: Vec3) -> Result<Self, FormatError> {
         Self::from_parts(origin, self.rotation, self.lengths)
     }
+
+    /// The same frame moved to `origin` given in f64: `P` is its f32
+    /// rounding and the residual keeps the rest (see
+    /// [`Self::precise_origin`]). Fails when `P` overflows f32.
+    pub fn with_precise_origin(&self, origin: DVec3) -> Result<Self, FormatError> {
+        let rounded = origin.as_vec3();
+        let residual = (origin - rounded.as_dvec3()).as_vec3();
+        self.with_origin(rounded)?.with_residual(residual)
+    }
+
+    /// The same frame with origin residual `residual` (as read from an
+    /// ORGR section). The residual must be finite and at most one f32 ulp
+    /// of the origin per coordinate (what f32 rounding can leave).
+    pub fn with_residual(&self, residual: Vec3) -> Result<Self, FormatError> {
+        let fits = (0..3).all(|k| {
+            let (o, r) = (self.origin[k], residual[k]);
+            r.is_finite() && r.abs() <= ulp(o)
+        });
+        if !fits {
+            return Err(FormatError::InvalidFrame {
+                reason: "origin residual is larger than the origin's f32 rounding",
+            });
+        }
+        Ok(Self { residual, ..*self })
+    }
+}
+
+/// The gap between `|x|` and the next larger f32 (the smallest subnormal
+/// step at zero).
+fn ulp(x: f32) -> f32 {
+    let a = x.abs();
+    f32::from_bits(a.to_bits() + 1) - a
 }
 
 #[cfg(test)]
@@ -170,5 +225,25 @@ mod tests {
         assert!(
             Frame::from_parts(Vec3::ZERO, Quat::from_xyzw(0.0, 0.0, 0.0, 2.0), [1.0; 3]).is_err()
         );
+    }
+
+    #[test]
+    fn a_precise_origin_keeps_what_f32_rounding_loses() {
+        let f = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+        for p in [
+            DVec3::new(1e7 + 0.123_456, -3e6 - 0.5e-3, 0.25),
+            DVec3::new(1e4 + 1e-5, 1e6 + 7e-7, -1e7 - 0.333),
+            DVec3::new(1e-30, 0.0, -0.1),
+        ] {
+            let g = f.with_precise_origin(p).unwrap();
+            let err = (g.precise_origin() - p).abs().max_element();
+            assert!(err <= 4e-15 * p.abs().max_element(), "{p}: {err}");
+            assert_eq!(g.origin(), p.as_vec3());
+        }
+        assert!(f.with_residual(Vec3::new(0.0, 1e-3, 0.0)).is_err());
+        assert!(f.with_residual(Vec3::new(f32::NAN, 0.0, 0.0)).is_err());
+        let far = f.with_origin(Vec3::splat(1e7)).unwrap();
+        assert!(far.with_residual(Vec3::splat(0.5)).is_ok());
+        assert!(far.with_residual(Vec3::splat(1.5)).is_err());
     }
 }

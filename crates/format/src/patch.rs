@@ -1,6 +1,6 @@
 //! One spatial patch: a frame, a grid of displacements and optional colours.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::{FormatError, Frame, GridSize};
 
@@ -154,6 +154,23 @@ impl Patch {
         let d = self.displacement(i, j)?;
         let [ax, ay, az] = self.frame.axes();
         Some(self.frame.origin() + ax * i as f32 + ay * j as f32 + az * d as f32)
+    }
+
+    /// Position of node `(i, j)` relative to the patch origin `P`
+    /// (`i·ax + j·ay + d·az`, small whatever the scene's placement), or
+    /// `None` when it is empty.
+    pub fn node_local(&self, i: usize, j: usize) -> Option<Vec3> {
+        let d = self.displacement(i, j)?;
+        let [ax, ay, az] = self.frame.axes();
+        Some(ax * i as f32 + ay * j as f32 + az * d as f32)
+    }
+
+    /// Position of node `(i, j)` relative to the scene offset in f64:
+    /// [`Frame::precise_origin`] plus [`Self::node_local`], so a patch far
+    /// from the offset (a merged scene's far part) keeps the precision of
+    /// its own frame. `None` when the node is empty.
+    pub fn precise_node_position(&self, i: usize, j: usize) -> Option<DVec3> {
+        Some(self.frame.precise_origin() + self.node_local(i, j)?.as_dvec3())
     }
 
     /// Positions of all non-empty nodes, in node order, with their `(i, j)`.

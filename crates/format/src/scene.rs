@@ -142,26 +142,34 @@ impl Scene {
         found
     }
 
-    /// Model-space bounds `(min, max)` of the filled nodes (offset applied,
-    /// in f64), or `None` for a scene with no filled node.
+    /// Model-space bounds `(min, max)` of the filled nodes (offset and
+    /// each patch's [`crate::Frame::precise_origin`] applied in f64), or
+    /// `None` for a scene with no filled node.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        let local = self
-            .patches
+        self.patches
             .iter()
-            .filter_map(Patch::bounds)
-            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))?;
-        Some((
-            self.offset + local.0.as_dvec3(),
-            self.offset + local.1.as_dvec3(),
-        ))
+            .filter_map(|p| {
+                let origin = self.offset + p.frame().precise_origin();
+                let (lo, hi) = p.bounds()?;
+                let shift = p.frame().origin();
+                Some((
+                    origin + (lo - shift).as_dvec3(),
+                    origin + (hi - shift).as_dvec3(),
+                ))
+            })
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
     }
 
     /// Concatenates scenes into one (see `spatch merge`).
     ///
-    /// The result's offset is the first scene's; other scenes' patch origins
-    /// are moved by the difference of offsets (in f64, then rounded to f32).
-    /// All scenes must have the same colour channel, except that colourless
-    /// scenes may not be mixed with coloured ones.
+    /// The result's offset is the first scene's. Every other scene's patch
+    /// origins are moved by the difference of offsets in f64 and stored as
+    /// an f32 origin plus its residual ([`crate::Frame::with_precise_origin`]),
+    /// so each part keeps the precision it had alone: node positions from
+    /// [`Patch::precise_node_position`] differ from the scene alone's by
+    /// f32 rounding of the patch-local frame only, however far apart the
+    /// scenes are (tested at 1e7). All scenes must have the same colour
+    /// channel.
     pub fn merge(scenes: Vec<Scene>) -> Result<Scene, MergeError> {
         let Some(first) = scenes.first() else {
             return Err(MergeError::Empty);
@@ -177,22 +185,32 @@ impl Scene {
                 });
             }
             let shift = scene.offset - offset;
-            for patch in scene.patches {
+            for mut patch in scene.patches {
                 if shift == DVec3::ZERO {
                     patches.push(patch);
                     continue;
                 }
-                let origin = (patch.frame().origin().as_dvec3() + shift).as_vec3();
+                let origin = patch.frame().precise_origin() + shift;
                 let frame = patch
                     .frame()
-                    .with_origin(origin)
+                    .with_precise_origin(origin)
                     .map_err(MergeError::Format)?;
-                let mut patch = patch;
                 patch.set_frame(frame);
                 patches.push(patch);
             }
         }
         Scene::new(offset, channel, patches).map_err(MergeError::Format)
+    }
+
+    /// The same scene moved by `shift` (model units, f64): only the offset
+    /// changes, so nothing is rounded (`spatch merge --translate`).
+    pub fn translated(mut self, shift: DVec3) -> Result<Scene, FormatError> {
+        let offset = self.offset + shift;
+        if !offset.is_finite() {
+            return Err(FormatError::InvalidOffset);
+        }
+        self.offset = offset;
+        Ok(self)
     }
 }
 

@@ -133,7 +133,7 @@ impl PreparedPatch {
         let rotation = DMat3::from_cols(units[0], units[1], units[2]);
         let [lx, ly, lz] = frame.lengths();
         let ratios = (lz / lx, lz / ly);
-        let origin = offset + frame.origin().as_dvec3();
+        let origin = offset + frame.precise_origin();
         let cone = compute_normal_cone(&base, ratios, &rotation);
         // Box of the used nodes in model space, via the local box corners.
         let (d0, d1) = base.d_range;

@@ -23,6 +23,10 @@ pub(crate) const TAG_SCENE: [u8; 4] = *b"SCNE";
 pub(crate) const TAG_FRAMES: [u8; 4] = *b"FRAM";
 pub(crate) const TAG_DISPLACEMENTS: [u8; 4] = *b"DISP";
 pub(crate) const TAG_COLOURS: [u8; 4] = *b"COLR";
+/// Optional (version 1.1): per-patch origin residuals, 3 × f32 each.
+pub(crate) const TAG_ORIGIN_RESIDUALS: [u8; 4] = *b"ORGR";
+/// Bytes of one ORGR record.
+pub(crate) const RESIDUAL_LEN: usize = 12;
 
 pub(crate) const CODEC_RAW: u8 = 0;
 pub(crate) const CODEC_PREDICTIVE: u8 = 1;

@@ -11,8 +11,8 @@ use glam::{DVec3, Quat, Vec3};
 use super::bounded::vec_for_count;
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    FILE_HEADER_LEN, MAX_EXPANSION, MAX_EXPANSION_SLACK, SECTION_HEADER_LEN, TAG_COLOURS,
-    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_SCENE,
+    FILE_HEADER_LEN, MAX_EXPANSION, MAX_EXPANSION_SLACK, RESIDUAL_LEN, SECTION_HEADER_LEN,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
 };
 use super::predictive::{decode_colours, decode_displacements, DisplacementLayout};
 use super::{MAGIC, VERSION_MAJOR};
@@ -210,8 +210,14 @@ fn section_payload(
 /// Decodes `.spatch` bytes, returning the scene and what the file holds.
 pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
     let (major, minor, sections) = split_sections(bytes)?;
-    let known = [TAG_SCENE, TAG_FRAMES, TAG_DISPLACEMENTS, TAG_COLOURS];
-    let mut found: [Option<&RawSection<'_>>; 4] = [None; 4];
+    let known = [
+        TAG_SCENE,
+        TAG_FRAMES,
+        TAG_DISPLACEMENTS,
+        TAG_COLOURS,
+        TAG_ORIGIN_RESIDUALS,
+    ];
+    let mut found: [Option<&RawSection<'_>>; 5] = [None; 5];
     let mut last_known = None;
     for section in &sections {
         let Some(k) = known
@@ -263,6 +269,7 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         GridStorage::PerPatch => None,
     };
     let frame_bytes = frame_section.payload.len();
+    let residuals = read_residuals(found[4], patch_count)?;
     let mut frames = vec_for_count(patch_count, record_len, frame_bytes, "frames")?;
     let mut layouts = vec_for_count(patch_count, record_len, frame_bytes, "frames")?;
     for (k, record) in frame_section.payload.chunks_exact(record_len).enumerate() {
@@ -274,8 +281,15 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
             f32_at(record, 24),
         );
         let lengths = [f32_at(record, 28), f32_at(record, 32), f32_at(record, 36)];
-        let frame = Frame::from_parts(origin, rotation, lengths)
+        let mut frame = Frame::from_parts(origin, rotation, lengths)
             .map_err(|e| corrupt("FRAM", format!("patch {k}: {e}")))?;
+        if let Some(r) = residuals {
+            let at = k * RESIDUAL_LEN;
+            let residual = Vec3::new(f32_at(r, at), f32_at(r, at + 4), f32_at(r, at + 8));
+            frame = frame
+                .with_residual(residual)
+                .map_err(|e| corrupt("ORGR", format!("patch {k}: {e}")))?;
+        }
         let mut at = 40;
         let grid = match shared_grid {
             Some(g) => g,
@@ -401,6 +415,29 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         flat_colour: fields.colour_storage == ColourStorage::Flat,
     };
     Ok((scene, info))
+}
+
+/// The ORGR payload, checked to hold one record per patch (a raw section).
+fn read_residuals<'a>(
+    section: Option<&RawSection<'a>>,
+    patch_count: usize,
+) -> Result<Option<&'a [u8]>, FormatError> {
+    let Some(section) = section else {
+        return Ok(None);
+    };
+    if section.info.codec != CODEC_RAW {
+        return Err(corrupt("ORGR", "the origin residual section must be raw"));
+    }
+    if section.payload.len() != patch_count.saturating_mul(RESIDUAL_LEN) {
+        return Err(corrupt(
+            "ORGR",
+            format!(
+                "{} bytes for {patch_count} patches of {RESIDUAL_LEN} bytes",
+                section.payload.len()
+            ),
+        ));
+    }
+    Ok(Some(section.payload))
 }
 
 /// Decodes `.spatch` bytes into a scene.

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_SCENE,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::{write_file_atomically, MAGIC, VERSION_MAJOR, VERSION_MINOR};
@@ -187,11 +187,16 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         })
     });
 
-    let section_count: u32 = if colr.is_some() { 4 } else { 3 };
+    let residuals = encode_residuals(scene);
+    let section_count = 3 + u32::from(colr.is_some()) + u32::from(residuals.is_some());
     let mut out = Vec::new();
     out.extend_from_slice(&MAGIC);
     out.push(VERSION_MAJOR);
-    out.push(VERSION_MINOR);
+    out.push(if residuals.is_some() {
+        VERSION_MINOR
+    } else {
+        0
+    });
     out.extend_from_slice(&section_count.to_le_bytes());
     let header_crc = crc32fast::hash(&out[..12]);
     out.extend_from_slice(&header_crc.to_le_bytes());
@@ -208,7 +213,35 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
     if let Some((codec, raw_len, payload)) = colr {
         push_section(&mut out, TAG_COLOURS, codec, raw_len, &payload);
     }
+    if let Some(payload) = residuals {
+        push_section(
+            &mut out,
+            TAG_ORIGIN_RESIDUALS,
+            CODEC_RAW,
+            payload.len(),
+            &payload,
+        );
+    }
     Ok(out)
+}
+
+/// The ORGR payload (every patch's origin residual, 3 × f32), or `None`
+/// when no frame has a residual (the file is then version 1.0).
+fn encode_residuals(scene: &Scene) -> Option<Vec<u8>> {
+    let patches = scene.patches();
+    if patches
+        .iter()
+        .all(|p| p.frame().origin_residual() == glam::Vec3::ZERO)
+    {
+        return None;
+    }
+    let mut out = Vec::new();
+    for patch in patches {
+        for v in patch.frame().origin_residual().to_array() {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    Some(out)
 }
 
 /// Encodes `scene` and writes it to `path` atomically (see

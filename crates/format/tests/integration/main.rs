@@ -6,9 +6,12 @@
 //! - `corruption`: truncations, flipped bytes, lying counts, unknown
 //!   versions and trailing bytes all give errors, never panics.
 //! - `atomic`: a failed write leaves nothing under the output name.
+//! - `far_merge`: merged scenes far apart keep each part's node positions
+//!   (issue 22), through the ORGR section.
 
 mod atomic;
 mod corruption;
+mod far_merge;
 mod golden;
 mod round_trip;
 mod scenes;
