@@ -62,6 +62,10 @@ pub(crate) struct EvalArgs {
     /// Cell filling of the patch renders (not with --sweep, which tries both).
     #[arg(long, value_enum, default_value_t = CellsArg::Bilinear, conflicts_with = "sweep")]
     cells: CellsArg,
+    /// Splat limit of the patch renders in pixels (see `spatch render
+    /// --splat-limit`; 0 = off, the default; not with --sweep).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
+    splat_limit: f32,
     /// Skip the image error (geometric error only).
     #[arg(long, conflicts_with = "sweep")]
     no_images: bool,
@@ -135,6 +139,7 @@ impl EvalArgs {
             CellsArg::Smooth => CellScheme::Smooth,
         };
         render.threads = self.threads.map_or(0, |n| n as usize);
+        render.splat_limit = self.splat_limit;
         render
     }
 

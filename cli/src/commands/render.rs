@@ -124,6 +124,13 @@ pub(crate) struct RenderArgs {
     /// values trade detail for speed (coarser grids, magnified).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
     mip_limit: f32,
+    /// Splat the nodes of pixel-sized cells as rectangles of half-width up
+    /// to PX pixels (0.5..=3) instead of subdividing the cells, and take
+    /// mip levels whose nodes land within that reach: fewer samples, each
+    /// pixel shaded from its nearest node (bunny 500²: 12 % fewer
+    /// instructions per frame, 1.4 dB lower PSNR). 0 (default): off.
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT)]
+    splat_limit: f32,
     /// Trim, once per scene, the level-0 cells that an earlier patch
     /// already draws (same surface within 5 % of a cell, normals within
     /// 1°): each frame then draws fewer cells where patches overlap, for a
@@ -268,6 +275,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
     o.mip_limit = args.mip_limit;
+    o.splat_limit = args.splat_limit;
     o.guard_band = args.guard_band;
     o.tile_rows = args.tile_rows;
     if let Some(bg) = args.background {

@@ -1143,6 +1143,7 @@ mod tests {
                 y0: 0,
                 y1: 0,
                 inside_columns: false,
+                splat: [0, 0],
             });
         }
         let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();

@@ -52,6 +52,7 @@ mod prepare;
 mod render;
 mod shade;
 mod shortcuts;
+mod splat;
 mod split;
 mod stats;
 #[cfg(test)]

@@ -136,6 +136,18 @@ pub struct RenderOptions {
     /// 6 moves 436 of 567 patches to level 1: 83.0 → 65.1 M instructions
     /// per frame; see docs/performance.md for the image cost).
     pub mip_limit: f32,
+    /// Largest footprint half-width (pixels) of the splatting path for
+    /// pixel-sized cells, 0 or 0.5..=3; 0 (the default) disables it. A
+    /// piece of bilinear cells whose nodes can cover its cells with
+    /// rectangles of at most this half-width is drawn by splatting its
+    /// nodes (one set-up per node, footprints up to 3 × 3 pixels at 1.5)
+    /// instead of subdividing its cells; with mip on, a whole patch then
+    /// takes the coarsest level whose estimated cell extent stays below
+    /// twice this reach. Trades shading detail (each pixel takes its
+    /// nearest node's normal: bunny 500², PSNR against the source 24.7 →
+    /// 23.3 dB at 1.5) and up to `limit - 1/2` px of silhouette for fewer
+    /// samples (bunny 500²: 82.1 → 72.6 M instructions per frame).
+    pub splat_limit: f32,
     /// Guard band beyond each side of the viewport, as a fraction of its
     /// size, 0..=1. Default 0.1. Patches inside it are drawn without
     /// splitting (pixels outside the image are discarded); wider bands split
@@ -159,6 +171,8 @@ impl RenderOptions {
     pub const DEFAULT_TILE_ROWS: u32 = 64;
     /// Default mip limit (pixels of estimated cell extent).
     pub const DEFAULT_MIP_LIMIT: f32 = 0.9;
+    /// Default splat limit: off (cells subdivided down to sub-pixel size).
+    pub const DEFAULT_SPLAT_LIMIT: f32 = 0.0;
     /// Largest supersampling factor.
     pub const MAX_SSAA: u32 = 4;
 
@@ -173,6 +187,10 @@ impl RenderOptions {
         }
         if !(self.mip_limit.is_finite() && (0.1..=16.0).contains(&self.mip_limit)) {
             return bad("mip_limit", "must be in 0.1..=16 pixels");
+        }
+        let splat = self.splat_limit;
+        if !(splat.is_finite() && (splat == 0.0 || (0.5..=3.0).contains(&splat))) {
+            return bad("splat_limit", "must be 0 (off) or in 0.5..=3 pixels");
         }
         if !(4..=256).contains(&self.tile_rows) {
             return bad("tile_rows", "must be in 4..=256");
@@ -211,6 +229,7 @@ impl Default for RenderOptions {
             ssaa: 1,
             mip: true,
             mip_limit: Self::DEFAULT_MIP_LIMIT,
+            splat_limit: Self::DEFAULT_SPLAT_LIMIT,
             guard_band: Self::DEFAULT_GUARD_BAND,
             tile_rows: Self::DEFAULT_TILE_ROWS,
             background: [0, 0, 0, 0],

@@ -40,6 +40,7 @@ use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer, O
 use crate::options::{CellScheme, Culling, Projection, RenderMode, RenderOptions, Shading};
 use crate::prepare::PreparedPatch;
 use crate::shade::{pack_colour, Material, ShadeFrame, WorldLight};
+use crate::splat::{drop_undrawn_nodes, footprint_half_widths};
 use crate::split::{split_patch, NodeRange};
 use crate::stats::Counters;
 use crate::traverse::{
@@ -85,6 +86,9 @@ pub(crate) struct Item {
     /// Every used node lies in the image's columns `1..width - 1`, so a
     /// row of cells inside a band needs no clipping at all.
     pub(crate) inside_columns: bool,
+    /// Footprint half-widths in x and y (position units) of a splatted
+    /// piece ([`crate::splat`]); 0 for every other piece.
+    pub(crate) splat: [i32; 2],
 }
 
 /// Everything about the frame that planning needs.
@@ -119,6 +123,8 @@ pub(crate) struct ChunkWork {
     pieces: Vec<NodeRange>,
     cells: Vec<(usize, usize)>,
     vertices: Vec<ClipVertex>,
+    /// Scratch of [`drop_undrawn_nodes`].
+    splat_scratch: Vec<u8>,
 }
 
 impl ChunkWork {
@@ -302,7 +308,15 @@ fn plan_piece(
     let mut m = 0;
     if whole && opts.mip && p.level_count() > 1 {
         let extent = estimate_extent(&proj0, piece, p.base.d_range);
-        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < opts.mip_limit {
+        // The splat path covers cells whose extent (the max-norm sum of
+        // their edges) is up to twice its half-width: a level whose nodes
+        // still land within that reach needs no subdivision.
+        let limit = if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
+            opts.mip_limit.max(2.0 * opts.splat_limit)
+        } else {
+            opts.mip_limit
+        };
+        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < limit {
             m += 1;
         }
     }
@@ -363,10 +377,18 @@ fn plan_piece(
     if smooth && split != Some((1, 1)) {
         split = choose_subdivision(edges, SMOOTH_MARGIN);
     }
+    let splat = splat_footprint(opts, smooth, split, edges);
+    if splat[0] > 0 {
+        split = Some((1, 1));
+    }
     work.counters.traverse_ns += nanos(start);
     let height = setup.view.height as i32;
     let [x0, y0, x1, y1] = measure.bbox;
-    let pad = if smooth { 2 } else { 0 };
+    let pad = if smooth {
+        2
+    } else {
+        (splat[1] + crate::fixed::XY_ONE as i32 - 1) >> crate::fixed::XY_FRAC_BITS
+    };
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
@@ -387,8 +409,18 @@ fn plan_piece(
     let start = Instant::now();
     fill_attributes(work, p, m, range, first, frame, setup);
     work.counters.normals_ns += nanos(start);
+    // After the attributes, which it keeps: only positions are dropped.
+    if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
+        let start = Instant::now();
+        let nodes = &mut work.nodes[first..];
+        let cells = &work.cell_flags[flags..];
+        drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
+        work.counters.traverse_ns += nanos(start);
+    }
     work.counters.patch_nodes += measure.used_nodes;
-    if (nu, nv) == (1, 1) {
+    if splat[0] > 0 {
+        work.counters.splatted += 1;
+    } else if (nu, nv) == (1, 1) {
         work.counters.optimized += 1;
     } else {
         work.counters.interpolated += 1;
@@ -411,7 +443,29 @@ fn plan_piece(
         y0: y0 - pad,
         y1: y1 + pad,
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
+        splat,
     });
+}
+
+/// The footprint half-widths (position units) with which the nodes of a
+/// piece whose cells have the largest edges `edges` cover them, when the
+/// splatting path draws it (bilinear cells the nodes alone do not cover,
+/// within [`RenderOptions::splat_limit`]); `[0, 0]` otherwise.
+fn splat_footprint(
+    opts: &RenderOptions,
+    smooth: bool,
+    split: Option<(u32, u32)>,
+    edges: [f32; 4],
+) -> [i32; 2] {
+    if smooth || opts.splat_limit == 0.0 || split == Some((1, 1)) {
+        return [0, 0];
+    }
+    let half = footprint_half_widths(edges);
+    let limit = opts.splat_limit * crate::fixed::XY_ONE;
+    if half[0] as f32 > limit || half[1] as f32 > limit {
+        return [0, 0];
+    }
+    half
 }
 
 /// The cheapest cut `nu × nv` of cells whose largest edges are

@@ -28,6 +28,7 @@ pub(crate) struct Counters {
     pub(crate) oversized_pieces: u64,
     pub(crate) optimized: u64,
     pub(crate) interpolated: u64,
+    pub(crate) splatted: u64,
     pub(crate) mip: [u64; MAX_MIP_LEVELS],
     pub(crate) patch_nodes: u64,
     pub(crate) interpolated_nodes: u64,
@@ -55,6 +56,7 @@ impl std::ops::AddAssign<&Counters> for Counters {
         self.oversized_pieces += o.oversized_pieces;
         self.optimized += o.optimized;
         self.interpolated += o.interpolated;
+        self.splatted += o.splatted;
         for (a, b) in self.mip.iter_mut().zip(o.mip) {
             *a += b;
         }
@@ -141,6 +143,9 @@ pub struct RenderStats {
     pub patches_optimized: u64,
     /// Pieces drawn with cell interpolation.
     pub patches_interpolated: u64,
+    /// Pieces drawn by splatting their nodes (pixel-sized cells, see
+    /// `RenderOptions::splat_limit`).
+    pub patches_splatted: u64,
     /// Pieces drawn per mip level (index = level).
     pub mip_levels: Vec<u64>,
     /// Nodes projected.
@@ -182,6 +187,7 @@ impl RenderStats {
         self.oversized_pieces = c.oversized_pieces;
         self.patches_optimized = c.optimized;
         self.patches_interpolated = c.interpolated;
+        self.patches_splatted = c.splatted;
         let used = c.mip.iter().rposition(|&v| v > 0).map_or(0, |k| k + 1);
         self.mip_levels = c.mip[..used].to_vec();
         self.patch_nodes = c.patch_nodes;

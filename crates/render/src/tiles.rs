@@ -20,6 +20,7 @@ use crate::framebuffer::{
 };
 use crate::options::{CellScheme, Shading};
 use crate::plan::{ChunkWork, Item};
+use crate::splat::{draw_splats, SplatPiece};
 use crate::triangle_raster::{draw_triangle, ScreenTriangle};
 
 /// Work per band in CSR form: `(chunk, index)` references.
@@ -149,7 +150,17 @@ fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, ce
     let nodes = &chunk.nodes[first..first + cols * rows];
     let (nu, nv) = (item.nu as u32, item.nv as u32);
     let id = id | PATCH_SAMPLE;
-    if nu == 1 && nv == 1 {
+    if item.splat[0] > 0 {
+        let s = item.spans as usize;
+        let piece = SplatPiece {
+            nodes,
+            spans: &chunk.row_spans[s..s + rows - 1],
+            cols,
+            rows,
+            half: item.splat,
+        };
+        draw_splats(t, &piece, id);
+    } else if nu == 1 && nv == 1 {
         draw_nodes(t, nodes, cols, rows, id);
     } else if cells == CellScheme::Smooth {
         draw_cells_smooth(t, nodes, cols, rows, nu, nv, id);

@@ -15,6 +15,9 @@ fn check_silhouette(distance: f64, size: u32, options: RenderOptions) {
         .unwrap();
     let image = &out.image;
     let r = silhouette_radius_px(distance, size);
+    // Splats reach up to their half-width past the nodes, where sub-nodes
+    // reach half a pixel.
+    let reach = 1.0 + (options.splat_limit as f64 - 0.5).max(0.0);
     let c = size as f64 / 2.0;
     let mut holes = 0;
     let mut outside = 0;
@@ -25,7 +28,7 @@ fn check_silhouette(distance: f64, size: u32, options: RenderOptions) {
             if d < r - 1.0 && !covered {
                 holes += 1;
             }
-            if d > r + 1.0 && covered {
+            if d > r + reach && covered {
                 outside += 1;
             }
         }
@@ -57,6 +60,25 @@ fn a_larger_mip_limit_keeps_the_silhouette_and_fills_the_disc() {
         o.mip_limit = 6.0;
         check_silhouette(distance, size, o);
     }
+}
+
+#[test]
+fn splatted_pixel_sized_cells_leave_no_hole_at_250_to_2000() {
+    // The splatting path: no empty pixel inside the disc, silhouette within
+    // the splats' reach, and splatted pieces at the sizes where cells are
+    // about a pixel.
+    for (distance, size) in [(700.0, 250), (600.0, 500), (500.0, 1000), (400.0, 2000)] {
+        let mut o = RenderOptions::default();
+        o.splat_limit = 1.5;
+        check_silhouette(distance, size, o);
+    }
+    let mut o = RenderOptions::default();
+    o.splat_limit = 1.5;
+    let out = Renderer::new(o)
+        .unwrap()
+        .render(prepared_sphere(), &known_camera(600.0, 500))
+        .unwrap();
+    assert!(out.stats.patches_splatted > 0, "{:?}", out.stats);
 }
 
 #[test]

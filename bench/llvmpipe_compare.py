@@ -1,0 +1,273 @@
+#!/usr/bin/env python3
+"""Frame time of spatch's patches against Mesa llvmpipe drawing the source mesh.
+
+The comparison of ../shared/MEASURES.md ("Frame time against a peer
+renderer"): llvmpipe (headless EGL through moderngl, LP_NUM_THREADS=2) draws
+every triangle of the source mesh with smooth vertex normals, per-pixel
+Blinn-Phong, depth test and no culling; frame = draw + finish. spatch renders
+the converted scene with `spatch render SCENE --bench N --threads 2 --json`.
+Both use the camera of MEASURES.md (bounding-box centre c, half diagonal R,
+direction normalize(1, 0.7, 1.3), fov 40°, eye c + d R / sin 20° · 1.05,
+up +y), passed to spatch as --eye/--target/--fov. Rounds alternate peer and
+spatch; the ratio of the medians of each round is printed, then the median
+over rounds.
+
+Setup (Debian): apt-get install libgl1-mesa-dri libegl1; then
+  python3 -m venv /tmp/venv && /tmp/venv/bin/pip install moderngl numpy
+Usage:
+  LP_NUM_THREADS=2 /tmp/venv/bin/python bench/llvmpipe_compare.py \\
+      --spatch target/release/spatch --mesh bun_zipper.ply --scene bunny.spatch \\
+      --size 500 --rounds 3 --frames 20 [-- extra spatch render flags]
+"""
+
+import argparse
+import json
+import math
+import os
+import statistics
+import struct
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+PLY_TYPES = {
+    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
+    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
+    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+}
+
+
+def read_ply(path):
+    """Vertices (n, 3) float32 and triangles (m, 3) uint32 of a PLY file
+    (ascii or binary little endian; polygons fanned into triangles)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header") + len(b"end_header")
+    end = data.index(b"\n", end) + 1
+    header = data[:end].decode("ascii", "replace").splitlines()
+    fmt, elements = None, []
+    for line in header:
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "format":
+            fmt = words[1]
+        elif words[0] == "element":
+            elements.append({"name": words[1], "count": int(words[2]), "props": []})
+        elif words[0] == "property":
+            elements[-1]["props"].append(words[1:])
+    body = data[end:]
+    verts, faces = None, []
+    if fmt == "ascii":
+        tokens = body.split()
+        at = 0
+        for el in elements:
+            if el["name"] == "vertex":
+                n = len(el["props"])
+                vals = np.array(tokens[at:at + n * el["count"]], dtype=np.float64)
+                at += n * el["count"]
+                names = [p[-1] for p in el["props"]]
+                vals = vals.reshape(el["count"], n)
+                verts = vals[:, [names.index(c) for c in "xyz"]].astype(np.float32)
+            else:
+                for _ in range(el["count"]):
+                    for p in el["props"]:
+                        if p[0] == "list":
+                            k = int(tokens[at])
+                            idx = [int(t) for t in tokens[at + 1:at + 1 + k]]
+                            at += 1 + k
+                            if el["name"] == "face":
+                                faces.extend([idx[0], idx[i], idx[i + 1]] for i in range(1, k - 1))
+                        else:
+                            at += 1
+    elif fmt == "binary_little_endian":
+        at = 0
+        for el in elements:
+            props = el["props"]
+            if all(p[0] != "list" for p in props):
+                dt = np.dtype([(p[-1], "<" + PLY_TYPES[p[0]]) for p in props])
+                arr = np.frombuffer(body, dtype=dt, count=el["count"], offset=at)
+                at += dt.itemsize * el["count"]
+                if el["name"] == "vertex":
+                    verts = np.stack([arr[c] for c in "xyz"], axis=1).astype(np.float32)
+                continue
+            # A list property: assume triangles first, check, else walk.
+            fields = []
+            for p in props:
+                if p[0] == "list":
+                    fields += [("n", "<" + PLY_TYPES[p[1]]), ("i", "<" + PLY_TYPES[p[2]], (3,))]
+                else:
+                    fields.append((p[-1], "<" + PLY_TYPES[p[0]]))
+            dt = np.dtype(fields)
+            arr = np.frombuffer(body, dtype=dt, count=el["count"], offset=at)
+            if not np.all(arr["n"] == 3):
+                sys.exit(f"{path}: only triangle lists are read in binary PLY")
+            at += dt.itemsize * el["count"]
+            if el["name"] == "face":
+                faces = arr["i"].astype(np.uint32)
+    else:
+        sys.exit(f"{path}: unsupported PLY format {fmt}")
+    return verts, np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
+
+
+def vertex_normals(v, f):
+    """Area-weighted smooth vertex normals."""
+    n = np.zeros_like(v)
+    fn = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    for k in range(3):
+        np.add.at(n, f[:, k], fn)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return (n / np.maximum(length, 1e-30)).astype(np.float32)
+
+
+def measures_camera(v):
+    """The camera of MEASURES.md: eye, target, and near/far around the box."""
+    lo, hi = v.min(axis=0).astype(np.float64), v.max(axis=0).astype(np.float64)
+    c, r = (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
+    d = np.array([1.0, 0.7, 1.3])
+    d /= np.linalg.norm(d)
+    eye = c + d * r / math.sin(math.radians(20)) * 1.05
+    dist = np.linalg.norm(eye - c)
+    return eye, c, max(dist - r, dist / 1000), dist + r
+
+
+def look_at(eye, target, up):
+    f = target - eye
+    f /= np.linalg.norm(f)
+    s = np.cross(f, up)
+    s /= np.linalg.norm(s)
+    u = np.cross(s, f)
+    m = np.identity(4)
+    m[0, :3], m[1, :3], m[2, :3] = s, u, -f
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def perspective(fov_deg, aspect, near, far):
+    t = 1 / math.tan(math.radians(fov_deg) / 2)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = t / aspect, t
+    m[2, 2], m[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
+    m[3, 2] = -1
+    return m
+
+
+VERTEX = """
+#version 330
+uniform mat4 mvp;
+uniform mat4 view;
+in vec3 pos;
+in vec3 nrm;
+out vec3 n_eye;
+void main() {
+    n_eye = mat3(view) * nrm;
+    gl_Position = mvp * vec4(pos, 1.0);
+}
+"""
+
+FRAGMENT = """
+#version 330
+in vec3 n_eye;
+out vec4 colour;
+uniform vec3 light;
+void main() {
+    vec3 n = normalize(n_eye);
+    if (!gl_FrontFacing) n = -n;
+    vec3 h = normalize(light + vec3(0.0, 0.0, 1.0));
+    float diff = max(dot(n, light), 0.0);
+    float spec = pow(max(dot(n, h), 0.0), 32.0);
+    vec3 albedo = vec3(220.0 / 255.0);
+    colour = vec4(albedo * (0.2 + 0.8 * diff) + 0.25 * spec, 1.0);
+}
+"""
+
+
+class Peer:
+    """llvmpipe drawing the mesh into an offscreen framebuffer."""
+
+    def __init__(self, v, f, size, camera, fov):
+        import moderngl
+
+        self.ctx = moderngl.create_context(standalone=True, backend="egl")
+        renderer = self.ctx.info.get("GL_RENDERER", "?")
+        if "llvmpipe" not in renderer:
+            sys.exit(f"the GL context is {renderer!r}, not llvmpipe")
+        self.renderer = renderer
+        eye, target, near, far = camera
+        view = look_at(eye, target, np.array([0.0, 1.0, 0.0]))
+        mvp = perspective(fov, 1.0, near, far) @ view
+        prog = self.ctx.program(vertex_shader=VERTEX, fragment_shader=FRAGMENT)
+        prog["mvp"].write(mvp.T.astype("f4").tobytes())
+        prog["view"].write(view.T.astype("f4").tobytes())
+        light = np.array([-0.4, 0.5, 0.75])
+        prog["light"].value = tuple(light / np.linalg.norm(light))
+        n = vertex_normals(v, f)
+        vbo = self.ctx.buffer(np.hstack([v, n]).astype("f4").tobytes())
+        ibo = self.ctx.buffer(f.astype("u4").tobytes())
+        self.vao = self.ctx.vertex_array(prog, [(vbo, "3f 3f", "pos", "nrm")], ibo)
+        self.fbo = self.ctx.simple_framebuffer((size, size), components=4)
+        self.fbo.use()
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.disable(moderngl.CULL_FACE)
+
+    def frame_ms(self):
+        start = time.perf_counter()
+        self.fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self.vao.render()
+        self.ctx.finish()
+        return (time.perf_counter() - start) * 1e3
+
+    def median_ms(self, frames):
+        self.frame_ms()  # warm-up
+        return statistics.median(self.frame_ms() for _ in range(frames))
+
+
+def spatch_median_ms(args, camera, extra):
+    eye, target, _, _ = camera
+    vec = lambda p: ",".join(f"{x:.9g}" for x in p)
+    cmd = [
+        args.spatch, "render", args.scene, "--bench", str(args.frames), "--threads", "2",
+        "--json", "--width", str(args.size), "--height", str(args.size),
+        f"--eye={vec(eye)}", f"--target={vec(target)}", "--fov", str(args.fov),
+    ] + extra
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)["ms"]["frame"]["median_ms"]
+
+
+def main():
+    argv = sys.argv[1:]
+    extra = []
+    if "--" in argv:
+        k = argv.index("--")
+        argv, extra = argv[:k], argv[k + 1:]
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--spatch", required=True)
+    p.add_argument("--mesh", required=True)
+    p.add_argument("--scene", required=True)
+    p.add_argument("--size", type=int, default=500)
+    p.add_argument("--rounds", type=int, default=3)
+    p.add_argument("--frames", type=int, default=20)
+    p.add_argument("--fov", type=float, default=40.0)
+    args = p.parse_args(argv)
+    if os.environ.get("LP_NUM_THREADS") != "2":
+        print("note: LP_NUM_THREADS is not 2", file=sys.stderr)
+    v, f = read_ply(args.mesh)
+    camera = measures_camera(v)
+    peer = Peer(v, f, args.size, camera, args.fov)
+    ratios = []
+    for r in range(args.rounds):
+        gl = peer.median_ms(args.frames)
+        sp = spatch_median_ms(args, camera, extra)
+        ratios.append(gl / sp)
+        print(f"round {r + 1}: llvmpipe {gl:.2f} ms, spatch {sp:.2f} ms, ratio {gl / sp:.2f}")
+    print(
+        f"{os.path.basename(args.mesh)} {args.size}²: {len(f)} triangles on {peer.renderer}; "
+        f"median ratio llvmpipe / spatch {statistics.median(ratios):.2f} over {args.rounds} rounds"
+    )
+
+
+if __name__ == "__main__":
+    main()
