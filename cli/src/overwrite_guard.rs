@@ -108,7 +108,8 @@ impl<'a> Files<'a> {
     }
 
     /// Refuses the run when an output is a folder, sits in a folder that does
-    /// not exist, is the same file as an input, or is named twice.
+    /// not exist, is the same file as an input, is named twice, or has the
+    /// extension of another format than the one written.
     pub(crate) fn check(&self) -> anyhow::Result<()> {
         let inputs: Vec<(&Path, (u64, u64))> = self
             .inputs
@@ -119,9 +120,6 @@ impl<'a> Files<'a> {
                 Some((*p, (meta.dev(), meta.ino())))
             })
             .collect();
-        for (path, format) in &self.formats {
-            check_extension(path, *format)?;
-        }
         let mut seen = HashSet::new();
         for output in &self.outputs {
             crate::output::claim_stdout_if_named(output);
@@ -140,6 +138,9 @@ impl<'a> Files<'a> {
             if !seen.insert(key) {
                 anyhow::bail!("{}: named as two outputs of the same run", output.display());
             }
+        }
+        for (path, format) in &self.formats {
+            check_extension(path, *format)?;
         }
         Ok(())
     }
