@@ -437,6 +437,17 @@ pub(crate) fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     print_stdout(&outcome.text)
 }
 
+impl ConvertArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .output_as(Some(&self.output), Written::Spatch)
+            .output_as(self.pipeline.report.as_deref(), Written::Json)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -454,16 +465,5 @@ mod tests {
         assert!(positive_f32("0").is_err());
         assert!(positive_f32("nan").is_err());
         assert_eq!(positive_f32("0.5"), Ok(0.5));
-    }
-}
-
-impl ConvertArgs {
-    /// The files this run reads and writes, checked before any work.
-    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
-        use crate::overwrite_guard::Written;
-        crate::overwrite_guard::Files::default()
-            .input(Some(&self.input))
-            .output_as(Some(&self.output), Written::Spatch)
-            .output_as(self.pipeline.report.as_deref(), Written::Json)
     }
 }
