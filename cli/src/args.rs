@@ -70,4 +70,34 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch eval bunny.spatch --source bun_zipper.ply\n  spatch eval bunny.spatch --source bun_zipper.ply --views 6 --json --per-patch patches.csv\n  spatch eval scan.spatch --source bun000.ply        # a point cloud: cloud error, no image error\n  spatch eval --sweep bun_zipper.ply --out sweep --threads 2"
     )]
     Eval(commands::eval::EvalArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    #[command(
+        after_help = "Example:\n  spatch completions bash > /etc/bash_completion.d/spatch\n  spatch completions zsh > ~/.zfunc/_spatch"
+    )]
+    Completions(commands::completions::CompletionsArgs),
+    /// Print the manual page (roff) of spatch and every subcommand.
+    #[command(after_help = "Example:\n  spatch man | man -l -\n  spatch man -o spatch.1")]
+    Man(commands::man::ManArgs),
+}
+
+impl Command {
+    /// The files the run reads and writes, checked before any work
+    /// (see [`crate::overwrite_guard`]).
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        match self {
+            Command::Convert(args) => args.files(),
+            Command::FromCloud(args) => args.files(),
+            Command::Sphere(args) => args.files(),
+            Command::Stats(args) => args.files(),
+            Command::Earth(args) => args.files(),
+            Command::Export(args) => args.files(),
+            Command::Merge(args) => args.files(),
+            Command::Render(args) => args.files(),
+            Command::Eval(args) => args.files(),
+            Command::Man(args) => args.files(),
+            // demo writes its own fresh names into a folder; completions
+            // only prints.
+            Command::Demo(_) | Command::Completions(_) => Default::default(),
+        }
+    }
 }

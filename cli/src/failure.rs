@@ -47,3 +47,43 @@ impl Failure {
         }
     }
 }
+
+/// The error and its causes on one line, `outer: inner: …`, leaving out a
+/// cause whose text the line already ends with (library errors that print
+/// their source inside their own message would otherwise say it twice:
+/// "invalid camera: X: X"). Line breaks inside a message become spaces.
+pub(crate) fn one_line(err: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in err.chain() {
+        let text = cause.to_string().replace(['\r', '\n'], " ");
+        if line.ends_with(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("inner problem")]
+    struct Inner;
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("outer: {0}")]
+    struct Outer(#[source] Inner);
+
+    #[test]
+    fn a_cause_already_said_is_not_repeated() {
+        let err = anyhow::Error::new(Outer(Inner)).context("a.spatch");
+        assert_eq!(one_line(&err), "a.spatch: outer: inner problem");
+        let err = anyhow::anyhow!("two\nlines").context("f");
+        assert_eq!(one_line(&err), "f: two lines");
+    }
+}

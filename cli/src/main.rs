@@ -3,9 +3,12 @@
 
 mod args;
 mod commands;
+mod exit_guard;
 mod failure;
 mod output;
+mod overwrite_guard;
 mod report;
+mod usage_error;
 
 use std::process::ExitCode;
 
@@ -15,6 +18,7 @@ use crate::args::{Cli, Command};
 use crate::failure::Failure;
 
 fn run(cli: Cli) -> anyhow::Result<()> {
+    cli.command.files().check()?;
     match cli.command {
         Command::Demo(args) => commands::demo::run(&args),
         Command::Convert(args) => commands::convert::run(&args),
@@ -26,11 +30,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => commands::merge::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Eval(args) => commands::eval::run(&args),
+        Command::Completions(args) => commands::completions::run(&args),
+        Command::Man(args) => commands::man::run(&args),
     }
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    exit_guard::install();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(err) => return usage_error::report(&err),
+    };
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
@@ -38,7 +48,7 @@ fn main() -> ExitCode {
             if failure == Failure::BrokenPipe {
                 return ExitCode::SUCCESS;
             }
-            eprintln!("spatch: error: {err:#}");
+            eprintln!("spatch: error: {}", failure::one_line(&err));
             failure.exit_code()
         }
     }

@@ -439,6 +439,17 @@ pub(crate) fn run(args: &ConvertArgs) -> anyhow::Result<()> {
     print_stdout(&outcome.text)
 }
 
+impl ConvertArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .output_as(Some(&self.output), Written::Spatch)
+            .output_as(self.pipeline.report.as_deref(), Written::Json)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -65,8 +65,8 @@ pub(crate) struct EarthArgs {
     /// Patch density: low, medium or high (about 383, 1,128 or 2,712 patches).
     #[arg(long, value_enum, default_value_t = Level::Medium)]
     level: Level,
-    /// Multiplies every height.
-    #[arg(long, default_value_t = 1.0)]
+    /// Multiplies every height; the exaggerated relief must stay within the globe's radius.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     exaggeration: f64,
     /// Triangles of the globe mesh (a geodesic sphere of about this many).
     #[arg(long, default_value_t = 40_000)]
@@ -243,4 +243,16 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         "{source_name}: {} triangles\n{text}",
         conversion.report.triangles
     ))
+}
+
+impl EarthArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(self.colour.as_deref())
+            .input(self.elevation.as_deref())
+            .output_as(Some(&self.output), Written::Spatch)
+            .output_as(self.report.as_deref(), Written::Json)
+    }
 }

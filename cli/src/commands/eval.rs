@@ -541,3 +541,16 @@ fn sweep_summary(out: &Path, result: &SweepResult) -> String {
     ));
     text
 }
+
+impl EvalArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(self.scene.as_deref())
+            .input(self.source.as_deref())
+            .input(self.sweep.as_deref())
+            .output_as(self.per_patch.as_deref(), Written::Csv)
+            .output_as(self.report.as_deref(), Written::Json)
+    }
+}

@@ -117,3 +117,13 @@ pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
         exported.bytes.len()
     ))
 }
+
+impl ExportArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .output_as(Some(&self.output), Written::Ply)
+    }
+}

@@ -280,3 +280,14 @@ fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report
     }
     Ok(report)
 }
+
+impl FromCloudArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .output_as(Some(&self.output), Written::Spatch)
+            .output_as(self.report.as_deref(), Written::Json)
+    }
+}

@@ -66,3 +66,16 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
         bytes.len()
     ))
 }
+
+impl MergeArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        let mut files =
+            crate::overwrite_guard::Files::default().output_as(Some(&self.output), Written::Spatch);
+        files
+            .inputs
+            .extend(self.inputs.iter().map(PathBuf::as_path));
+        files
+    }
+}

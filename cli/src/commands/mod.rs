@@ -1,12 +1,14 @@
 //! One module per subcommand: arguments → library options → library call →
 //! report.
 
+pub(crate) mod completions;
 pub(crate) mod convert;
 pub(crate) mod demo;
 pub(crate) mod earth;
 pub(crate) mod eval;
 pub(crate) mod export;
 pub(crate) mod from_cloud;
+pub(crate) mod man;
 pub(crate) mod merge;
 pub(crate) mod render;
 pub(crate) mod sphere;

@@ -469,3 +469,15 @@ fn bench(
         print_stdout(&text)
     }
 }
+
+impl RenderArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .output_as(self.output.as_deref(), Written::Png)
+            .output_as(self.depth.as_deref(), Written::Png)
+            .output_as(self.stats.as_deref(), Written::Json)
+    }
+}

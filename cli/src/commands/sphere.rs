@@ -95,3 +95,11 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
     ));
     print_stdout(&text)
 }
+
+impl SphereArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        use crate::overwrite_guard::Written;
+        crate::overwrite_guard::Files::default().output_as(Some(&self.output), Written::Spatch)
+    }
+}

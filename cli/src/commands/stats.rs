@@ -151,3 +151,10 @@ pub(crate) fn run(args: &StatsArgs) -> anyhow::Result<()> {
     };
     print_stdout(&text)
 }
+
+impl StatsArgs {
+    /// The files this run reads and writes, checked before any work.
+    pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
+        crate::overwrite_guard::Files::default().input(Some(&self.input))
+    }
+}

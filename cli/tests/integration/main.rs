@@ -16,6 +16,9 @@
 //! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its
 //!   module docs).
+//! - `output_safety`: issue 20 — outputs that name inputs, symlinks, FIFOs, devices, kept
+//!   modes, temporary files after a kill, endless streams, one-line usage errors, completions
+//!   and the manual page.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -28,6 +31,7 @@ mod export;
 mod from_cloud;
 mod golden;
 mod merge;
+mod output_safety;
 mod render;
 mod report_schema;
 mod sphere;

@@ -30,6 +30,21 @@ pub enum EarthError {
         /// Valid range.
         reason: &'static str,
     },
+    /// The exaggerated relief is larger than the globe's radius.
+    #[error(
+        "invalid --exaggeration {exaggeration:?}: the relief would reach {relief:.3e} units, \
+         more than the globe's radius {radius}; at most {largest:.4} with these heights"
+    )]
+    ReliefTooLarge {
+        /// The exaggeration asked for.
+        exaggeration: f64,
+        /// The largest exaggerated height, in model units.
+        relief: f64,
+        /// The globe's radius, in model units.
+        radius: f64,
+        /// The largest exaggeration these heights allow.
+        largest: f64,
+    },
     /// The mesh crate refused the globe (a bug).
     #[error("internal error building the globe mesh (this is a bug): {0}")]
     Mesh(#[from] spatch_mesh::MeshError),

@@ -102,6 +102,23 @@ fn icosahedron() -> (Vec<DVec3>, Vec<[usize; 3]>) {
     (v, faces)
 }
 
+/// Refuses an exaggeration that makes the relief taller (or deeper) than the
+/// globe's radius: a valley deeper than the radius turns the sphere inside
+/// out, and relief of 1e20 makes every later size overflow.
+fn check_relief(samples: &[f64], options: &GlobeOptions) -> Result<(), EarthError> {
+    let highest = samples.iter().fold(0.0f64, |m, h| m.max(h.abs()));
+    let relief = highest * options.exaggeration.abs();
+    if relief > options.radius {
+        return Err(EarthError::ReliefTooLarge {
+            exaggeration: options.exaggeration,
+            relief,
+            radius: options.radius,
+            largest: options.radius / highest,
+        });
+    }
+    Ok(())
+}
+
 /// Builds the displaced globe with the colour map as its texture.
 pub fn build_globe(
     map: &ColourMap,
@@ -172,13 +189,18 @@ pub fn build_globe(
     let area_ratio =
         areas.iter().cloned().fold(0.0, f64::max) / areas.iter().cloned().fold(f64::MAX, f64::min);
 
-    let world: Vec<DVec3> = directions
+    let samples: Vec<f64> = directions
         .iter()
         .map(|&d| {
             let (u, v) = equirectangular_uv(d);
-            let h = heights.sample(u * 360.0 - 180.0, v * 180.0 - 90.0);
-            d * (options.radius + f64::from(h) * options.exaggeration)
+            f64::from(heights.sample(u * 360.0 - 180.0, v * 180.0 - 90.0))
         })
+        .collect();
+    check_relief(&samples, options)?;
+    let world: Vec<DVec3> = directions
+        .iter()
+        .zip(&samples)
+        .map(|(&d, &h)| d * (options.radius + h * options.exaggeration))
         .collect();
     let face_uvs: Vec<[Vec2; 3]> = triangles
         .iter()

@@ -47,8 +47,10 @@ impl Lattice {
         let (ny, sy) = cells_for(size.y, s);
         let r = rings as usize;
         let origin = rect.min - DVec2::new(sx, sy) * r as f64;
-        let cols = nx + 1 + 2 * r;
-        let rows = ny + 1 + 2 * r;
+        // Saturating: an absurd extent (a model spanning 1e20) must give a count the caller
+        // refuses, not one that wraps around to a small number.
+        let cols = nx.saturating_add(1).saturating_add(r.saturating_mul(2));
+        let rows = ny.saturating_add(1).saturating_add(r.saturating_mul(2));
         let lattice = Lattice {
             basis: rect.basis,
             origin,
@@ -56,7 +58,7 @@ impl Lattice {
             cols,
             rows,
         };
-        (lattice, cols as u64 * rows as u64)
+        (lattice, (cols as u64).saturating_mul(rows as u64))
     }
 
     /// `p` (mesh coordinates) as `(grid x, grid y, height)`.
@@ -104,5 +106,17 @@ mod tests {
         assert!((s * 5.0 - 1.1).abs() < 1e-12);
         assert_eq!(cells_for(0.0, 0.25), (1, 0.25));
         assert_eq!(cells_for(0.2, 0.25), (1, 0.2));
+    }
+
+    #[test]
+    fn an_absurd_extent_gives_a_count_that_does_not_wrap() {
+        // Issue 20: 1e20 on each side used to wrap cols × rows to a small count.
+        let rect = PlaneRect {
+            basis: crate::frame_fit::basis_from_axis(Vec3::Z),
+            min: DVec2::ZERO,
+            max: DVec2::splat(1e20),
+        };
+        let (_, count) = Lattice::over_rect(&rect, 1.0, 3);
+        assert_eq!(count, u64::MAX);
     }
 }

@@ -111,6 +111,18 @@ pub enum FormatError {
         /// The operating system's error.
         source: std::io::Error,
     },
+    /// Reading a stream (a pipe, a device) failed.
+    #[error("cannot read: {source}")]
+    Stream {
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A stream announces more bytes than the reader accepts from it.
+    #[error("the input passes the {limit}-byte limit for a stream (a pipe or a device)")]
+    TooLarge {
+        /// The largest number of bytes accepted.
+        limit: u64,
+    },
     /// An internal invariant failed; this is a bug in spatch.
     #[error("internal error (this is a bug in spatch): {0}")]
     Bug(&'static str),

@@ -38,8 +38,9 @@ mod scene;
 mod summary;
 
 pub use container::{
-    decode_scene, encode_scene, inspect, read_scene, write_file_atomically, write_scene,
-    Compression, ContainerInfo, SectionInfo, WriteOptions, MAGIC, VERSION_MAJOR, VERSION_MINOR,
+    abandon_pending_writes, decode_scene, encode_scene, inspect, read_container_bytes, read_scene,
+    write_file_atomically, write_scene, Compression, ContainerInfo, SectionInfo, WriteOptions,
+    MAGIC, VERSION_MAJOR, VERSION_MINOR,
 };
 pub use error::FormatError;
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};

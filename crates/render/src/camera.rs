@@ -51,6 +51,12 @@ impl Camera {
     /// azimuth to the right of +z and 25° elevation above the xz plane.
     pub const THREE_QUARTER_DIRECTION: [f64; 3] = [0.519_837, 0.422_618, 0.742_404];
 
+    /// The largest eye or target coordinate accepted, in model units (the
+    /// message of [`CameraProblem::TooFar`] states it): far
+    /// beyond any scene's useful range, and small enough that lengths and
+    /// products of coordinates stay finite in `f64`.
+    pub const MAX_COORDINATE: f64 = 1e15;
+
     /// A look-at camera. `fov_y_degrees` is the vertical field of view.
     pub fn look_at(
         eye: DVec3,
@@ -62,6 +68,10 @@ impl Camera {
     ) -> Result<Self, CameraProblem> {
         if !(eye.is_finite() && target.is_finite() && up.is_finite() && fov_y_degrees.is_finite()) {
             return Err(CameraProblem::NotFinite);
+        }
+        let reach = eye.abs().max_element().max(target.abs().max_element());
+        if reach > Self::MAX_COORDINATE {
+            return Err(CameraProblem::TooFar);
         }
         let forward = target - eye;
         if forward.length() <= 1e-12 * (1.0 + eye.length()) {
@@ -351,6 +361,12 @@ mod tests {
         assert_eq!(
             Camera::look_at(e, e, DVec3::Y, 45.0, 10, 10),
             Err(CameraProblem::EyeIsTarget)
+        );
+        // Issue 20: 1e300 squared is infinite, which made this "the same point".
+        let far = DVec3::new(1e300, 0.0, 0.0);
+        assert_eq!(
+            Camera::look_at(far, DVec3::ZERO, DVec3::Y, 45.0, 10, 10),
+            Err(CameraProblem::TooFar)
         );
         assert_eq!(
             Camera::look_at(e, DVec3::ZERO, DVec3::Z, 45.0, 10, 10),

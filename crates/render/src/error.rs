@@ -10,6 +10,11 @@ pub enum CameraProblem {
     /// The eye and the target are the same point.
     #[error("eye and target are the same point")]
     EyeIsTarget,
+    /// An eye or target coordinate is beyond [`crate::Camera::MAX_COORDINATE`].
+    #[error(
+        "the eye or the target is too far from the origin: each coordinate must be within ±1e15"
+    )]
+    TooFar,
     /// The up vector is zero or parallel to the viewing direction.
     #[error("the up vector is zero or parallel to the viewing direction")]
     UpParallelToView,
@@ -36,7 +41,7 @@ pub enum CameraProblem {
 pub enum RenderError {
     /// The camera is unusable (caller's input).
     #[error("invalid camera: {0}")]
-    InvalidCamera(#[from] CameraProblem),
+    InvalidCamera(CameraProblem),
     /// An option is out of its valid range (caller's input).
     #[error("invalid render option {name}: {reason}")]
     InvalidOption {
@@ -92,4 +97,12 @@ pub enum RenderError {
     /// An internal invariant failed: this is a bug in spatch-render.
     #[error("internal error in the renderer (this is a bug): {0}")]
     Bug(&'static str),
+}
+
+/// Not `#[from]`: that would also make the problem the error's source, and a
+/// report of the whole chain would then say it twice ("invalid camera: X: X").
+impl From<CameraProblem> for RenderError {
+    fn from(problem: CameraProblem) -> Self {
+        RenderError::InvalidCamera(problem)
+    }
 }

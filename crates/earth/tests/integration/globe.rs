@@ -100,3 +100,21 @@ fn bad_options_are_refused() {
     options.radius = f64::NAN;
     assert!(build_globe(&flat_map(), &heights, &options).is_err());
 }
+
+#[test]
+fn issue_20_relief_larger_than_the_radius_is_refused() {
+    let heights = HeightMap::new(8, 4, vec![1.5; 32]).unwrap();
+    let mut options = GlobeOptions::default();
+    options.triangles = 80;
+    for exaggeration in [1e20, -1e20, 86.0] {
+        options.exaggeration = exaggeration;
+        let err = build_globe(&flat_map(), &heights, &options).unwrap_err();
+        assert!(
+            matches!(err, spatch_earth::EarthError::ReliefTooLarge { .. }),
+            "{err}"
+        );
+        assert!(err.to_string().contains("at most 85.3333"), "{err}");
+    }
+    options.exaggeration = 85.0;
+    assert!(build_globe(&flat_map(), &heights, &options).is_ok());
+}

@@ -12,10 +12,12 @@ mod layout;
 mod predictive;
 mod range_coder;
 mod read;
+mod stream;
 mod write;
 
-pub use atomic::write_file_atomically;
+pub use atomic::{abandon_pending_writes, write_file_atomically};
 pub use read::{decode_scene, inspect, read_scene, ContainerInfo, SectionInfo};
+pub use stream::read_container_bytes;
 pub use write::{encode_scene, write_scene, Compression, WriteOptions};
 
 /// The first six bytes of every `.spatch` file.
