@@ -227,7 +227,9 @@ mod tests {
         mesh.vertex_colours = Some(vec![[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]]);
         let c = colour_source(&mesh).unwrap();
         assert_eq!(c.drawing, SourceDrawing::Colours);
-        assert_eq!(c.triangles, vec![[0, 1, 2]]);
+        assert_eq!(c.triangles.len(), 1);
+        let corners = c.triangles[0].map(|v| c.positions[v as usize]);
+        assert_eq!(corners, [Vec3::ZERO, Vec3::X, Vec3::Y]);
         assert_eq!(c.corner_colours[1], [0, 255, 0, 255]);
     }
 }
