@@ -150,6 +150,11 @@ fn decode_meshopt_view(ext: &Value, buffers: &[Vec<u8>]) -> Option<Vec<u8>> {
     if decoded_len > view.source.len().saturating_mul(MESHOPT_MAX_RATIO) + (1 << 16) {
         return None;
     }
+    // meshoptimizer asserts (aborting the process in builds with debug info) on a triangle
+    // index count that is not a multiple of three: refuse it here.
+    if view.mode == "TRIANGLES" && view.count % 3 != 0 {
+        return None;
+    }
     match (view.mode, view.stride) {
         ("ATTRIBUTES", _) => {
             let mut bytes = decode_vertices(view.source, view.count, view.stride)?;

@@ -125,6 +125,26 @@ fn corrupt_meshopt_data_is_an_error_not_a_panic() {
 }
 
 #[test]
+fn meshopt_triangle_count_not_a_multiple_of_three_is_refused() {
+    // meshoptimizer's index decoder asserts on such a count (an abort, not an error).
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = std::fs::read(testdata("torus_meshopt.glb")).unwrap();
+    let from = br#""mode":"TRIANGLES","count":3072"#;
+    let at = bytes.windows(from.len()).position(|w| w == from).unwrap();
+    let mut broken = bytes.clone();
+    broken[at + from.len() - 1] = b'1';
+    let path = dir.path().join("count.glb");
+    std::fs::write(&path, &broken).unwrap();
+    assert!(matches!(
+        load_mesh(&path),
+        Err(MeshError::GltfPrimitive {
+            problem: GltfProblem::BadAccessor { .. },
+            ..
+        })
+    ));
+}
+
+#[test]
 fn buffer_uri_outside_the_folder_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let inner = dir.path().join("model");

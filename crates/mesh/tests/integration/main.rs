@@ -8,6 +8,7 @@
 //! - `gltf_compressed`: gltfpack's quantized and meshopt files against the f32 original;
 //!   hostile URIs and accessor indices;
 //! - `issue_20_loaders`: BOM, CR-only PLY headers, extents beyond f32, outside references;
+//! - `regression_inputs`: the STL, glTF and tristrips fuzz inputs kept in testdata/regression;
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
 //! - `prepare`: welding and cleaning counts;
 //! - `ply_points`: the direct binary PLY cloud reader against the general one;
@@ -23,6 +24,7 @@ mod load_real;
 mod ply_points;
 mod prepare;
 mod queries;
+mod regression_inputs;
 mod stl;
 mod tristrips;
 
