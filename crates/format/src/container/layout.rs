@@ -23,6 +23,12 @@ pub(crate) const TAG_SCENE: [u8; 4] = *b"SCNE";
 pub(crate) const TAG_FRAMES: [u8; 4] = *b"FRAM";
 pub(crate) const TAG_DISPLACEMENTS: [u8; 4] = *b"DISP";
 pub(crate) const TAG_COLOURS: [u8; 4] = *b"COLR";
+/// Per-patch visible sides (minor version 1): one byte per patch.
+pub(crate) const TAG_SIDES: [u8; 4] = *b"SIDE";
+/// The openings of an open surface (minor version 1).
+pub(crate) const TAG_OPENINGS: [u8; 4] = *b"OPEN";
+/// Bytes of one opening: centre 3×f32, radius f32, normal 3×f32, half thickness f32.
+pub(crate) const OPENING_LEN: usize = 32;
 
 pub(crate) const CODEC_RAW: u8 = 0;
 pub(crate) const CODEC_PREDICTIVE: u8 = 1;

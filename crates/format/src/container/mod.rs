@@ -3,7 +3,8 @@
 //! A 16-byte file header, then sections, each a 20-byte section header and a
 //! payload protected by a CRC-32: `SCNE` (scene fields), `FRAM` (frames and
 //! per-patch fields), `DISP` (displacement codes), and `COLR` (per-node
-//! colours, only when the scene stores them).
+//! colours, only when the scene stores them), then, from minor version 1, `SIDE`
+//! (per-patch two-sided marks, only when a patch has one).
 
 mod atomic;
 mod bounded;
@@ -21,5 +22,7 @@ pub use write::{encode_scene, write_scene, Compression, WriteOptions};
 pub const MAGIC: [u8; 6] = *b"SPATCH";
 /// The major version this crate writes and reads. Readers refuse other majors.
 pub const VERSION_MAJOR: u8 = 1;
-/// The minor version this crate writes. Readers accept any minor of their major.
-pub const VERSION_MINOR: u8 = 0;
+/// The newest minor version this crate writes: 1 adds the `SIDE` section. A file with no
+/// two-sided patch needs nothing of 1.1 and is written as 1.0, byte for byte as before.
+/// Readers accept any minor of their major.
+pub const VERSION_MINOR: u8 = 1;

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_SCENE,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_SCENE, TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::{write_file_atomically, MAGIC, VERSION_MAJOR, VERSION_MINOR};
@@ -187,11 +187,16 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         })
     });
 
-    let section_count: u32 = if colr.is_some() { 4 } else { 3 };
+    let sides = encode_sides(scene);
+    let openings = encode_openings(scene);
+    let section_count =
+        3 + u32::from(colr.is_some()) + u32::from(sides.is_some()) + u32::from(openings.is_some());
     let mut out = Vec::new();
     out.extend_from_slice(&MAGIC);
     out.push(VERSION_MAJOR);
-    out.push(VERSION_MINOR);
+    // The lowest minor version that describes the file.
+    let needs_1_1 = sides.is_some() || openings.is_some();
+    out.push(if needs_1_1 { VERSION_MINOR } else { 0 });
     out.extend_from_slice(&section_count.to_le_bytes());
     let header_crc = crc32fast::hash(&out[..12]);
     out.extend_from_slice(&header_crc.to_le_bytes());
@@ -208,7 +213,36 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
     if let Some((codec, raw_len, payload)) = colr {
         push_section(&mut out, TAG_COLOURS, codec, raw_len, &payload);
     }
+    if let Some(sides) = sides {
+        push_section(&mut out, TAG_SIDES, CODEC_RAW, sides.len(), &sides);
+    }
+    if let Some(openings) = openings {
+        push_section(&mut out, TAG_OPENINGS, CODEC_RAW, openings.len(), &openings);
+    }
     Ok(out)
+}
+
+/// The SIDE payload (one [`crate::Sides`] code per patch), or `None` when every patch is
+/// front-only.
+fn encode_sides(scene: &Scene) -> Option<Vec<u8>> {
+    let codes: Vec<u8> = scene.patches().iter().map(|p| p.sides().code()).collect();
+    codes.iter().any(|&c| c != 0).then_some(codes)
+}
+
+/// The OPEN payload (centre and radius of each opening), or `None` when there is none.
+fn encode_openings(scene: &Scene) -> Option<Vec<u8>> {
+    let openings = scene.openings();
+    (!openings.is_empty()).then(|| {
+        openings
+            .iter()
+            .flat_map(|o| {
+                let [x, y, z] = o.centre().to_array();
+                let [nx, ny, nz] = o.normal().to_array();
+                [x, y, z, o.radius(), nx, ny, nz, o.half_thickness()]
+            })
+            .flat_map(f32::to_le_bytes)
+            .collect()
+    })
 }
 
 /// Encodes `scene` and writes it to `path` atomically (see

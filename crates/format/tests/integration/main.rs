@@ -5,6 +5,8 @@
 //!   survive write → read exactly, with and without compression.
 //! - `corruption`: truncations, flipped bytes, lying counts, unknown
 //!   versions and trailing bytes all give errors, never panics.
+//! - `two_sided`: the visible sides and openings of container 1.1 (`SIDE`, `OPEN`): round
+//!   trip, 1.0 bytes when nothing needs them, merge, lying sections.
 //! - `atomic`: a failed write leaves nothing under the output name.
 
 mod atomic;
@@ -12,3 +14,4 @@ mod corruption;
 mod golden;
 mod round_trip;
 mod scenes;
+mod two_sided;
