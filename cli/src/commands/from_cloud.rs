@@ -285,9 +285,12 @@ impl FromCloudArgs {
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
-        crate::overwrite_guard::Files::default()
-            .input(Some(&self.input))
+        let mut files = crate::overwrite_guard::Files::default()
             .output_as(Some(&self.output), Written::Spatch)
-            .output_as(self.report.as_deref(), Written::Json)
+            .output_as(self.report.as_deref(), Written::Json);
+        files
+            .inputs
+            .extend(self.inputs.iter().map(PathBuf::as_path));
+        files
     }
 }

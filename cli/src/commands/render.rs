@@ -56,7 +56,10 @@ pub(crate) enum ShadingArg {
 /// Back-face culling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum CullArg {
-    /// Drop patches facing away (closed surfaces).
+    /// Cull patches facing away unless the scene marks them two-sided (an
+    /// opening shows their back): those are drawn from both sides.
+    Auto,
+    /// Drop every patch facing away, marked or not (closed surfaces).
     Back,
     /// Draw everything (open surfaces, camera inside).
     None,
@@ -107,8 +110,10 @@ pub(crate) struct RenderArgs {
     /// Shading model.
     #[arg(long, value_enum, default_value_t = ShadingArg::Phong)]
     shading: ShadingArg,
-    /// Back-face culling by normal cones.
-    #[arg(long, value_enum, default_value_t = CullArg::Back)]
+    /// Back-face culling by normal cones. auto culls where the converter
+    /// found it safe and draws the patches an opening lets the eye see from
+    /// behind from both sides, lit two-sided.
+    #[arg(long, value_enum, default_value_t = CullArg::Auto)]
     cull: CullArg,
     /// Worker threads (0 = all cores). The image does not depend on it.
     #[arg(long, value_name = "N", default_value_t = 0)]
@@ -268,6 +273,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
         ShadingArg::Phong => Shading::Phong,
     };
     o.culling = match args.cull {
+        CullArg::Auto => Culling::Auto,
         CullArg::Back => Culling::Back,
         CullArg::None => Culling::None,
     };

@@ -276,6 +276,12 @@ pub fn cloud_to_scene(
         Some(c) if c.iter().all(|c| c[3] == 255) => ColourChannel::Rgb8,
         Some(_) => ColourChannel::Rgba8,
     };
+    // A cloud says nothing of what is closed: every patch may be seen from
+    // behind, so automatic culling draws them all from both sides.
+    let patches = patches
+        .into_iter()
+        .map(|p| p.with_sides(spatch_format::Sides::Both))
+        .collect();
     let scene = Scene::new(cloud.origin, channel, patches)?;
     clock.lap("extract");
 

@@ -2,7 +2,8 @@
 //!
 //! [`convert`] runs, in order: load (from a file, or take a [`TriangleMesh`](spatch_mesh::TriangleMesh) as given),
 //! prepare (weld duplicate vertices, drop degenerate faces), adjacency, segment (the
-//! three-stage segmenter of `spatch-segment`), fit (`spatch-fit`) and encode (the `.spatch`
+//! three-stage segmenter of `spatch-segment`), fit (`spatch-fit`), sharp edges, sides (the
+//! openings of an open mesh, through which its patches may be seen from behind) and encode (the `.spatch`
 //! bytes). It returns a [`Conversion`]: the [`Scene`](spatch_format::Scene), the encoded
 //! bytes, the prepared mesh (for measuring error against it) and a [`ConvertReport`] with the
 //! wall time of every stage and the counts of every step.
@@ -24,10 +25,12 @@ mod error;
 mod options;
 mod pipeline;
 mod report;
+mod sides;
 
 pub use error::ConvertError;
 pub use options::ConvertOptions;
 pub use pipeline::{convert, convert_with_progress, Conversion, ConvertInput, Stage};
 pub use report::{ConvertReport, Counts, PrepareCounts, StageTime};
+pub use sides::{apply_sides, find_mesh_sides, MeshSides, SideCounts, MAX_OPENINGS};
 /// The sharp-edge stage's options and counts, re-exported for callers of the pipeline.
 pub use spatch_edges::{EdgeOptions, EdgeStats};

@@ -8,6 +8,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use spatch_edges::generate_edge_patches;
+
+use crate::sides::{apply_sides, find_mesh_sides};
 use spatch_fit::{choose_channel, default_spacing, fit_regions, FitRegion};
 use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
@@ -40,6 +42,8 @@ pub enum Stage {
     Fit,
     /// Sharp-edge patches.
     Edges,
+    /// Two-sided marks of the patches an opening lets the eye see from behind.
+    Sides,
     /// Encoding the container bytes.
     Encode,
 }
@@ -54,18 +58,20 @@ impl Stage {
             Stage::Segment => "segment",
             Stage::Fit => "fit",
             Stage::Edges => "edges",
+            Stage::Sides => "sides",
             Stage::Encode => "encode",
         }
     }
 
     /// All stages in pipeline order.
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 8] = [
         Stage::Load,
         Stage::Prepare,
         Stage::Adjacency,
         Stage::Segment,
         Stage::Fit,
         Stage::Edges,
+        Stage::Sides,
         Stage::Encode,
     ];
 }
@@ -149,7 +155,7 @@ pub fn convert_with_progress(
     let mut channel = fitted.channel;
     let mut patches = fitted.patches;
 
-    let edges = match options.sharp_edges {
+    let mut edges = match options.sharp_edges {
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
             let (edge_patches, edge_stats) = clock.run(Stage::Edges, || {
@@ -160,18 +166,28 @@ pub fn convert_with_progress(
         None => None,
     };
 
+    let sides = clock.run(Stage::Sides, || {
+        let mut found = find_mesh_sides(&mesh, &adjacency);
+        found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
+        if let Some((edge_patches, _)) = &mut edges {
+            found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);
+        }
+        found
+    });
+
     let (scene, bytes, edge_bytes) = clock.run(Stage::Encode, || {
         // What the edge patches add to the file: the same scene encoded without them.
         let mut edge_bytes = 0;
         if let Some((edge_patches, _)) = &edges {
             if !edge_patches.is_empty() {
-                let surface = Scene::new(mesh.origin, channel, patches.clone())?;
+                let surface = Scene::new(mesh.origin, channel, patches.clone())?
+                    .with_openings(sides.openings.clone());
                 edge_bytes = encode_scene(&surface, &options.write)?.len();
                 patches.extend_from_slice(edge_patches);
                 channel = choose_channel(&patches);
             }
         }
-        let scene = Scene::new(mesh.origin, channel, patches)?;
+        let scene = Scene::new(mesh.origin, channel, patches)?.with_openings(sides.openings);
         let bytes = encode_scene(&scene, &options.write)?;
         if edge_bytes > 0 {
             edge_bytes = bytes.len().saturating_sub(edge_bytes);
@@ -203,6 +219,7 @@ pub fn convert_with_progress(
         warnings: load_warnings.iter().map(ToString::to_string).collect(),
         edges: edges.map(|(_, s)| s),
         edge_bytes,
+        sides: sides.counts,
     };
     Ok(Conversion {
         scene,

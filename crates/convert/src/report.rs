@@ -32,7 +32,7 @@ pub struct ConvertReport {
     /// Total wall time of the stages, in seconds.
     pub seconds: f64,
     /// Each stage's wall time, in pipeline order: `load`, `prepare`,
-    /// `adjacency`, `segment`, `fit`, `edges`, `encode`.
+    /// `adjacency`, `segment`, `fit`, `edges`, `sides`, `encode`.
     pub stages: Vec<StageTime>,
     /// Worker threads available to the parallel stages.
     pub threads: usize,
@@ -58,6 +58,9 @@ pub struct ConvertReport {
     pub edges: Option<spatch_edges::EdgeStats>,
     /// Bytes the edge patches add to the file (the scene encoded with them minus without).
     pub edge_bytes: usize,
+    /// Visible sides: boundary edges and openings of the source, patches that may be seen
+    /// from behind.
+    pub sides: crate::SideCounts,
 }
 
 impl ConvertReport {

@@ -50,6 +50,11 @@ pub enum FormatError {
     /// The scene offset is not finite.
     #[error("scene offset is not finite")]
     InvalidOffset,
+    /// An opening has a non-finite centre or a negative or non-finite radius.
+    #[error(
+        "an opening needs a finite centre, radius and thickness (not below 0) and a unit normal"
+    )]
+    InvalidOpening,
     /// A quantizer was given a non-finite or non-positive step.
     #[error("invalid quantizer: {reason}")]
     InvalidQuantizer {

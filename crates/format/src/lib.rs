@@ -35,6 +35,7 @@ mod grid;
 mod patch;
 mod quantize;
 mod scene;
+mod sides;
 mod summary;
 
 pub use container::{
@@ -48,4 +49,5 @@ pub use grid::GridSize;
 pub use patch::{DisplacementWidth, Patch, EMPTY};
 pub use quantize::Quantizer;
 pub use scene::{ColourChannel, MergeError, Scene};
+pub use sides::{Opening, Sides};
 pub use summary::{Range, SceneSummary};

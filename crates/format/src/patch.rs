@@ -2,7 +2,7 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::{FormatError, Frame, GridSize};
+use crate::{FormatError, Frame, GridSize, Sides};
 
 /// The displacement code of an empty node (no surface there).
 ///
@@ -49,6 +49,7 @@ pub struct Patch {
     grid: GridSize,
     displacements: Vec<u16>,
     colours: Option<Vec<[u8; 4]>>,
+    sides: Sides,
 }
 
 impl Patch {
@@ -90,7 +91,23 @@ impl Patch {
             grid,
             displacements,
             colours,
+            sides: Sides::Front,
         })
+    }
+
+    /// The patch with its visible sides set to `sides` (see [`Patch::sides`]).
+    #[must_use]
+    pub fn with_sides(mut self, sides: Sides) -> Self {
+        self.sides = sides;
+        self
+    }
+
+    /// Which sides of this patch an eye outside the model may see. [`Sides::Front`] (the
+    /// default, and every patch of a 1.0 file) lets a renderer cull its back;
+    /// [`Sides::ThroughOpenings`] only where no opening of the scene lies between the eye and
+    /// the patch; [`Sides::Both`] never. Stored in the `SIDE` section (container 1.1).
+    pub fn sides(&self) -> Sides {
+        self.sides
     }
 
     /// The frame.

@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use crate::{FormatError, Patch};
+use crate::{FormatError, Opening, Patch};
 
 /// What colour each node carries, for the whole scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -45,6 +45,7 @@ pub struct Scene {
     offset: DVec3,
     channel: ColourChannel,
     patches: Vec<Patch>,
+    openings: Vec<Opening>,
 }
 
 impl Scene {
@@ -89,7 +90,22 @@ impl Scene {
             offset,
             channel,
             patches,
+            openings: Vec::new(),
         })
+    }
+
+    /// The scene with `openings` (relative to the offset): the boundary loops through which
+    /// the back of its [`Sides::ThroughOpenings`](crate::Sides::ThroughOpenings) patches may
+    /// be seen.
+    #[must_use]
+    pub fn with_openings(mut self, openings: Vec<Opening>) -> Self {
+        self.openings = openings;
+        self
+    }
+
+    /// The openings of the surface (see [`Scene::with_openings`]); empty for a closed one.
+    pub fn openings(&self) -> &[Opening] {
+        &self.openings
     }
 
     /// The model-space position of the patches' local origin.
@@ -176,6 +192,7 @@ impl Scene {
         };
         let (offset, channel) = (first.offset, first.channel);
         let mut patches = Vec::new();
+        let mut openings = Vec::new();
         for (index, scene) in scenes.into_iter().enumerate() {
             if scene.channel != channel {
                 return Err(MergeError::ChannelMismatch {
@@ -185,6 +202,11 @@ impl Scene {
                 });
             }
             let shift = scene.offset - offset;
+            for o in &scene.openings {
+                let centre = (o.centre().as_dvec3() + shift).as_vec3();
+                let moved = Opening::new(centre, o.radius(), o.normal(), o.half_thickness());
+                openings.push(moved.map_err(MergeError::Format)?);
+            }
             for mut patch in scene.patches {
                 if shift == DVec3::ZERO {
                     patches.push(patch);
@@ -199,7 +221,9 @@ impl Scene {
                 patches.push(patch);
             }
         }
-        Scene::new(offset, channel, patches).map_err(MergeError::Format)
+        Ok(Scene::new(offset, channel, patches)
+            .map_err(MergeError::Format)?
+            .with_openings(openings))
     }
 
     /// The same scene moved by `shift` (model units, f64): only the offset

@@ -24,7 +24,10 @@
 
 use glam::{DMat3, DVec3, Mat3, Vec3, Vec4};
 
+use spatch_format::Sides;
+
 use crate::mip::MipLevel;
+use crate::options::Culling;
 use crate::traverse::CELL_DRAW;
 
 /// Extra half angle of every normal cone (radians), for the curvature of
@@ -144,6 +147,85 @@ pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye:
     let angle = (to_eye.dot(cone.axis) / distance).clamp(-1.0, 1.0).acos();
     angle + cone.half_angle + spread + FRONT_MARGIN < std::f64::consts::FRAC_PI_2
 }
+
+/// An opening of the scene's surface in model space: a sphere and a slab
+/// holding one boundary loop ([`spatch_format::Opening`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Portal {
+    pub(crate) centre: DVec3,
+    pub(crate) radius: f64,
+    /// Unit normal of the slab's plane (through `centre`).
+    pub(crate) normal: DVec3,
+    pub(crate) half_thickness: f64,
+}
+
+/// Whether `culling` lets the back of a patch with `sides` and bounding
+/// sphere `(centre, radius)` be culled this frame (its normal cone and
+/// cells then face-tested): always under [`Culling::Back`], never under
+/// [`Culling::None`]; under [`Culling::Auto`] as the patch's [`Sides`] say,
+/// a patch of an open surface only when no opening can lie between the eye
+/// and it ([`seen_through_portals`]).
+pub(crate) fn back_culled(
+    (culling, sides): (Culling, Sides),
+    portals: &[Portal],
+    eye: DVec3,
+    centre: DVec3,
+    radius: f64,
+) -> bool {
+    match (culling, sides) {
+        (Culling::Back, _) | (Culling::Auto, Sides::Front) => true,
+        (Culling::None, _) | (Culling::Auto, Sides::Both) => false,
+        (Culling::Auto, Sides::ThroughOpenings) => {
+            !seen_through_portals(portals, eye, centre, radius)
+        }
+    }
+}
+
+/// True when a line from `eye` to a point of the sphere `(centre, radius)`
+/// may cross one of `portals` before reaching it. Why this is safe: a line
+/// of sight from outside the model to the back of an open surface crosses
+/// a surface spanning one of its boundary loops, which fits inside the
+/// loop's sphere and slab. Conservative: a portal does not count when the
+/// eye and the whole patch sphere lie on one side of its slab (the line
+/// never crosses it), or the patch lies entirely nearer than it; else the
+/// cone from the eye around the portal's sphere is tested against the
+/// patch's sphere (angles widened by [`PORTAL_MARGIN`]). Cost: a few
+/// operations per portal.
+pub(crate) fn seen_through_portals(
+    portals: &[Portal],
+    eye: DVec3,
+    centre: DVec3,
+    radius: f64,
+) -> bool {
+    let to_patch = centre - eye;
+    let patch_distance = to_patch.length();
+    if patch_distance <= radius {
+        return true;
+    }
+    let patch_spread = (radius / patch_distance).asin();
+    portals.iter().any(|portal| {
+        let to_portal = portal.centre - eye;
+        let distance = to_portal.length();
+        if distance <= portal.radius {
+            return true;
+        }
+        let h = portal.half_thickness;
+        let eye_side = (eye - portal.centre).dot(portal.normal);
+        let patch_side = (centre - portal.centre).dot(portal.normal);
+        let one_side = (eye_side > h && patch_side - radius > h)
+            || (eye_side < -h && patch_side + radius < -h);
+        if one_side || patch_distance + radius < distance - portal.radius {
+            return false;
+        }
+        let spread = (portal.radius / distance).asin();
+        let cos = to_patch.dot(to_portal) / (patch_distance * distance);
+        cos.clamp(-1.0, 1.0).acos() <= spread + patch_spread + PORTAL_MARGIN
+    })
+}
+
+/// Extra angle (radians) of the portal test, for the rounding of the
+/// stored opening and patch spheres.
+pub(crate) const PORTAL_MARGIN: f64 = 1e-3;
 
 /// Where a box lies with respect to the view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -340,6 +422,55 @@ mod tests {
         assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(10.0, 0.0)));
         assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(0.0, -10.0)));
         assert!(!cone_faces_eye(&cone, DVec3::ZERO, 1.0, eye(0.0, 0.5)));
+    }
+
+    #[test]
+    fn a_patch_is_seen_through_a_portal_only_beyond_it_and_in_its_cone() {
+        let eye = DVec3::new(0.0, 0.0, 10.0);
+        // A disc in the plane z = 0 would be edge-on: the slab is the
+        // plane x = 0, seen face-on from the eye on the z axis... so use
+        // a slab facing the eye: normal z, thin.
+        let portal = [Portal {
+            centre: DVec3::ZERO,
+            radius: 1.0,
+            normal: DVec3::Z,
+            half_thickness: 0.1,
+        }];
+        let seen = |c: DVec3, r: f64| seen_through_portals(&portal, eye, c, r);
+        // Behind the opening, in line with it: seen.
+        assert!(seen(DVec3::new(0.0, 0.0, -3.0), 0.5));
+        // Behind it but far off to the side: not seen.
+        assert!(!seen(DVec3::new(8.0, 0.0, -3.0), 0.5));
+        // In line but entirely nearer than the opening: not seen through it.
+        assert!(!seen(DVec3::new(0.0, 0.0, 5.0), 0.5));
+        // Reaching into the opening's cone: seen.
+        assert!(seen(DVec3::new(2.0, 0.0, -3.0), 1.5));
+        // Eye and patch on the same side of the slab: not through it.
+        let side = [Portal {
+            normal: DVec3::Y,
+            ..portal[0]
+        }];
+        let above = DVec3::new(0.0, 5.0, 10.0);
+        assert!(!seen_through_portals(
+            &side,
+            above,
+            DVec3::new(0.0, 1.0, -3.0),
+            0.5
+        ));
+        assert!(seen_through_portals(
+            &side,
+            above,
+            DVec3::new(0.0, -1.0, -3.0),
+            0.5
+        ));
+        // No portal at all: never; the eye inside the opening: always.
+        assert!(!seen_through_portals(&[], eye, DVec3::ZERO, 1.0));
+        assert!(seen_through_portals(
+            &portal,
+            DVec3::new(0.0, 0.5, 0.0),
+            DVec3::new(9.0, 0.0, 0.0),
+            0.1
+        ));
     }
 
     #[test]

@@ -7,7 +7,10 @@
 //! (area-weighted face normals) serve Gouraud and Phong shading; flat
 //! shading uses face normals. Triangles are counter-clockwise when seen
 //! from their front (OpenGL). With back-face culling on, triangles facing
-//! away are dropped; otherwise they are lit from their back side.
+//! away are dropped; otherwise they are lit from their back side. Automatic
+//! culling culls a closed mesh (every directed edge matched by its reverse,
+//! once: no opening can show a back face) and draws an open one from both
+//! sides, as OpenGL without culling does.
 //!
 //! Cost: O(vertices + triangles) to set up, then the rasterizer.
 
@@ -43,6 +46,8 @@ pub struct TriangleMesh<'a> {
     positions: &'a [Vec3],
     triangles: &'a [[u32; 3]],
     colours: MeshColours<'a>,
+    /// Every directed edge is matched by its reverse exactly once.
+    closed: bool,
 }
 
 impl<'a> TriangleMesh<'a> {
@@ -94,7 +99,15 @@ impl<'a> TriangleMesh<'a> {
             positions,
             triangles,
             colours,
+            closed: is_closed(triangles),
         })
+    }
+
+    /// True when the mesh is closed and consistently wound (each directed
+    /// edge appears once and its reverse once), so back faces never show
+    /// from outside it.
+    pub fn is_closed(&self) -> bool {
+        self.closed
     }
 
     /// The origin of the positions.
@@ -167,7 +180,11 @@ pub(crate) fn plan_mesh_chunk(
     let near = view.near as f32;
     let size = (view.width as f32, view.height as f32);
     let shading = setup.options.shading;
-    let cull = setup.options.culling == Culling::Back;
+    let cull = match setup.options.culling {
+        Culling::Auto => mesh.closed,
+        Culling::Back => true,
+        Culling::None => false,
+    };
     for k in range {
         let t = mesh.triangles[k];
         let p = t.map(|v| mesh.positions[v as usize]);
@@ -220,4 +237,41 @@ pub(crate) fn plan_mesh_chunk(
         }
     }
     work.counters.setup_ns += start.elapsed().as_nanos() as u64;
+}
+
+/// Whether every directed edge of `triangles` appears exactly once and its
+/// reverse exactly once (a closed, consistently wound surface). O(T log T).
+fn is_closed(triangles: &[[u32; 3]]) -> bool {
+    let mut edges: Vec<(u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .collect();
+    if edges.is_empty() {
+        return false;
+    }
+    edges.sort_unstable();
+    let once = edges.windows(2).all(|w| w[0] != w[1]);
+    once && edges
+        .iter()
+        .all(|&(a, b)| a != b && edges.binary_search(&(b, a)).is_ok())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_closed;
+
+    #[test]
+    fn closed_means_every_edge_once_each_way() {
+        let tetra = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]];
+        assert!(is_closed(&tetra));
+        // An opening: one face removed.
+        assert!(!is_closed(&tetra[..3]));
+        // One face flipped: inconsistent winding.
+        let flipped = [[0, 1, 2], [0, 1, 3], [1, 2, 3], [2, 0, 3]];
+        assert!(!is_closed(&flipped));
+        // A face repeated twice over an edge: not manifold.
+        let doubled = [tetra[0], tetra[1], tetra[2], tetra[3], tetra[0], [0, 1, 2]];
+        assert!(!is_closed(&doubled));
+        assert!(!is_closed(&[]));
+    }
 }

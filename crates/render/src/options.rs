@@ -59,9 +59,19 @@ pub enum Shading {
 #[serde(rename_all = "lowercase")]
 #[non_exhaustive]
 pub enum Culling {
-    /// Drop patches whose normal cone faces away from the eye (and, for
-    /// meshes, triangles facing away). Right for closed surfaces.
+    /// Cull where it is safe, as the scene says
+    /// ([`spatch_format::Patch::sides`]): a front-only patch whose normal
+    /// cone faces away is dropped; a patch of an open surface only when
+    /// none of the scene's openings lies between the eye and it (else it
+    /// is drawn from both sides, lit two-sided); a patch seen from both
+    /// sides (point clouds) never. A mesh is culled when it is closed
+    /// (every edge shared by two triangles wound oppositely), else drawn
+    /// from both sides. Files without sides (container 1.0) cull every
+    /// patch, as before.
     #[default]
+    Auto,
+    /// Drop every patch whose normal cone faces away from the eye (and, for
+    /// meshes, triangles facing away), marks or not. Right for closed surfaces.
     Back,
     /// Draw everything (open surfaces, camera inside a closed one).
     None,
@@ -117,7 +127,8 @@ pub struct RenderOptions {
     pub cells: CellScheme,
     /// Shading model. Default Phong.
     pub shading: Shading,
-    /// Back-face culling. Default back.
+    /// Back-face culling. Default auto (cull unless the patch is marked
+    /// two-sided).
     pub culling: Culling,
     /// Worker threads; 0 means all cores. Default 0. The image does not
     /// depend on it.

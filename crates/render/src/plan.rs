@@ -33,11 +33,11 @@ use glam::{Mat3, Vec3};
 
 use crate::camera::View;
 use crate::cell_bilinear::MAX_SUBDIVISION;
-use crate::cull::{cone_faces_away, cone_faces_eye, BoxClass, Frustum};
+use crate::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass, Frustum, Portal};
 use crate::fixed::attr_to_bits;
 use crate::mip::MipLevel;
 use crate::normal_buffer::{node_differences, reconstruct_normal, NormalBuffer, OUTSIDE_TABLE};
-use crate::options::{CellScheme, Culling, Projection, RenderMode, RenderOptions, Shading};
+use crate::options::{CellScheme, Projection, RenderMode, RenderOptions, Shading};
 use crate::prepare::PreparedPatch;
 use crate::shade::{pack_colour, Material, ShadeFrame, WorldLight};
 use crate::splat::{drop_undrawn_nodes, footprint_half_widths};
@@ -102,6 +102,8 @@ pub(crate) struct FrameSetup<'a> {
     pub(crate) z_scale: f32,
     pub(crate) z_offset: f32,
     pub(crate) base_colour: Vec3,
+    /// The scene's openings (automatic culling); empty for meshes.
+    pub(crate) portals: &'a [Portal],
 }
 
 /// The output and scratch space of one chunk.
@@ -160,17 +162,16 @@ pub(crate) fn plan_chunk(
         let index = first_index + local as u32;
         work.counters.patches += 1;
         let start = Instant::now();
-        if setup.options.culling == Culling::Back
-            && cone_faces_away(&p.cone, p.centre, p.radius, eye)
-        {
+        let mode = (setup.options.culling, p.sides);
+        let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
+        if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
             work.counters.culled_backface += 1;
             work.counters.cull_ns += nanos(start);
             continue;
         }
         let facing_away = p.cone.axis.dot(eye - p.centre) < 0.0;
         // No cell of a patch facing the eye entirely can face away.
-        let cell_test = setup.options.culling == Culling::Back
-            && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
+        let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, facing_away);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
         let level0 = &p.base;

@@ -21,9 +21,9 @@ use std::sync::OnceLock;
 
 use glam::{DMat3, DVec3, Vec4};
 use rayon::prelude::*;
-use spatch_format::{Patch, Scene, EMPTY};
+use spatch_format::{Patch, Scene, Sides, EMPTY};
 
-use crate::cull::{compute_normal_cone, NormalCone};
+use crate::cull::{compute_normal_cone, NormalCone, Portal};
 use crate::mip::{base_level, coarse_level_count, halve_level, MipLevel};
 use crate::normal_buffer::{node_differences, NormalBuffer, SlotSet, OUTSIDE_TABLE};
 
@@ -47,6 +47,8 @@ pub(crate) struct PreparedPatch {
     pub(crate) cone: NormalCone,
     pub(crate) centre: DVec3,
     pub(crate) radius: f64,
+    /// Which sides the scene says may be seen (automatic culling).
+    pub(crate) sides: Sides,
     /// Level 0 of the mip pyramid ([`crate::mip`]).
     pub(crate) base: MipLevel,
     /// Levels 1 and up, each built from the one below the first time a
@@ -157,6 +159,7 @@ impl PreparedPatch {
             cone,
             centre: (lo + hi) * 0.5,
             radius: (hi - lo).length() * 0.5,
+            sides: patch.sides(),
             base,
             coarse: (1..levels).map(|_| OnceLock::new()).collect(),
             shading: (0..levels).map(|_| OnceLock::new()).collect(),
@@ -210,6 +213,8 @@ impl PreparedPatch {
 #[derive(Debug, Clone)]
 pub struct PreparedScene {
     pub(crate) patches: Vec<PreparedPatch>,
+    /// The scene's openings in model space.
+    pub(crate) portals: Vec<Portal>,
     pub(crate) bounds: Option<(DVec3, DVec3)>,
     pub(crate) sphere: Option<(DVec3, f64)>,
     skipped: usize,
@@ -273,8 +278,19 @@ impl PreparedScene {
                 .fold(0.0, f64::max);
             (c, r)
         });
+        let portals = scene
+            .openings()
+            .iter()
+            .map(|o| Portal {
+                centre: offset + o.centre().as_dvec3(),
+                radius: f64::from(o.radius()),
+                normal: o.normal().as_dvec3(),
+                half_thickness: f64::from(o.half_thickness()),
+            })
+            .collect();
         Self {
             patches,
+            portals,
             bounds,
             sphere,
             skipped,

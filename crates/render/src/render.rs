@@ -128,6 +128,7 @@ impl Renderer {
             z_scale,
             z_offset,
             base_colour: Vec3::new(r as f32, g as f32, b as f32),
+            portals: &[],
         }
     }
 
@@ -140,7 +141,10 @@ impl Renderer {
         let start = Instant::now();
         let options = self.options;
         let view = View::new(camera, options.ssaa, scene.bounds)?;
-        let setup = self.setup(&view, &options);
+        let setup = FrameSetup {
+            portals: &scene.portals,
+            ..self.setup(&view, &options)
+        };
         let count = scene.patches.len();
         let chunk_count = count.div_ceil(PATCH_CHUNK);
         self.chunks.resize_with(chunk_count, ChunkWork::default);

@@ -27,6 +27,12 @@ pub(crate) const TAG_COLOURS: [u8; 4] = *b"COLR";
 pub(crate) const TAG_ORIGIN_RESIDUALS: [u8; 4] = *b"ORGR";
 /// Bytes of one ORGR record.
 pub(crate) const RESIDUAL_LEN: usize = 12;
+/// Per-patch visible sides (minor version 1): one byte per patch.
+pub(crate) const TAG_SIDES: [u8; 4] = *b"SIDE";
+/// The openings of an open surface (minor version 1).
+pub(crate) const TAG_OPENINGS: [u8; 4] = *b"OPEN";
+/// Bytes of one opening: centre 3×f32, radius f32, normal 3×f32, half thickness f32.
+pub(crate) const OPENING_LEN: usize = 32;
 
 pub(crate) const CODEC_RAW: u8 = 0;
 pub(crate) const CODEC_PREDICTIVE: u8 = 1;

@@ -3,8 +3,10 @@
 //! A 16-byte file header, then sections, each a 20-byte section header and a
 //! payload protected by a CRC-32: `SCNE` (scene fields), `FRAM` (frames and
 //! per-patch fields), `DISP` (displacement codes), and `COLR` (per-node
-//! colours, only when the scene stores them) and, since version 1.1, `ORGR`
-//! (origin residuals, only when a frame has one).
+//! colours, only when the scene stores them), then, from minor version 1,
+//! the optional `ORGR` (origin residuals, only when a frame has one), `SIDE`
+//! (per-patch visible sides, only when a patch is not front-only) and `OPEN`
+//! (the openings of an open surface).
 
 mod atomic;
 mod bounded;
@@ -24,7 +26,8 @@ pub use write::{encode_scene, write_scene, Compression, WriteOptions};
 pub const MAGIC: [u8; 6] = *b"SPATCH";
 /// The major version this crate writes and reads. Readers refuse other majors.
 pub const VERSION_MAJOR: u8 = 1;
-/// The newest minor version this crate writes (1.1 adds the optional ORGR
-/// section; a file without it is written as 1.0, byte for byte as before).
+/// The newest minor version this crate writes: 1 adds the optional `ORGR`,
+/// `SIDE` and `OPEN` sections. A file that needs none of them is written as
+/// 1.0, byte for byte as before.
 /// Readers accept any minor of their major.
 pub const VERSION_MINOR: u8 = 1;

@@ -11,12 +11,13 @@ use glam::{DVec3, Quat, Vec3};
 use super::bounded::vec_for_count;
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    FILE_HEADER_LEN, MAX_EXPANSION, MAX_EXPANSION_SLACK, RESIDUAL_LEN, SECTION_HEADER_LEN,
-    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    FILE_HEADER_LEN, MAX_EXPANSION, MAX_EXPANSION_SLACK, OPENING_LEN, RESIDUAL_LEN,
+    SECTION_HEADER_LEN, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS,
+    TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
 };
 use super::predictive::{decode_colours, decode_displacements, DisplacementLayout};
 use super::{MAGIC, VERSION_MAJOR};
-use crate::{ColourChannel, FormatError, Frame, GridSize, Patch, Scene, EMPTY};
+use crate::{ColourChannel, FormatError, Frame, GridSize, Opening, Patch, Scene, Sides, EMPTY};
 
 /// One section as found in a file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -216,8 +217,10 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         TAG_DISPLACEMENTS,
         TAG_COLOURS,
         TAG_ORIGIN_RESIDUALS,
+        TAG_SIDES,
+        TAG_OPENINGS,
     ];
-    let mut found: [Option<&RawSection<'_>>; 5] = [None; 5];
+    let mut found: [Option<&RawSection<'_>>; 7] = [None; 7];
     let mut last_known = None;
     for section in &sections {
         let Some(k) = known
@@ -367,6 +370,10 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         (_, None) => None,
     };
 
+    let sides = match found[5] {
+        Some(section) => Some(read_sides(section, patch_count)?),
+        None => None,
+    };
     let mut patches = vec_for_count(patch_count, record_len, frame_bytes, "patches")?;
     let mut colour_at = 0;
     for (k, ((frame, grid), codes)) in frames.into_iter().zip(displacements).enumerate() {
@@ -401,12 +408,20 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
                 )
             }
         };
+        let side = sides.as_deref().map_or(Sides::Front, |s| s[k]);
         patches.push(
             Patch::new(frame, grid, codes, colours)
-                .map_err(|e| corrupt("DISP", format!("patch {k}: {e}")))?,
+                .map_err(|e| corrupt("DISP", format!("patch {k}: {e}")))?
+                .with_sides(side),
         );
     }
-    let scene = Scene::new(offset, channel, patches).map_err(|e| corrupt("SCNE", e.to_string()))?;
+    let openings = match found[6] {
+        Some(section) => read_openings(section)?,
+        None => Vec::new(),
+    };
+    let scene = Scene::new(offset, channel, patches)
+        .map_err(|e| corrupt("SCNE", e.to_string()))?
+        .with_openings(openings);
     let info = ContainerInfo {
         version_major: major,
         version_minor: minor,
@@ -425,9 +440,7 @@ fn read_residuals<'a>(
     let Some(section) = section else {
         return Ok(None);
     };
-    if section.info.codec != CODEC_RAW {
-        return Err(corrupt("ORGR", "the origin residual section must be raw"));
-    }
+    require_raw(section)?;
     if section.payload.len() != patch_count.saturating_mul(RESIDUAL_LEN) {
         return Err(corrupt(
             "ORGR",
@@ -438,6 +451,57 @@ fn read_residuals<'a>(
         ));
     }
     Ok(Some(section.payload))
+}
+
+/// Checks that a 1.1 section is raw (its stored and raw lengths equal).
+fn require_raw(section: &RawSection<'_>) -> Result<(), FormatError> {
+    let info = &section.info;
+    if info.codec != CODEC_RAW || info.raw_len != section.payload.len() {
+        return Err(corrupt(&info.tag, "this section must be raw"));
+    }
+    Ok(())
+}
+
+/// The checked SIDE payload: raw, one known code per patch.
+fn read_sides(section: &RawSection<'_>, patch_count: usize) -> Result<Vec<Sides>, FormatError> {
+    require_raw(section)?;
+    let codes = section.payload;
+    if codes.len() != patch_count {
+        return Err(corrupt(
+            "SIDE",
+            format!("{} bytes for {patch_count} patches", codes.len()),
+        ));
+    }
+    codes
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            Sides::from_code(c)
+                .ok_or_else(|| corrupt("SIDE", format!("patch {k}: unknown code {c}")))
+        })
+        .collect()
+}
+
+/// The checked OPEN payload: raw, whole records of a finite centre and a radius >= 0.
+fn read_openings(section: &RawSection<'_>) -> Result<Vec<Opening>, FormatError> {
+    require_raw(section)?;
+    let bytes = section.payload;
+    if bytes.len() % OPENING_LEN != 0 {
+        return Err(corrupt(
+            "OPEN",
+            format!("{} bytes is not a whole number of openings", bytes.len()),
+        ));
+    }
+    bytes
+        .chunks_exact(OPENING_LEN)
+        .enumerate()
+        .map(|(k, r)| {
+            let centre = Vec3::new(f32_at(r, 0), f32_at(r, 4), f32_at(r, 8));
+            let normal = Vec3::new(f32_at(r, 16), f32_at(r, 20), f32_at(r, 24));
+            Opening::new(centre, f32_at(r, 12), normal, f32_at(r, 28))
+                .map_err(|e| corrupt("OPEN", format!("opening {k}: {e}")))
+        })
+        .collect()
 }
 
 /// Decodes `.spatch` bytes into a scene.

@@ -7,7 +7,8 @@ use std::path::Path;
 
 use super::layout::{
     ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW,
-    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::{write_file_atomically, MAGIC, VERSION_MAJOR, VERSION_MINOR};
@@ -188,15 +189,19 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
     });
 
     let residuals = encode_residuals(scene);
-    let section_count = 3 + u32::from(colr.is_some()) + u32::from(residuals.is_some());
+    let sides = encode_sides(scene);
+    let openings = encode_openings(scene);
+    let section_count = 3
+        + u32::from(colr.is_some())
+        + u32::from(residuals.is_some())
+        + u32::from(sides.is_some())
+        + u32::from(openings.is_some());
     let mut out = Vec::new();
     out.extend_from_slice(&MAGIC);
     out.push(VERSION_MAJOR);
-    out.push(if residuals.is_some() {
-        VERSION_MINOR
-    } else {
-        0
-    });
+    // The lowest minor version that describes the file.
+    let needs_1_1 = residuals.is_some() || sides.is_some() || openings.is_some();
+    out.push(if needs_1_1 { VERSION_MINOR } else { 0 });
     out.extend_from_slice(&section_count.to_le_bytes());
     let header_crc = crc32fast::hash(&out[..12]);
     out.extend_from_slice(&header_crc.to_le_bytes());
@@ -222,6 +227,12 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
             &payload,
         );
     }
+    if let Some(sides) = sides {
+        push_section(&mut out, TAG_SIDES, CODEC_RAW, sides.len(), &sides);
+    }
+    if let Some(openings) = openings {
+        push_section(&mut out, TAG_OPENINGS, CODEC_RAW, openings.len(), &openings);
+    }
     Ok(out)
 }
 
@@ -242,6 +253,29 @@ fn encode_residuals(scene: &Scene) -> Option<Vec<u8>> {
         }
     }
     Some(out)
+}
+
+/// The SIDE payload (one [`crate::Sides`] code per patch), or `None` when every patch is
+/// front-only.
+fn encode_sides(scene: &Scene) -> Option<Vec<u8>> {
+    let codes: Vec<u8> = scene.patches().iter().map(|p| p.sides().code()).collect();
+    codes.iter().any(|&c| c != 0).then_some(codes)
+}
+
+/// The OPEN payload (centre and radius of each opening), or `None` when there is none.
+fn encode_openings(scene: &Scene) -> Option<Vec<u8>> {
+    let openings = scene.openings();
+    (!openings.is_empty()).then(|| {
+        openings
+            .iter()
+            .flat_map(|o| {
+                let [x, y, z] = o.centre().to_array();
+                let [nx, ny, nz] = o.normal().to_array();
+                [x, y, z, o.radius(), nx, ny, nz, o.half_thickness()]
+            })
+            .flat_map(f32::to_le_bytes)
+            .collect()
+    })
 }
 
 /// Encodes `scene` and writes it to `path` atomically (see

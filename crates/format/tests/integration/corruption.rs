@@ -17,6 +17,13 @@ fn files() -> Vec<Vec<u8>> {
             .unwrap(),
         );
     }
+    // A 1.1 file: the SIDE section is checked like the others.
+    let marked = crate::two_sided::with_sides(
+        &mixed_scene(ColourChannel::Rgb8),
+        |k| [spatch_format::Sides::Front, spatch_format::Sides::Both][k % 2],
+        vec![spatch_format::Opening::new(glam::Vec3::ONE, 1.0, glam::Vec3::Z, 0.2).unwrap()],
+    );
+    out.push(encode_scene(&marked, &WriteOptions::default()).unwrap());
     out
 }
 

@@ -5,6 +5,8 @@
 //!   survive write → read exactly, with and without compression.
 //! - `corruption`: truncations, flipped bytes, lying counts, unknown
 //!   versions and trailing bytes all give errors, never panics.
+//! - `two_sided`: the visible sides and openings of container 1.1 (`SIDE`, `OPEN`): round
+//!   trip, 1.0 bytes when nothing needs them, merge, lying sections.
 //! - `atomic`: a failed write leaves nothing under the output name.
 //! - `far_merge`: merged scenes far apart keep each part's node positions
 //!   (issue 22), through the ORGR section.
@@ -15,3 +17,4 @@ mod far_merge;
 mod golden;
 mod round_trip;
 mod scenes;
+mod two_sided;
