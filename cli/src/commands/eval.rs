@@ -416,8 +416,14 @@ fn summary(
             pct(image.hole_fraction),
             pct(image.mean_depth_error_rel),
         ));
+        let drawn = match image.source_drawn_with {
+            spatch_eval::SourceDrawing::Grey => "grey (no colour)",
+            spatch_eval::SourceDrawing::Colours => "its vertex and material colours",
+            spatch_eval::SourceDrawing::Texture => "its texture (sampled at ~2 texels per edge)",
+            _ => "its colours",
+        };
         text.push_str(&format!(
-            "  render: {:.2} ms per frame (median), source triangles {:.2} ms\n",
+            "  render: {:.2} ms per frame (median), source triangles {:.2} ms, source drawn with {drawn}\n",
             image.patch_ms, image.source_ms
         ));
     }

@@ -61,6 +61,7 @@ fn eval_measures_a_converted_mesh_both_ways_and_in_images() {
     assert_eq!(image["size"], serde_json::json!([64, 64]));
     assert!(image["hole_fraction"].as_f64().unwrap() < 0.02, "{image}");
     assert!(image["psnr_db"].as_f64().unwrap() > 15.0, "{image}");
+    assert_eq!(image["source_drawn_with"], "grey", "a colourless source");
     assert!(
         image["mean_depth_error_rel"].as_f64().unwrap() < 0.01,
         "{image}"
@@ -321,4 +322,31 @@ fn a_tiny_sweep_writes_its_table_json_and_plot_with_a_correct_front() {
     assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(80)]);
     assert!(svg.contains("Pareto front") && svg.contains("ms per frame"));
     assert!(svg.contains("surface→patch RMS"));
+}
+
+/// Issue 22, item 3: a textured source is drawn with its texture, so the
+/// PSNR measures the patches (Duck.glb: 9.22 dB against a grey source).
+#[test]
+fn issue_22_a_textured_source_is_drawn_with_its_texture() {
+    let Some(duck) = spatch_fixtures::shared_data("gltf/Duck.glb") else {
+        return;
+    };
+    let t = TestCommand::new();
+    let duck = duck.display().to_string();
+    t.run(&["convert", &duck, "-o", "duck.spatch"]).success();
+    let run = t
+        .run(&[
+            "eval",
+            "duck.spatch",
+            "--source",
+            &duck,
+            "--views",
+            "3",
+            "--json",
+        ])
+        .success();
+    let r = json_report(&run.stdout);
+    let image = &r.details["image"];
+    assert_eq!(image["source_drawn_with"], "texture");
+    assert!(image["psnr_db"].as_f64().unwrap() > 20.0, "{image}");
 }
