@@ -86,6 +86,13 @@ pub(crate) struct FromCloudArgs {
     /// Voxel side for PCA normals when the file has none, in point spacings (0.5..=8).
     #[arg(long, default_value_t = CloudOptions::DEFAULT_NORMAL_VOXEL)]
     normal_voxel: f32,
+    /// Do not move the points onto their local plane before drawing the
+    /// range images. By default overlapping scans are first merged into one
+    /// surface (each point onto the least-squares plane of its voxel block,
+    /// except at creases and thin parts), which removes the specks and
+    /// z-fighting of registered scan sets.
+    #[arg(long)]
+    no_consensus: bool,
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
@@ -127,6 +134,7 @@ impl FromCloudArgs {
         options.grid = self.grid;
         options.spacing = self.spacing;
         options.normal_voxel = self.normal_voxel;
+        options.consensus = !self.no_consensus;
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options
     }

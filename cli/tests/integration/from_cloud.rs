@@ -126,3 +126,31 @@ fn bad_clouds_fail_cleanly_without_output() {
     assert_eq!(run.code, 2);
     assert!(run.stderr.contains("views"), "{}", run.stderr);
 }
+
+#[test]
+fn no_consensus_leaves_the_points_where_they_are() {
+    let t = TestCommand::new();
+    write_xyz(&t, "sheet.xyz");
+    t.run(&[
+        "from-cloud",
+        "sheet.xyz",
+        "-o",
+        "a.spatch",
+        "--report",
+        "a.json",
+    ])
+    .success();
+    t.run(&[
+        "from-cloud",
+        "sheet.xyz",
+        "-o",
+        "b.spatch",
+        "--report",
+        "b.json",
+        "--no-consensus",
+    ])
+    .success();
+    let (a, b): (serde_json::Value, serde_json::Value) = (t.json("a.json"), t.json("b.json"));
+    assert!(a["details"]["consensus_points"].as_u64().unwrap() > 14_000);
+    assert_eq!(b["details"]["consensus_points"], 0);
+}

@@ -42,6 +42,7 @@
 #![forbid(unsafe_code)]
 
 mod bucket_sort;
+mod consensus;
 mod directions;
 mod error;
 mod error_metrics;
@@ -56,6 +57,7 @@ mod report;
 mod smooth;
 mod spacing;
 
+pub use consensus::CONSENSUS_MIN_POINTS;
 pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
 pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, DistanceStats};

@@ -75,9 +75,11 @@ impl Moments {
         }
     }
 
-    fn normal(&self) -> Vec3 {
+    /// The least-squares plane of the points: centroid, unit normal (zero when there is no
+    /// unique plane) and the RMS distance of the points from it.
+    fn plane(&self) -> BlockPlane {
         if self.count < 3.0 {
-            return Vec3::ZERO;
+            return BlockPlane::default();
         }
         let m = self.sum / self.count;
         let s = self.squares.map(|v| v / self.count);
@@ -89,7 +91,47 @@ impl Moments {
             s[4] - m.y * m.z,
             s[5] - m.z * m.z,
         ];
-        smallest_eigenvector(c).as_vec3()
+        let n = smallest_eigenvector(c);
+        // nᵀ C n: the variance of the points along the normal.
+        let variance = n.x * (c[0] * n.x + c[1] * n.y + c[2] * n.z)
+            + n.y * (c[1] * n.x + c[3] * n.y + c[4] * n.z)
+            + n.z * (c[2] * n.x + c[4] * n.y + c[5] * n.z);
+        BlockPlane {
+            centre: m,
+            normal: n.as_vec3(),
+            spread: variance.max(0.0).sqrt() as f32,
+            count: self.count as u32,
+        }
+    }
+}
+
+/// The least-squares plane of a voxel's 3×3×3 block.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct BlockPlane {
+    /// Centroid of the block's points, relative to [`VoxelPlanes::origin`].
+    pub(crate) centre: DVec3,
+    /// Unit normal (unoriented), or zero where the block has no unique plane.
+    pub(crate) normal: Vec3,
+    /// RMS distance of the block's points from the plane (same unit as the positions).
+    pub(crate) spread: f32,
+    /// Points in the block.
+    pub(crate) count: u32,
+}
+
+/// Every voxel's block plane and the voxel of every point.
+pub(crate) struct VoxelPlanes {
+    /// Corner of the voxel grid; plane centres are relative to it.
+    pub(crate) origin: DVec3,
+    /// The voxel of each point (an index into `planes`).
+    pub(crate) point_voxel: Vec<u32>,
+    /// One plane per voxel.
+    pub(crate) planes: Vec<BlockPlane>,
+}
+
+impl VoxelPlanes {
+    /// The plane of point `i`'s voxel block.
+    pub(crate) fn of_point(&self, i: usize) -> &BlockPlane {
+        &self.planes[self.point_voxel[i] as usize]
     }
 }
 
@@ -122,7 +164,7 @@ impl VoxelColumns {
     /// The nine neighbour columns of a column are found by three cursors (one per `dx`) that
     /// only move forward, since the neighbour keys grow with the column key; this replaces 27
     /// random hash lookups per voxel by a merge over the sorted column list.
-    fn block_normals(&self, range: std::ops::Range<usize>) -> Vec<Vec3> {
+    fn block_planes(&self, range: std::ops::Range<usize>) -> Vec<BlockPlane> {
         let first = self.starts[range.start] as usize;
         let last = self.starts[range.end] as usize;
         let mut normals = Vec::with_capacity(last - first);
@@ -175,7 +217,7 @@ impl VoxelColumns {
                         block.add(m);
                     }
                 }
-                normals.push(block.normal());
+                normals.push(block.plane());
             }
         }
         normals
@@ -185,8 +227,23 @@ impl VoxelColumns {
 /// PCA normals of every point over 3×3×3 blocks of voxels of side `voxel` (see the module
 /// documentation).
 pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
+    let planes = estimate_planes(positions, voxel);
+    planes
+        .point_voxel
+        .par_iter()
+        .map(|&v| planes.planes[v as usize].normal)
+        .collect()
+}
+
+/// The least-squares plane of every point's 3×3×3 voxel block (voxels of side `voxel`): what
+/// [`estimate_normals`] takes the normals from, with the planes' centres and spreads.
+pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     if positions.is_empty() || !(voxel.is_finite() && voxel > 0.0) {
-        return vec![Vec3::ZERO; positions.len()];
+        return VoxelPlanes {
+            origin: DVec3::ZERO,
+            point_voxel: vec![0; positions.len()],
+            planes: vec![BlockPlane::default()],
+        };
     }
     let (lo, hi) = positions.iter().fold(
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
@@ -261,14 +318,15 @@ pub fn estimate_normals(positions: &[Vec3], voxel: f32) -> Vec<Vec3> {
         .step_by(COLUMNS_PER_TASK)
         .map(|c| c..(c + COLUMNS_PER_TASK).min(grid.columns.len()))
         .collect();
-    let voxel_normals: Vec<Vec3> = tasks
+    let planes: Vec<BlockPlane> = tasks
         .into_par_iter()
-        .flat_map_iter(|range| grid.block_normals(range))
+        .flat_map_iter(|range| grid.block_planes(range))
         .collect();
-    point_voxel
-        .par_iter()
-        .map(|&v| voxel_normals[v as usize])
-        .collect()
+    VoxelPlanes {
+        origin,
+        point_voxel,
+        planes,
+    }
 }
 
 /// The unit eigenvector of the smallest eigenvalue of the symmetric matrix
@@ -363,7 +421,7 @@ mod tests {
             for p in points {
                 m.add_point(p.as_dvec3());
             }
-            m.normal()
+            m.plane().normal
         };
         let n = Vec3::new(1.0, 2.0, 3.0).normalize();
         let u = n.any_orthonormal_vector();

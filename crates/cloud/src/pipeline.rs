@@ -12,13 +12,15 @@
 //!    nearest neighbours (`spacing.rs`), unless given.
 //! 4. `normals`: the file's normals when it has them, else PCA normals over voxel blocks
 //!    (`normals.rs`).
-//! 5. `range_images`: one orthographic z-buffer per view direction (`directions.rs`,
+//! 5. `consensus`: every point moved onto its voxel block's least-squares plane
+//!    (`consensus.rs`), so overlapping scans give one surface (unless turned off).
+//! 6. `range_images`: one orthographic z-buffer per view direction (`directions.rs`,
 //!    `range_image.rs`) with pixel size `pixel_factor · s`, then gap filling (`gap_fill.rs`)
 //!    and, if asked, smoothing (`smooth.rs`). Views are independent and built in parallel.
-//! 6. `extract`: two passes over the views in order, the first accepting surfaces within the
+//! 7. `extract`: two passes over the views in order, the first accepting surfaces within the
 //!    preferred slope, the second within the maximum slope; each view adds patches only where
 //!    points are still uncovered (`extract.rs`).
-//! 7. `encode`: the `.spatch` bytes.
+//! 8. `encode`: the `.spatch` bytes.
 //!
 //! Invariants: the output is byte-identical for any thread count (parallel work is per view
 //! or per chunk of points and collected in order; extraction is sequential).
@@ -39,12 +41,13 @@ use spatch_format::{encode_scene, ColourChannel, Scene};
 use spatch_mesh::{Aabb, PointCloud};
 
 use crate::bucket_sort::sort_pairs;
+use crate::consensus::{project_to_consensus, ConsensusLimits};
 use crate::directions::view_directions;
 use crate::extract::{
     absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
 };
 use crate::gap_fill::fill_gaps;
-use crate::normals::estimate_normals;
+use crate::normals::estimate_planes;
 use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
 use crate::spacing::estimate_spacing;
@@ -146,17 +149,48 @@ pub fn cloud_to_scene(
     };
     clock.lap("spacing");
 
-    let (normals, normals_source): (Cow<'_, [Vec3]>, &'static str) = match &cloud.normals {
-        Some(given) => (
+    let planes = (options.consensus || cloud.normals.is_none())
+        .then(|| estimate_planes(positions, options.normal_voxel * spacing));
+    let (normals, normals_source): (Cow<'_, [Vec3]>, &'static str) = match (&cloud.normals, &planes)
+    {
+        (Some(given), _) => (
             Cow::Owned(given.iter().map(|n| n.normalize_or_zero()).collect()),
             "file",
         ),
-        None => (
-            Cow::Owned(estimate_normals(positions, options.normal_voxel * spacing)),
+        (None, Some(planes)) => (
+            Cow::Owned(
+                planes
+                    .point_voxel
+                    .par_iter()
+                    .map(|&v| planes.planes[v as usize].normal)
+                    .collect(),
+            ),
             "pca",
         ),
+        (None, None) => {
+            return Err(CloudError::Internal {
+                what: "normals without planes",
+            })
+        }
     };
     clock.lap("normals");
+
+    let mut consensus_points = 0;
+    let moved = match (&planes, options.consensus) {
+        (Some(planes), true) => {
+            let limits = ConsensusLimits {
+                max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
+                max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
+            };
+            let (moved, count) = project_to_consensus(positions, planes, limits);
+            consensus_points = count;
+            Some(moved)
+        }
+        _ => None,
+    };
+    drop(planes);
+    let positions: &[Vec3] = moved.as_deref().unwrap_or(positions);
+    clock.lap("consensus");
 
     let mut warnings = Vec::new();
     let image_bounds = robust_bounds(positions, &bounds);
@@ -303,6 +337,7 @@ pub fn cloud_to_scene(
         normals: normals_source,
         gap_pixels_filled,
         uncovered_points: uncovered.len(),
+        consensus_points,
         split_tiles: counts.split_tiles,
         wide_patches: counts.wide_patches,
         smoothed: options.smooth.is_some(),

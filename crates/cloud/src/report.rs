@@ -43,6 +43,8 @@ pub struct CloudReport {
     pub uncovered_points: usize,
     /// Tiles split into several patches because of their depth range.
     pub split_tiles: usize,
+    /// Points moved onto their block's plane (`consensus.rs`; 0 when off).
+    pub consensus_points: usize,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
     /// Whether the range images were smoothed.

@@ -4,6 +4,7 @@
 //! - `generated`: planes and spheres: coverage, accuracy, colour, far-from-origin clouds.
 //! - `degenerate`: empty, single-point, duplicate, collinear and non-finite input; options.
 //! - `determinism`: byte-identical output for 1 and 2 threads.
+//! - `overlapping_scans`: two offset scans of one surface become one (issue 19).
 //! - `real_scans`: the raw bunny scans (alone and registered together) and Hoppe's distcap.
 //! - `sampled_bunny`: points sampled from `bun_zipper.ply`, clean and noisy with smoothing.
 
@@ -11,5 +12,6 @@ mod clouds;
 mod degenerate;
 mod determinism;
 mod generated;
+mod overlapping_scans;
 mod real_scans;
 mod sampled_bunny;

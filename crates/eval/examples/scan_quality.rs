@@ -1,0 +1,222 @@
+//! Speck and hole fractions of a scene over the 14 standard views (../shared/MEASURES.md).
+//!
+//! ```text
+//! cargo run --release -p spatch-eval --example scan_quality -- SCENE.spatch REFERENCE_MESH [PNG_DIR]
+//! ```
+//!
+//! The cameras come from the reference mesh (the views of `spatch_eval::holes`: 6 axes and
+//! 8 diagonals, 40° field of view, the bounding sphere filling the image with a 5 % margin,
+//! 500²). The scene is drawn with the renderer's defaults (as `spatch render` draws it).
+//!
+//! - **specks**: the scene's covered pixels eroded by 2 px (5 × 5 square); a pixel is a speck
+//!   when its grey level (mean of R, G, B) is more than 40 below the median of its 5 × 5
+//!   neighbourhood. Fraction = specks / eroded covered pixels.
+//! - **holes**: the reference mesh drawn without culling, its coverage eroded by 2 px; a hole
+//!   is a pixel of that mask the scene, drawn without culling (nodes projected exactly), leaves
+//!   empty or covers only farther than `HOLE_DEPTH_TOLERANCE` of the bounding radius behind
+//!   the reference (as `spatch_eval::hole_fraction`). Fraction = holes / eroded reference
+//!   pixels.
+//!
+//! With `PNG_DIR`, each view's render is written there as `view_NN.png`. Prints one line per
+//! view and a total line; the totals are what docs/algorithms/cloud.md quotes.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use spatch_render::{
+    Culling, MeshColours, PreparedScene, Projection, RenderOptions, Renderer,
+    TriangleMesh as RasterMesh,
+};
+
+/// Grey levels below the neighbourhood median by more than this make a speck.
+const SPECK_DARKER_BY: i32 = 40;
+/// Half side of the erosion square and of the median window, in pixels.
+const RADIUS: usize = 2;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() < 2 || args.len() > 3 {
+        eprintln!("usage: scan_quality SCENE.spatch REFERENCE_MESH [PNG_DIR]");
+        return ExitCode::from(2);
+    }
+    match run(&args[0], &args[1], args.get(2).map(PathBuf::from)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("scan_quality: error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(scene_path: &str, mesh_path: &str, png_dir: Option<PathBuf>) -> Result<(), String> {
+    let scene =
+        spatch_format::read_scene(scene_path.as_ref()).map_err(|e| format!("{scene_path}: {e}"))?;
+    let mesh = spatch_mesh::load_mesh(mesh_path)
+        .map_err(|e| format!("{mesh_path}: {e}"))?
+        .mesh;
+    let raster = RasterMesh::new(
+        mesh.origin,
+        &mesh.positions,
+        &mesh.triangles,
+        MeshColours::None,
+    )
+    .map_err(|e| format!("{mesh_path}: {e}"))?;
+    let prepared = PreparedScene::new(&scene);
+    let mut scene_renderer = Renderer::new(RenderOptions::default()).map_err(|e| e.to_string())?;
+    let mut reference_options = RenderOptions::default();
+    reference_options.culling = Culling::None;
+    let mut reference_renderer = Renderer::new(reference_options).map_err(|e| e.to_string())?;
+    let mut uncull_options = RenderOptions::default();
+    uncull_options.culling = Culling::None;
+    uncull_options.projection = Projection::Exact;
+    let mut uncull_renderer = Renderer::new(uncull_options).map_err(|e| e.to_string())?;
+    let radius = raster
+        .bounding_sphere()
+        .ok_or_else(|| format!("{mesh_path}: nothing to frame"))?
+        .1;
+    let tolerance = (HOLE_DEPTH_TOLERANCE * radius) as f32;
+    let options = HoleOptions::default();
+    let mut total = Tally::default();
+    for (index, direction) in standard_views().into_iter().enumerate() {
+        let camera =
+            hole_view_camera(&mesh, direction, &options).map_err(|e| format!("camera: {e}"))?;
+        let image = scene_renderer
+            .render(&prepared, &camera)
+            .map_err(|e| e.to_string())?
+            .image;
+        let reference = reference_renderer
+            .rasterize(&raster, &camera)
+            .map_err(|e| e.to_string())?
+            .image;
+        let uncull = uncull_renderer
+            .render(&prepared, &camera)
+            .map_err(|e| e.to_string())?
+            .image;
+        let (width, height) = (image.width() as usize, image.height() as usize);
+        let covered: Vec<bool> = image.pixels().iter().map(|p| p[3] > 0).collect();
+        let reference_covered: Vec<bool> =
+            reference.depth().iter().map(|d| d.is_finite()).collect();
+        let reached: Vec<bool> = reference
+            .depth()
+            .iter()
+            .zip(uncull.depth())
+            .map(|(s, p)| p.is_finite() && *p <= s + tolerance)
+            .collect();
+        let view = Tally {
+            specks: count_specks(image.pixels(), &covered, width, height),
+            holes: count_holes(&reference_covered, &reached, width, height),
+        };
+        println!(
+            "view {index:2} ({:+.2},{:+.2},{:+.2}): specks {:.3} % of {}, holes {:.3} % of {}",
+            direction.x,
+            direction.y,
+            direction.z,
+            view.specks.percent(),
+            view.specks.whole,
+            view.holes.percent(),
+            view.holes.whole
+        );
+        total.add(&view);
+        if let Some(dir) = &png_dir {
+            let png = image.encode_png().map_err(|e| e.to_string())?;
+            let path = dir.join(format!("view_{index:02}.png"));
+            std::fs::write(&path, png).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+    }
+    println!(
+        "total: specks {:.3} % ({} of {} covered pixels), holes {:.3} % ({} of {} reference pixels)",
+        total.specks.percent(),
+        total.specks.part,
+        total.specks.whole,
+        total.holes.percent(),
+        total.holes.part,
+        total.holes.whole
+    );
+    Ok(())
+}
+
+/// A count out of a whole.
+#[derive(Default, Clone, Copy)]
+struct Share {
+    part: usize,
+    whole: usize,
+}
+
+impl Share {
+    fn percent(&self) -> f64 {
+        if self.whole == 0 {
+            0.0
+        } else {
+            100.0 * self.part as f64 / self.whole as f64
+        }
+    }
+}
+
+/// Specks and holes of one view or of all.
+#[derive(Default)]
+struct Tally {
+    specks: Share,
+    holes: Share,
+}
+
+impl Tally {
+    fn add(&mut self, other: &Tally) {
+        self.specks.part += other.specks.part;
+        self.specks.whole += other.specks.whole;
+        self.holes.part += other.holes.part;
+        self.holes.whole += other.holes.whole;
+    }
+}
+
+/// Whether the whole (2·RADIUS+1)² square around `(x, y)` lies in `mask`.
+fn eroded(mask: &[bool], width: usize, height: usize, x: usize, y: usize) -> bool {
+    if x < RADIUS || y < RADIUS || x + RADIUS >= width || y + RADIUS >= height {
+        return false;
+    }
+    (y - RADIUS..=y + RADIUS).all(|yy| (x - RADIUS..=x + RADIUS).all(|xx| mask[yy * width + xx]))
+}
+
+fn grey(pixel: [u8; 4]) -> i32 {
+    (i32::from(pixel[0]) + i32::from(pixel[1]) + i32::from(pixel[2])) / 3
+}
+
+fn count_specks(pixels: &[[u8; 4]], covered: &[bool], width: usize, height: usize) -> Share {
+    let mut share = Share::default();
+    let mut window = Vec::with_capacity((2 * RADIUS + 1) * (2 * RADIUS + 1));
+    for y in 0..height {
+        for x in 0..width {
+            if !eroded(covered, width, height, x, y) {
+                continue;
+            }
+            share.whole += 1;
+            window.clear();
+            for yy in y - RADIUS..=y + RADIUS {
+                for xx in x - RADIUS..=x + RADIUS {
+                    window.push(grey(pixels[yy * width + xx]));
+                }
+            }
+            let middle = window.len() / 2;
+            let median = *window.select_nth_unstable(middle).1;
+            if grey(pixels[y * width + x]) < median - SPECK_DARKER_BY {
+                share.part += 1;
+            }
+        }
+    }
+    share
+}
+
+fn count_holes(reference: &[bool], covered: &[bool], width: usize, height: usize) -> Share {
+    let mut share = Share::default();
+    for y in 0..height {
+        for x in 0..width {
+            if eroded(reference, width, height, x, y) {
+                share.whole += 1;
+                if !covered[y * width + x] {
+                    share.part += 1;
+                }
+            }
+        }
+    }
+    share
+}
