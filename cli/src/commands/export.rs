@@ -9,7 +9,7 @@ use crate::output::{print_stdout, read_spatch, write_output};
 /// Arguments of `spatch export`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct ExportArgs {
-    /// Input .spatch file.
+    /// Input .spatch file (`-`: standard input, at most 1 GiB).
     #[arg(value_name = "FILE")]
     input: PathBuf,
     /// Output .ply file (binary little-endian).
