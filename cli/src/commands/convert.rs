@@ -54,7 +54,7 @@ pub(crate) struct PipelineArgs {
     #[arg(long, value_name = "DEGREES", default_value_t = spatch_segment::DEFAULT_CONE_ANGLE_DEG)]
     pub(crate) cone_angle: f32,
     /// Leave colour out even when the source has it.
-    #[arg(long)]
+    #[arg(long, visible_alias = "no-color")]
     pub(crate) no_colour: bool,
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
@@ -62,8 +62,8 @@ pub(crate) struct PipelineArgs {
     /// Skip measuring the geometric error (it can take as long as the conversion).
     #[arg(long)]
     pub(crate) no_error: bool,
-    /// Worker threads [default: one per core].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Worker threads, 0..=1024 (0 = all cores) [default: all cores].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub(crate) threads: Option<u32>,
     /// Leave out the sharp-edge patches (to compare holes and bytes without them).
     #[arg(long)]

@@ -56,7 +56,7 @@ pub(crate) struct EarthArgs {
     output: PathBuf,
     /// Equirectangular colour map (PNG or JPEG, longitude −180° at the left edge)
     /// [default: the built-in 1024×512 NASA Visible Earth map].
-    #[arg(long, value_name = "MAP")]
+    #[arg(long, value_name = "MAP", visible_alias = "color")]
     colour: Option<PathBuf>,
     /// Equirectangular 8- or 16-bit greyscale elevation map (PNG); heights
     /// come from it instead of from the colours.

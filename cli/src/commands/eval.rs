@@ -78,8 +78,8 @@ pub(crate) struct EvalArgs {
     /// Also write the JSON report to this file.
     #[arg(long, value_name = "FILE", conflicts_with = "sweep")]
     report: Option<PathBuf>,
-    /// Worker threads [default: one per core].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Worker threads, 0..=1024 (0 = all cores) [default: all cores].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
     threads: Option<u32>,
     /// Sweep conversion and render settings on this mesh, writing sweep.csv, sweep.json and
     /// sweep.svg (error against time, Pareto front marked) into --out.

@@ -36,7 +36,7 @@ pub(crate) enum PositionsArg {
 /// Arguments of `spatch export`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct ExportArgs {
-    /// Input .spatch file.
+    /// Input .spatch file (`-`: standard input, at most 1 GiB).
     #[arg(value_name = "FILE")]
     input: PathBuf,
     /// Output file (.ply, .obj, .gltf or .glb).

@@ -71,8 +71,9 @@ pub(crate) struct RenderArgs {
     /// Input .spatch file.
     #[arg(value_name = "FILE")]
     input: PathBuf,
-    /// Output PNG (RGBA, transparent background unless --background).
-    #[arg(short, long, value_name = "FILE", required_unless_present = "bench")]
+    /// Output PNG (RGBA, transparent background unless --background); may be
+    /// left out with --bench or --stats.
+    #[arg(short, long, value_name = "FILE", required_unless_present_any = ["bench", "stats"])]
     output: Option<PathBuf>,
     /// Eye position x,y,z (default: a three-quarter view framing the scene).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]

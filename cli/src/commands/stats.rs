@@ -10,7 +10,8 @@ use crate::output::{print_stdout, read_spatch};
 /// Arguments of `spatch stats`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct StatsArgs {
-    /// Input .spatch file.
+    /// Input .spatch file (`-`: standard input; a pipe or a device is read only as far as
+    /// its headers announce, at most 1 GiB).
     #[arg(value_name = "FILE")]
     input: PathBuf,
     /// Print one JSON object instead of a table.

@@ -19,6 +19,7 @@
 //! - `output_safety`: issue 20 — outputs that name inputs, symlinks, FIFOs, devices, kept
 //!   modes, temporary files after a kill, endless streams, one-line usage errors, completions
 //!   and the manual page.
+//! - `readme_tour`: every command of the README's tour, as written.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -32,6 +33,7 @@ mod from_cloud;
 mod golden;
 mod merge;
 mod output_safety;
+mod readme_tour;
 mod render;
 mod report_schema;
 mod sphere;

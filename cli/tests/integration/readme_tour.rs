@@ -1,0 +1,66 @@
+//! Issue 20: every command of the README's tour runs as written, on inputs
+//! made here (scenes from `spatch sphere`, meshes and clouds exported from
+//! them, an elevation map from `render --depth`).
+
+use crate::test_command::TestCommand;
+
+/// The tour's commands: the lines of the first shell block after
+/// "## A tour of the commands", without their comments.
+fn tour_commands() -> Vec<Vec<String>> {
+    let readme = include_str!("../../../README.md");
+    let tour = readme
+        .split("## A tour of the commands")
+        .nth(1)
+        .expect("README has a tour");
+    let block = tour
+        .split("```sh")
+        .nth(1)
+        .unwrap()
+        .split("```")
+        .next()
+        .unwrap();
+    block
+        .lines()
+        .map(|l| l.split('#').next().unwrap().trim())
+        .filter(|l| l.starts_with("spatch "))
+        .map(|l| l.split_whitespace().skip(1).map(str::to_owned).collect())
+        .collect()
+}
+
+/// A closed octahedron as OBJ, with sharp edges for the crease options.
+const OCTAHEDRON: &str = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+#[test]
+fn every_readme_tour_command_runs_as_written() {
+    let t = TestCommand::new();
+    for scene in [
+        "bunny.spatch",
+        "sphere.spatch",
+        "a.spatch",
+        "b.spatch",
+        "scan.spatch",
+    ] {
+        t.small_sphere(scene);
+    }
+    t.run(&["export", "a.spatch", "--cells", "-o", "bunny.ply"])
+        .success();
+    t.run(&["export", "a.spatch", "-o", "scan.ply"]).success();
+    t.run(&["render", "a.spatch", "-o", "x.png", "--depth", "dem.png"])
+        .success();
+    for mesh in ["fuze.obj", "part.obj"] {
+        std::fs::write(t.path(mesh), OCTAHEDRON).unwrap();
+    }
+    let commands = tour_commands();
+    assert!(commands.len() >= 15, "{commands:?}");
+    for args in commands {
+        // The sweep converts the mesh 24 times and renders it 36 times: minutes in a test
+        // build. `eval::a_tiny_sweep_writes_its_table_json_and_plot_with_a_correct_front`
+        // runs the same command on smaller lists.
+        if args.iter().any(|a| a == "--sweep") {
+            continue;
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        t.run(&args).success();
+    }
+}
