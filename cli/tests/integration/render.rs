@@ -187,11 +187,36 @@ fn band_height_does_not_change_the_image() {
 }
 
 #[test]
+fn splat_limit_splats_the_pieces_subdivision_would_cut() {
+    // The default sphere at 500²: cells of 1.3-1.9 px are cut without
+    // splats and splatted with them; the disc is as covered either way.
+    let t = TestCommand::new();
+    t.run(&["sphere", "-o", "big.spatch"]).success();
+    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
+        let args = ["render", "big.spatch", "-o", "s.png", "--stats", name];
+        t.run(&[&args[..], extra].concat()).success();
+        t.json(name)
+    };
+    let off = stats(&[], "off.json");
+    let on = stats(&["--splat-limit", "1.5"], "on.json");
+    assert_eq!(off["patches_splatted"], 0);
+    assert!(on["patches_splatted"].as_u64().unwrap() > 0, "{on}");
+    assert!(on["interpolated_nodes"].as_u64() < off["interpolated_nodes"].as_u64());
+    let covered = |s: &serde_json::Value| s["covered_pixels"].as_u64().unwrap();
+    assert!(
+        covered(&on) >= covered(&off),
+        "{} < {}",
+        covered(&on),
+        covered(&off)
+    );
+}
+
+#[test]
 fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
-    let cases: [&[&str]; 7] = [
+    let cases: [&[&str]; 8] = [
         &["render", "missing.spatch", "-o", "out.png"],
         &["render", "junk.spatch", "-o", "out.png"],
         &[
@@ -203,6 +228,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         ],
         &["render", &name, "-o", "out.png", "--mip-limit", "40"],
         &["render", &name, "-o", "out.png", "--tile-rows", "2"],
+        &["render", &name, "-o", "out.png", "--splat-limit", "0.2"],
     ];
     for args in cases {
         let run = t.run(args);

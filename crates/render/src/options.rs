@@ -156,8 +156,8 @@ pub struct RenderOptions {
     /// takes the coarsest level whose estimated cell extent stays below
     /// twice this reach. Trades shading detail (each pixel takes its
     /// nearest node's normal: bunny 500², PSNR against the source 24.7 →
-    /// 23.3 dB at 1.5) and up to `limit - 1/2` px of silhouette for fewer
-    /// samples (bunny 500²: 82.1 → 72.6 M instructions per frame).
+    /// 23.1 dB at 1.5) and up to `limit - 1/2` px of silhouette for fewer
+    /// samples (bunny 500²: 82.0 → 64.2 M instructions per frame).
     pub splat_limit: f32,
     /// Guard band beyond each side of the viewport, as a fraction of its
     /// size, 0..=1. Default 0.1. Patches inside it are drawn without
