@@ -11,6 +11,8 @@
 //!   bad clouds.
 //! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
+//! - `scan_inputs`: `spatch from-cloud` on bun.conf, several inputs of several formats
+//!   (LAZ, XYZ, PTS), `--columns`, malformed scan files.
 //! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its
 //!   module docs).
@@ -27,6 +29,7 @@ mod from_cloud;
 mod merge;
 mod render;
 mod report_schema;
+mod scan_inputs;
 mod sphere;
 mod stability;
 mod stats;
