@@ -13,6 +13,8 @@
 //!   concave crease) compared pixel for pixel with `testdata/golden/render/`.
 //! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
+//! - `scan_inputs`: `spatch from-cloud` on bun.conf, several inputs of several formats
+//!   (LAZ, XYZ, PTS), `--columns`, malformed scan files.
 //! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its
 //!   module docs).
@@ -36,6 +38,7 @@ mod output_safety;
 mod readme_tour;
 mod render;
 mod report_schema;
+mod scan_inputs;
 mod sphere;
 mod stability;
 mod stats;

@@ -41,7 +41,7 @@ impl Pose {
             return Err(PoseProblem::NotFinite);
         }
         let length = rotation.length();
-        if !(length > 1e-12) {
+        if length <= 1e-12 {
             return Err(PoseProblem::ZeroQuaternion);
         }
         Ok(Pose {

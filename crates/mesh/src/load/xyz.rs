@@ -347,7 +347,8 @@ fn grey_from_rows<'a>(
     let finite = rows.clone().map(|r| r[column]).filter(|v| v.is_finite());
     let lo = finite.clone().fold(f64::INFINITY, f64::min);
     let hi = finite.fold(f64::NEG_INFINITY, f64::max);
-    if !(hi > lo) {
+    // NaN-free here (only finite values fold in), so `<=` is the plain negation of `>`.
+    if hi <= lo {
         return None;
     }
     let scale = 255.0 / (hi - lo);

@@ -203,7 +203,7 @@ fn xyz_header_and_columns_option() {
     std::fs::write(&path, text).unwrap();
     let mut options = ScanOptions::default();
     options.columns = Some(parse_columns("x,y,z,skip,intensity").unwrap());
-    let loaded = load_scans(&[path.clone()], &options).unwrap();
+    let loaded = load_scans(std::slice::from_ref(&path), &options).unwrap();
     let grey: Vec<u8> = loaded.cloud.colours.unwrap().iter().map(|c| c[0]).collect();
     assert_eq!(&grey[..2], &[0, 255]);
     assert!(grey[2].abs_diff(128) <= 1, "{grey:?}");
@@ -303,7 +303,8 @@ fn malformed_files_name_the_file_and_the_problem() {
     );
     put("what.dat", b"1 2 3\n", "unknown point cloud type");
     for (path, expected) in cases {
-        let err: ScanError = load_scans(&[path.clone()], &ScanOptions::default()).unwrap_err();
+        let err: ScanError =
+            load_scans(std::slice::from_ref(&path), &ScanOptions::default()).unwrap_err();
         let message = err.to_string();
         let name = path.file_name().unwrap().to_str().unwrap();
         assert!(!message.contains('\n'), "{name}: {message}");
