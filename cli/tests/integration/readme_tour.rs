@@ -31,6 +31,41 @@ fn tour_commands() -> Vec<Vec<String>> {
 const OCTAHEDRON: &str = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
 f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
 
+/// The tour's other inputs: an STL, a GLB, clouds in PLY, LAZ, PTS and 9-column text, a
+/// pose file, and a scene far from the origin.
+fn write_scan_inputs(t: &TestCommand) {
+    let stl: String = OCTAHEDRON
+        .lines()
+        .filter_map(|l| l.strip_prefix("f "))
+        .map(|f| {
+            let corners: String = f
+                .split(' ')
+                .map(|i| {
+                    let v = OCTAHEDRON.lines().nth(i.parse::<usize>().unwrap() - 1).unwrap();
+                    format!("vertex {}\n", &v[2..])
+                })
+                .collect();
+            format!("facet normal 0 0 0\nouter loop\n{corners}endloop\nendfacet\n")
+        })
+        .collect();
+    std::fs::write(t.path("part.stl"), format!("solid part\n{stl}endsolid part\n")).unwrap();
+    t.run(&["export", "a.spatch", "--cells", "-o", "duck.glb"])
+        .success();
+    t.run(&["export", "a.spatch", "-o", "scans.ply"]).success();
+    t.run(&["export", "a.spatch", "-o", "a.ply"]).success();
+    std::fs::write(t.path("bun.conf"), "bmesh scan.ply 0 0 0 0 0 0 1\n").unwrap();
+    crate::scan_inputs::write_las(&t.path("b.laz"), &crate::scan_inputs::sheet(3.0));
+    let lines = |format: &dyn Fn(&[f64; 3]) -> String| -> String {
+        crate::scan_inputs::sheet(5.0).iter().map(format).collect()
+    };
+    let pts = lines(&|p| format!("{} {} {} -200 10 20 30\n", p[0], p[1], p[2]));
+    std::fs::write(t.path("c.pts"), format!("3600\n{pts}")).unwrap();
+    let text = lines(&|p| format!("{} {} {} 0 0 1 200 100 50\n", p[0], p[1], p[2]));
+    std::fs::write(t.path("scan.txt"), text).unwrap();
+    t.run(&["merge", "a.spatch", "--translate", "5e5,4e6,0", "-o", "utm.spatch"])
+        .success();
+}
+
 #[test]
 fn every_readme_tour_command_runs_as_written() {
     let t = TestCommand::new();
@@ -51,6 +86,7 @@ fn every_readme_tour_command_runs_as_written() {
     for mesh in ["fuze.obj", "part.obj"] {
         std::fs::write(t.path(mesh), OCTAHEDRON).unwrap();
     }
+    write_scan_inputs(&t);
     let commands = tour_commands();
     assert!(commands.len() >= 15, "{commands:?}");
     for args in commands {

@@ -12,7 +12,7 @@ fn shared(relative: &str) -> Option<String> {
 }
 
 /// A 60 × 60 gently curved sheet of points as `x y z` values, shifted by `dx`.
-fn sheet(dx: f64) -> Vec<[f64; 3]> {
+pub(super) fn sheet(dx: f64) -> Vec<[f64; 3]> {
     (0..3600)
         .map(|k| {
             let (x, y) = ((k % 60) as f64 * 0.01 + dx, (k / 60) as f64 * 0.01);
@@ -22,7 +22,7 @@ fn sheet(dx: f64) -> Vec<[f64; 3]> {
 }
 
 /// Writes `points` as a LAS (or LAZ, by extension) file with RGB, 1 mm steps.
-fn write_las(path: &std::path::Path, points: &[[f64; 3]]) {
+pub(super) fn write_las(path: &std::path::Path, points: &[[f64; 3]]) {
     let mut builder = las::Builder::from((1, 4));
     builder.point_format = las::point::Format::new(7).unwrap();
     let mm = las::Transform {
