@@ -164,6 +164,34 @@ fn an_open_tube_seen_into_one_end() {
     render_and_check(&t, "open_tube_triangles", &scene, &flags);
 }
 
+/// Covered pixels of an RGBA PNG.
+fn covered(path: &Path) -> usize {
+    let image = image::open(path).unwrap().to_rgba8();
+    image.pixels().filter(|p| p.0[3] > 0).count()
+}
+
+#[test]
+fn the_tube_inside_shows_with_auto_culling_and_not_with_back() {
+    let t = TestCommand::new();
+    let scene = convert_shape(&t, "tube", &shapes::open_tube(1.0, 3.0, 48, 12));
+    // Straight down the axis: everything seen is the inside.
+    let along = [
+        "--eye", "0,0,6", "--target", "0,0,0", "--width", "64", "--height", "64",
+    ];
+    let mut pixels = Vec::new();
+    for cull in ["auto", "back", "none"] {
+        let png = format!("{cull}.png");
+        let mut args = vec!["render", &scene, "-o", &png, "--cull", cull];
+        args.extend_from_slice(&along);
+        t.run(&args).success();
+        pixels.push(covered(&t.path(&png)));
+    }
+    let [auto, back, none] = [pixels[0], pixels[1], pixels[2]];
+    assert!(back * 20 < auto, "back {back}, auto {auto}");
+    assert_eq!(auto, none, "auto draws the whole inside");
+    assert!(auto > 64 * 64 / 8, "{auto}");
+}
+
 #[test]
 fn a_concave_crease_in_both_modes() {
     let t = TestCommand::new();

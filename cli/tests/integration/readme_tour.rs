@@ -75,6 +75,7 @@ fn every_readme_tour_command_runs_as_written() {
         "a.spatch",
         "b.spatch",
         "scan.spatch",
+        "cylinder.spatch",
     ] {
         t.small_sphere(scene);
     }

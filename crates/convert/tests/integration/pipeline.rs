@@ -27,6 +27,7 @@ fn a_torus_converts_with_every_stage_timed() {
             "segment",
             "fit",
             "edges",
+            "sides",
             "encode"
         ]
     );
@@ -89,4 +90,31 @@ fn a_model_far_from_the_origin_keeps_its_place() {
         (centre - glam::DVec3::splat(1e6)).length() < 0.05,
         "{centre}"
     );
+}
+
+#[test]
+fn an_open_tube_records_its_openings_and_a_torus_none() {
+    use spatch_format::Sides;
+    let torus = mesh_of(&spatch_fixtures::shapes::torus(1.0, 0.3, 64, 24));
+    let closed = convert(ConvertInput::Mesh(torus), &ConvertOptions::default()).unwrap();
+    assert!(closed.scene.openings().is_empty());
+    assert!(closed
+        .scene
+        .patches()
+        .iter()
+        .all(|p| p.sides() == Sides::Front));
+    assert_eq!(closed.report.sides.two_sided_patches, 0);
+    let tube = mesh_of(&spatch_fixtures::shapes::open_tube(1.0, 3.0, 48, 12));
+    let open = convert(ConvertInput::Mesh(tube), &ConvertOptions::default()).unwrap();
+    assert_eq!(open.scene.openings().len(), 2, "two rims");
+    assert!(open
+        .scene
+        .patches()
+        .iter()
+        .all(|p| p.sides() == Sides::ThroughOpenings));
+    assert_eq!(open.report.sides.openings, 2);
+    for o in open.scene.openings() {
+        assert!((o.radius() - 1.0).abs() < 0.01, "{}", o.radius());
+        assert!(o.normal().z.abs() > 0.999 && o.half_thickness() < 1e-3);
+    }
 }

@@ -40,9 +40,15 @@ fn back_faces_are_culled_or_lit_from_behind() {
     let (p, t) = square();
     let mesh = TriangleMesh::new(DVec3::ZERO, &p, &t, MeshColours::None).unwrap();
     let behind = Camera::look_at(DVec3::Z * -2.0, DVec3::ZERO, DVec3::Y, 90.0, 32, 32).unwrap();
-    let culled = rasterize_triangles(&mesh, &behind, &RenderOptions::default()).unwrap();
+    let mut back = RenderOptions::default();
+    back.culling = Culling::Back;
+    let culled = rasterize_triangles(&mesh, &behind, &back).unwrap();
     assert_eq!(culled.image.covered_count(), 0);
     assert_eq!(culled.stats.triangles_culled, 2);
+    // The square is open: automatic culling (the default) draws its back.
+    assert!(!mesh.is_closed());
+    let auto = rasterize_triangles(&mesh, &behind, &RenderOptions::default()).unwrap();
+    assert_eq!(auto.image.covered_count(), 16 * 16);
     let mut o = RenderOptions::default();
     o.culling = Culling::None;
     let two_sided = rasterize_triangles(&mesh, &behind, &o).unwrap();
