@@ -41,14 +41,21 @@ fn write_scan_inputs(t: &TestCommand) {
             let corners: String = f
                 .split(' ')
                 .map(|i| {
-                    let v = OCTAHEDRON.lines().nth(i.parse::<usize>().unwrap() - 1).unwrap();
+                    let v = OCTAHEDRON
+                        .lines()
+                        .nth(i.parse::<usize>().unwrap() - 1)
+                        .unwrap();
                     format!("vertex {}\n", &v[2..])
                 })
                 .collect();
             format!("facet normal 0 0 0\nouter loop\n{corners}endloop\nendfacet\n")
         })
         .collect();
-    std::fs::write(t.path("part.stl"), format!("solid part\n{stl}endsolid part\n")).unwrap();
+    std::fs::write(
+        t.path("part.stl"),
+        format!("solid part\n{stl}endsolid part\n"),
+    )
+    .unwrap();
     t.run(&["export", "a.spatch", "--cells", "-o", "duck.glb"])
         .success();
     t.run(&["export", "a.spatch", "-o", "scans.ply"]).success();
@@ -62,8 +69,15 @@ fn write_scan_inputs(t: &TestCommand) {
     std::fs::write(t.path("c.pts"), format!("3600\n{pts}")).unwrap();
     let text = lines(&|p| format!("{} {} {} 0 0 1 200 100 50\n", p[0], p[1], p[2]));
     std::fs::write(t.path("scan.txt"), text).unwrap();
-    t.run(&["merge", "a.spatch", "--translate", "5e5,4e6,0", "-o", "utm.spatch"])
-        .success();
+    t.run(&[
+        "merge",
+        "a.spatch",
+        "--translate",
+        "5e5,4e6,0",
+        "-o",
+        "utm.spatch",
+    ])
+    .success();
 }
 
 #[test]
