@@ -49,7 +49,7 @@ impl Builder {
     fn push_view(&mut self, bytes: &[u8], target: u32) -> usize {
         let offset = self.buffer.len();
         self.buffer.extend_from_slice(bytes);
-        while self.buffer.len() % 4 != 0 {
+        while !self.buffer.len().is_multiple_of(4) {
             self.buffer.push(0);
         }
         self.views.push(json!({
@@ -231,7 +231,7 @@ pub fn write_glb(
 ) -> Result<Vec<u8>, ExportError> {
     let doc = build_document(meshes, rgba, origin, faces);
     let mut json = serde_json::to_vec(&doc.json).unwrap_or_default();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let bin_len = if doc.buffer.is_empty() {

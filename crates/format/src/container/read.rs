@@ -486,7 +486,7 @@ fn read_sides(section: &RawSection<'_>, patch_count: usize) -> Result<Vec<Sides>
 fn read_openings(section: &RawSection<'_>) -> Result<Vec<Opening>, FormatError> {
     require_raw(section)?;
     let bytes = section.payload;
-    if bytes.len() % OPENING_LEN != 0 {
+    if !bytes.len().is_multiple_of(OPENING_LEN) {
         return Err(corrupt(
             "OPEN",
             format!("{} bytes is not a whole number of openings", bytes.len()),
