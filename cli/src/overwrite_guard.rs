@@ -31,6 +31,14 @@ pub(crate) enum Written {
     Png,
     /// A PLY file.
     Ply,
+    /// A Wavefront OBJ file.
+    Obj,
+    /// A glTF JSON file.
+    Gltf,
+    /// A binary glTF file.
+    Glb,
+    /// A TIFF image.
+    Tiff,
     /// A JSON report.
     Json,
     /// CSV rows.
@@ -43,6 +51,10 @@ impl Written {
             Written::Spatch => "a .spatch scene",
             Written::Png => "a PNG image",
             Written::Ply => "a PLY file",
+            Written::Obj => "an OBJ file",
+            Written::Gltf => "a glTF file",
+            Written::Glb => "a binary glTF file",
+            Written::Tiff => "a TIFF image",
             Written::Json => "JSON",
             Written::Csv => "CSV",
         }
@@ -53,6 +65,10 @@ impl Written {
             Written::Spatch => &["spatch"],
             Written::Png => &["png"],
             Written::Ply => &["ply"],
+            Written::Obj => &["obj"],
+            Written::Gltf => &["gltf"],
+            Written::Glb => &["glb"],
+            Written::Tiff => &["tiff", "tif"],
             Written::Json => &["json"],
             Written::Csv => &["csv"],
         }

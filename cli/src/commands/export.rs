@@ -66,12 +66,7 @@ fn options(args: &ExportArgs) -> anyhow::Result<ExportOptions> {
         Some(FormatArg::Obj) => Format::Obj,
         Some(FormatArg::Gltf) => Format::Gltf,
         Some(FormatArg::Glb) => Format::Glb,
-        None => Format::from_path(&args.output).ok_or_else(|| {
-            anyhow::anyhow!(
-                "{}: cannot tell the format from the extension: use .ply, .obj, .gltf or .glb, or --format",
-                args.output.display()
-            )
-        })?,
+        None => chosen_format(&args.output)?,
     };
     let content = if args.cells {
         Content::Cells
@@ -86,6 +81,20 @@ fn options(args: &ExportArgs) -> anyhow::Result<ExportOptions> {
         PositionsArg::Double => PositionType::F64,
     };
     Ok(options)
+}
+
+/// The format `output`'s extension names; PLY (the format of earlier
+/// versions) when it has none, such as `-` or a named pipe.
+fn chosen_format(output: &std::path::Path) -> anyhow::Result<Format> {
+    if output.extension().is_none() {
+        return Ok(Format::Ply);
+    }
+    Format::from_path(output).ok_or_else(|| {
+        anyhow::anyhow!(
+            "{}: cannot tell the format from the extension: use .ply, .obj, .gltf or .glb, or --format",
+            output.display()
+        )
+    })
 }
 
 /// Reads the scene and writes the export.
@@ -122,8 +131,15 @@ impl ExportArgs {
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
-        crate::overwrite_guard::Files::default()
-            .input(Some(&self.input))
-            .output_as(Some(&self.output), Written::Ply)
+        let files = crate::overwrite_guard::Files::default().input(Some(&self.input));
+        let written = match self.format {
+            Some(FormatArg::Ply) => Written::Ply,
+            Some(FormatArg::Obj) => Written::Obj,
+            Some(FormatArg::Gltf) => Written::Gltf,
+            Some(FormatArg::Glb) => Written::Glb,
+            // The extension chooses the format, so it cannot name another one.
+            None => return files.output(Some(&self.output)),
+        };
+        files.output_as(Some(&self.output), written)
     }
 }

@@ -478,13 +478,23 @@ fn bench(
 }
 
 impl RenderArgs {
+    /// The format `--depth` is written in.
+    fn depth_written(&self) -> crate::overwrite_guard::Written {
+        use crate::overwrite_guard::Written;
+        let path = self.depth.as_deref().unwrap_or(std::path::Path::new(""));
+        match depth_format(self.depth_format, path) {
+            DepthFormatArg::Tiff => Written::Tiff,
+            DepthFormatArg::Png => Written::Png,
+        }
+    }
+
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
         crate::overwrite_guard::Files::default()
             .input(Some(&self.input))
             .output_as(self.output.as_deref(), Written::Png)
-            .output_as(self.depth.as_deref(), Written::Png)
+            .output_as(self.depth.as_deref(), self.depth_written())
             .output_as(self.stats.as_deref(), Written::Json)
     }
 }

@@ -255,11 +255,15 @@ fn an_extension_naming_another_format_is_refused() {
     t.small_sphere("s.spatch");
     t.run(&["render", "s.spatch", "-o", "t.jpg"])
         .assert_one_clear_line("t.jpg: this output is written as a PNG image");
-    t.run(&["export", "s.spatch", "-o", "t.obj"])
-        .assert_one_clear_line("t.obj");
+    t.run(&["export", "s.spatch", "-o", "t.stl"])
+        .assert_one_clear_line("t.stl: cannot tell the format");
+    t.run(&["export", "s.spatch", "--format", "ply", "-o", "t.obj"])
+        .assert_one_clear_line("t.obj: this output is written as a PLY file");
     t.run(&["sphere", "-o", "t.png"])
         .assert_one_clear_line("t.png");
-    assert!(!t.path("t.jpg").exists() && !t.path("t.obj").exists());
+    for refused in ["t.jpg", "t.stl", "t.obj"] {
+        assert!(!t.path(refused).exists(), "{refused}");
+    }
     // Unknown extensions are the user's choice.
     t.run(&["render", "s.spatch", "-o", "t.PNG", "--stats", "t.txt"])
         .success();

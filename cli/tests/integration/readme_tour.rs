@@ -69,15 +69,17 @@ fn write_scan_inputs(t: &TestCommand) {
     std::fs::write(t.path("c.pts"), format!("3600\n{pts}")).unwrap();
     let text = lines(&|p| format!("{} {} {} 0 0 1 200 100 50\n", p[0], p[1], p[2]));
     std::fs::write(t.path("scan.txt"), text).unwrap();
-    t.run(&[
+    let far = "5e5,4e6,0";
+    let utm = [
         "merge",
         "a.spatch",
+        "b.spatch",
         "--translate",
-        "5e5,4e6,0",
-        "-o",
-        "utm.spatch",
-    ])
-    .success();
+        far,
+        "--translate",
+        far,
+    ];
+    t.run(&[&utm[..], &["-o", "utm.spatch"]].concat()).success();
 }
 
 #[test]

@@ -281,17 +281,22 @@ fn issue_22_depth_as_float_tiff_with_its_camera() {
         "{centre}"
     );
     assert!(depth[0].is_nan(), "a corner sees nothing");
-    // --depth-format png overrides the extension.
-    t.run(&[
-        "render",
-        &name,
-        "-o",
-        "s.png",
-        "--depth",
-        "e.tiff",
-        "--depth-format",
-        "png",
-    ])
-    .success();
-    assert_eq!(&std::fs::read(t.path("e.tiff")).unwrap()[1..4], b"PNG");
+    // --depth-format png writes a PNG: into a file named .png, never one named .tiff.
+    let depth_png = |depth: &str| {
+        let args = [
+            "render",
+            &name,
+            "-o",
+            "s.png",
+            "--depth",
+            depth,
+            "--depth-format",
+            "png",
+        ];
+        t.run(&args)
+    };
+    depth_png("e.tiff").assert_one_clear_line("e.tiff: this output is written as a PNG image");
+    assert!(!t.path("e.tiff").exists());
+    depth_png("e.png").success();
+    assert_eq!(&std::fs::read(t.path("e.png")).unwrap()[1..4], b"PNG");
 }
