@@ -87,12 +87,18 @@ pub(crate) struct FromCloudArgs {
     #[arg(long, default_value_t = CloudOptions::DEFAULT_NORMAL_VOXEL)]
     normal_voxel: f32,
     /// Do not move the points onto their local plane before drawing the
-    /// range images. By default overlapping scans are first merged into one
-    /// surface (each point onto the least-squares plane of its voxel block,
+    /// range images. When the inputs hold several scans (a pose file, several
+    /// files, an E57 of several scans), overlapping scans are first merged into
+    /// one surface (each point onto the least-squares plane of its voxel block,
     /// except at creases and thin parts), which removes the specks and
     /// z-fighting of registered scan sets.
     #[arg(long)]
     no_consensus: bool,
+    /// Merge overlapping points into one surface even when the inputs hold a
+    /// single scan (see --no-consensus; it can flatten fine detail of a clean
+    /// single cloud).
+    #[arg(long, conflicts_with = "no_consensus")]
+    consensus: bool,
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
@@ -134,7 +140,6 @@ impl FromCloudArgs {
         options.grid = self.grid;
         options.spacing = self.spacing;
         options.normal_voxel = self.normal_voxel;
-        options.consensus = !self.no_consensus;
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options
     }
@@ -142,9 +147,10 @@ impl FromCloudArgs {
 
 /// Loads the cloud, converts it, writes the scene (and the report).
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
-    let options = args.options();
+    let mut options = args.options();
     let started = Instant::now();
     let loaded = read_inputs(args)?;
+    options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
     let load_seconds = started.elapsed().as_secs_f64();
     let label = args.input_label();
     let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {

@@ -138,6 +138,7 @@ fn no_consensus_leaves_the_points_where_they_are() {
         "a.spatch",
         "--report",
         "a.json",
+        "--consensus",
     ])
     .success();
     t.run(&[
@@ -150,7 +151,21 @@ fn no_consensus_leaves_the_points_where_they_are() {
         "--no-consensus",
     ])
     .success();
+    // One scan: no consensus unless asked for.
+    t.run(&[
+        "from-cloud",
+        "sheet.xyz",
+        "-o",
+        "c.spatch",
+        "--report",
+        "c.json",
+    ])
+    .success();
     let (a, b): (serde_json::Value, serde_json::Value) = (t.json("a.json"), t.json("b.json"));
     assert!(a["details"]["consensus_points"].as_u64().unwrap() > 14_000);
     assert_eq!(b["details"]["consensus_points"], 0);
+    assert_eq!(
+        t.json::<serde_json::Value>("c.json")["details"]["consensus_points"],
+        0
+    );
 }
