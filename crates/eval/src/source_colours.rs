@@ -3,7 +3,7 @@
 //! vertex colour), on triangles subdivided finely enough that the
 //! rasterizer's interpolation between corners follows the texture.
 //!
-//! Input: a source mesh. Output: a [`ColouredSource`] (positions relative
+//! Input: a source mesh. Output: a `ColouredSource` (positions relative
 //! to the mesh origin, triangles, one colour per corner) and how it was
 //! drawn ([`SourceDrawing`]); a mesh without colour gives `None` and is
 //! drawn grey as before.

@@ -13,8 +13,8 @@
 //! flipped to `v` up (`v' = 1 - v`), the convention of every mesh here.
 //!
 //! Compression and quantization: `KHR_mesh_quantization` (integer and normalized-integer
-//! attributes, dequantized by [`gltf_accessor`](super::gltf_accessor)) and
-//! `EXT_meshopt_compression` (views decoded by [`gltf_buffers`](super::gltf_buffers)) are
+//! attributes, dequantized by `gltf_accessor`) and
+//! `EXT_meshopt_compression` (views decoded by `gltf_buffers`) are
 //! read. Refused with [`MeshError::GltfExtensionRequired`]: files that *require* any other
 //! extension not known to affect only shading (`KHR_draco_mesh_compression` among them: no
 //! maintained pure-Rust Draco decoder was found fit to rely on). Accessors are checked (type,
@@ -23,7 +23,7 @@
 //! file gives an error, not a panic.
 //!
 //! External files (buffers, images) are read only from the model's folder or below
-//! ([`local_reference`](super::local_reference)).
+//! (`local_reference`).
 //!
 //! Cost: O(vertices + indices) after the JSON parse; buffers are held in memory.
 //!

@@ -2,7 +2,7 @@
 //!
 //! Buffers: the GLB `BIN` chunk (the first buffer with no URI), `data:` URIs (base64) and
 //! relative files, resolved only inside the model's folder
-//! ([`local_reference`](super::local_reference)). A buffer with no URI that is the fallback
+//! (`local_reference`). A buffer with no URI that is the fallback
 //! of `EXT_meshopt_compression` is not loaded (its views are decoded instead).
 //!
 //! Views: a plain view is a slice of its buffer; a view carrying `EXT_meshopt_compression` is

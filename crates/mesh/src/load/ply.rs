@@ -5,7 +5,7 @@
 //! `r g b [a]` or `diffuse_red ...`); the `face` element gives polygons through a
 //! `vertex_indices` or `vertex_index` list of any integer type, fanned into triangles, or,
 //! when there is no `face` element, a `tristrips` element's `vertex_indices` lists (strips
-//! with `-1` restarts, see [`tristrips`](super::tristrips)). Other
+//! with `-1` restarts, see `tristrips`). Other
 //! vertex properties (confidence, intensity, ...) and other elements (`range_grid` of raw
 //! scans, `edge`, `material`, ...) before or after are skipped; reading stops once the needed
 //! elements are read.
