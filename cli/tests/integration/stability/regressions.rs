@@ -1,19 +1,10 @@
 //! Every input under `testdata/regression/` goes through its reader without a panic.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The files of `testdata/regression/<target>`, sorted.
 fn inputs(target: &str) -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../testdata/regression")
-        .join(target);
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "{}: no inputs", dir.display());
-    files
+    spatch_fixtures::regression_inputs(target)
 }
 
 /// Bytes through the container decoder (as the `format_decode` target): a scene or an

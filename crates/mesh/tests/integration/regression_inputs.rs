@@ -2,20 +2,11 @@
 //! (seeds and corpus samples that reach the readers' error paths): each loads or fails with
 //! a one-line error, never a panic.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The files of `testdata/regression/<target>`, sorted.
 fn inputs(target: &str) -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../testdata/regression")
-        .join(target);
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| entry.unwrap().path())
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "{}: no inputs", dir.display());
-    files
+    spatch_fixtures::regression_inputs(target)
 }
 
 /// Loads every input of `target` as its fuzz target does (`prefix` before the bytes, the
