@@ -36,6 +36,12 @@ pub(crate) const ATTR_ONE: f32 = (1u32 << ATTR_FRAC_BITS) as f32;
 /// Marks an empty (or unused) node in a projected-node array.
 pub(crate) const EMPTY_NODE: i32 = i32::MIN;
 
+/// Values per projected node: x, y, depth (fixed point), then up to 6
+/// attributes (float bits, see [`attr_to_bits`]).
+pub(crate) const NODE_WIDTH: usize = 9;
+/// A projected node (fixed point; see the module header).
+pub(crate) type Node = [i32; NODE_WIDTH];
+
 /// A screen position in pixels to fixed point (saturating, truncating).
 #[inline]
 pub(crate) fn position_to_fixed(v: f32) -> i32 {

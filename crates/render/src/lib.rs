@@ -2,20 +2,51 @@
 //!
 //! [`render`] draws a [`Scene`](spatch_format::Scene) the way the original
 //! work did, stage by stage: frustum visibility with a guard band and
-//! splitting of partially visible patches ([`cull`](crate) / `split`),
-//! back-face culling by normal cones, a per-patch plan choosing the mip
-//! level, the optimized node-placing path or cell subdivision (bilinear in
-//! fixed point, or C1 Catmull-Rom), node traversal by trilinear
-//! interpolation of the projected box (or exact projection), shading in
-//! patch space with a normal buffer (flat, Gouraud, deferred Phong), on a
-//! tiled framebuffer rendered by a thread pool, with supersampling. A
-//! triangle mode draws each cell as two triangles through a scan-line
-//! rasterizer, which [`rasterize_triangles`] also offers for any mesh.
+//! splitting of partially visible patches, back-face culling by normal
+//! cones, a per-patch plan choosing the mip level, the optimized
+//! node-placing path, node splats or cell subdivision (bilinear in fixed
+//! point, or C1 Catmull-Rom), node traversal by trilinear interpolation of
+//! the projected box (or exact projection), shading in patch space with a
+//! normal buffer (flat, Gouraud, deferred Phong), on a tiled framebuffer
+//! rendered by a thread pool, with supersampling. A triangle mode draws
+//! each cell as two triangles through a scan-line rasterizer, which
+//! [`rasterize_triangles`] also offers for any mesh.
 //!
 //! Main types: [`Camera`] (OpenGL look-at, pixel centres at +0.5, row 0 at
 //! the top), [`RenderOptions`], [`PreparedScene`] and [`Renderer`] for
 //! repeated frames, [`RenderedImage`] (colour, depth, PNG encodings) and
 //! [`RenderStats`].
+//!
+//! # Layers
+//!
+//! The modules form one layered order: a module uses only modules of its
+//! own layer or of a layer above it in this list, and within a layer the
+//! uses form no circle; each layer lists its modules in use order (a
+//! module uses only those before it). The integration test `layers`
+//! checks this on every `crate::` path outside the tests.
+//!
+//! 1. Vocabulary, shared by every stage: `error`, `options`, `fixed`
+//!    (fixed-point formats and the projected node), `grid` (cell flags,
+//!    closing and edge masks, node weights), `camera`, `lighting`
+//!    (Blinn-Phong in patch space, packed normals and colours).
+//! 2. `prepare/`, once per scene: normal reconstruction and slots, the
+//!    normal buffer, the mip pyramid, the normal cone, the prepared patch,
+//!    overlap trimming, the prepared scene.
+//! 3. `raster/`, the kernels that write samples into a band: the band
+//!    store, bilinear cells and nodes, Catmull-Rom cells, node splats,
+//!    the scan-line triangle rasterizer.
+//! 4. `plan/`, once per frame and patch: culling, splitting, lane
+//!    conversions, projection, cell measurement, subdivision, counters,
+//!    the chunk's work, attributes, cells as triangles, the piece, the
+//!    chunk, meshes.
+//! 5. `shade/`, the deferred resolve: the Phong items, the per-pixel
+//!    resolve pass.
+//! 6. `frame/`, the frame driver: the image, bins and bands, statistics,
+//!    the [`Renderer`], the projection shortcuts' costs.
+//!
+//! Planning sits above the raster kernels because it sizes their work
+//! (subdivision limits, splat footprints, triangle clipping); the kernels
+//! know nothing of patches. See docs/architecture.md.
 //!
 //! ```
 //! use spatch_render::{render, Camera, PreparedScene, RenderOptions};
@@ -36,47 +67,25 @@
 #![forbid(unsafe_code)]
 
 mod camera;
-mod cell_bilinear;
-mod cell_smooth;
-mod cull;
 mod error;
 mod fixed;
-mod framebuffer;
-mod mesh;
-mod mip;
-mod normal_buffer;
+mod frame;
+mod grid;
+mod lighting;
 mod options;
-mod overlap;
 mod plan;
 mod prepare;
-mod render;
+mod raster;
 mod shade;
-mod shortcuts;
-mod splat;
-mod split;
-mod stats;
 #[cfg(test)]
 mod test_rng;
-mod tiles;
-mod traverse;
-mod triangle_raster;
 
 pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use error::{CameraProblem, RenderError};
-pub use framebuffer::RenderedImage;
-pub use mesh::{MeshColours, TriangleMesh};
+pub use frame::image::RenderedImage;
+pub use frame::render::{rasterize_triangles, render, RenderOutput, Renderer};
+pub use frame::shortcuts::{measure_shortcuts, ShortcutCost, ShortcutCosts};
+pub use frame::stats::{RenderStats, StageTimes};
 pub use options::{CellScheme, Culling, Lighting, Projection, RenderMode, RenderOptions, Shading};
-pub use prepare::PreparedScene;
-pub use render::{rasterize_triangles, render, RenderOutput, Renderer};
-pub use shortcuts::{measure_shortcuts, ShortcutCost, ShortcutCosts};
-pub use stats::{RenderStats, StageTimes};
-
-impl PreparedScene {
-    /// The automatic camera for this scene (see [`Camera::framing`]).
-    pub fn auto_camera(&self, width: u32, height: u32) -> Result<Camera, CameraProblem> {
-        let (centre, radius) = self
-            .bounding_sphere()
-            .ok_or(CameraProblem::NothingToFrame)?;
-        Camera::framing(centre, radius, Camera::DEFAULT_FOV_Y_DEGREES, width, height)
-    }
-}
+pub use plan::mesh::{MeshColours, TriangleMesh};
+pub use prepare::scene::PreparedScene;

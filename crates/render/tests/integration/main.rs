@@ -8,9 +8,12 @@
 //!   projection / cell / shading / mip / supersampling variants.
 //! - `mesh`: the public triangle rasterizer on plain meshes.
 //! - `camera`: degenerate cameras and options refused.
+//! - `layers`: the modules of `src/` form one layered order without
+//!   import circles (reads the sources).
 
 mod camera;
 mod common;
+mod layers;
 mod mesh;
 mod modes;
 mod near_plane;

@@ -8,7 +8,7 @@
 //! are extrapolated linearly (`p[-1] = 2 p[0] - p[1]`), which makes the
 //! spline end like the bilinear cell there.
 //!
-//! Sub-nodes are placed as in [`crate::cell_bilinear`] (same `nu × nv`
+//! Sub-nodes are placed as in [`crate::raster::cell_bilinear`] (same `nu × nv`
 //! pattern and edge rule); the planner picks them with a 30 % margin since
 //! the curved cell can bulge beyond its corners' extent.
 //!
@@ -19,10 +19,10 @@
 //! Based on: E. Catmull, R. Rom, "A class of local interpolating splines",
 //! 1974.
 
-use crate::cell_bilinear::{sub_word, MAX_SUBDIVISION};
-use crate::fixed::EMPTY_NODE;
-use crate::framebuffer::{splat_sample, BandTarget};
-use crate::traverse::{cell_drawable, Node};
+use crate::fixed::{Node, EMPTY_NODE};
+use crate::grid::cell_drawable;
+use crate::raster::band::{splat_sample, BandTarget};
+use crate::raster::cell_bilinear::{sub_word, MAX_SUBDIVISION};
 
 /// Catmull-Rom weights at parameter `t` in [0, 1].
 #[inline]

@@ -1,7 +1,7 @@
 //! Splitting of partially visible patches.
 //!
 //! A patch whose box is neither inside the guard band nor outside the
-//! frustum (see [`crate::cull`]) is cut in two along its longer side (the
+//! frustum (see [`crate::plan::cull`]) is cut in two along its longer side (the
 //! halves share the middle row of nodes, so no crack opens), and each half
 //! is classified again with its own, tighter box. Halves outside are
 //! dropped, halves inside are drawn like whole patches, and a single cell
@@ -16,8 +16,8 @@
 
 use glam::{Mat3, Vec3};
 
-use crate::cull::{BoxClass, Frustum};
-use crate::mip::MipLevel;
+use crate::plan::cull::{BoxClass, Frustum};
+use crate::prepare::mip::MipLevel;
 
 /// An inclusive range of nodes of a grid: `i0..=i1` × `j0..=j1`, at least
 /// one cell.
@@ -134,7 +134,7 @@ mod tests {
     fn a_patch_crossing_the_near_plane_splits_into_inside_pieces_and_clipped_cells() {
         let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
         let patch = Patch::new(frame, GridSize::new(9, 9).unwrap(), vec![0; 81], None).unwrap();
-        let level = &crate::mip::build_mip_pyramid(&patch)[0];
+        let level = &crate::prepare::mip::build_mip_pyramid(&patch)[0];
         // Map (i, j, d) -> (X, Y, W) = (50 W, 50 W, i - 3.5): W crosses near = 1 at i = 4.5.
         let map = Mat3::from_cols(Vec3::new(50.0, 50.0, 1.0), Vec3::ZERO, Vec3::ZERO);
         let t0 = Vec3::new(-175.0, -175.0, -3.5);
@@ -175,7 +175,10 @@ mod tests {
         d[7] = spatch_format::EMPTY;
         d[16] = spatch_format::EMPTY;
         let patch = Patch::new(frame, GridSize::new(9, 9).unwrap(), d, None).unwrap();
-        for (m, level) in crate::mip::build_mip_pyramid(&patch).iter().enumerate() {
+        for (m, level) in crate::prepare::mip::build_mip_pyramid(&patch)
+            .iter()
+            .enumerate()
+        {
             let whole = NodeRange::whole(level);
             let used = (0..level.cols * level.rows).filter(|&k| level.used[k]);
             let ds: Vec<u16> = used.map(|k| level.displacements[k]).collect();

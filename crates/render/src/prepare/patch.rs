@@ -1,11 +1,6 @@
-//! Per-scene preparation, done once and reused for every frame: model-space
-//! frames in f64, the mip pyramid of each patch, its normal cone and
-//! bounding sphere, and the drawing order.
-//!
-//! Patches are ordered by their shading ratios (`|az|/|ax|`, `|az|/|ay|`)
-//! so that the normal buffer ([`crate::normal_buffer`]) stays valid from
-//! one patch to the next; the order is stable, so equal ratios keep file
-//! order.
+//! One patch prepared once per scene and reused for every frame: its
+//! model-space frame in f64, its mip pyramid (level 0 at once, the others
+//! on first use), its normal cone and bounding sphere.
 //!
 //! Each level also keeps its nodes' unit patch-space normals (and albedos)
 //! in the form the Phong resolve pass interpolates ([`LevelShading`]):
@@ -13,19 +8,19 @@
 //! them into its projected nodes. They are built the first time a Phong
 //! frame draws the level ([`PreparedPatch::shading`]), and kept.
 //!
-//! Cost: O(nodes) time; about 1.4× the scene's node memory, plus 16 bytes
+//! Cost: O(nodes) time; about 1.4× the patch's node memory, plus 16 bytes
 //! per node of every level drawn so far for the normals (32 with colours).
 
 use std::cell::RefCell;
 use std::sync::OnceLock;
 
 use glam::{DMat3, DVec3, Vec4};
-use rayon::prelude::*;
-use spatch_format::{Patch, Scene, Sides, EMPTY};
+use spatch_format::{Patch, Sides, EMPTY};
 
-use crate::cull::{compute_normal_cone, NormalCone, Portal};
-use crate::mip::{base_level, coarse_level_count, halve_level, MipLevel};
-use crate::normal_buffer::{node_differences, NormalBuffer, SlotSet, OUTSIDE_TABLE};
+use crate::prepare::cone::{compute_normal_cone, NormalCone};
+use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
+use crate::prepare::normal_buffer::{NormalBuffer, SlotSet};
+use crate::prepare::normals::{node_differences, OUTSIDE_TABLE};
 
 thread_local! {
     /// The normal buffer through which a thread builds shading inputs
@@ -49,7 +44,7 @@ pub(crate) struct PreparedPatch {
     pub(crate) radius: f64,
     /// Which sides the scene says may be seen (automatic culling).
     pub(crate) sides: Sides,
-    /// Level 0 of the mip pyramid ([`crate::mip`]).
+    /// Level 0 of the mip pyramid ([`crate::prepare::mip`]).
     pub(crate) base: MipLevel,
     /// Levels 1 and up, each built from the one below the first time a
     /// frame asks for it ([`Self::level`]).
@@ -126,7 +121,7 @@ impl PreparedPatch {
     /// `patch` ready to draw (its shading inputs are built on first use,
     /// [`Self::shading`]) and the corners of its box in model space; `None`
     /// when it has no drawable cell.
-    fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
+    pub(crate) fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
         let base = base_level(patch)?;
         let levels = 1 + coarse_level_count(&base);
         let frame = patch.frame();
@@ -208,159 +203,10 @@ impl PreparedPatch {
     }
 }
 
-/// A scene prepared for rendering (see the module header). Build it once
-/// and render it many times.
-#[derive(Debug, Clone)]
-pub struct PreparedScene {
-    pub(crate) patches: Vec<PreparedPatch>,
-    /// The scene's openings in model space.
-    pub(crate) portals: Vec<Portal>,
-    pub(crate) bounds: Option<(DVec3, DVec3)>,
-    pub(crate) sphere: Option<(DVec3, f64)>,
-    skipped: usize,
-    trimmed_cells: u64,
-}
-
-impl PreparedScene {
-    /// Prepares `scene`. Patches without a drawable cell are left out.
-    pub fn new(scene: &Scene) -> Self {
-        Self::prepare(scene, false)
-    }
-
-    /// Prepares `scene` and trims the level-0 cells that an earlier patch
-    /// already draws (docs/algorithms/overlap.md): frames of scenes whose patches
-    /// overlap draw fewer cells, for a one-off cost here (the perfect
-    /// sphere: 98,559 of 348,672 cells, 13 % of the instructions of a 500²
-    /// frame, for about 40 ms more with 2 threads).
-    pub fn trimming_overlaps(scene: &Scene) -> Self {
-        Self::prepare(scene, true)
-    }
-
-    /// Why in parallel: every patch is prepared on its own (its pyramid,
-    /// cone and box), and preparation was most of a one-frame render (the
-    /// perfect sphere: ≈ 320 M instructions against ≈ 80 M for a 500²
-    /// frame, before the shading inputs moved to first use). It runs on the
-    /// current rayon pool
-    /// ([`crate::Renderer::prepare`] uses the renderer's); the result does
-    /// not depend on the number of threads.
-    fn prepare(scene: &Scene, trim: bool) -> Self {
-        let offset = scene.offset();
-        let built: Vec<Option<(PreparedPatch, [DVec3; 8])>> = scene
-            .patches()
-            .par_iter()
-            .map(|patch| PreparedPatch::new(patch, offset))
-            .collect();
-        let skipped = built.iter().filter(|b| b.is_none()).count();
-        let (mut patches, corners): (Vec<PreparedPatch>, Vec<[DVec3; 8]>) =
-            built.into_iter().flatten().unzip();
-        let trimmed_cells = if trim {
-            crate::overlap::trim_overlaps(&mut patches)
-        } else {
-            0
-        };
-        // Drawing order (after trimming, which relies on scene order).
-        patches.sort_by(|a, b| {
-            (a.ratios.0, a.ratios.1)
-                .partial_cmp(&(b.ratios.0, b.ratios.1))
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        let bounds = corners.iter().flatten().fold(None, |b, &p| {
-            let (lo, hi) = b.unwrap_or((p, p));
-            Some((p.min(lo), p.max(hi)))
-        });
-        // Bounding sphere: the box centre, and the farthest patch-box corner.
-        let sphere = bounds.map(|(lo, hi): (DVec3, DVec3)| {
-            let c = (lo + hi) * 0.5;
-            let r = corners
-                .iter()
-                .flatten()
-                .map(|p| (*p - c).length())
-                .fold(0.0, f64::max);
-            (c, r)
-        });
-        let portals = scene
-            .openings()
-            .iter()
-            .map(|o| Portal {
-                centre: offset + o.centre().as_dvec3(),
-                radius: f64::from(o.radius()),
-                normal: o.normal().as_dvec3(),
-                half_thickness: f64::from(o.half_thickness()),
-            })
-            .collect();
-        Self {
-            patches,
-            portals,
-            bounds,
-            sphere,
-            skipped,
-            trimmed_cells,
-        }
-    }
-
-    /// Number of patches that will be considered for drawing.
-    pub fn patch_count(&self) -> usize {
-        self.patches.len()
-    }
-
-    /// Patches left out because they have no drawable cell.
-    pub fn skipped_patches(&self) -> usize {
-        self.skipped
-    }
-
-    /// Level-0 cells left out because an earlier patch draws them (0 unless
-    /// prepared with [`Self::trimming_overlaps`]).
-    pub fn trimmed_cells(&self) -> u64 {
-        self.trimmed_cells
-    }
-
-    /// Model-space box of the scene (loose: built from patch boxes).
-    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        self.bounds
-    }
-
-    /// A bounding sphere `(centre, radius)` of the scene.
-    pub fn bounding_sphere(&self) -> Option<(DVec3, f64)> {
-        self.sphere
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::normal_buffer::node_differences;
-    use glam::Vec3;
-    use spatch_format::{ColourChannel, Frame, GridSize};
-
-    /// A 5 × 5 patch at `x` whose codes are `codes` (a code may be EMPTY).
-    fn patch_at(x: f32, codes: [u16; 25]) -> Patch {
-        let frame = Frame::new(Vec3::new(x, 0.0, 0.0), Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
-        Patch::new(frame, GridSize::new(5, 5).unwrap(), codes.to_vec(), None).unwrap()
-    }
-
-    #[test]
-    fn patches_without_a_drawable_cell_are_left_out_in_order() {
-        // Patch 1 has no cell with four filled corners (a checkerboard of
-        // empty nodes); the others keep their order and their boxes.
-        let full = [3; 25];
-        let sparse: [u16; 25] = std::array::from_fn(|k| if k % 2 == 0 { 3 } else { EMPTY });
-        let patches = vec![
-            patch_at(0.0, full),
-            patch_at(10.0, sparse),
-            patch_at(20.0, full),
-        ];
-        let scene = Scene::new(DVec3::ZERO, ColourChannel::None, patches).unwrap();
-        let prepared = PreparedScene::new(&scene);
-        assert_eq!((prepared.patch_count(), prepared.skipped_patches()), (2, 1));
-        let origins: Vec<f64> = prepared.patches.iter().map(|p| p.origin.x).collect();
-        assert_eq!(origins, [0.0, 20.0]);
-        let (lo, hi) = prepared.bounds().unwrap();
-        assert_eq!((lo.x, hi.x), (0.0, 24.0));
-        let empty = Scene::new(DVec3::ZERO, ColourChannel::None, Vec::new()).unwrap();
-        let none = PreparedScene::new(&empty);
-        assert_eq!(none.patch_count(), 0);
-        assert!(none.bounds().is_none() && none.bounding_sphere().is_none());
-    }
+    use crate::prepare::scene::PreparedScene;
 
     #[test]
     fn prepared_normals_are_the_normals_nodes_carried() {

@@ -17,8 +17,8 @@
 
 use spatch_format::{Patch, EMPTY};
 
-use crate::normal_buffer::grid_slots;
-use crate::traverse::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
+use crate::grid::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
+use crate::prepare::normals::grid_slots;
 
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;

@@ -10,71 +10,8 @@
 
 use serde::Serialize;
 
-use crate::mip::MAX_MIP_LEVELS;
-use crate::normal_buffer::NormalCounts;
 use crate::options::RenderOptions;
-
-/// Counters of one chunk of work (summed into [`RenderStats`]).
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Counters {
-    pub(crate) patches: u64,
-    pub(crate) culled_frustum: u64,
-    pub(crate) culled_backface: u64,
-    pub(crate) cells_backface: u64,
-    pub(crate) split: u64,
-    pub(crate) split_pieces: u64,
-    pub(crate) pieces_dropped: u64,
-    pub(crate) clipped_cells: u64,
-    pub(crate) oversized_pieces: u64,
-    pub(crate) optimized: u64,
-    pub(crate) interpolated: u64,
-    pub(crate) splatted: u64,
-    pub(crate) mip: [u64; MAX_MIP_LEVELS],
-    pub(crate) patch_nodes: u64,
-    pub(crate) interpolated_nodes: u64,
-    pub(crate) normals: NormalCounts,
-    pub(crate) triangles: u64,
-    pub(crate) triangles_clipped: u64,
-    pub(crate) triangles_culled: u64,
-    pub(crate) cull_ns: u64,
-    pub(crate) split_ns: u64,
-    pub(crate) traverse_ns: u64,
-    pub(crate) normals_ns: u64,
-    pub(crate) setup_ns: u64,
-}
-
-impl std::ops::AddAssign<&Counters> for Counters {
-    fn add_assign(&mut self, o: &Counters) {
-        self.patches += o.patches;
-        self.culled_frustum += o.culled_frustum;
-        self.culled_backface += o.culled_backface;
-        self.cells_backface += o.cells_backface;
-        self.split += o.split;
-        self.split_pieces += o.split_pieces;
-        self.pieces_dropped += o.pieces_dropped;
-        self.clipped_cells += o.clipped_cells;
-        self.oversized_pieces += o.oversized_pieces;
-        self.optimized += o.optimized;
-        self.interpolated += o.interpolated;
-        self.splatted += o.splatted;
-        for (a, b) in self.mip.iter_mut().zip(o.mip) {
-            *a += b;
-        }
-        self.patch_nodes += o.patch_nodes;
-        self.interpolated_nodes += o.interpolated_nodes;
-        self.normals.needed += o.normals.needed;
-        self.normals.computed_per_patch_buffer += o.normals.computed_per_patch_buffer;
-        self.normals.computed_ordered_buffer += o.normals.computed_ordered_buffer;
-        self.triangles += o.triangles;
-        self.triangles_clipped += o.triangles_clipped;
-        self.triangles_culled += o.triangles_culled;
-        self.cull_ns += o.cull_ns;
-        self.split_ns += o.split_ns;
-        self.traverse_ns += o.traverse_ns;
-        self.normals_ns += o.normals_ns;
-        self.setup_ns += o.setup_ns;
-    }
-}
+use crate::plan::counters::Counters;
 
 /// Time per stage, milliseconds.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]

@@ -38,9 +38,9 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::mip::MipLevel;
-use crate::prepare::PreparedPatch;
-use crate::traverse::CELL_DRAW;
+use crate::grid::CELL_DRAW;
+use crate::prepare::mip::MipLevel;
+use crate::prepare::patch::PreparedPatch;
 
 /// Largest distance between a trimmed cell's corners and the covering
 /// surface, in units of the covering patch's node spacing.
@@ -470,9 +470,9 @@ mod tests {
     use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
 
     use crate::camera::Camera;
+    use crate::frame::render::Renderer;
     use crate::options::RenderOptions;
-    use crate::prepare::PreparedScene;
-    use crate::render::Renderer;
+    use crate::prepare::scene::PreparedScene;
 
     /// A flat 9 × 9 patch with unit spacing at `origin`, axes `ax, ay` and
     /// normal axis of length 0.01 completing them, every code `d`.

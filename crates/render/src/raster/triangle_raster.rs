@@ -25,7 +25,7 @@
 use glam::Vec3;
 
 use crate::fixed::{attr_to_fixed, depth_to_fixed};
-use crate::framebuffer::{splat, BandTarget, Payload};
+use crate::raster::band::{splat, BandTarget, Payload};
 
 /// Attributes carried per vertex (the most any shading model needs).
 pub(crate) const TRI_ATTRS: usize = 6;
@@ -242,7 +242,7 @@ pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
 mod tests {
     use super::*;
     use crate::fixed::Z_FAR;
-    use crate::framebuffer::FlatPayload;
+    use crate::raster::band::{FlatPayload, Sample};
 
     fn vertex(x: f32, y: f32, w: f32) -> ClipVertex {
         ClipVertex {
@@ -269,7 +269,7 @@ mod tests {
         }
         let mut hits = vec![0u32; w * h];
         for tri in &tris {
-            let mut px = vec![crate::framebuffer::Sample::EMPTY; w * h];
+            let mut px = vec![Sample::EMPTY; w * h];
             let mut t = BandTarget {
                 width: w as i32,
                 y0: 0,

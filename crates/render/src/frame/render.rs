@@ -12,16 +12,23 @@ use rayon::prelude::*;
 use spatch_format::Scene;
 
 use crate::camera::{Camera, View};
-use crate::cull::Frustum;
 use crate::error::RenderError;
-use crate::framebuffer::{Band, PhongItems, RenderedImage, Resolve};
-use crate::mesh::{plan_mesh_chunk, TriangleMesh};
+use crate::fixed::{attr_from_bits, attr_to_bits};
+use crate::frame::image::RenderedImage;
+use crate::frame::stats::RenderStats;
+use crate::frame::tiles::{render_band, BandJob, Bins};
+use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
-use crate::plan::{plan_chunk, ChunkWork, FrameSetup, PATCH_CHUNK};
-use crate::prepare::{PreparedPatch, PreparedScene};
-use crate::shade::{Material, ShadeFrame, WorldLight};
-use crate::stats::{Counters, RenderStats};
-use crate::tiles::{render_band, BandJob, Bins};
+use crate::plan::chunk::plan_chunk;
+use crate::plan::counters::Counters;
+use crate::plan::cull::Frustum;
+use crate::plan::mesh::{plan_mesh_chunk, TriangleMesh};
+use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
+use crate::prepare::patch::PreparedPatch;
+use crate::prepare::scene::PreparedScene;
+use crate::raster::band::Band;
+use crate::shade::phong_items::PhongItems;
+use crate::shade::resolve::Resolve;
 
 /// Triangles per unit of parallel set-up work for meshes.
 const TRIANGLE_CHUNK: usize = 4096;
@@ -243,7 +250,7 @@ impl Renderer {
                     setup
                         .base_colour
                         .to_array()
-                        .map(|c| crate::fixed::attr_from_bits(crate::fixed::attr_to_bits(c))),
+                        .map(|c| attr_from_bits(attr_to_bits(c))),
                 ),
                 background: options.background,
                 near: view.near as f32,

@@ -28,10 +28,10 @@
 //! with a square footprint sized from the projected lattice so that the
 //! splats of a patch's nodes close every gap between them.
 
-use crate::cell_bilinear::sub_word;
-use crate::fixed::{EMPTY_NODE, XY_FRAC_BITS, XY_ONE};
-use crate::framebuffer::BandTarget;
-use crate::traverse::{Node, CELL_DRAW};
+use crate::fixed::{Node, EMPTY_NODE, XY_FRAC_BITS, XY_ONE};
+use crate::grid::CELL_DRAW;
+use crate::raster::band::BandTarget;
+use crate::raster::cell_bilinear::sub_word;
 
 /// Half a pixel in position units.
 const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
@@ -154,10 +154,9 @@ pub(crate) fn draw_splats(t: &mut BandTarget<'_>, piece: &SplatPiece<'_>, item: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Z_FAR;
-    use crate::framebuffer::Sample;
+    use crate::fixed::{NODE_WIDTH, Z_FAR};
+    use crate::raster::band::Sample;
     use crate::test_rng::XorShift;
-    use crate::traverse::NODE_WIDTH;
 
     fn fixed(v: f32) -> i32 {
         (v * XY_ONE) as i32

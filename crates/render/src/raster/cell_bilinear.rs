@@ -17,7 +17,7 @@
 //! last column or row when the neighbouring cell on that side is not drawn,
 //! so each sub-node of a piece is placed once. A sample carries only its
 //! position and depth, plus the cell and `(a, b)` so that the resolve pass
-//! interpolates attributes for visible pixels only ([`crate::framebuffer`]).
+//! interpolates attributes for visible pixels only ([`crate::shade::resolve`]).
 //!
 //! Arithmetic: positions, depth and attributes are evaluated by forward
 //! differences on `i64` values carrying 16 extra fractional bits; the
@@ -29,9 +29,9 @@
 //! directly when a patch is not magnified, cells subdivided otherwise);
 //! E. Catmull's subdivision rendering (1974) for the recursive idea.
 
-use crate::fixed::EMPTY_NODE;
-use crate::framebuffer::{splat_sample, BandTarget};
-use crate::traverse::{Node, CELL_DRAW, CELL_RIGHT, CELL_TOP};
+use crate::fixed::{Node, EMPTY_NODE};
+use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
+use crate::raster::band::{splat_sample, BandTarget};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
 /// rasterizer (cheaper per pixel at that size, and exact).
@@ -94,7 +94,7 @@ struct Reciprocals {
 pub(crate) struct BilinearPiece<'a> {
     /// Its `cols × rows` projected nodes, row by row.
     pub(crate) nodes: &'a [Node],
-    /// Per cell, the flags of [`crate::traverse::measure_cells`].
+    /// Per cell, the flags of [`crate::plan::measure::measure_cells`].
     pub(crate) flags: &'a [u8],
     /// Per row of cells, the pixel rows its used nodes span (inclusive).
     pub(crate) spans: &'a [[i32; 2]],
@@ -107,7 +107,7 @@ pub(crate) struct BilinearPiece<'a> {
 }
 
 /// Draws the cells of a piece cut into `nu × nv`, as their flags (see
-/// [`crate::traverse::measure_cells`]) say.
+/// [`crate::plan::measure::measure_cells`]) say.
 pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     piece: &BilinearPiece<'_>,
@@ -199,7 +199,7 @@ fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
 /// Places the sub-nodes of one cell; `CLIP = false` when the caller has
 /// checked that the cell lies inside the band and the image. Why: the
 /// unclipped variant drops the per-row band test and the per-sample bounds
-/// compares (callgrind, `profile_sphere 500 1`: see docs/performance.md).
+/// compares (callgrind, `profile_sphere 500 1`: see docs/performance-log.md).
 #[inline(always)]
 fn draw_cell<const CLIP: bool>(
     t: &mut BandTarget<'_>,
@@ -272,7 +272,7 @@ fn draw_cell<const CLIP: bool>(
 mod tests {
     use super::*;
     use crate::fixed::Z_FAR;
-    use crate::framebuffer::PATCH_SAMPLE;
+    use crate::raster::band::{Sample, PATCH_SAMPLE};
 
     fn node(x: f32, y: f32) -> Node {
         let mut n = [0; 9];
@@ -292,7 +292,7 @@ mod tests {
             node(18.2, 22.4),
         ];
         let (w, h) = (32, 32);
-        let mut px = vec![crate::framebuffer::Sample::EMPTY; w * h];
+        let mut px = vec![Sample::EMPTY; w * h];
         let mut t = BandTarget {
             width: w as i32,
             y0: 0,
@@ -300,7 +300,7 @@ mod tests {
             px: &mut px,
         };
         // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
-        let flags = [crate::traverse::CELL_DRAW | CELL_RIGHT | CELL_TOP];
+        let flags = [CELL_DRAW | CELL_RIGHT | CELL_TOP];
         let spans = [[0, 31]];
         let piece = BilinearPiece {
             nodes: &nodes,
@@ -359,15 +359,9 @@ mod tests {
                 .collect();
             let (ccols, crows) = (cols - 1, rows - 1);
             let mut flags: Vec<u8> = (0..ccols * crows)
-                .map(|_| {
-                    if rng.below(6) == 0 {
-                        0
-                    } else {
-                        crate::traverse::CELL_DRAW
-                    }
-                })
+                .map(|_| if rng.below(6) == 0 { 0 } else { CELL_DRAW })
                 .collect();
-            crate::traverse::close_cells(&mut flags, ccols, crows);
+            crate::grid::close_cells(&mut flags, ccols, crows);
             let spans: Vec<[i32; 2]> = (0..crows)
                 .map(|j| {
                     let ys = nodes[j * cols..(j + 2) * cols].iter().map(|n| n[1] >> 16);
@@ -379,7 +373,7 @@ mod tests {
             let (y0, band_rows) = (rng.below(40) as i32, 4 + rng.below(20) as i32);
             let band_rows = band_rows.min(h as i32 - y0);
             let draw = |inside_columns: bool| {
-                let mut px = vec![crate::framebuffer::Sample::EMPTY; w * band_rows as usize];
+                let mut px = vec![Sample::EMPTY; w * band_rows as usize];
                 let mut t = BandTarget {
                     width: w as i32,
                     y0,

@@ -13,15 +13,16 @@
 
 use std::time::Instant;
 
-use crate::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
-use crate::cell_smooth::draw_cells_smooth;
-use crate::framebuffer::{
-    Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, Resolve, PATCH_SAMPLE,
-};
 use crate::options::{CellScheme, Shading};
-use crate::plan::{ChunkWork, Item};
-use crate::splat::{draw_splats, SplatPiece};
-use crate::triangle_raster::{draw_triangle, ScreenTriangle};
+use crate::plan::work::{ChunkWork, Item};
+use crate::raster::band::{
+    Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, PATCH_SAMPLE,
+};
+use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
+use crate::raster::cell_smooth::draw_cells_smooth;
+use crate::raster::splat::{draw_splats, SplatPiece};
+use crate::raster::triangle_raster::{draw_triangle, ScreenTriangle};
+use crate::shade::resolve::{resolve_band, Resolve};
 
 /// Work per band in CSR form: `(chunk, index)` references.
 #[derive(Debug, Default)]
@@ -224,7 +225,7 @@ pub(crate) fn render_band(
         }
     }
     let tris_done = Instant::now();
-    band.resolve(&job.resolve, rgba, eye_depth);
+    resolve_band(&job.resolve, band.samples(), rgba, eye_depth);
     band.times.cells = (cells_done - start).as_nanos() as u64;
     band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
     band.times.resolve = tris_done.elapsed().as_nanos() as u64;

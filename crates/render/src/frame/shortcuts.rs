@@ -13,9 +13,10 @@ use serde::Serialize;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
+use crate::frame::image::RenderedImage;
+use crate::frame::render::Renderer;
 use crate::options::{CellScheme, Projection, RenderOptions};
-use crate::prepare::PreparedScene;
-use crate::render::Renderer;
+use crate::prepare::scene::PreparedScene;
 
 /// One shortcut against its reference.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -51,7 +52,7 @@ fn time_variant(
     camera: &Camera,
     options: RenderOptions,
     runs: usize,
-) -> Result<(f64, crate::RenderedImage), RenderError> {
+) -> Result<(f64, RenderedImage), RenderError> {
     let mut renderer = Renderer::new(options)?;
     let mut image = renderer.render(scene, camera)?.image; // warm-up
     let mut times = Vec::with_capacity(runs);

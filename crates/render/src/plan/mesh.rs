@@ -19,10 +19,10 @@ use std::time::Instant;
 use glam::{DVec3, Vec3};
 
 use crate::error::RenderError;
+use crate::lighting::{pack_colour, ShadeFrame};
 use crate::options::{Culling, Shading};
-use crate::plan::{ChunkWork, FrameSetup};
-use crate::shade::{pack_colour, ShadeFrame};
-use crate::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
+use crate::plan::work::{ChunkWork, FrameSetup};
+use crate::raster::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
 
 /// Colours of a mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]

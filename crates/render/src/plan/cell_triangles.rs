@@ -1,0 +1,86 @@
+//! Cells as triangles: every drawable cell of a node range as two
+//! triangles, clipped against the near plane and projected
+//! ([`crate::raster::triangle_raster`]). The path of `--mode triangles`, of
+//! single cells crossing the near plane after splitting, and of pieces
+//! whose cells are too large to subdivide.
+//!
+//! Cost: one attribute evaluation per used node, one clip and projection
+//! per triangle.
+
+use glam::Vec3;
+
+use crate::lighting::pack_colour;
+use crate::plan::attributes::node_attributes;
+use crate::plan::project::level_map;
+use crate::plan::split::NodeRange;
+use crate::plan::work::{ChunkWork, PatchContext};
+use crate::raster::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
+
+/// Emits every drawable cell of `range` (level `m`) as two triangles,
+/// clipped against the near plane. Returns the triangles emitted.
+pub(crate) fn emit_cell_triangles(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    m: usize,
+    range: NodeRange,
+) -> u64 {
+    let (setup, t0, index) = (ctx.setup, ctx.t0, ctx.index);
+    let level = ctx.patch.level(m);
+    let lmap = level_map(&ctx.map, m);
+    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let mut vertices = std::mem::take(&mut work.vertices);
+    vertices.clear();
+    let mut used = 0;
+    for j in range.j0..=range.j1 {
+        for i in range.i0..=range.i1 {
+            let k = j * level.cols + i;
+            let d = level.displacements[k];
+            let v = if level.used[k] {
+                used += 1;
+                ClipVertex {
+                    clip: lmap * Vec3::new(i as f32, j as f32, d as f32) + t0,
+                    attrs: node_attributes(&mut work.normals, ctx, m, level, i, j),
+                }
+            } else {
+                ClipVertex {
+                    clip: Vec3::ZERO,
+                    attrs: [0.0; TRI_ATTRS],
+                }
+            };
+            vertices.push(v);
+        }
+    }
+    work.counters.patch_nodes += used;
+    let near = setup.view.near as f32;
+    let size = (setup.view.width as f32, setup.view.height as f32);
+    let mut emitted = 0;
+    for cj in 0..rows - 1 {
+        for ci in 0..cols - 1 {
+            if !level.cell_is_drawable(range.i0 + ci, range.j0 + cj) {
+                continue;
+            }
+            let k = cj * cols + ci;
+            let (v00, v10, v01, v11) = (
+                vertices[k],
+                vertices[k + 1],
+                vertices[k + cols],
+                vertices[k + cols + 1],
+            );
+            let a = v00.attrs;
+            let flat = pack_colour(Vec3::new(a[0], a[1], a[2]));
+            for tri in [[v00, v10, v11], [v00, v11, v01]] {
+                match clip_and_project(&tri, near, size, index, flat, &mut work.triangles) {
+                    ClipOutcome::Dropped => {}
+                    ClipOutcome::Whole => emitted += 1,
+                    ClipOutcome::Clipped(c) => {
+                        emitted += c as u64;
+                        work.counters.triangles_clipped += 1;
+                    }
+                }
+            }
+        }
+    }
+    work.counters.triangles += emitted;
+    work.vertices = vertices;
+    emitted
+}

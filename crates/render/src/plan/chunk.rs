@@ -1,0 +1,125 @@
+//! The per-patch plan: everything decided once per patch and frame before
+//! any pixel is touched (as tiny-skia compiles a pipeline before running it).
+//!
+//! For each patch, in drawing order, on fixed chunks of
+//! [`PATCH_CHUNK`](crate::plan::work::PATCH_CHUNK) patches (so results and
+//! counts do not depend on the thread count):
+//! 1. back-face test on the normal cone, then the frustum test of its box
+//!    ([`crate::plan::cull`]); partially visible patches are split
+//!    ([`crate::plan::split`]);
+//! 2. the patch's context ([`PatchContext`]: local map, shade frame,
+//!    whether its cells are face-tested), then each piece is planned
+//!    ([`plan_piece`]: mip level, traversal, subdivision, attributes);
+//! 3. single cells crossing the near plane go to the triangle path
+//!    ([`crate::plan::cell_triangles`]).
+//!
+//! The output of a chunk is a list of draw items (node ranges with their
+//! `n` and screen rows), the nodes they refer to, and projected triangles
+//! ([`ChunkWork`]).
+//!
+//! Cost: O(visible nodes) per frame.
+
+use std::time::Instant;
+
+use crate::lighting::ShadeFrame;
+use crate::plan::cell_triangles::emit_cell_triangles;
+use crate::plan::counters::nanos_since;
+use crate::plan::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass};
+use crate::plan::piece::plan_piece;
+use crate::plan::split::{split_patch, NodeRange};
+use crate::plan::work::{ChunkWork, FrameSetup, PatchContext};
+use crate::prepare::patch::PreparedPatch;
+
+/// Plans the patches of one chunk; `first_index` is the drawing index of
+/// `patches[0]` and `frames` receives one shade frame per patch.
+pub(crate) fn plan_chunk(
+    work: &mut ChunkWork,
+    patches: &[PreparedPatch],
+    first_index: u32,
+    frames: &mut [ShadeFrame],
+    setup: &FrameSetup<'_>,
+) {
+    work.reset();
+    let eye = setup.view.eye;
+    for (local, p) in patches.iter().enumerate() {
+        let index = first_index + local as u32;
+        work.counters.patches += 1;
+        let start = Instant::now();
+        let mode = (setup.options.culling, p.sides);
+        let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
+        if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
+            work.counters.culled_backface += 1;
+            work.counters.cull_ns += nanos_since(start);
+            continue;
+        }
+        let facing_away = p.cone.axis.dot(eye - p.centre) < 0.0;
+        // No cell of a patch facing the eye entirely can face away.
+        let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
+        frames[local] = setup.light.frame_in(&p.rotation, facing_away);
+        let (map, t0) = setup.view.local_map(p.origin, p.axes);
+        let level0 = &p.base;
+        let root = NodeRange::whole(level0);
+        let (lo, hi) = root.local_box(level0.d_range);
+        let class = setup.frustum.classify(&map, t0, lo, hi);
+        work.counters.cull_ns += nanos_since(start);
+        work.pieces.clear();
+        work.cells.clear();
+        match class {
+            BoxClass::Outside => {
+                work.counters.culled_frustum += 1;
+                continue;
+            }
+            BoxClass::Inside => work.pieces.push(root),
+            BoxClass::Partial => {
+                let start = Instant::now();
+                work.counters.split += 1;
+                let counts = split_patch(
+                    level0,
+                    &setup.frustum,
+                    &map,
+                    t0,
+                    root,
+                    &mut work.stack,
+                    &mut work.pieces,
+                    &mut work.cells,
+                );
+                work.counters.split_pieces += work.pieces.len() as u64;
+                work.counters.pieces_dropped += counts.dropped as u64;
+                work.counters.split_ns += nanos_since(start);
+            }
+        }
+        work.normals.begin_patch();
+        let ctx = PatchContext {
+            patch: p,
+            index,
+            map,
+            t0,
+            frame: &frames[local],
+            whole: class == BoxClass::Inside,
+            cell_test,
+            setup,
+        };
+        let pieces = std::mem::take(&mut work.pieces);
+        for &piece in &pieces {
+            plan_piece(work, &ctx, piece);
+        }
+        work.pieces = pieces;
+        if !work.cells.is_empty() {
+            let start = Instant::now();
+            let cells = std::mem::take(&mut work.cells);
+            for &(i, j) in &cells {
+                let range = NodeRange {
+                    i0: i,
+                    j0: j,
+                    i1: i + 1,
+                    j1: j + 1,
+                };
+                let emitted = emit_cell_triangles(work, &ctx, 0, range);
+                work.counters.clipped_cells += (emitted > 0) as u64;
+            }
+            work.cells = cells;
+            work.counters.setup_ns += nanos_since(start);
+        }
+    }
+    work.counters.normals = work.normals.counts;
+}

@@ -1,0 +1,23 @@
+//! Planning, once per frame and patch: everything decided before any
+//! pixel is touched, into flat per-chunk work for the bands. In use order:
+//! culling, splitting, lane conversions, the node positions' scratch,
+//! projection, cell measurement, subdivision, counters, the chunk's work
+//! and the per-patch context, attributes, cells as triangles, the piece,
+//! the chunk, meshes.
+
+pub(crate) mod attributes;
+pub(crate) mod cell_triangles;
+pub(crate) mod chunk;
+pub(crate) mod counters;
+pub(crate) mod cull;
+pub(crate) mod lanes;
+pub(crate) mod measure;
+#[cfg(test)]
+mod measure_tests;
+pub(crate) mod mesh;
+pub(crate) mod node_xy;
+pub(crate) mod piece;
+pub(crate) mod project;
+pub(crate) mod split;
+pub(crate) mod subdivision;
+pub(crate) mod work;

@@ -1,0 +1,245 @@
+//! One piece of a patch, planned: everything about it decided before any
+//! pixel is touched.
+//!
+//! 1. mip level: for whole patches, the coarsest level whose estimated cell
+//!    extent (from the projected box) stays below
+//!    [`RenderOptions::mip_limit`](crate::RenderOptions::mip_limit) pixels
+//!    ([`crate::prepare::mip`]);
+//! 2. node traversal ([`crate::plan::project`]): trilinear or exact, into
+//!    the chunk's flat array of fixed-point nodes, then the cell
+//!    measurement ([`crate::plan::measure`]);
+//! 3. subdivision `nu × nv` from the largest projected cell edges
+//!    ([`crate::plan::subdivision`]); `1 × 1` selects the node-placing
+//!    path, pixel-sized cells the splat path ([`crate::raster::splat`]),
+//!    cells too large the triangle path;
+//! 4. per-node attributes ([`crate::plan::attributes`]).
+//!
+//! Cost: O(nodes of the piece).
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use crate::fixed::{XY_FRAC_BITS, XY_ONE};
+use crate::options::{CellScheme, Projection, RenderMode, RenderOptions};
+use crate::plan::attributes::fill_attributes;
+use crate::plan::cell_triangles::emit_cell_triangles;
+use crate::plan::counters::nanos_since;
+use crate::plan::measure::measure_cells;
+use crate::plan::project::{level_map, project_nodes_exact, project_nodes_trilinear, Projector};
+use crate::plan::split::NodeRange;
+use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
+use crate::plan::work::{ChunkWork, Item, PatchContext};
+use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
+
+/// Plans one piece of the patch of `ctx`: its mip level, its nodes'
+/// traversal and cell measurement, its subdivision (or the splat or
+/// triangle path), its attributes, and pushes its draw item to `work`
+/// (nothing when no cell is drawn or it lies outside the image's rows).
+pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange) {
+    let (p, setup, whole, cell_test) = (ctx.patch, ctx.setup, ctx.whole, ctx.cell_test);
+    let opts = setup.options;
+    let proj0 = Projector {
+        map: ctx.map,
+        t0: ctx.t0,
+        z_scale: setup.z_scale,
+        z_offset: setup.z_offset,
+    };
+    if opts.mode == RenderMode::Triangles {
+        let start = Instant::now();
+        emit_cell_triangles(work, ctx, 0, piece);
+        work.counters.setup_ns += nanos_since(start);
+        work.counters.mip[0] += 1;
+        return;
+    }
+    let start = Instant::now();
+    // 2. Mip level.
+    let mut m = 0;
+    if whole && opts.mip && p.level_count() > 1 {
+        let extent = estimate_extent(&proj0, piece, p.base.d_range);
+        // The splat path covers cells whose extent (the max-norm sum of
+        // their edges) is up to twice its half-width: a level whose nodes
+        // still land within that reach needs no subdivision.
+        let limit = if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
+            opts.mip_limit.max(2.0 * opts.splat_limit)
+        } else {
+            opts.mip_limit
+        };
+        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < limit {
+            m += 1;
+        }
+    }
+    let level = p.level(m);
+    let range = if m == 0 {
+        piece
+    } else {
+        NodeRange::whole(level)
+    };
+    let Some(d) = range.d_range(level) else {
+        return;
+    };
+    work.counters.mip[m] += 1;
+    // 3. Traversal.
+    let proj = Projector {
+        map: level_map(&ctx.map, m),
+        ..proj0
+    };
+    let first = work.nodes.len();
+    match opts.projection {
+        Projection::Trilinear => {
+            project_nodes_trilinear(level, range, d, &proj, &mut work.nodes, &mut work.xy)
+        }
+        Projection::Exact => {
+            project_nodes_exact(level, range, &proj, &mut work.nodes, &mut work.xy)
+        }
+    }
+    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    // 4. Subdivision.
+    let smooth = opts.cells == CellScheme::Smooth;
+    // Back faces of bilinear cells are skipped per cell (a Catmull-Rom cell
+    // is not bounded by its corners, so smooth cells keep them). Why: 12 %
+    // of the sphere's samples were on cells facing away (callgrind,
+    // `profile_sphere 500 1`).
+    let det = proj.map.determinant();
+    let back_sign = if cell_test && !smooth && det != 0.0 {
+        if det > 0.0 {
+            1
+        } else {
+            -1
+        }
+    } else {
+        0
+    };
+    let flags = work.cell_flags.len();
+    let spans = work.row_spans.len();
+    let measure = measure_cells(
+        level,
+        range,
+        &mut work.xy,
+        back_sign,
+        &mut work.cell_flags,
+        &mut work.row_spans,
+    );
+    work.counters.cells_backface += measure.backfacing_cells;
+    let edges = measure.edges.map(|e| e as f32 / XY_ONE);
+    let mut split = choose_subdivision(edges, 1.0);
+    if smooth && split != Some((1, 1)) {
+        split = choose_subdivision(edges, SMOOTH_MARGIN);
+    }
+    let splat = splat_footprint(opts, smooth, split, edges);
+    if splat[0] > 0 {
+        split = Some((1, 1));
+    }
+    work.counters.traverse_ns += nanos_since(start);
+    let height = setup.view.height as i32;
+    let [x0, y0, x1, y1] = measure.bbox;
+    let pad = if smooth {
+        2
+    } else {
+        (splat[1] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
+    };
+    if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
+        work.nodes.truncate(first);
+        work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
+        return;
+    }
+    let Some((nu, nv)) = split else {
+        work.nodes.truncate(first);
+        work.cell_flags.truncate(flags);
+        work.row_spans.truncate(spans);
+        work.counters.oversized_pieces += 1;
+        let start = Instant::now();
+        emit_cell_triangles(work, ctx, m, range);
+        work.counters.setup_ns += nanos_since(start);
+        return;
+    };
+    // 5. Attributes.
+    let start = Instant::now();
+    fill_attributes(work, ctx, m, range, first);
+    work.counters.normals_ns += nanos_since(start);
+    // After the attributes, which it keeps: only positions are dropped.
+    if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
+        let start = Instant::now();
+        let nodes = &mut work.nodes[first..];
+        let cells = &work.cell_flags[flags..];
+        drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
+        work.counters.traverse_ns += nanos_since(start);
+    }
+    work.counters.patch_nodes += measure.used_nodes;
+    if splat[0] > 0 {
+        work.counters.splatted += 1;
+    } else if (nu, nv) == (1, 1) {
+        work.counters.optimized += 1;
+    } else {
+        work.counters.interpolated += 1;
+        let refined = measure.refined_nodes(nu as u64, nv as u64);
+        work.counters.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
+    }
+    work.items.push(Item {
+        first: first as u32,
+        cols: cols as u16,
+        rows: rows as u16,
+        nu: nu as u16,
+        nv: nv as u16,
+        frame: ctx.index,
+        flags: flags as u32,
+        spans: spans as u32,
+        uniform_albedo: level.colours.is_none(),
+        level: m as u8,
+        i0: range.i0 as u16,
+        j0: range.j0 as u16,
+        y0: y0 - pad,
+        y1: y1 + pad,
+        inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
+        splat,
+    });
+}
+
+/// Estimated level-0 cell extent in pixels from the projected box corners.
+fn estimate_extent(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
+    let (lo, hi) = range.local_box(d);
+    let c: [Vec3; 8] = std::array::from_fn(|k| {
+        proj.screen(Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        ))
+    });
+    let (ci, cj) = ((range.i1 - range.i0) as f32, (range.j1 - range.j0) as f32);
+    let (mut ux, mut uy, mut vx, mut vy) = (0f32, 0f32, 0f32, 0f32);
+    for k in 0..8 {
+        if k & 1 == 0 {
+            let e = c[k + 1] - c[k];
+            ux = ux.max(e.x.abs() / ci);
+            uy = uy.max(e.y.abs() / ci);
+        }
+        if k & 2 == 0 {
+            let e = c[k + 2] - c[k];
+            vx = vx.max(e.x.abs() / cj);
+            vy = vy.max(e.y.abs() / cj);
+        }
+    }
+    (ux + vx).max(uy + vy)
+}
+
+/// The footprint half-widths (position units) with which the nodes of a
+/// piece whose cells have the largest edges `edges` cover them, when the
+/// splatting path draws it (bilinear cells the nodes alone do not cover,
+/// within [`RenderOptions::splat_limit`]); `[0, 0]` otherwise.
+fn splat_footprint(
+    opts: &RenderOptions,
+    smooth: bool,
+    split: Option<(u32, u32)>,
+    edges: [f32; 4],
+) -> [i32; 2] {
+    if smooth || opts.splat_limit == 0.0 || split == Some((1, 1)) {
+        return [0, 0];
+    }
+    let half = footprint_half_widths(edges);
+    let limit = opts.splat_limit * XY_ONE;
+    if half[0] as f32 > limit || half[1] as f32 > limit {
+        return [0, 0];
+    }
+    half
+}

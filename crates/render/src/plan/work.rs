@@ -1,0 +1,138 @@
+//! What planning produces and reads: the draw items of a chunk of patches
+//! with their nodes, flags and triangles ([`ChunkWork`], the contract
+//! between planning and the bands), the frame's constants
+//! ([`FrameSetup`]) and the values planning decides once per patch
+//! ([`PatchContext`]).
+//!
+//! Scratch vectors live in the chunk and are reused from frame to frame:
+//! no allocation per patch once warm.
+
+use glam::{Mat3, Vec3};
+
+use crate::camera::View;
+use crate::fixed::Node;
+use crate::lighting::{Material, ShadeFrame, WorldLight};
+use crate::options::RenderOptions;
+use crate::plan::counters::Counters;
+use crate::plan::cull::Frustum;
+use crate::plan::node_xy::NodeXY;
+use crate::plan::split::NodeRange;
+use crate::prepare::normal_buffer::NormalBuffer;
+use crate::prepare::patch::PreparedPatch;
+use crate::prepare::scene::Portal;
+use crate::raster::triangle_raster::{ClipVertex, ScreenTriangle};
+
+/// Patches per unit of parallel planning work.
+pub(crate) const PATCH_CHUNK: usize = 32;
+
+/// A piece of patch to draw: `cols × rows` nodes starting at `first` in its
+/// chunk's node array, cut into `nu × nv` per cell (1 × 1: nodes only).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Item {
+    pub(crate) first: u32,
+    pub(crate) cols: u16,
+    pub(crate) rows: u16,
+    pub(crate) nu: u16,
+    pub(crate) nv: u16,
+    pub(crate) frame: u32,
+    /// Index of the piece's first cell flag in its chunk's `cell_flags`.
+    pub(crate) flags: u32,
+    /// Index of the piece's first row span in its chunk's `row_spans`.
+    pub(crate) spans: u32,
+    /// Every node has the same albedo (a patch without colours): the
+    /// resolve pass takes it as is instead of interpolating it.
+    pub(crate) uniform_albedo: bool,
+    /// Mip level of the piece (Phong reads the level's prepared normals).
+    pub(crate) level: u8,
+    /// The piece's first node column and row in its level.
+    pub(crate) i0: u16,
+    pub(crate) j0: u16,
+    /// Pixel rows spanned (inclusive).
+    pub(crate) y0: i32,
+    pub(crate) y1: i32,
+    /// Every used node lies in the image's columns `1..width - 1`, so a
+    /// row of cells inside a band needs no clipping at all.
+    pub(crate) inside_columns: bool,
+    /// Footprint half-widths in x and y (position units) of a splatted
+    /// piece ([`crate::raster::splat`]); 0 for every other piece.
+    pub(crate) splat: [i32; 2],
+}
+
+/// Everything about the frame that planning needs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrameSetup<'a> {
+    pub(crate) view: &'a View,
+    pub(crate) frustum: Frustum,
+    pub(crate) light: WorldLight,
+    pub(crate) material: Material,
+    pub(crate) options: &'a RenderOptions,
+    pub(crate) z_scale: f32,
+    pub(crate) z_offset: f32,
+    pub(crate) base_colour: Vec3,
+    /// The scene's openings (automatic culling); empty for meshes.
+    pub(crate) portals: &'a [Portal],
+}
+
+/// The output and scratch space of one chunk.
+#[derive(Debug, Default)]
+pub(crate) struct ChunkWork {
+    pub(crate) nodes: Vec<Node>,
+    pub(crate) items: Vec<Item>,
+    pub(crate) triangles: Vec<ScreenTriangle>,
+    /// One flag byte per cell of each item ([`crate::grid::CELL_DRAW`], …).
+    pub(crate) cell_flags: Vec<u8>,
+    /// Pixel rows spanned by each row of cells of each item (see
+    /// [`crate::plan::measure::measure_cells`]).
+    pub(crate) row_spans: Vec<[i32; 2]>,
+    pub(crate) counters: Counters,
+    /// Screen positions of the piece being planned (see [`NodeXY`]).
+    pub(crate) xy: NodeXY,
+    /// The normal buffer of the chunk (cleared per frame).
+    pub(crate) normals: NormalBuffer,
+    /// Scratch of splitting: its stack, the pieces to draw and the single
+    /// cells to clip.
+    pub(crate) stack: Vec<NodeRange>,
+    pub(crate) pieces: Vec<NodeRange>,
+    pub(crate) cells: Vec<(usize, usize)>,
+    /// Scratch of [`emit_cell_triangles`](crate::plan::cell_triangles::emit_cell_triangles).
+    pub(crate) vertices: Vec<ClipVertex>,
+    /// Scratch of [`drop_undrawn_nodes`](crate::raster::splat::drop_undrawn_nodes).
+    pub(crate) splat_scratch: Vec<u8>,
+}
+
+impl ChunkWork {
+    /// Clears the outputs for a new frame (keeps the allocations).
+    pub(crate) fn reset(&mut self) {
+        self.nodes.clear();
+        self.items.clear();
+        self.triangles.clear();
+        self.cell_flags.clear();
+        self.row_spans.clear();
+        self.counters = Counters::default();
+        self.normals.clear();
+        self.normals.counts = Default::default();
+    }
+}
+
+/// What planning decided about one patch before its pieces: computed once
+/// per patch by [`plan_chunk`](crate::plan::chunk::plan_chunk) and read by
+/// every piece, cell and node of it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PatchContext<'a> {
+    pub(crate) patch: &'a PreparedPatch,
+    /// Drawing index of the patch (the index of its shade frame).
+    pub(crate) index: u32,
+    /// Level 0's local map: `(i, j, d)` to window clip `(X, Y, W)` is
+    /// `map · (i, j, d) + t0`.
+    pub(crate) map: Mat3,
+    pub(crate) t0: Vec3,
+    /// The light and half vectors in patch space.
+    pub(crate) frame: &'a ShadeFrame,
+    /// The patch lies wholly inside the guard band (not split): its pieces
+    /// may take a coarser mip level.
+    pub(crate) whole: bool,
+    /// Its cells are tested for facing away (back-face culling on, and the
+    /// normal cone does not face the eye entirely).
+    pub(crate) cell_test: bool,
+    pub(crate) setup: &'a FrameSetup<'a>,
+}

@@ -1,0 +1,194 @@
+//! The normal cone of a patch, built once per scene: a cone bounding the
+//! exact normals of its cells at their corners (one-sided displacement
+//! differences), widened by [`CONE_MARGIN`] for the curvature of bilinear
+//! cells between their corners. A frame tests it against the eye
+//! ([`crate::plan::cull`]) to drop patches that face away and to skip the
+//! per-cell test of patches that face the eye entirely.
+//!
+//! Based on: L. A. Shirman, S. S. Abi-Ezzi, "The cone of normals technique
+//! for fast processing of curved patches", Eurographics 1993.
+//!
+//! Cost: four corner normals per drawable cell, in lanes; no allocation
+//! beyond one vector of corner normals.
+
+use glam::{DMat3, DVec3, Vec3, Vec4};
+
+use crate::grid::CELL_DRAW;
+use crate::prepare::mip::MipLevel;
+
+/// Extra half angle of every normal cone (radians), for the curvature of
+/// bilinear cells between their corners.
+pub(crate) const CONE_MARGIN: f64 = 0.03;
+
+/// A cone bounding the normals of a patch, in model space.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NormalCone {
+    pub(crate) axis: DVec3,
+    pub(crate) half_angle: f64,
+}
+
+/// The normal cone of a level-0 grid with ratios `(rx, ry)` whose unit axes
+/// are the columns of `rotation`: the axis is the normalized sum of the
+/// unit normals at the four corners of every drawable cell, the half angle
+/// the largest angle between the axis and one of them, plus
+/// [`CONE_MARGIN`]. Why lanes throughout (a cell's four corners summed and
+/// tested side by side, kept as three lane vectors): the sum and the
+/// angles over a list of normals were two thirds of this function, and
+/// the function a quarter of a one-frame render of the perfect sphere
+/// (callgrind, `spatch render sphere.spatch`).
+pub(crate) fn compute_normal_cone(
+    level: &MipLevel,
+    ratios: (f32, f32),
+    rotation: &DMat3,
+) -> NormalCone {
+    let cols = level.cols;
+    let mut corners: Vec<[Vec4; 3]> = Vec::with_capacity(level.drawable_cells as usize);
+    let mut sum = [Vec4::ZERO; 3];
+    let node_rows = level.displacements.chunks_exact(cols);
+    let rows = node_rows.clone().zip(node_rows.skip(1));
+    for (flags, (below, above)) in level.cell_flags.chunks_exact(cols - 1).zip(rows) {
+        let cells = flags.iter().zip(below.windows(2).zip(above.windows(2)));
+        for (&flag, (b, a)) in cells {
+            if flag & CELL_DRAW == 0 {
+                continue;
+            }
+            let [d00, d10, d01, d11] = [b[0], b[1], a[0], a[1]].map(i32::from);
+            // The four corners' differences over one spacing, doubled (the
+            // form of a node normal's differences).
+            let du = [d10 - d00, d10 - d00, d11 - d01, d11 - d01].map(|g| 2 * g);
+            let dv = [d01 - d00, d11 - d10, d01 - d00, d11 - d10].map(|g| 2 * g);
+            let n = corner_normals(du, dv, ratios);
+            for (s, c) in sum.iter_mut().zip(n) {
+                *s += c;
+            }
+            corners.push(n);
+        }
+    }
+    let axis = Vec3::new(
+        sum[0].element_sum(),
+        sum[1].element_sum(),
+        sum[2].element_sum(),
+    )
+    .normalize_or(Vec3::Z);
+    let [ax, ay, az] = axis.to_array().map(Vec4::splat);
+    // The cosines in `Vec3::dot`'s order, lane by lane.
+    let min_cos = corners
+        .iter()
+        .fold(Vec4::ONE, |m, [x, y, z]| m.min(*x * ax + *y * ay + *z * az))
+        .min_element()
+        .clamp(-1.0, 1.0);
+    let half_angle = (min_cos as f64).acos() + CONE_MARGIN;
+    NormalCone {
+        axis: (*rotation * axis.as_dvec3()).normalize(),
+        half_angle,
+    }
+}
+
+/// The unit normals
+/// [`reconstruct_normal`](crate::prepare::normals::reconstruct_normal)`(gi, gj, rx, ry).normalize()` of
+/// four corners as lanes `[x, y, z]`, with the same operations in the same
+/// order as one by one, so each lane equals its one-by-one value.
+#[inline]
+fn corner_normals(gi: [i32; 4], gj: [i32; 4], (rx, ry): (f32, f32)) -> [Vec4; 3] {
+    // As `reconstruct_normal`: `(-g · r · 0.5, ..., 1)`.
+    let lanes = |g: [i32; 4], r: f32| Vec4::from_array(g.map(|g| -(g as f32))) * r * 0.5;
+    let (x, y) = (lanes(gi, rx), lanes(gj, ry));
+    // As `Vec3::normalize`: times `1 / sqrt(x·x + y·y + z·z)`, with z = 1.
+    let inverse = Vec4::ONE / (x * x + y * y + Vec4::ONE).sqrt();
+    [x * inverse, y * inverse, inverse]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::prepare::mip::base_level;
+    use crate::prepare::normals::reconstruct_normal;
+    use spatch_format::{Frame, GridSize, Patch, EMPTY};
+
+    #[test]
+    fn corner_normals_in_lanes_equal_normals_one_by_one() {
+        let mut rng = crate::test_rng::XorShift(0xc0de_5eed);
+        for _ in 0..2000 {
+            let g = |r: &mut crate::test_rng::XorShift| r.below(401) as i32 - 200;
+            let gi = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
+            let gj = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
+            let ratios = (0.001 + rng.unit() * 0.2, 0.001 + rng.unit() * 0.2);
+            let [x, y, z] = corner_normals(gi, gj, ratios);
+            for k in 0..4 {
+                let one = reconstruct_normal(gi[k], gj[k], ratios.0, ratios.1).normalize();
+                assert_eq!(
+                    [x[k], y[k], z[k]].map(f32::to_bits),
+                    one.to_array().map(f32::to_bits)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_cone_holds_every_corner_normal_around_their_mean() {
+        // Random grids, some nodes empty, some steps steep: the axis is the
+        // direction of the corners' mean normal (summed one by one in cell
+        // order, up to rounding) and the half angle reaches the farthest.
+        let mut rng = crate::test_rng::XorShift(0xc09e_5eed);
+        let frame = Frame::new(
+            glam::Vec3::ZERO,
+            glam::Vec3::X,
+            glam::Vec3::Y,
+            glam::Vec3::Z,
+        )
+        .unwrap();
+        let mut checked = 0;
+        for case in 0..300 {
+            let (cols, rows) = (2 + rng.below(16) as usize, 2 + rng.below(16) as usize);
+            let step = [1, 3, 40][case % 3];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| match rng.below(12) {
+                    0 => EMPTY,
+                    _ => (30_000 + rng.below(step * 8)) as u16,
+                })
+                .collect();
+            let grid = GridSize::new(cols as u32, rows as u32).unwrap();
+            let patch = Patch::new(frame, grid, d.clone(), None).unwrap();
+            let Some(level) = base_level(&patch) else {
+                continue;
+            };
+            let ratios = (0.01 + rng.unit() * 0.3, 0.01 + rng.unit() * 0.3);
+            let cone = compute_normal_cone(&level, ratios, &DMat3::IDENTITY);
+            let at = |i: usize, j: usize| d[j * cols + i] as i32;
+            let mut corners = Vec::new();
+            for j in 0..rows - 1 {
+                for i in 0..cols - 1 {
+                    if !level.cell_is_drawable(i, j) {
+                        continue;
+                    }
+                    let (d00, d10, d01, d11) =
+                        (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1));
+                    let (b, t) = (2 * (d10 - d00), 2 * (d11 - d01));
+                    let (l, r) = (2 * (d01 - d00), 2 * (d11 - d10));
+                    for (gi, gj) in [(b, l), (b, r), (t, l), (t, r)] {
+                        corners.push(reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize());
+                    }
+                }
+            }
+            let mean = corners.iter().copied().sum::<Vec3>().normalize_or(Vec3::Z);
+            assert!(
+                cone.axis.angle_between(mean.as_dvec3()) < 1e-5,
+                "case {case}"
+            );
+            let widest = corners
+                .iter()
+                .map(|n| n.as_dvec3().angle_between(cone.axis))
+                .fold(0.0, f64::max);
+            assert!(
+                widest <= cone.half_angle - CONE_MARGIN + 1e-4,
+                "case {case}"
+            );
+            assert!(
+                widest >= cone.half_angle - CONE_MARGIN - 1e-3,
+                "case {case}"
+            );
+            checked += 1;
+        }
+        assert!(checked > 250, "{checked}");
+    }
+}

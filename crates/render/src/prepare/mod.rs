@@ -1,0 +1,13 @@
+//! Preparation, once per scene and reused by every frame: what does not
+//! depend on the view. In use order (each uses only those
+//! above it): normal reconstruction and the slots of node differences,
+//! the normal buffer, the mip pyramid, the normal cone, the prepared
+//! patch, overlap trimming, the prepared scene.
+
+pub(crate) mod cone;
+pub(crate) mod mip;
+pub(crate) mod normal_buffer;
+pub(crate) mod normals;
+pub(crate) mod overlap;
+pub(crate) mod patch;
+pub(crate) mod scene;

@@ -1,0 +1,221 @@
+//! Node normals reconstructed in patch space from displacement
+//! differences, and the table slot of each node's differences.
+//!
+//! In patch space a node's normal depends only on the displacement
+//! differences around it and on the ratios `rx = |az| / |ax|`,
+//! `ry = |az| / |ay|`: with `gi = d[i+1] - d[i-1]` and `gj = d[j+1] -
+//! d[j-1]` (one-sided differences doubled at borders and next to empty
+//! nodes, 0 when both neighbours are missing), the normal is
+//! `(-gi · rx / 2, -gj · ry / 2, 1)`, normalized. The differences are small
+//! integers, so a table indexed by `(gi, gj)` for the current ratios (the
+//! normal buffer, [`crate::prepare::normal_buffer`]) computes each distinct
+//! normal once; the slot of every node is found once per scene
+//! ([`grid_slots`]).
+//!
+//! Cost: a few compares per node for the slots, one normalization per
+//! distinct normal.
+
+use glam::Vec3;
+
+/// Differences in `-RADIUS..=RADIUS` are cached; others are computed.
+const RADIUS: i32 = 32;
+pub(crate) const SIDE: usize = (2 * RADIUS + 1) as usize;
+
+/// The table slot of a node whose differences lie outside the table.
+pub(crate) const OUTSIDE_TABLE: u16 = u16::MAX;
+
+/// The table slot of differences `(gi, gj)` (the same for every ratio and
+/// frame), or [`OUTSIDE_TABLE`]. Why slots: the differences depend on the
+/// displacements only, so [`crate::prepare::mip`] finds them once per scene and a
+/// frame starts from the slot (callgrind, `profile_sphere 500 1`: the
+/// per-node border logic was ~4 M instructions per frame). One unsigned
+/// compare per difference: it runs for every node of a scene.
+#[inline(always)]
+pub(crate) fn table_slot(gi: i32, gj: i32) -> u16 {
+    let (x, y) = (
+        gi.wrapping_add(RADIUS) as u32,
+        gj.wrapping_add(RADIUS) as u32,
+    );
+    if x < SIDE as u32 && y < SIDE as u32 {
+        (y as usize * SIDE + x as usize) as u16
+    } else {
+        OUTSIDE_TABLE
+    }
+}
+
+/// The patch-space normal for differences `(gi, gj)` and ratios `(rx, ry)`
+/// (not normalized: z is 1).
+#[inline]
+pub(crate) fn reconstruct_normal(gi: i32, gj: i32, rx: f32, ry: f32) -> Vec3 {
+    Vec3::new(-(gi as f32) * rx * 0.5, -(gj as f32) * ry * 0.5, 1.0)
+}
+
+/// The differences `(gi, gj)` of table slot `index` (the inverse of
+/// [`table_slot`]).
+pub(crate) fn slot_differences(index: usize) -> (i32, i32) {
+    (
+        (index % SIDE) as i32 - RADIUS,
+        (index / SIDE) as i32 - RADIUS,
+    )
+}
+
+/// Displacement differences `(gi, gj)` at node `(i, j)` of a grid (see the
+/// module header for borders and empty neighbours).
+#[inline]
+pub(crate) fn node_differences(
+    d: &[u16],
+    cols: usize,
+    rows: usize,
+    i: usize,
+    j: usize,
+    empty: u16,
+) -> (i32, i32) {
+    let at = |i: usize, j: usize| d[j * cols + i];
+    let centre = at(i, j) as i32;
+    let diff = |prev: Option<u16>, next: Option<u16>| match (prev, next) {
+        (Some(p), Some(n)) => n as i32 - p as i32,
+        (Some(p), None) => 2 * (centre - p as i32),
+        (None, Some(n)) => 2 * (n as i32 - centre),
+        (None, None) => 0,
+    };
+    let get = |i: Option<usize>, j: Option<usize>| match (i, j) {
+        (Some(i), Some(j)) if i < cols && j < rows && at(i, j) != empty => Some(at(i, j)),
+        _ => None,
+    };
+    let gi = diff(get(i.checked_sub(1), Some(j)), get(Some(i + 1), Some(j)));
+    let gj = diff(get(Some(i), j.checked_sub(1)), get(Some(i), Some(j + 1)));
+    (gi, gj)
+}
+
+/// The table slot ([`table_slot`]) of every node of a `cols × rows` grid,
+/// row-major: [`node_differences`] at each node. Why a pass of its own: a
+/// row walk with neighbours read as empty beyond the grid takes a few
+/// compares per node, where the general form's optional lookups made this
+/// a third of a scene's preparation (callgrind, `profile_sphere 500 1 1`).
+pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec<u16> {
+    // A neighbour outside the grid reads as empty.
+    let diff = |prev: u16, centre: u16, next: u16| -> i32 {
+        match (prev != empty, next != empty) {
+            (true, true) => next as i32 - prev as i32,
+            (true, false) => 2 * (centre as i32 - prev as i32),
+            (false, true) => 2 * (next as i32 - centre as i32),
+            (false, false) => 0,
+        }
+    };
+    let mut slots = Vec::with_capacity(cols * rows);
+    let filled: Vec<bool> = d.chunks_exact(cols).map(|r| !r.contains(&empty)).collect();
+    for j in 0..rows {
+        let row = &d[j * cols..(j + 1) * cols];
+        let below = (j > 0).then(|| &d[(j - 1) * cols..j * cols]);
+        let above = (j + 1 < rows).then(|| &d[(j + 1) * cols..(j + 2) * cols]);
+        // Why a path for rows whose nodes and neighbours are all filled: no
+        // per-node empty tests, and most rows are (callgrind, `spatch render
+        // sphere.spatch`: 78 instructions per node before).
+        let whole = filled[j]
+            && (j == 0 || filled[j - 1])
+            && (j + 1 == rows || filled[j + 1])
+            && cols >= 2
+            && rows >= 2;
+        if whole {
+            filled_row_slots(row, below, above, &mut slots);
+            continue;
+        }
+        for (i, &centre) in row.iter().enumerate() {
+            let left = if i > 0 { row[i - 1] } else { empty };
+            let right = row.get(i + 1).copied().unwrap_or(empty);
+            let down = below.map_or(empty, |r| r[i]);
+            let up = above.map_or(empty, |r| r[i]);
+            slots.push(table_slot(
+                diff(left, centre, right),
+                diff(down, centre, up),
+            ));
+        }
+    }
+    slots
+}
+
+/// The slots of a row of filled nodes whose rows below and above (when
+/// they exist, at least one does) are filled, appended to `slots`: the
+/// differences of [`node_differences`] without its empty cases.
+fn filled_row_slots(
+    row: &[u16],
+    below: Option<&[u16]>,
+    above: Option<&[u16]>,
+    slots: &mut Vec<u16>,
+) {
+    let n = row.len();
+    // Across the rows: central between the rows below and above, else
+    // one-sided (doubled) against the row itself.
+    let (lo, hi, scale) = match (below, above) {
+        (Some(b), Some(a)) => (b, a, 1),
+        (None, Some(a)) => (row, a, 2),
+        (Some(b), None) => (b, row, 2),
+        (None, None) => unreachable!("a grid has at least two rows"),
+    };
+    let (lo, hi) = (&lo[..n], &hi[..n]);
+    let gj = |i: usize| scale * (hi[i] as i32 - lo[i] as i32);
+    let d = |a: u16, b: u16| b as i32 - a as i32;
+    // Along the row: one-sided (doubled) at the ends, central inside.
+    slots.push(table_slot(2 * d(row[0], row[1]), gj(0)));
+    let inside = row.iter().zip(&row[2..]).zip(lo[1..].iter().zip(&hi[1..]));
+    slots.extend(inside.map(|((&l, &r), (&b, &a))| table_slot(d(l, r), scale * d(b, a))));
+    slots.push(table_slot(2 * d(row[n - 2], row[n - 1]), gj(n - 1)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_slot_exists_exactly_within_the_radius() {
+        for gi in -RADIUS - 3..=RADIUS + 3 {
+            for gj in [-RADIUS - 1, -RADIUS, -1, 0, 7, RADIUS, RADIUS + 1] {
+                let slot = table_slot(gi, gj);
+                if gi.abs() > RADIUS || gj.abs() > RADIUS {
+                    assert_eq!(slot, OUTSIDE_TABLE, "{gi}, {gj}");
+                } else {
+                    assert_eq!(slot_differences(slot as usize), (gi, gj));
+                }
+            }
+        }
+        assert_eq!(table_slot(i32::MAX, 0), OUTSIDE_TABLE);
+        assert_eq!(table_slot(0, i32::MIN), OUTSIDE_TABLE);
+    }
+
+    #[test]
+    fn grid_slots_are_the_slots_of_each_nodes_differences() {
+        // Random codes with empty nodes and large steps (some outside the
+        // table), on grids from 2 × 2 up.
+        let mut rng = crate::test_rng::XorShift(0x5107_5eed);
+        for case in 0..400 {
+            let (cols, rows) = (2 + rng.below(7) as usize, 2 + rng.below(7) as usize);
+            // Every other grid has few empty nodes, so whole rows take the
+            // filled-row path.
+            let empties = if case % 2 == 0 { 8 } else { 60 };
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| match rng.below(empties) {
+                    0 => 9,
+                    1 => rng.below(200) as u16,
+                    _ => 100 + rng.below(12) as u16,
+                })
+                .collect();
+            let slots = grid_slots(&d, cols, rows, 9);
+            for j in 0..rows {
+                for i in 0..cols {
+                    let (gi, gj) = node_differences(&d, cols, rows, i, j, 9);
+                    assert_eq!(slots[j * cols + i], table_slot(gi, gj), "{i}, {j}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn differences_are_one_sided_at_borders_and_holes() {
+        const E: u16 = u16::MAX;
+        // 3 x 2 grid, row-major.
+        let d = [10, 12, 20, 11, E, 15];
+        assert_eq!(node_differences(&d, 3, 2, 1, 0, E), (10, 0));
+        assert_eq!(node_differences(&d, 3, 2, 0, 0, E), (4, 2));
+        assert_eq!(node_differences(&d, 3, 2, 0, 1, E), (0, 2));
+    }
+}

@@ -1,0 +1,210 @@
+//! The draw items of a frame as the Phong resolve pass reads them: per
+//! item its level's prepared normals and albedos from the piece's first
+//! node on and its shade frame, and the bilinear weights of the sub-nodes
+//! of every subdivision the frame uses. Built once per frame, after
+//! planning and binning.
+//!
+//! Cost: O(items) per frame, plus `(nu + 1) · (nv + 1)` weights per
+//! distinct subdivision.
+
+use glam::{Vec2, Vec4};
+
+use crate::lighting::ShadeFrame;
+use crate::options::Shading;
+use crate::plan::work::{ChunkWork, Item};
+use crate::prepare::patch::PreparedPatch;
+
+/// Flag of [`Lane::frame`]: the pixel takes the base albedo.
+pub(crate) const BASE_ALBEDO: u32 = 1 << 31;
+
+/// The shading inputs of one pixel of a group of four.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Lane {
+    /// Normal (`xyz`, not unit) and albedo red (`w`, unless the base albedo).
+    pub(crate) normal_red: Vec4,
+    /// Albedo green and blue (unless the base albedo).
+    pub(crate) green_blue: Vec2,
+    /// Shade frame index, with [`BASE_ALBEDO`] for the base albedo.
+    pub(crate) frame: u32,
+}
+
+/// What the Phong resolve pass needs of every draw item of a frame, by
+/// index (as [`Resolve::items`]), and the bilinear weights of the
+/// sub-nodes of every subdivision the frame uses. Built once per frame.
+/// Why a flat table: where patches overlap, a third of the sphere's pixels
+/// change item, and the item → chunk → item → patch → level lookups cost
+/// ~70 instructions each (callgrind, `profile_sphere 500 1`).
+#[derive(Debug, Default)]
+pub(crate) struct PhongItems<'a> {
+    pub(crate) items: Vec<PhongItem<'a>>,
+    /// Per item, its level's prepared albedos from the piece's first node
+    /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
+    /// items index with a shift (callgrind, `profile_sphere 500 1`).
+    pub(crate) colours: Vec<&'a [Vec4]>,
+    /// True when no item has colours (all take the base albedo).
+    pub(crate) uncoloured: bool,
+    /// The shade frames' light and half vectors (`w` = 0), by frame index.
+    /// Why vectors: lanes of different frames are gathered by transposes
+    /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
+    /// four mix frames where patches overlap).
+    pub(crate) frames: Vec<[Vec4; 2]>,
+    /// Per subdivision `nu × nv`, the weights of sub-node `(a, b)` at
+    /// `a * (nv + 1) + b`, each splat over four lanes.
+    pub(crate) weights: Vec<[Vec4; 4]>,
+}
+
+impl<'a> PhongItems<'a> {
+    /// The table for the draw items `items` (`(chunk, item)`) of `chunks`,
+    /// which refer to `patches` and `frames`; empty unless `shading` is
+    /// Phong.
+    pub(crate) fn new(
+        shading: Shading,
+        items: &[(u32, u32)],
+        chunks: &[ChunkWork],
+        patches: &'a [PreparedPatch],
+        frames: &[ShadeFrame],
+    ) -> Self {
+        let mut table = Self::default();
+        if shading != Shading::Phong {
+            return table;
+        }
+        table.frames = frames
+            .iter()
+            .map(|f| [f.light.extend(0.0), f.half.extend(0.0)])
+            .collect();
+        let mut built: Vec<(u16, u16, u32)> = Vec::new();
+        table.items.reserve(items.len());
+        table.colours.reserve(items.len());
+        for &(c, i) in items {
+            let item = &chunks[c as usize].items[i as usize];
+            let (nu, nv) = (item.nu, item.nv);
+            let start = match built.iter().find(|&&(u, v, _)| (u, v) == (nu, nv)) {
+                Some(&(_, _, start)) => start,
+                None => {
+                    let start = table.weights.len() as u32;
+                    for a in 0..=nu as u32 {
+                        for b in 0..=nv as u32 {
+                            let w = sub_node_weights(a, b, nu as u32, nv as u32);
+                            table.weights.push(w.map(Vec4::splat));
+                        }
+                    }
+                    built.push((nu, nv, start));
+                    start
+                }
+            };
+            let (entry, colours) = PhongItem::new(item, patches, &table.frames, start);
+            table.items.push(entry);
+            table.colours.push(colours);
+        }
+        table.uncoloured = table.colours.iter().all(|c| c.is_empty());
+        table
+    }
+}
+
+/// A draw item as the Phong resolve pass reads it: its level's prepared
+/// normals from the piece's first node on (its albedos are in
+/// [`PhongItems::colours`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PhongItem<'a> {
+    /// The light vector of the item's shade frame (`w` = 0).
+    pub(crate) light: Vec4,
+    /// The half vector of the item's shade frame (`w` = 0).
+    pub(crate) half: Vec4,
+    pub(crate) normals: &'a [Vec4],
+    /// Nodes per row of the level (`u16`: index sums cannot overflow, no
+    /// checks).
+    pub(crate) cols: u16,
+    /// Weights per row of the item's weight table (`nv + 1`).
+    pub(crate) stride: u16,
+    /// Where the item's weights start in [`PhongItems::weights`].
+    pub(crate) weights: u32,
+    /// The item's shade frame, with [`BASE_ALBEDO`] for an item without
+    /// colours.
+    pub(crate) frame: u32,
+}
+
+impl<'a> PhongItem<'a> {
+    /// The entry of `item` (of a patch of `patches`, shaded in one of
+    /// `frames`) whose weights start at `weights`, and its albedos (empty
+    /// for the base albedo).
+    fn new(
+        item: &Item,
+        patches: &'a [PreparedPatch],
+        frames: &[[Vec4; 2]],
+        weights: u32,
+    ) -> (Self, &'a [Vec4]) {
+        let patch = &patches[item.frame as usize];
+        let m = item.level as usize;
+        let cols = patch.level(m).cols;
+        let shading = patch.shading(m);
+        let start = item.j0 as usize * cols + item.i0 as usize;
+        let uniform = item.uniform_albedo || shading.colours.is_empty();
+        let [light, half] = frames[item.frame as usize];
+        let entry = Self {
+            light,
+            half,
+            normals: &shading.normals[start..],
+            cols: cols as u16,
+            stride: item.nv + 1,
+            weights,
+            frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
+        };
+        let colours: &[Vec4] = if uniform {
+            &[]
+        } else {
+            &shading.colours[start..]
+        };
+        (entry, colours)
+    }
+
+    /// The normal interpolated at sample `sub` (`w` unused): the same
+    /// operations in the same order as [`phong_reference`].
+    #[inline(always)]
+    pub(crate) fn normal(&self, sub: u32, weights: &[[Vec4; 4]]) -> Vec4 {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let k = cj * cols + ci;
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let w = &weights[self.weights as usize + a * self.stride as usize + b];
+        // One slice for the four corners: a single bounds check.
+        let quad = &self.normals[k..k + cols + 2];
+        quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+    }
+
+    /// The normal and albedo (from `colours`, the item's) interpolated at
+    /// sample `sub`: the same operations in the same order as
+    /// [`phong_reference`].
+    #[inline(always)]
+    pub(crate) fn interpolate(&self, sub: u32, colours: &[Vec4], weights: &[[Vec4; 4]]) -> Lane {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let k = cj * cols + ci;
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let w = &weights[self.weights as usize + a * self.stride as usize + b];
+        // One slice for the four corners: a single bounds check.
+        let lerp = |v: &[Vec4]| {
+            let quad = &v[k..k + cols + 2];
+            quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+        };
+        let mut lane = Lane {
+            normal_red: lerp(self.normals),
+            green_blue: Vec2::ZERO,
+            frame: self.frame,
+        };
+        if self.frame & BASE_ALBEDO == 0 {
+            let c = lerp(colours);
+            lane.normal_red.w = c.x;
+            lane.green_blue = Vec2::new(c.y, c.z);
+        }
+        lane
+    }
+}
+
+/// The bilinear weights of the corners `(0, 0), (1, 0), (0, 1), (1, 1)` at
+/// sub-node `(a, b)` of a cell cut `nu × nv`.
+#[inline(always)]
+pub(crate) fn sub_node_weights(a: u32, b: u32, nu: u32, nv: u32) -> [f32; 4] {
+    let s = a as f32 / nu as f32;
+    let t = b as f32 / nv as f32;
+    [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t]
+}

@@ -1,0 +1,552 @@
+//! The per-pixel resolve of a band (deferred shading): every covered
+//! pixel is shaded once from what its sample holds, into the image's rows
+//! of colour and linear eye depth.
+//!
+//! A patch sample ([`crate::raster::band`]) names its draw item, cell and
+//! sub-node: flat and Gouraud take the colours its corner nodes carry
+//! (the cell's, or interpolated bilinearly); Phong interpolates the
+//! prepared level's normals and albedos ([`PhongItems`]) and shades four
+//! neighbouring pixels at a time in lanes, bit-identical to shading them
+//! one by one ([`Material::shade`]). A triangle sample carries its colour,
+//! or its normal, albedo and frame.
+//!
+//! So Phong costs one shading per pixel however many samples were drawn
+//! over it.
+//!
+//! Cost: O(pixels) per band.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::fixed::{attr_from_bits, Node, Z_FAR};
+#[cfg(test)]
+use crate::lighting::ShadeFrame;
+use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
+use crate::options::Shading;
+use crate::plan::work::{ChunkWork, Item};
+#[cfg(test)]
+use crate::prepare::patch::PreparedPatch;
+use crate::raster::band::{Sample, PATCH_SAMPLE};
+use crate::shade::phong_items::{sub_node_weights, Lane, PhongItems, BASE_ALBEDO};
+
+/// How the resolve pass turns payloads into colours.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Resolve<'a> {
+    pub(crate) shading: Shading,
+    /// Draw items by index: `(chunk, item)`.
+    pub(crate) items: &'a [(u32, u32)],
+    pub(crate) chunks: &'a [ChunkWork],
+    /// The draw items as the Phong resolve pass reads them.
+    pub(crate) phong: &'a PhongItems<'a>,
+    pub(crate) material: Material,
+    /// The albedo of nodes without colours, as stored in nodes (rounded to
+    /// the attribute grid).
+    pub(crate) base_albedo: Vec3,
+    pub(crate) background: [u8; 4],
+    pub(crate) near: f32,
+    pub(crate) far: f32,
+}
+
+/// Shades every pixel `px` of a band into its rows of the image: colour
+/// into `rgba`, linear eye depth into `eye_depth` (`f32::INFINITY`
+/// where empty). Why the image's own rows: no band copy to gather, and
+/// the image's first touch happens on the pool (callgrind and
+/// `--bench`: the serial gather was ~1.3 ms of a 13.5 ms frame).
+pub(crate) fn resolve_band(
+    r: &Resolve<'_>,
+    px: &[Sample],
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    debug_assert!(rgba.len() == px.len() && eye_depth.len() == px.len());
+    if r.shading == Shading::Phong {
+        resolve_phong(r, px, rgba, eye_depth);
+        return;
+    }
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    // Why zipped slices: one length check per band instead of five
+    // bounds checks per pixel (callgrind, `profile_sphere 500 1`).
+    let pixels = px.iter().zip(rgba.iter_mut().zip(eye_depth.iter_mut()));
+    for (
+        &Sample {
+            depth: z,
+            w0,
+            w1: _,
+            w2,
+        },
+        (rgba, eye),
+    ) in pixels
+    {
+        if z >= Z_FAR {
+            *rgba = r.background;
+            *eye = f32::INFINITY;
+            continue;
+        }
+        *eye = r.near + z as f32 * scale;
+        *rgba = if w2 & PATCH_SAMPLE != 0 {
+            resolve_patch_sample(r, w2 & !PATCH_SAMPLE, w0)
+        } else {
+            w0.to_le_bytes()
+        };
+    }
+}
+
+/// [`resolve_band`] for Phong: the band in groups of four pixels
+/// ([`resolve_phong_pixels`]).
+fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
+    // The default shininess, 32, is five squarings (see
+    // [`Material::shade4_with`]).
+    if r.material.squarings() == 5 {
+        resolve_phong_pixels::<5>(r, px, rgba, eye_depth);
+    } else {
+        resolve_phong_pixels::<ANY_POWER>(r, px, rgba, eye_depth);
+    }
+}
+
+/// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
+/// neighbours at a time: their eye depths, their normals and albedos
+/// interpolated straight into lanes ([`phong_lane`]), shaded together
+/// ([`Material::shade4_with`], bit-identical to shading them one by one; tested
+/// against [`phong_reference`]), the background where a lane is empty.
+/// Why groups of neighbours rather than a queue of covered pixels: the
+/// queue's round trip through memory, its indices and scattered stores
+/// were ~50 of the ~150 instructions per covered pixel, and groups only
+/// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
+/// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
+/// instructions more per frame (register allocation).
+#[inline(never)]
+fn resolve_phong_pixels<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    px: &[Sample],
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    let groups = px
+        .chunks_exact(4)
+        .zip(rgba.chunks_exact_mut(4).zip(eye_depth.chunks_exact_mut(4)));
+    for (s, (rgba, eye)) in groups {
+        let s: &[Sample; 4] = s.try_into().expect("groups of four");
+        let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
+        let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
+        resolve_group::<SQUARINGS>(r, s, rgba, eye);
+    }
+    // The last pixels of a band whose size is not a multiple of four,
+    // padded with empty pixels.
+    let done = px.len() / 4 * 4;
+    if done < px.len() {
+        let n = px.len() - done;
+        let mut s = [Sample::EMPTY; 4];
+        s[..n].copy_from_slice(&px[done..]);
+        let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
+        resolve_group::<SQUARINGS>(r, &s, &mut c, &mut e);
+        rgba[done..].copy_from_slice(&c[..n]);
+        eye_depth[done..].copy_from_slice(&e[..n]);
+    }
+}
+
+/// Resolves four neighbouring Phong pixels (see [`resolve_phong_pixels`]).
+/// Why a fast path: nearly every group of the sphere is four covered patch
+/// samples of items without colours, which need only their normals
+/// interpolated (no albedo lanes, no per-lane choices); empty groups are
+/// next, and the rest (silhouette edges, triangles, colours) goes through
+/// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn resolve_group<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    // Only a sample that passed the depth test holds a patch sample's
+    // flag, so four patch samples are four covered pixels.
+    let patches = s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2;
+    if patches & PATCH_SAMPLE != 0 {
+        debug_assert!(s.iter().all(|s| s.depth < Z_FAR));
+        let items = &r.phong.items[..];
+        let id = |k: usize| (s[k].w2 & !PATCH_SAMPLE) as usize;
+        let last = id(0).max(id(1)).max(id(2).max(id(3)));
+        assert!(last < items.len(), "item index");
+        let it = [&items[id(0)], &items[id(1)], &items[id(2)], &items[id(3)]];
+        let uncoloured =
+            || it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0;
+        if r.phong.uncoloured || uncoloured() {
+            let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
+            let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
+            let scale = (r.far - r.near) / Z_FAR as f32;
+            let depth = Vec4::new(
+                depth[0] as f32,
+                depth[1] as f32,
+                depth[2] as f32,
+                depth[3] as f32,
+            );
+            *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+            let weights = &r.phong.weights[..];
+            let normal = |k: usize| it[k].normal(sub[k], weights);
+            let normals = [normal(0), normal(1), normal(2), normal(3)];
+            // Why transposes even when the four share a frame: comparing
+            // frames and choosing cost more than the shuffles (callgrind,
+            // `profile_sphere 500 1`).
+            let rows = |v: [Vec4; 4]| {
+                let t = Mat4::from_cols(v[0], v[1], v[2], v[3]).transpose();
+                [t.x_axis, t.y_axis, t.z_axis]
+            };
+            let light = rows([it[0].light, it[1].light, it[2].light, it[3].light]);
+            let half = rows([it[0].half, it[1].half, it[2].half, it[3].half]);
+            let albedo = r.base_albedo.extend(0.0);
+            let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
+            let words = shade_lanes::<SQUARINGS>(r, normals, light, half, |_| albedo);
+            *rgba = words.map(u32::to_le_bytes);
+            return;
+        }
+    }
+    let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
+    if near >= Z_FAR {
+        *rgba = [r.background; 4];
+        *eye = [f32::INFINITY; 4];
+        return;
+    }
+    resolve_general_group(r, s, rgba, eye);
+}
+
+/// [`resolve_group`] for any group with a covered pixel: lanes with their
+/// own albedos, triangle samples, empty pixels (which take the inputs of a
+/// covered one, then the background).
+#[inline(never)]
+fn resolve_general_group(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    let is = |k: usize| s[k].depth < Z_FAR;
+    let some = &s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
+    let pick = |k: usize| if is(k) { &s[k] } else { some };
+    // Why spelled out rather than a closure per lane or `array::map`: they
+    // became out-of-line calls (~45 instructions per pixel of triangles;
+    // callgrind, `profile_sphere 500 1 1 triangles`).
+    let g = [
+        phong_lane(r.phong, pick(0)),
+        phong_lane(r.phong, pick(1)),
+        phong_lane(r.phong, pick(2)),
+        phong_lane(r.phong, pick(3)),
+    ];
+    let frame = |k: usize| (g[k].frame & !BASE_ALBEDO) as usize;
+    let normals = [
+        g[0].normal_red,
+        g[1].normal_red,
+        g[2].normal_red,
+        g[3].normal_red,
+    ];
+    let frames = [frame(0), frame(1), frame(2), frame(3)];
+    let words = shade_normals(r, normals, frames, |red| own_albedo(r, &g, red));
+    for k in 0..4 {
+        (rgba[k], eye[k]) = if is(k) {
+            (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
+        } else {
+            (r.background, f32::INFINITY)
+        };
+    }
+}
+
+/// The shading inputs of a covered pixel: a patch sample's interpolated
+/// normal and albedo, or a triangle sample's stored ones.
+#[inline(always)]
+fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
+    if s.w2 & PATCH_SAMPLE != 0 {
+        let i = (s.w2 & !PATCH_SAMPLE) as usize;
+        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights);
+    }
+    let albedo = unpack_rgb(s.w1);
+    Lane {
+        normal_red: unpack_normal(s.w0).extend(albedo.x),
+        green_blue: Vec2::new(albedo.y, albedo.z),
+        frame: s.w2,
+    }
+}
+
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), shade frames and albedo lanes. Why splats: the
+/// four often share their shade frame, so only the normals need
+/// transposing (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn shade_normals(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    f: [usize; 4],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
+    let frames = &r.phong.frames;
+    let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
+    let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
+        let [light, half] = frames[f[0]];
+        (splat(light), splat(half))
+    } else {
+        // Where patches overlap (60 % of the sphere's groups): transposes.
+        let e = f.map(|i| frames[i]);
+        let rows = |k: usize| {
+            let t = Mat4::from_cols(e[0][k], e[1][k], e[2][k], e[3][k]).transpose();
+            [t.x_axis, t.y_axis, t.z_axis]
+        };
+        (rows(0), rows(1))
+    };
+    shade_lanes::<ANY_POWER>(r, normals, light, half, albedo)
+}
+
+/// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
+/// `w` passed to `albedo`), the lanes of their light and half vectors,
+/// and their albedo lanes.
+#[inline(always)]
+fn shade_lanes<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    normals: [Vec4; 4],
+    light: [Vec4; 3],
+    half: [Vec4; 3],
+    albedo: impl FnOnce(Vec4) -> [Vec4; 3],
+) -> [u32; 4] {
+    let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
+    let lanes = Lanes {
+        normal: [t.x_axis, t.y_axis, t.z_axis],
+        light,
+        half,
+        albedo: albedo(t.w_axis),
+    };
+    pack_rgba(r.material.shade4_with::<SQUARINGS>(&lanes))
+}
+
+/// The albedo lanes of four pixels, some of which may have their own
+/// (red in `red`, green and blue in [`Lane::green_blue`]).
+#[inline(always)]
+fn own_albedo(r: &Resolve<'_>, g: &[Lane; 4], red: Vec4) -> [Vec4; 3] {
+    let base = r.base_albedo;
+    let lane = |k: usize| {
+        if g[k].frame & BASE_ALBEDO != 0 {
+            base
+        } else {
+            Vec3::new(red[k], g[k].green_blue.x, g[k].green_blue.y)
+        }
+    };
+    let v = [lane(0), lane(1), lane(2), lane(3)];
+    [0, 1, 2].map(|i| Vec4::new(v[0][i], v[1][i], v[2][i], v[3][i]))
+}
+
+/// Red, green and blue lanes in 0..=255 (as [`Material::shade4_with`] returns
+/// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
+/// [`truncate_to_bytes`] gives them.
+#[inline(always)]
+fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
+    // Why spelled out: `array::map` here became an out-of-line call per
+    // channel (~40 instructions per pixel group; callgrind,
+    // `profile_sphere 500 1`).
+    let bits = |v: Vec4| {
+        let a = truncated_bits(v).to_array();
+        [
+            a[0].to_bits(),
+            a[1].to_bits(),
+            a[2].to_bits(),
+            a[3].to_bits(),
+        ]
+    };
+    let (r, g, b) = (bits(c[0]), bits(c[1]), bits(c[2]));
+    // No masks: each lane's bits are `0x4b00_00vv` (`2^23 + v`, v < 256),
+    // so the shifts push the exponent out of the word and the alpha byte
+    // covers red's.
+    let word = |k: usize| r[k] | g[k] << 8 | b[k] << 16 | 0xff00_0000;
+    [word(0), word(1), word(2), word(3)]
+}
+
+/// RGB floats in 0..=255 (as [`Material::shade`] returns them) to RGBA8.
+/// Why through `i32`: the values are already in range, and the saturating
+/// float-to-`u8` conversion costs about twice as many instructions; the
+/// result is the same (truncation).
+#[inline(always)]
+pub(crate) fn to_rgba8(c: Vec3) -> [u8; 4] {
+    [c.x as i32 as u8, c.y as i32 as u8, c.z as i32 as u8, 255]
+}
+
+/// Four colour values in 0..=255 truncated to bytes, as `c as i32 as u8`
+/// does one at a time. Why: the scalar conversions with their saturation
+/// checks were ~18 instructions per pixel (callgrind, `profile_sphere 500
+/// 1`). Adding `2^23` rounds to an integer (kept in the low mantissa bits);
+/// subtracting one where that rounded up gives the truncation.
+#[inline(always)]
+#[cfg(test)]
+fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
+    truncated_bits(c).to_array().map(|v| v.to_bits() as u8)
+}
+
+/// `2^23 + trunc(c)` per lane: the truncated value sits in the low
+/// mantissa bits (see [`truncate_to_bytes`]).
+#[inline(always)]
+fn truncated_bits(c: Vec4) -> Vec4 {
+    const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
+    let shifted = c + Vec4::splat(SHIFT);
+    let nearest = shifted - Vec4::splat(SHIFT);
+    // Exact: `shifted` is an integer in 2^23..2^23 + 256.
+    shifted - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO)
+}
+
+/// The four attribute words `[from, from + 4)` of a node as floats.
+#[inline(always)]
+fn attr4(n: &Node, from: usize) -> Vec4 {
+    Vec4::new(
+        attr_to_f32f(n[from]),
+        attr_to_f32f(n[from + 1]),
+        attr_to_f32f(n[from + 2]),
+        attr_to_f32f(n[from + 3]),
+    )
+}
+
+/// The cell of a patch sample: its item, its four corner nodes and the
+/// bilinear weights of its sub-node.
+#[inline(always)]
+fn sample_cell<'r>(r: &Resolve<'r>, item: u32, sub: u32) -> (&'r Item, [&'r Node; 4], [f32; 4]) {
+    let (c, i) = r.items[item as usize];
+    let chunk = &r.chunks[c as usize];
+    let item = &chunk.items[i as usize];
+    let cols = item.cols as usize;
+    let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+    let k = item.first as usize + cj * cols + ci;
+    // One slice for the four corners: a single bounds check.
+    let quad = &chunk.nodes[k..k + cols + 2];
+    let w = sub_node_weights(
+        (sub >> 8) & 0xff,
+        sub & 0xff,
+        item.nu as u32,
+        item.nv as u32,
+    );
+    (item, [&quad[0], &quad[1], &quad[cols], &quad[cols + 1]], w)
+}
+
+/// Attribute words `[from, from + 4)` interpolated bilinearly. Why four
+/// lanes at a time: the same products and sums in the same order as one
+/// channel at a time (identical images), a quarter of the instructions
+/// (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
+fn lerp4(n: [&Node; 4], w: [f32; 4], from: usize) -> Vec4 {
+    attr4(n[0], from) * w[0]
+        + attr4(n[1], from) * w[1]
+        + attr4(n[2], from) * w[2]
+        + attr4(n[3], from) * w[3]
+}
+
+/// Shades a patch sample with flat or Gouraud colours: the cell's colour,
+/// or the colours of its corners interpolated at its sub-node.
+#[inline]
+fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
+    let (_, n, w) = sample_cell(r, item, sub);
+    let colour = match r.shading {
+        Shading::Flat => Vec3::new(
+            attr_to_f32f(n[0][3]),
+            attr_to_f32f(n[0][4]),
+            attr_to_f32f(n[0][5]),
+        ),
+        Shading::Gouraud | Shading::Phong => lerp4(n, w, 3).truncate(),
+    };
+    to_rgba8(colour)
+}
+
+/// The Phong colour of a patch sample shaded alone, straight from the
+/// prepared level: the bilinear weights of its sub-node, the corners'
+/// normals and albedos (`base_albedo` for an item without colours) summed
+/// in corner order, [`Material::shade`]. The reference the grouped resolve
+/// pass is tested against.
+#[cfg(test)]
+pub(crate) fn phong_reference(
+    r: &Resolve<'_>,
+    patches: &[PreparedPatch],
+    frames: &[ShadeFrame],
+    item: u32,
+    sub: u32,
+) -> [u8; 4] {
+    let (c, i) = r.items[item as usize];
+    let item = &r.chunks[c as usize].items[i as usize];
+    let patch = &patches[item.frame as usize];
+    let m = item.level as usize;
+    let cols = patch.level(m).cols;
+    let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+    let k = (item.j0 as usize + cj) * cols + item.i0 as usize + ci;
+    let w = sub_node_weights(
+        (sub >> 8) & 0xff,
+        sub & 0xff,
+        item.nu as u32,
+        item.nv as u32,
+    );
+    let lerp = |v: &[Vec4]| {
+        let corners = [k, k + 1, k + cols, k + cols + 1];
+        let mut sum = v[corners[0]].truncate() * w[0];
+        for (corner, weight) in corners.into_iter().zip(w).skip(1) {
+            sum += v[corner].truncate() * weight;
+        }
+        sum
+    };
+    let shading = patch.shading(m);
+    let albedo = if item.uniform_albedo {
+        r.base_albedo
+    } else {
+        lerp(&shading.colours)
+    };
+    let c = r
+        .material
+        .shade(lerp(&shading.normals), &frames[item.frame as usize], albedo);
+    to_rgba8(c)
+}
+
+#[inline(always)]
+fn attr_to_f32f(v: i32) -> f32 {
+    attr_from_bits(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::XorShift;
+
+    #[test]
+    fn packed_words_hold_the_truncated_channels() {
+        let mut rng = XorShift(0x5151_a5a5_0f0f_7777);
+        for round in 0..5000 {
+            let v = |rng: &mut XorShift| match round % 3 {
+                // Integers and their neighbours (the rounding step's edges).
+                0 => {
+                    let k = rng.below(256) as f32;
+                    let up = f32::from_bits(k.to_bits() + 1);
+                    [k, up, k - 0.5, k + 0.5][rng.below(4) as usize].clamp(0.0, 255.0)
+                }
+                _ => rng.below(1 << 24) as f32 / (1 << 24) as f32 * 255.0,
+            };
+            let c =
+                [0, 1, 2].map(|_| Vec4::new(v(&mut rng), v(&mut rng), v(&mut rng), v(&mut rng)));
+            let want: [u32; 4] = std::array::from_fn(|k| {
+                u32::from_le_bytes([
+                    c[0][k] as i32 as u8,
+                    c[1][k] as i32 as u8,
+                    c[2][k] as i32 as u8,
+                    255,
+                ])
+            });
+            assert_eq!(pack_rgba(c), want, "{c:?}");
+        }
+    }
+
+    #[test]
+    fn bytes_are_truncated_like_a_scalar_conversion() {
+        let mut v = 0.0f32;
+        while v <= 255.0 {
+            let next = f32::from_bits(v.to_bits() + 1).min(255.0);
+            let c = Vec4::new(v, (v * 0.37).min(255.0), 255.0 - v, next);
+            let expected = c.to_array().map(|x| x as i32 as u8);
+            assert_eq!(truncate_to_bytes(c), expected, "{c:?}");
+            v += 0.023_437_5;
+        }
+        // Exact integers and halves (ties of the rounding step).
+        for k in 0..=255 {
+            let c = Vec4::new(
+                k as f32,
+                k as f32 + 0.5,
+                (k as f32 - 0.5).max(0.0),
+                k as f32,
+            );
+            assert_eq!(truncate_to_bytes(c), c.to_array().map(|x| x as i32 as u8));
+        }
+    }
+}
