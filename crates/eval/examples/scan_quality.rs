@@ -1,12 +1,18 @@
 //! Speck and hole fractions of a scene over the 14 standard views (../shared/MEASURES.md).
 //!
 //! ```text
-//! cargo run --release -p spatch-eval --example scan_quality -- SCENE.spatch REFERENCE_MESH [PNG_DIR]
+//! cargo run --release -p spatch-eval --example scan_quality -- SCENE.spatch REFERENCE_MESH [PNG_DIR] [OPTION...]
 //! ```
+//!
+//! Options change how the scene is drawn for the specks (as `spatch render` takes them):
+//! `--mode triangles` (its cells as two triangles each), `--projection exact`,
+//! `--shading gouraud|flat`, `--no-mip`, `--cull none|back`. Crease artefacts of patch mode
+//! show as the ratio of its speck fraction to that of `--mode triangles` (docs/algorithms/render.md).
 //!
 //! The cameras come from the reference mesh (the views of `spatch_eval::holes`: 6 axes and
 //! 8 diagonals, 40° field of view, the bounding sphere filling the image with a 5 % margin,
-//! 500²). The scene is drawn with the renderer's defaults (as `spatch render` draws it).
+//! 500²). The scene is drawn with the renderer's defaults (as `spatch render` draws it), or
+//! the options below.
 //!
 //! - **specks**: the scene's covered pixels eroded by 2 px (5 × 5 square); a pixel is a speck
 //!   when its grey level (mean of R, G, B) is more than 40 below the median of its 5 × 5
@@ -25,8 +31,8 @@ use std::process::ExitCode;
 
 use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use spatch_render::{
-    Culling, MeshColours, PreparedScene, Projection, RenderOptions, Renderer,
-    TriangleMesh as RasterMesh,
+    Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer,
+    Shading, TriangleMesh as RasterMesh,
 };
 
 /// Grey levels below the neighbourhood median by more than this make a speck.
@@ -36,11 +42,17 @@ const RADIUS: usize = 2;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.len() < 2 || args.len() > 3 {
-        eprintln!("usage: scan_quality SCENE.spatch REFERENCE_MESH [PNG_DIR]");
-        return ExitCode::from(2);
-    }
-    match run(&args[0], &args[1], args.get(2).map(PathBuf::from)) {
+    let png_dir = args
+        .get(2)
+        .filter(|a| !a.starts_with("--"))
+        .map(PathBuf::from);
+    let flags = &args[(2 + png_dir.is_some() as usize).min(args.len())..];
+    let options = match scene_options(flags) {
+        Ok(options) if args.len() >= 2 => options,
+        Ok(_) => usage("two arguments needed"),
+        Err(message) => usage(&message),
+    };
+    match run(&args[0], &args[1], png_dir, options) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("scan_quality: error: {message}");
@@ -49,7 +61,55 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(scene_path: &str, mesh_path: &str, png_dir: Option<PathBuf>) -> Result<(), String> {
+/// Prints the usage line (after `message`) and exits with status 2.
+fn usage(message: &str) -> ! {
+    eprintln!("scan_quality: {message}");
+    eprintln!("usage: scan_quality SCENE.spatch REFERENCE_MESH [PNG_DIR] [OPTION...]");
+    std::process::exit(2)
+}
+
+/// The render options of the scene's speck images from `flags` (see the header).
+fn scene_options(flags: &[String]) -> Result<RenderOptions, String> {
+    let mut options = RenderOptions::default();
+    let mut it = flags.iter();
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().map(String::as_str).ok_or(format!("{flag} needs a value"));
+        match flag.as_str() {
+            "--mode" => match value()? {
+                "triangles" => options.mode = RenderMode::Triangles,
+                "patches" => options.mode = RenderMode::Patches,
+                v => return Err(format!("--mode {v}: patches or triangles")),
+            },
+            "--projection" => match value()? {
+                "exact" => options.projection = Projection::Exact,
+                "trilinear" => options.projection = Projection::Trilinear,
+                v => return Err(format!("--projection {v}: exact or trilinear")),
+            },
+            "--shading" => match value()? {
+                "phong" => options.shading = Shading::Phong,
+                "gouraud" => options.shading = Shading::Gouraud,
+                "flat" => options.shading = Shading::Flat,
+                v => return Err(format!("--shading {v}: phong, gouraud or flat")),
+            },
+            "--cull" => match value()? {
+                "auto" => options.culling = Culling::Auto,
+                "back" => options.culling = Culling::Back,
+                "none" => options.culling = Culling::None,
+                v => return Err(format!("--cull {v}: auto, back or none")),
+            },
+            "--no-mip" => options.mip = false,
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    Ok(options)
+}
+
+fn run(
+    scene_path: &str,
+    mesh_path: &str,
+    png_dir: Option<PathBuf>,
+    options: RenderOptions,
+) -> Result<(), String> {
     let scene =
         spatch_format::read_scene(scene_path.as_ref()).map_err(|e| format!("{scene_path}: {e}"))?;
     let mesh = spatch_mesh::load_mesh(mesh_path)
@@ -63,7 +123,7 @@ fn run(scene_path: &str, mesh_path: &str, png_dir: Option<PathBuf>) -> Result<()
     )
     .map_err(|e| format!("{mesh_path}: {e}"))?;
     let prepared = PreparedScene::new(&scene);
-    let mut scene_renderer = Renderer::new(RenderOptions::default()).map_err(|e| e.to_string())?;
+    let mut scene_renderer = Renderer::new(options).map_err(|e| e.to_string())?;
     let mut reference_options = RenderOptions::default();
     reference_options.culling = Culling::None;
     let mut reference_renderer = Renderer::new(reference_options).map_err(|e| e.to_string())?;
