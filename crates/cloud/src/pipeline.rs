@@ -343,22 +343,24 @@ fn plan_conversion(
     options: &CloudOptions,
 ) -> TilePlan {
     let extent = f64::from(bounds.size().max_element());
+    let anchor = cloud.origin + bounds.min.as_dvec3();
     let buffer = f64::from(TILE_BUFFER_PIXELS * pixel);
     let grid = match options.tile_size {
-        Some(size) => TileGrid::new(f64::from(size).max(extent / 1e6), buffer),
+        Some(size) => TileGrid::new(anchor, f64::from(size).max(extent / 1e6), buffer),
         None => {
             let whole: usize = view_directions(options.views)
                 .iter()
                 .map(|&b| ImageGeometry::covering(b, bounds, pixel).pixel_count())
                 .sum();
             (whole > PIXEL_BUDGET)
-                .then(|| TileGrid::for_budget(pixel, options.views, PIXEL_BUDGET, extent))
+                .then(|| TileGrid::for_budget(anchor, pixel, options.views, PIXEL_BUDGET, extent))
         }
     };
     match grid {
         Some(grid) => plan_tiles(positions, cloud.origin, grid),
         None => TilePlan {
             grid: TileGrid {
+                anchor,
                 size: extent,
                 buffer: 0.0,
             },

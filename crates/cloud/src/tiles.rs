@@ -7,8 +7,9 @@
 //! [`TileGrid::buffer`] of its bounds), and the points dropped as outliers.
 //!
 //! A tile is its bounds plus a buffer. Tile `(i, j, k)` owns the world box
-//! `[i·size, (i+1)·size) × [j·size, …) × [k·size, …)` (the grid is anchored at world zero,
-//! so the same grid serves every run, as a scale-out plan needs). Its range images are
+//! `anchor + [i·size, (i+1)·size) × [j·size, …) × [k·size, …)`; the pipeline anchors the
+//! grid at the cloud's lowest corner (so a compact object is cut by as few tile faces as
+//! possible), and a scale-out plan can give its own grid so every run shares it. Its range images are
 //! drawn from its own and its buffer points, so surfaces stay continuous across its border
 //! (the gap filling, smoothing and cell tests near the border see the neighbour's points),
 //! while only its own points are offered to the extraction: every patch is cut to cover
@@ -44,12 +45,14 @@ pub const OUTLIER_TILE_POINTS: usize = 16;
 /// Tiles per axis at most (21 bits of the packed tile key).
 const MAX_TILES_PER_AXIS: i64 = 1 << 20;
 
-/// A cubic grid of tiles anchored at world zero.
+/// A cubic grid of tiles with a corner at `anchor`.
 ///
 /// # Guarantees
 /// `size > 0`, `0 ≤ buffer < size / 2` (built by [`TileGrid::new`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TileGrid {
+    /// World position of a corner of tile `(0, 0, 0)`.
+    pub anchor: DVec3,
     /// Side of a tile (model units).
     pub size: f64,
     /// Width of the buffer around a tile (model units).
@@ -57,10 +60,11 @@ pub struct TileGrid {
 }
 
 impl TileGrid {
-    /// A grid of tiles of side `size` with a buffer of `buffer`, the buffer clamped below
-    /// half a tile; `None` unless `size` is positive and finite.
-    pub fn new(size: f64, buffer: f64) -> Option<TileGrid> {
+    /// A grid of tiles of side `size` from `anchor` with a buffer of `buffer`, the buffer
+    /// clamped below half a tile; `None` unless `size` is positive and finite.
+    pub fn new(anchor: DVec3, size: f64, buffer: f64) -> Option<TileGrid> {
         (size.is_finite() && size > 0.0).then(|| TileGrid {
+            anchor,
             size,
             buffer: buffer.clamp(0.0, 0.49 * size),
         })
@@ -69,8 +73,14 @@ impl TileGrid {
     /// The largest grid whose tiles, with a buffer of [`TILE_BUFFER_PIXELS`], fit `views`
     /// range images of `pixel` within `budget` pixels in total (a cube of side `L` projects
     /// into a rectangle of at most `√3·L` square), and coarse enough that an `extent` wide
-    /// cloud spans at most 2^20 tiles per axis.
-    pub fn for_budget(pixel: f32, views: usize, budget: usize, extent: f64) -> TileGrid {
+    /// cloud spans at most 2^20 tiles per axis; anchored at `anchor`.
+    pub fn for_budget(
+        anchor: DVec3,
+        pixel: f32,
+        views: usize,
+        budget: usize,
+        extent: f64,
+    ) -> TileGrid {
         let pixel = f64::from(pixel);
         let per_view = (budget as f64 / views.max(1) as f64).sqrt();
         let buffer = f64::from(TILE_BUFFER_PIXELS) * pixel;
@@ -79,6 +89,7 @@ impl TileGrid {
             .max(2.5 * buffer)
             .max(extent / (MAX_TILES_PER_AXIS - 2) as f64);
         TileGrid {
+            anchor,
             size,
             buffer: buffer.min(0.49 * size),
         }
@@ -86,13 +97,13 @@ impl TileGrid {
 
     /// The tile holding world point `w`.
     pub fn key_of(&self, w: DVec3) -> [i64; 3] {
-        let k = (w / self.size).floor();
+        let k = ((w - self.anchor) / self.size).floor();
         [k.x as i64, k.y as i64, k.z as i64]
     }
 
     /// The world bounds a tile owns: `[min, max)` per axis.
     pub fn bounds_of(&self, key: [i64; 3]) -> (DVec3, DVec3) {
-        let min = DVec3::new(key[0] as f64, key[1] as f64, key[2] as f64) * self.size;
+        let min = self.anchor + DVec3::new(key[0] as f64, key[1] as f64, key[2] as f64) * self.size;
         (min, min + DVec3::splat(self.size))
     }
 }
@@ -142,7 +153,7 @@ pub(crate) fn plan_tiles(positions: &[Vec3], origin: DVec3, grid: TileGrid) -> T
             let key = grid.key_of(w);
             // Per axis: the neighbour whose buffer holds the point (-1, +1) or none (0).
             let side = [0, 1, 2].map(|k| {
-                let f = w[k] / grid.size - key[k] as f64;
+                let f = (w[k] - grid.anchor[k]) / grid.size - key[k] as f64;
                 if f < near {
                     -1
                 } else if f > 1.0 - near {
@@ -214,7 +225,7 @@ mod tests {
                 )
             })
             .collect();
-        let grid = TileGrid::new(1.0, 0.1).unwrap();
+        let grid = TileGrid::new(DVec3::ZERO, 1.0, 0.1).unwrap();
         let plan = plan_tiles(&positions, DVec3::ZERO, grid);
         assert_eq!(plan.tiles.len(), 16);
         assert_eq!(plan.outlier_points, 0);
@@ -238,7 +249,11 @@ mod tests {
             .map(|k| Vec3::new((k % 20) as f32 * 0.01, (k / 20) as f32 * 0.01, 0.0))
             .collect();
         positions.push(Vec3::new(500.0, 0.0, 0.0));
-        let plan = plan_tiles(&positions, DVec3::ZERO, TileGrid::new(1.0, 0.05).unwrap());
+        let plan = plan_tiles(
+            &positions,
+            DVec3::ZERO,
+            TileGrid::new(DVec3::ZERO, 1.0, 0.05).unwrap(),
+        );
         assert_eq!(plan.outlier_points, 1);
         assert_eq!(plan.outlier_tiles, 1);
         assert_eq!(plan.tiles.len(), 1);
