@@ -56,8 +56,7 @@ use crate::spacing::estimate_spacing;
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
 use crate::tiles::{bounds_of_members, plan_tiles, TileGrid, TilePlan, TilePoints};
 use crate::{
-    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, PointId, StageTime,
-    TILE_BUFFER_PIXELS,
+    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, StageTime, TILE_BUFFER_PIXELS,
 };
 
 /// Largest total number of range-image pixels over all views of one tile (about 150 MB of
@@ -177,8 +176,9 @@ pub fn cloud_to_scene_with_progress(
             tiles: plan.outlier_tiles,
         });
     }
+    let (outlier_points, tile_count, grid) = (plan.outlier_points, plan.tiles.len(), plan.grid);
     let tiled = convert_tiles(
-        &plan,
+        plan,
         &TiledCloud {
             positions,
             colours: cloud.colours.as_deref(),
@@ -212,9 +212,9 @@ pub fn cloud_to_scene_with_progress(
         normals: surface.source,
         gap_pixels_filled: tiled.gap_pixels_filled,
         uncovered_points: tiled.uncovered,
-        outlier_points: plan.outlier_points,
-        tiles: plan.tiles.len(),
-        tile_size: (plan.tiles.len() > 1 || options.tile_size.is_some()).then_some(plan.grid.size),
+        outlier_points,
+        tiles: tile_count,
+        tile_size: (tile_count > 1 || options.tile_size.is_some()).then_some(grid.size),
         consensus_points,
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
@@ -364,9 +364,10 @@ fn plan_conversion(
                 size: extent,
                 buffer: 0.0,
             },
+            // No members: the whole cloud, every point its own.
             tiles: vec![TilePoints {
                 members: Vec::new(),
-                own: (0..positions.len() as u32).map(PointId).collect(),
+                own: Vec::new(),
             }],
             outlier_points: 0,
             outlier_tiles: 0,
@@ -387,7 +388,7 @@ struct TiledCloud<'a> {
 /// The `range_images` and `extract` stages over every tile in order, with their counts
 /// summed. `normals` (unit, zero where unknown) go as soon as no tile needs them.
 fn convert_tiles(
-    plan: &TilePlan,
+    plan: TilePlan,
     cloud: &TiledCloud<'_>,
     normals: Vec<Vec3>,
     options: &CloudOptions,
@@ -412,7 +413,7 @@ fn convert_tiles(
         ..TileOutput::default()
     };
     let mut normals = Some(normals);
-    for tile in &plan.tiles {
+    for tile in plan.tiles {
         let output = if tile.members.is_empty() {
             // The whole cloud: no copy; the normals go once the columns hold them.
             let normals = normals.take().unwrap_or_default();
@@ -420,7 +421,7 @@ fn convert_tiles(
                 positions: cloud.positions,
                 points: PointColumns::new(cloud.positions, &normals),
                 colours: cloud.colours,
-                own: tile.own.clone(),
+                own: None,
                 bounds: *cloud.bounds,
             };
             drop(normals);
@@ -444,7 +445,7 @@ fn convert_tiles(
 
 /// One tile of a grid: its members' points gathered, then converted.
 fn convert_member_tile(
-    tile: &TilePoints,
+    tile: TilePoints,
     cloud: &TiledCloud<'_>,
     normals: &[Vec3],
     context: &TileContext<'_>,
@@ -464,8 +465,8 @@ fn convert_member_tile(
         positions: &positions,
         points: PointColumns::new(&positions, &tile_normals),
         colours: colours.as_deref(),
-        own: tile.own.clone(),
         bounds: bounds_of_members(cloud.positions, &tile.members),
+        own: Some(tile.own),
     };
     drop(tile_normals);
     convert_tile(job, context, warnings)

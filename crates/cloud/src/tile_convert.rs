@@ -66,8 +66,9 @@ pub(crate) struct TileJob<'a> {
     /// Their colours, when the cloud has them.
     pub(crate) colours: Option<&'a [[u8; 4]]>,
     /// Indices (into the above) of the tile's own points: only these are offered to the
-    /// extraction.
-    pub(crate) own: Vec<PointId>,
+    /// extraction; `None` when every point is the tile's own (made only once the images are
+    /// drawn, so it does not add to their peak memory).
+    pub(crate) own: Option<Vec<PointId>>,
     /// What the range images cover.
     pub(crate) bounds: Aabb,
 }
@@ -133,7 +134,9 @@ pub(crate) fn convert_tile(
         target_step: options.displacement_step * spacing,
         max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
     };
-    let mut uncovered = job.own;
+    let mut uncovered = job
+        .own
+        .unwrap_or_else(|| (0..job.positions.len() as u32).map(PointId).collect());
     let mut counts = ExtractCounts::default();
     let patches = extract_passes(
         &mut views,

@@ -375,6 +375,8 @@ fn finish(
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     #[test]
