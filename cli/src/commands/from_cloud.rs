@@ -102,6 +102,17 @@ pub(crate) struct FromCloudArgs {
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
+    /// Side of the spatial tiles, in model units: each tile gets its own range images
+    /// (with a 16-pixel buffer so no seam opens), so memory follows the points. Default:
+    /// one tile when the whole cloud's images fit the pixel budget (16 M pixels), else
+    /// tiles sized to that budget.
+    #[arg(long, value_name = "SIZE")]
+    tile_size: Option<f32>,
+    /// When a tile's range images would exceed the pixel budget (a --tile-size too large
+    /// for the spacing), enlarge its pixel with a warning. Without it the run fails (exit 2)
+    /// rather than lose resolution silently.
+    #[arg(long)]
+    allow_coarsening: bool,
 }
 
 impl FromCloudArgs {
@@ -141,6 +152,8 @@ impl FromCloudArgs {
         options.spacing = self.spacing;
         options.normal_voxel = self.normal_voxel;
         options.write = WriteOptions::with_compression(super::compression(self.compress));
+        options.tile_size = self.tile_size;
+        options.allow_coarsening = self.allow_coarsening;
         options
     }
 }
@@ -157,6 +170,9 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         CloudError::Bug(_) | CloudError::Internal { .. } => {
             anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
         }
+        e @ CloudError::PixelBudgetExceeded { .. } => {
+            anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
+        }
         e => anyhow::Error::new(e).context(label.clone()),
     })?;
     let write_started = Instant::now();
@@ -166,9 +182,13 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let mut report = conversion.report;
     report.input_points += loaded.dropped_non_finite as usize;
     report.dropped_non_finite += loaded.dropped_non_finite;
-    report
+    // The readers' warnings first, then the pipeline's, as sentences.
+    let warnings: Vec<String> = loaded
         .warnings
-        .splice(0..0, loaded.warnings.iter().map(ToString::to_string));
+        .iter()
+        .map(ToString::to_string)
+        .chain(report.warnings.iter().map(ToString::to_string))
+        .collect();
     report.stages.insert(
         0,
         StageTime {
@@ -215,7 +235,15 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
             report.dropped_non_finite
         ));
     }
-    for warning in &report.warnings {
+    if report.tiles > 1 {
+        text.push_str(&format!(
+            "  {} tiles of {:.4e}, {} outlier points dropped\n",
+            report.tiles,
+            report.tile_size.unwrap_or(0.0),
+            report.outlier_points,
+        ));
+    }
+    for warning in &warnings {
         text.push_str(&format!("  warning: {warning}\n"));
     }
     let stages: Vec<String> = report
@@ -246,7 +274,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         ));
     }
     if let Some(path) = &args.report {
-        write_json_report(path, &shared_report(args, &report)?)?;
+        write_json_report(path, &shared_report(args, &report, warnings)?)?;
     }
     print_stdout(&text)
 }
@@ -269,7 +297,11 @@ fn read_inputs(args: &FromCloudArgs) -> anyhow::Result<LoadedScans> {
 /// The shared JSON report (docs/report-schema.md) of a cloud conversion: the cloud's own
 /// figures under `details`, the error's spacing and share of far points under
 /// `details.cloud_error`.
-fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report<Value>> {
+fn shared_report(
+    args: &FromCloudArgs,
+    r: &CloudReport,
+    warnings: Vec<String>,
+) -> anyhow::Result<Report<Value>> {
     let mut report = new_report("from-cloud", &args.input_label());
     report.output = Some(args.output.display().to_string());
     report.counts = r.counts;
@@ -277,7 +309,7 @@ fn shared_report(args: &FromCloudArgs, r: &CloudReport) -> anyhow::Result<Report
     report.seconds = r.seconds;
     report.threads = r.threads;
     report.diagonal = Some(r.diagonal);
-    report.warnings = r.warnings.clone();
+    report.warnings = warnings;
     report.details = Value::Object(details_from(r)?);
     if let Some(e) = &r.error {
         report.measure_stages.push("error", e.seconds);

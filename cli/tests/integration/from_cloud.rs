@@ -169,3 +169,50 @@ fn no_consensus_leaves_the_points_where_they_are() {
         0
     );
 }
+
+/// Two 0.5 m pieces 300 m apart at 7 mm, as XYZ text.
+fn write_far_pieces(t: &TestCommand, name: &str) {
+    let mut text = String::new();
+    for x0 in [0.0, 300.0] {
+        for k in 0..71 * 71 {
+            let (i, j) = ((k % 71) as f64, (k / 71) as f64);
+            let jitter = ((k * 7919) % 97) as f64 / 97.0 * 0.002;
+            let (x, y) = (i * 0.007 + jitter, j * 0.007 - jitter);
+            text.push_str(&format!("{} {y} {}\n", x0 + x, 0.05 * (3.0 * x).sin()));
+        }
+    }
+    std::fs::write(t.path(name), text).unwrap();
+}
+
+#[test]
+fn far_pieces_are_tiled_and_a_tile_over_budget_needs_allow_coarsening() {
+    let t = TestCommand::new();
+    write_far_pieces(&t, "far.xyz");
+    let run = t
+        .run(&["from-cloud", "far.xyz", "-o", "far.spatch"])
+        .success();
+    assert!(run.stdout.contains(" tiles of "), "{}", run.stdout);
+    assert!(!run.stdout.contains("warning"), "{}", run.stdout);
+    let big = [
+        "from-cloud",
+        "far.xyz",
+        "-o",
+        "big.spatch",
+        "--tile-size",
+        "1000",
+    ];
+    let run = t.run(&big);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    run.assert_one_clear_line("far.xyz");
+    assert!(run.stderr.contains("--allow-coarsening"), "{}", run.stderr);
+    assert!(!t.path("big.spatch").exists());
+    let mut coarse = big.to_vec();
+    coarse.push("--allow-coarsening");
+    let run = t.run(&coarse).success();
+    assert!(
+        run.stdout.contains("warning: a tile's range images"),
+        "{}",
+        run.stdout
+    );
+    assert!(t.path("big.spatch").exists());
+}

@@ -61,6 +61,15 @@ pub enum CloudError {
         /// Points in the cloud.
         points: usize,
     },
+    /// A tile's range images would need more pixels than the budget (its extent is too large
+    /// for its spacing), and coarsening was not allowed.
+    #[error("the range images of a tile would need {pixels} pixels (more than {budget}); use smaller tiles, or allow coarsening to enlarge the pixel")]
+    PixelBudgetExceeded {
+        /// Pixels the tile's images need over all views.
+        pixels: usize,
+        /// The budget per tile ([`PIXEL_BUDGET`](crate::PIXEL_BUDGET)).
+        budget: usize,
+    },
     /// The scene has no filled node, so no error can be measured against it.
     #[error("the scene has no filled node to measure against")]
     EmptyScene,

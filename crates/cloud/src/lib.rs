@@ -16,6 +16,9 @@
 //!   patch surface) and `node_to_cloud` (every node to the nearest point);
 //! - the stages on their own: [`PointTree`] and [`estimate_spacing`], [`estimate_normals`],
 //!   [`view_directions`];
+//! - spatial tiles for clouds of any extent ([`TileGrid`]; each tile under its own
+//!   [`PIXEL_BUDGET`]), progress counts ([`cloud_to_scene_with_progress`], [`Progress`]) and
+//!   typed warnings ([`CloudWarning`]);
 //! - typed ids [`PointId`], [`ViewId`]; the error type [`CloudError`].
 //!
 //! Algorithms, parameters and measured figures: `docs/algorithms/cloud.md`.
@@ -52,10 +55,14 @@ mod ids;
 mod normals;
 mod options;
 mod pipeline;
+mod progress;
 mod range_image;
 mod report;
 mod smooth;
 mod spacing;
+mod tile_convert;
+mod tiles;
+mod warning;
 
 pub use consensus::CONSENSUS_MIN_POINTS;
 pub use directions::{view_directions, ViewBasis};
@@ -65,10 +72,14 @@ pub use ids::{PointId, ViewId};
 pub use normals::{estimate_normals, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
 pub use pipeline::{
-    cloud_to_scene, CloudConversion, BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,
+    cloud_to_scene, cloud_to_scene_with_progress, CloudConversion, BORDER_TOLERANCE, FRONT_BAND,
+    MIN_REGION_CELLS, PIXEL_BUDGET,
 };
+pub use progress::{Progress, ProgressFn, Stage};
 pub use report::{CloudReport, Counts, StageTime};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,
     SPACING_SUBSET,
 };
+pub use tiles::{TileGrid, OUTLIER_TILE_POINTS, TILE_BUFFER_PIXELS};
+pub use warning::CloudWarning;

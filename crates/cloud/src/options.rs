@@ -121,6 +121,17 @@ pub struct CloudOptions {
     pub displacement_step: f32,
     /// Container options (compression of node data). Default: uncompressed.
     pub write: WriteOptions,
+    /// Side of the spatial tiles (model units, positive), each converted with its own range
+    /// images; `None` (default) makes one tile of a cloud whose images fit
+    /// [`PIXEL_BUDGET`](crate::PIXEL_BUDGET) and, for larger extents, tiles sized to that
+    /// budget (`tiles.rs`). Smaller tiles need less memory and cost a little overlap at
+    /// their borders; tiles too large for the budget fail (or coarsen, below).
+    pub tile_size: Option<f32>,
+    /// When a tile's range images would exceed the pixel budget anyway (a `tile_size` too
+    /// large for the spacing), enlarge that tile's pixel with a warning instead of failing
+    /// with [`CloudError::PixelBudgetExceeded`](crate::CloudError::PixelBudgetExceeded).
+    /// Default off: the resolution never drops silently.
+    pub allow_coarsening: bool,
 }
 
 impl CloudOptions {
@@ -210,6 +221,11 @@ impl CloudOptions {
             "displacement_step",
             "must be a positive number",
         )?;
+        check(
+            self.tile_size.is_none_or(|s| s.is_finite() && s > 0.0),
+            "tile_size",
+            "must be a positive number",
+        )?;
         if let Some(smooth) = self.smooth {
             check(
                 (1..=8).contains(&smooth.radius),
@@ -248,6 +264,8 @@ impl Default for CloudOptions {
             spacing: None,
             displacement_step: Self::DEFAULT_DISPLACEMENT_STEP,
             write: WriteOptions::default(),
+            tile_size: None,
+            allow_coarsening: false,
         }
     }
 }

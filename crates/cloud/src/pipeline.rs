@@ -1,33 +1,39 @@
-//! The point cloud → scene pipeline: filter, spacing, normals, range images, extraction,
-//! encoding, each timed.
+//! The point cloud → scene pipeline: filter, sort, spacing, normals, consensus, tiles, range
+//! images, extraction, encoding, each a named stage function, each timed.
 //!
 //! Input: a [`PointCloud`] and [`CloudOptions`]. Output: a [`CloudConversion`] (the scene,
 //! its encoded bytes and a [`CloudReport`]).
 //!
 //! Stages:
-//! 1. `filter`: points with a non-finite coordinate or normal are dropped and counted.
-//! 2. `sort`: the points are put in Morton order, so that every later pass over them (one
-//!    per view) reads and writes the images in a cache-friendly order.
-//! 3. `spacing`: a kd-tree over (a thinned subset of) the points; the spacing `s` from 12
-//!    nearest neighbours (`spacing.rs`), unless given.
-//! 4. `normals`: the file's normals when it has them, else PCA normals over voxel blocks
-//!    (`normals.rs`).
-//! 5. `consensus`: every point moved onto its voxel block's least-squares plane
-//!    (`consensus.rs`), so overlapping scans give one surface (unless turned off).
-//! 6. `range_images`: one orthographic z-buffer per view direction (`directions.rs`,
-//!    `range_image.rs`) with pixel size `pixel_factor · s`, then gap filling (`gap_fill.rs`)
-//!    and, if asked, smoothing (`smooth.rs`). Views are independent and built in parallel.
-//! 7. `extract`: two passes over the views in order, the first accepting surfaces within the
-//!    preferred slope, the second within the maximum slope; each view adds patches only where
-//!    points are still uncovered (`extract.rs`).
-//! 8. `encode`: the `.spatch` bytes.
+//! 1. `filter` ([`keep_finite`]): points with a non-finite coordinate or normal are dropped
+//!    and counted.
+//! 2. `sort` ([`sort_spatially`]): the points are put in Morton order, so that every later
+//!    pass over them (one per view) reads and writes the images in a cache-friendly order.
+//! 3. `spacing` ([`measure_spacing`]): the spacing `s` from 12 nearest neighbours
+//!    (`spacing.rs`), unless given.
+//! 4. `normals` ([`estimate_surface`]): the file's normals when it has them, else PCA
+//!    normals over voxel blocks (`normals.rs`).
+//! 5. `consensus` ([`apply_consensus`]): every point moved onto its voxel block's
+//!    least-squares plane (`consensus.rs`), so overlapping scans give one surface (unless
+//!    turned off).
+//! 6. `tiles` ([`plan_conversion`]): when the views' range images over the whole cloud fit
+//!    [`PIXEL_BUDGET`], the cloud is one tile; otherwise a grid of spatial tiles, each with
+//!    a buffer and its own images under the budget (`tiles.rs`), and the points of nearly
+//!    empty tiles dropped as outliers.
+//! 7. `range_images` and 8. `extract`, tile by tile in key order (`tile_convert.rs`): one
+//!    orthographic z-buffer per view with pixel size `pixel_factor · s`, gap filling and, if
+//!    asked, smoothing; then three passes over the views cutting patches for the tile's own
+//!    uncovered points (`extract.rs`).
+//! 9. `encode`: the `.spatch` bytes.
 //!
-//! Invariants: the output is byte-identical for any thread count (parallel work is per view
-//! or per chunk of points and collected in order; extraction is sequential).
+//! Invariants: the output is byte-identical for any thread count (parallel work is per view,
+//! per chunk of points or per tile cell, and collected in order; views, passes and tiles run
+//! in order). The pixel size never changes silently: a tile over its budget fails with
+//! [`CloudError::PixelBudgetExceeded`] unless [`CloudOptions::allow_coarsening`] is set.
 //!
 //! Cost: O(n log n) for the tree and normals; O(views · n) for the z-buffers; memory about
-//! `9 · views · pixels per view` bytes for the images plus the cloud and its tree. The total
-//! pixel count is capped at [`PIXEL_BUDGET`] by enlarging the pixel (with a warning).
+//! `9 · views · pixels per view` bytes for one tile's images (at most [`PIXEL_BUDGET`]
+//! pixels) plus about 60 bytes per point for the cloud, its normals and columns.
 //!
 //! Based on: the point-cloud path of the spatial-patch paper (range images from directions
 //! spread over a sphere, gap interpolation, smoothing, rectangular regions).
@@ -37,24 +43,25 @@ use std::time::Instant;
 
 use glam::Vec3;
 use rayon::prelude::*;
-use spatch_format::{encode_scene, ColourChannel, Scene};
+use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
 
 use crate::bucket_sort::sort_pairs;
 use crate::consensus::{project_to_consensus, ConsensusLimits};
 use crate::directions::view_directions;
-use crate::extract::{
-    absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
-};
-use crate::gap_fill::fill_gaps;
-use crate::normals::estimate_planes;
-use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
-use crate::smooth::smooth_range_image;
+use crate::normals::{estimate_planes, VoxelPlanes};
+use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
+use crate::range_image::{ImageGeometry, PointColumns};
 use crate::spacing::estimate_spacing;
-use crate::{CloudError, CloudOptions, CloudReport, Counts, PointId, StageTime};
+use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
+use crate::tiles::{bounds_of_members, plan_tiles, TileGrid, TilePlan, TilePoints};
+use crate::{
+    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, StageTime, TILE_BUFFER_PIXELS,
+};
 
-/// Largest total number of range-image pixels over all views (about 360 MB of images).
-pub const PIXEL_BUDGET: usize = 40_000_000;
+/// Largest total number of range-image pixels over all views of one tile (about 150 MB of
+/// images). A cloud whose images fit is converted as one tile.
+pub const PIXEL_BUDGET: usize = 16_000_000;
 
 /// Needed cells a region must have to become patches in the first two passes (the third
 /// pass takes any size).
@@ -78,27 +85,42 @@ pub struct CloudConversion {
     pub report: CloudReport,
 }
 
-/// Times consecutive stages.
-struct StageClock {
+/// Times consecutive stages and reports each sequential one as done.
+struct StageClock<'a> {
     last: Instant,
     stages: Vec<StageTime>,
+    progress: ProgressFn<'a>,
 }
 
-impl StageClock {
-    fn new() -> StageClock {
+impl<'a> StageClock<'a> {
+    fn new(progress: ProgressFn<'a>) -> StageClock<'a> {
         StageClock {
             last: Instant::now(),
             stages: Vec::new(),
+            progress,
         }
     }
 
-    fn lap(&mut self, name: &'static str) {
+    /// Ends the sequential stage `stage`.
+    fn lap(&mut self, stage: Stage) {
         let now = Instant::now();
-        self.stages.push(StageTime {
-            name,
-            seconds: (now - self.last).as_secs_f64(),
-        });
+        self.record(stage.name(), (now - self.last).as_secs_f64());
         self.last = now;
+        (self.progress)(Progress {
+            stage,
+            done: 1,
+            total: 1,
+        });
+    }
+
+    /// Adds `seconds` to the stage `name` (the stages of the tiles alternate), and restarts
+    /// the clock.
+    fn record(&mut self, name: &'static str, seconds: f64) {
+        match self.stages.iter_mut().find(|s| s.name == name) {
+            Some(stage) => stage.seconds += seconds,
+            None => self.stages.push(StageTime { name, seconds }),
+        }
+        self.last = Instant::now();
     }
 }
 
@@ -106,15 +128,112 @@ impl StageClock {
 ///
 /// Errors: [`CloudError::InvalidOption`], [`CloudError::MismatchedAttribute`],
 /// [`CloudError::EmptyCloud`], [`CloudError::TooFewPoints`], [`CloudError::NoExtent`],
-/// [`CloudError::NoSurface`]; [`CloudError::Bug`] / [`CloudError::Internal`] are bugs.
+/// [`CloudError::NoSurface`], [`CloudError::PixelBudgetExceeded`]; [`CloudError::Bug`] /
+/// [`CloudError::Internal`] are bugs.
 pub fn cloud_to_scene(
     cloud: &PointCloud,
     options: &CloudOptions,
 ) -> Result<CloudConversion, CloudError> {
+    cloud_to_scene_with_progress(cloud, options, &|_| {})
+}
+
+/// [`cloud_to_scene`], calling `progress` as units of work end (see
+/// [`Progress`](crate::Progress)).
+pub fn cloud_to_scene_with_progress(
+    cloud: &PointCloud,
+    options: &CloudOptions,
+    progress: ProgressFn<'_>,
+) -> Result<CloudConversion, CloudError> {
     options.validate()?;
-    let mut clock = StageClock::new();
+    let mut clock = StageClock::new(progress);
     let input_points = cloud.len();
     let (cloud, dropped) = keep_finite(cloud)?;
+    let bounds = check_extent(&cloud, dropped)?;
+    clock.lap(Stage::Filter);
+
+    let cloud = sort_spatially(&cloud, &bounds);
+    clock.lap(Stage::Sort);
+
+    let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
+    clock.lap(Stage::Spacing);
+
+    let surface = estimate_surface(&cloud, options, spacing)?;
+    clock.lap(Stage::Normals);
+
+    let (moved, consensus_points) =
+        apply_consensus(&cloud.positions, surface.planes, options, spacing);
+    let positions: &[Vec3] = moved.as_deref().unwrap_or(&cloud.positions);
+    clock.lap(Stage::Consensus);
+
+    let pixel = spacing * options.pixel_factor;
+    let plan = plan_conversion(positions, &cloud, &bounds, pixel, options);
+    clock.lap(Stage::Tiles);
+
+    let mut warnings = Vec::new();
+    if plan.outlier_points > 0 {
+        warnings.push(CloudWarning::OutliersDropped {
+            points: plan.outlier_points,
+            tiles: plan.outlier_tiles,
+        });
+    }
+    let (outlier_points, tile_count, grid) = (plan.outlier_points, plan.tiles.len(), plan.grid);
+    let tiled = convert_tiles(
+        plan,
+        &TiledCloud {
+            positions,
+            colours: cloud.colours.as_deref(),
+            bounds: &bounds,
+        },
+        surface.normals,
+        options,
+        (spacing, pixel),
+        &mut clock,
+        &mut warnings,
+    )?;
+    let started = Instant::now();
+    let scene = build_scene(&cloud, tiled.patches, cloud.len())?;
+    clock.record(Stage::Extract.name(), started.elapsed().as_secs_f64());
+
+    let bytes = encode_scene(&scene, &options.write)?;
+    clock.lap(Stage::Encode);
+
+    let report = CloudReport {
+        input_points,
+        dropped_non_finite: dropped,
+        points: cloud.len(),
+        counts: Counts::of(&scene, bytes.len()),
+        seconds: clock.stages.iter().map(|s| s.seconds).sum(),
+        stages: clock.stages,
+        threads: rayon::current_num_threads(),
+        spacing,
+        mean_nearest,
+        pixel: tiled.pixel,
+        views: options.views,
+        normals: surface.source,
+        gap_pixels_filled: tiled.gap_pixels_filled,
+        uncovered_points: tiled.uncovered,
+        outlier_points,
+        tiles: tile_count,
+        tile_size: (tile_count > 1 || options.tile_size.is_some()).then_some(grid.size),
+        consensus_points,
+        split_tiles: tiled.counts.split_tiles,
+        wide_patches: tiled.counts.wide_patches,
+        smoothed: options.smooth.is_some(),
+        colour: scene.channel().name(),
+        diagonal: f64::from(bounds.diagonal()),
+        warnings,
+        error: None,
+    };
+    Ok(CloudConversion {
+        scene,
+        bytes,
+        report,
+    })
+}
+
+/// The bounds of the finite cloud, or why it cannot be converted (too few points, no
+/// extent).
+fn check_extent(cloud: &PointCloud, dropped: u64) -> Result<Aabb, CloudError> {
     let n = cloud.len();
     if n == 0 {
         return Err(CloudError::EmptyCloud {
@@ -134,37 +253,50 @@ pub fn cloud_to_scene(
             extent: 0.0,
         });
     }
-    clock.lap("filter");
+    Ok(bounds)
+}
 
-    let cloud = sort_spatially(&cloud, &bounds);
-    clock.lap("sort");
-
-    let positions = &cloud.positions;
-    let (spacing, mean_nearest) = match options.spacing {
+/// The spacing (given or estimated) and the mean nearest-neighbour distance (0 when given).
+fn measure_spacing(positions: &[Vec3], options: &CloudOptions) -> Result<(f32, f32), CloudError> {
+    Ok(match options.spacing {
         Some(s) => (s, 0.0),
         None => {
             let estimate = estimate_spacing(positions)?;
             (estimate.spacing, estimate.mean_nearest)
         }
-    };
-    clock.lap("spacing");
+    })
+}
 
+/// Normals per point and, when the consensus needs them or the file has no normals, the
+/// voxel blocks' planes.
+struct Surface {
+    /// Unit normals (zero where unknown).
+    normals: Vec<Vec3>,
+    /// `file` or `pca`.
+    source: &'static str,
+    /// The blocks' planes, when computed.
+    planes: Option<VoxelPlanes>,
+}
+
+/// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks.
+fn estimate_surface(
+    cloud: &PointCloud,
+    options: &CloudOptions,
+    spacing: f32,
+) -> Result<Surface, CloudError> {
     let planes = (options.consensus || cloud.normals.is_none())
-        .then(|| estimate_planes(positions, options.normal_voxel * spacing));
-    let (normals, normals_source): (Cow<'_, [Vec3]>, &'static str) = match (&cloud.normals, &planes)
-    {
+        .then(|| estimate_planes(&cloud.positions, options.normal_voxel * spacing));
+    let (normals, source) = match (&cloud.normals, &planes) {
         (Some(given), _) => (
-            Cow::Owned(given.iter().map(|n| n.normalize_or_zero()).collect()),
+            given.iter().map(|n| n.normalize_or_zero()).collect(),
             "file",
         ),
         (None, Some(planes)) => (
-            Cow::Owned(
-                planes
-                    .point_voxel
-                    .par_iter()
-                    .map(|&v| planes.planes[v as usize].normal)
-                    .collect(),
-            ),
+            planes
+                .point_voxel
+                .par_iter()
+                .map(|&v| planes.planes[v as usize].normal)
+                .collect(),
             "pca",
         ),
         (None, None) => {
@@ -173,184 +305,193 @@ pub fn cloud_to_scene(
             })
         }
     };
-    clock.lap("normals");
+    Ok(Surface {
+        normals,
+        source,
+        planes,
+    })
+}
 
-    let mut consensus_points = 0;
-    let moved = match (&planes, options.consensus) {
+/// The `consensus` stage: the moved positions (when on) and how many points moved.
+fn apply_consensus(
+    positions: &[Vec3],
+    planes: Option<VoxelPlanes>,
+    options: &CloudOptions,
+    spacing: f32,
+) -> (Option<Vec<Vec3>>, usize) {
+    match (&planes, options.consensus) {
         (Some(planes), true) => {
             let limits = ConsensusLimits {
                 max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
                 max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
             };
             let (moved, count) = project_to_consensus(positions, planes, limits);
-            consensus_points = count;
-            Some(moved)
+            (Some(moved), count)
         }
-        _ => None,
-    };
-    drop(planes);
-    let positions: &[Vec3] = moved.as_deref().unwrap_or(positions);
-    clock.lap("consensus");
-
-    let mut warnings = Vec::new();
-    let image_bounds = robust_bounds(positions, &bounds);
-    if image_bounds != bounds {
-        let outside = positions
-            .iter()
-            .filter(|p| !image_bounds.contains(**p))
-            .count();
-        warnings.push(format!(
-            "{outside} points lie far outside the bulk of the cloud (outliers?): the range \
-             images leave them out, so no patch covers them"
-        ));
+        _ => (None, 0),
     }
+}
+
+/// The `tiles` stage: one tile when the whole cloud's images fit [`PIXEL_BUDGET`] (and no
+/// tile size is asked for), else the tiles of a grid sized to the budget (or to
+/// [`CloudOptions::tile_size`]).
+fn plan_conversion(
+    positions: &[Vec3],
+    cloud: &PointCloud,
+    bounds: &Aabb,
+    pixel: f32,
+    options: &CloudOptions,
+) -> TilePlan {
+    let extent = f64::from(bounds.size().max_element());
+    let anchor = cloud.origin + bounds.min.as_dvec3();
+    let buffer = f64::from(TILE_BUFFER_PIXELS * pixel);
+    let grid = match options.tile_size {
+        Some(size) => TileGrid::new(anchor, f64::from(size).max(extent / 1e6), buffer),
+        None => {
+            let whole: usize = view_directions(options.views)
+                .iter()
+                .map(|&b| ImageGeometry::covering(b, bounds, pixel).pixel_count())
+                .sum();
+            (whole > PIXEL_BUDGET)
+                .then(|| TileGrid::for_budget(anchor, pixel, options.views, PIXEL_BUDGET, extent))
+        }
+    };
+    match grid {
+        Some(grid) => plan_tiles(positions, cloud.origin, grid),
+        None => TilePlan {
+            grid: TileGrid {
+                anchor,
+                size: extent,
+                buffer: 0.0,
+            },
+            // No members: the whole cloud, every point its own.
+            tiles: vec![TilePoints {
+                members: Vec::new(),
+                own: Vec::new(),
+            }],
+            outlier_points: 0,
+            outlier_tiles: 0,
+        },
+    }
+}
+
+/// The cloud as the tiles read it.
+struct TiledCloud<'a> {
+    /// Positions after the consensus.
+    positions: &'a [Vec3],
+    /// Colours, when the cloud has them.
+    colours: Option<&'a [[u8; 4]]>,
+    /// Bounds of the cloud as loaded (the images of a single tile cover them).
+    bounds: &'a Aabb,
+}
+
+/// The `range_images` and `extract` stages over every tile in order, with their counts
+/// summed. `normals` (unit, zero where unknown) go as soon as no tile needs them.
+fn convert_tiles(
+    plan: TilePlan,
+    cloud: &TiledCloud<'_>,
+    normals: Vec<Vec3>,
+    options: &CloudOptions,
+    (spacing, pixel): (f32, f32),
+    clock: &mut StageClock<'_>,
+    warnings: &mut Vec<CloudWarning>,
+) -> Result<TileOutput, CloudError> {
     let bases = view_directions(options.views);
-    let mut pixel = spacing * options.pixel_factor;
-    let mut geometries: Vec<ImageGeometry> = bases
-        .iter()
-        .map(|&b| ImageGeometry::covering(b, &image_bounds, pixel))
-        .collect();
-    let total: usize = geometries.iter().map(ImageGeometry::pixel_count).sum();
-    if total > PIXEL_BUDGET {
-        let grow = (total as f64 / PIXEL_BUDGET as f64).sqrt() as f32 * 1.02;
-        warnings.push(format!(
-            "the range images would need {total} pixels (more than {PIXEL_BUDGET}): the pixel \
-             size was enlarged {grow:.2} times, to {:.3e}; the cloud's extent is large for its \
-             spacing (outliers far from the surface?)",
-            pixel * grow
-        ));
-        pixel *= grow;
-        geometries = bases
-            .iter()
-            .map(|&b| ImageGeometry::covering(b, &image_bounds, pixel))
-            .collect();
-    }
-    let jump = options.jump_factor * pixel;
-    let points = PointColumns::new(positions, &normals);
-    drop(normals);
-    let flush = FlushInput {
-        points: &points,
-        colours: cloud.colours.as_deref(),
-        band: FRONT_BAND * spacing,
-        jump,
+    let tiles = plan.tiles.len();
+    let images_done = StageCounter::new(Stage::RangeImages, tiles * bases.len(), clock.progress);
+    let views_done = StageCounter::new(Stage::Extract, 3 * tiles * bases.len(), clock.progress);
+    let context = TileContext {
+        options,
+        bases: &bases,
+        spacing,
+        pixel,
+        images_done: &images_done,
+        views_done: &views_done,
     };
-    let built: Vec<(ViewState, usize)> = geometries
-        .par_iter()
-        .map_init(FlushScratch::default, |scratch, &geometry| {
-            let mut image = flush_points(&flush, geometry, scratch);
-            let filled = fill_gaps(&mut image, options.max_gap, jump);
-            if let Some(smooth) = &options.smooth {
-                smooth_range_image(&mut image, smooth, spacing, jump);
-            }
-            (ViewState::new(image), filled)
-        })
-        .collect();
-    let gap_pixels_filled = built.iter().map(|b| b.1).sum();
-    let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
-    drop(points);
-    clock.lap("range_images");
+    let mut total = TileOutput {
+        pixel,
+        ..TileOutput::default()
+    };
+    let mut normals = Some(normals);
+    for tile in plan.tiles {
+        let output = if tile.members.is_empty() {
+            // The whole cloud: no copy; the normals go once the columns hold them.
+            let normals = normals.take().unwrap_or_default();
+            let job = TileJob {
+                positions: cloud.positions,
+                points: PointColumns::new(cloud.positions, &normals),
+                colours: cloud.colours,
+                own: None,
+                bounds: *cloud.bounds,
+            };
+            drop(normals);
+            convert_tile(job, &context, warnings)?
+        } else {
+            let normals = normals.as_deref().unwrap_or_default();
+            convert_member_tile(tile, cloud, normals, &context, warnings)?
+        };
+        total.patches.extend(output.patches);
+        total.counts.covered += output.counts.covered;
+        total.counts.split_tiles += output.counts.split_tiles;
+        total.counts.wide_patches += output.counts.wide_patches;
+        total.gap_pixels_filled += output.gap_pixels_filled;
+        total.uncovered += output.uncovered;
+        total.pixel = total.pixel.max(output.pixel);
+        clock.record(Stage::RangeImages.name(), output.image_seconds);
+        clock.record(Stage::Extract.name(), output.extract_seconds);
+    }
+    Ok(total)
+}
 
-    let settings = ExtractSettings {
-        jump,
-        tolerance: options.cover_tolerance * spacing,
-        tile: options.grid as usize - 1,
-        target_step: options.displacement_step * spacing,
-        max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+/// One tile of a grid: its members' points gathered, then converted.
+fn convert_member_tile(
+    tile: TilePoints,
+    cloud: &TiledCloud<'_>,
+    normals: &[Vec3],
+    context: &TileContext<'_>,
+    warnings: &mut Vec<CloudWarning>,
+) -> Result<TileOutput, CloudError> {
+    let pick = |i: &u32| *i as usize;
+    let positions: Vec<Vec3> = tile
+        .members
+        .iter()
+        .map(|i| cloud.positions[pick(i)])
+        .collect();
+    let tile_normals: Vec<Vec3> = tile.members.iter().map(|i| normals[pick(i)]).collect();
+    let colours: Option<Vec<[u8; 4]>> = cloud
+        .colours
+        .map(|c| tile.members.iter().map(|i| c[pick(i)]).collect());
+    let job = TileJob {
+        positions: &positions,
+        points: PointColumns::new(&positions, &tile_normals),
+        colours: colours.as_deref(),
+        bounds: bounds_of_members(cloud.positions, &tile.members),
+        own: Some(tile.own),
     };
-    let preferred = PassLimits {
-        max_tan: options.preferred_slope_degrees.to_radians().tan(),
-        min_cells: MIN_REGION_CELLS,
-    };
-    let relaxed = PassLimits {
-        max_tan: options.max_slope_degrees.to_radians().tan(),
-        min_cells: MIN_REGION_CELLS,
-    };
-    let last = PassLimits {
-        min_cells: 1,
-        ..relaxed
-    };
-    let mut uncovered: Vec<PointId> = (0..n as u32).map(PointId).collect();
-    let mut counts = ExtractCounts::default();
-    let mut patches = Vec::new();
-    for (index, pass) in [preferred, relaxed, last].iter().enumerate() {
-        if index == 2 {
-            // Before small patches are made for the last points, let those at the border of
-            // an existing patch count as covered by it.
-            for view in &views {
-                counts.covered += absorb_border_points(
-                    view,
-                    positions,
-                    &mut uncovered,
-                    BORDER_TOLERANCE * spacing,
-                    &settings,
-                );
-            }
-        }
-        for view in &mut views {
-            if uncovered.is_empty() {
-                break;
-            }
-            let found = extract_view(
-                view,
-                positions,
-                &mut uncovered,
-                pass,
-                &settings,
-                &mut counts,
-            )?;
-            patches.extend(found);
-        }
-    }
-    drop(views);
+    drop(tile_normals);
+    convert_tile(job, context, warnings)
+}
+
+/// The scene of the patches, every one drawn from both sides (a cloud says nothing of what
+/// is closed, so automatic culling draws them all from both sides).
+fn build_scene(
+    cloud: &PointCloud,
+    patches: Vec<Patch>,
+    points: usize,
+) -> Result<Scene, CloudError> {
     if patches.is_empty() {
-        return Err(CloudError::NoSurface { points: n });
+        return Err(CloudError::NoSurface { points });
     }
     let channel = match &cloud.colours {
         None => ColourChannel::None,
         Some(c) if c.iter().all(|c| c[3] == 255) => ColourChannel::Rgb8,
         Some(_) => ColourChannel::Rgba8,
     };
-    // A cloud says nothing of what is closed: every patch may be seen from
-    // behind, so automatic culling draws them all from both sides.
     let patches = patches
         .into_iter()
         .map(|p| p.with_sides(spatch_format::Sides::Both))
         .collect();
-    let scene = Scene::new(cloud.origin, channel, patches)?;
-    clock.lap("extract");
-
-    let bytes = encode_scene(&scene, &options.write)?;
-    clock.lap("encode");
-
-    let report = CloudReport {
-        input_points,
-        dropped_non_finite: dropped,
-        points: n,
-        counts: Counts::of(&scene, bytes.len()),
-        seconds: clock.stages.iter().map(|s| s.seconds).sum(),
-        stages: clock.stages,
-        threads: rayon::current_num_threads(),
-        spacing,
-        mean_nearest,
-        pixel,
-        views: options.views,
-        normals: normals_source,
-        gap_pixels_filled,
-        uncovered_points: uncovered.len(),
-        consensus_points,
-        split_tiles: counts.split_tiles,
-        wide_patches: counts.wide_patches,
-        smoothed: options.smooth.is_some(),
-        colour: channel.name(),
-        diagonal: f64::from(bounds.diagonal()),
-        warnings,
-        error: None,
-    };
-    Ok(CloudConversion {
-        scene,
-        bytes,
-        report,
-    })
+    Ok(Scene::new(cloud.origin, channel, patches)?)
 }
 
 /// The cloud with its points in Morton (Z-order) order of their position in `bounds`, so
@@ -394,32 +535,6 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
             .as_ref()
             .map(|v| order.par_iter().map(|i| v[pick(i)]).collect()),
     }
-}
-
-/// The bounds the range images cover: per axis, the 0.1 % and 99.9 % quantiles of the
-/// coordinates widened by a quarter of their distance on each side, clipped to `full`. On a
-/// cloud without far outliers this is `full` itself; a handful of points thousands of
-/// spacings away no longer blow the images (and the pixel budget) up.
-fn robust_bounds(positions: &[Vec3], full: &Aabb) -> Aabb {
-    let n = positions.len();
-    let (lo_rank, hi_rank) = (n / 1000, n - 1 - n / 1000);
-    // The three axes are independent selections: one task each.
-    let quantiles: Vec<(f32, f32)> = (0..3)
-        .into_par_iter()
-        .map(|axis| {
-            let mut values: Vec<f32> = positions.iter().map(|p| p[axis]).collect();
-            let lo = *values.select_nth_unstable_by(lo_rank, f32::total_cmp).1;
-            let hi = *values.select_nth_unstable_by(hi_rank, f32::total_cmp).1;
-            (lo, hi)
-        })
-        .collect();
-    let mut bounds = *full;
-    for (axis, &(lo, hi)) in quantiles.iter().enumerate() {
-        let margin = 0.25 * (hi - lo);
-        bounds.min[axis] = (lo - margin).max(full.min[axis]);
-        bounds.max[axis] = (hi + margin).min(full.max[axis]);
-    }
-    bounds
 }
 
 /// The cloud without its non-finite points (borrowed when there are none), and how many were

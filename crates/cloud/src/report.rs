@@ -3,7 +3,7 @@
 use serde::Serialize;
 pub use spatch_report::{Counts, StageTime};
 
-use crate::CloudErrorReport;
+use crate::{CloudErrorReport, CloudWarning};
 
 /// Counts and timings of one point cloud conversion.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -21,8 +21,9 @@ pub struct CloudReport {
     /// Total wall time of the stages, in seconds.
     pub seconds: f64,
     /// Each stage's wall time, in pipeline order: `filter`, `sort`,
-    /// `spacing`, `normals`, `range_images`, `extract`, `encode` (and `load`,
-    /// `write` when the CLI adds them).
+    /// `spacing`, `normals`, `consensus`, `tiles`, `range_images`, `extract`, `encode`
+    /// (and `load`, `write` when the CLI adds them); over several tiles, `range_images` and
+    /// `extract` are the sums over the tiles.
     pub stages: Vec<StageTime>,
     /// Worker threads available to the parallel stages.
     pub threads: usize,
@@ -41,6 +42,12 @@ pub struct CloudReport {
     pub gap_pixels_filled: usize,
     /// Points no patch covers within the cover tolerance.
     pub uncovered_points: usize,
+    /// Points dropped as outliers (alone in a tile, `tiles.rs`).
+    pub outlier_points: usize,
+    /// Spatial tiles converted (1 when the whole cloud's images fit the pixel budget).
+    pub tiles: usize,
+    /// Side of the tiles (model units) when the cloud was tiled.
+    pub tile_size: Option<f64>,
     /// Tiles split into several patches because of their depth range.
     pub split_tiles: usize,
     /// Points moved onto their block's plane (`consensus.rs`; 0 when off).
@@ -53,8 +60,8 @@ pub struct CloudReport {
     pub colour: &'static str,
     /// Length of the cloud's bounding-box diagonal (model units).
     pub diagonal: f64,
-    /// What the pipeline worked around, as readable sentences.
-    pub warnings: Vec<String>,
+    /// What the pipeline worked around (serialized as sentences).
+    pub warnings: Vec<CloudWarning>,
     /// The geometric error, when it was measured.
     pub error: Option<CloudErrorReport>,
 }

@@ -40,6 +40,7 @@ mod mesh;
 mod point_cloud;
 mod prepare;
 mod ray;
+mod robust_centre;
 mod sample;
 
 pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
@@ -56,4 +57,5 @@ pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;
 pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};
+pub use robust_centre::{robust_centre, CENTRE_SAMPLES};
 pub use sample::{sample_surface, SplitMix64, SurfaceSample};

@@ -2,7 +2,9 @@
 //!
 //! Input: scans as read ([`PosedScan`]: f64 positions in the scan's own frame, optional
 //! colours and normals, a [`Pose`]). Output: one [`PointCloud`] in the common frame, its
-//! positions f32 relative to the f64 centre of the merged bounding box, and a
+//! positions f32 relative to the f64 centre of the merged cloud's robust bounds
+//! (`spatch_mesh::robust_centre`: the bounding box's centre unless far outliers would
+//! move it off the real points), and a
 //! [`ScanSummary`] per scan (which points came from it).
 //!
 //! Invariants: points keep their scan order, scans keep their input order (so the result is
@@ -107,7 +109,7 @@ pub fn merge_scans(
             pose,
         });
     }
-    let origin = bounds_centre(&world);
+    let origin = spatch_mesh::robust_centre(world.len(), |k| world[k]);
     let cloud = PointCloud {
         origin,
         positions: world.iter().map(|&p| (p - origin).as_vec3()).collect(),
@@ -115,22 +117,6 @@ pub fn merge_scans(
         normals,
     };
     Ok((cloud, summaries))
-}
-
-/// The centre of the bounding box of `points` (zero when empty).
-fn bounds_centre(points: &[DVec3]) -> DVec3 {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for &p in points {
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    let centre = (lo + hi) * 0.5;
-    if centre.is_finite() {
-        centre
-    } else {
-        DVec3::ZERO
-    }
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! Integration tests of spatch-cloud (one binary; each module one area).
 //!
+//! - `any_extent`: spatial tiles, far outliers, the pixel budget, progress (issue 19).
 //! - `clouds`: generators shared by the tests (planes, spheres, the sampled bunny, noise).
 //! - `generated`: planes and spheres: coverage, accuracy, colour, far-from-origin clouds.
 //! - `degenerate`: empty, single-point, duplicate, collinear and non-finite input; options.
@@ -8,6 +9,7 @@
 //! - `real_scans`: the raw bunny scans (alone and registered together) and Hoppe's distcap.
 //! - `sampled_bunny`: points sampled from `bun_zipper.ply`, clean and noisy with smoothing.
 
+mod any_extent;
 mod clouds;
 mod degenerate;
 mod determinism;

@@ -280,7 +280,8 @@ pub(crate) fn build_point_cloud(
         .filter(|&(i, _)| filter(i))
         .map(|(_, p)| p)
         .collect();
-    let origin = world_bounds_centre(&world);
+    // The centre of the bulk, so a far outlier does not cost the real points their precision.
+    let origin = crate::robust_centre(world.len(), |k| world[k]);
     let colours = colours.map(|c| {
         c.into_iter()
             .enumerate()

@@ -26,7 +26,7 @@ use std::io::Read;
 use std::path::Path;
 
 use crate::{LoadedPointCloud, PointCloud};
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// How far into a file the header's `end_header` line may start.
@@ -353,20 +353,8 @@ fn finish(
         }
     }
     let dropped_non_finite = (count - kept) as u64;
-    let (lo, hi) = positions
-        .par_iter()
-        .with_min_len(RECORDS_PER_TASK)
-        .map(|p| (p.as_dvec3(), p.as_dvec3()))
-        .reduce(
-            || (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |a, b| (a.0.min(b.0), a.1.max(b.1)),
-        );
-    let centre = (lo + hi) * 0.5;
-    let origin = if centre.is_finite() {
-        centre
-    } else {
-        DVec3::ZERO
-    };
+    // The centre of the bulk, so a far outlier does not cost the real points their precision.
+    let origin = crate::robust_centre(positions.len(), |k| positions[k].as_dvec3());
     // Centred in f64 and narrowed, as the general reader does.
     positions
         .par_iter_mut()
@@ -387,6 +375,8 @@ fn finish(
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     #[test]

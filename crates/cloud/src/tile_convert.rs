@@ -1,0 +1,244 @@
+//! One tile's conversion: its range images (one per view) and the patches cut from them for
+//! the tile's own points.
+//!
+//! Input: a [`TileJob`] (the tile's points as coordinate columns, its own points, the bounds
+//! its images cover) and the [`TileContext`] shared by every tile (views, pixel, extraction
+//! settings). Output: a [`TileOutput`]: patches, counts and stage times.
+//!
+//! Method: the views' [`ImageGeometry`]s cover the job's bounds with the context's pixel.
+//! When their pixels exceed [`PIXEL_BUDGET`], the pixel is enlarged to fit if the options
+//! allow coarsening (with a [`CloudWarning::PixelsCoarsened`]), otherwise the conversion
+//! fails with [`CloudError::PixelBudgetExceeded`] (the resolution never drops silently).
+//! The images are drawn in parallel, one view per task (`range_image.rs`, `gap_fill.rs`,
+//! `smooth.rs`); then three passes over the views in order cut patches for the still
+//! uncovered own points (`extract.rs`): slope within the preferred limit, then the maximum,
+//! then border absorption and regions of any size.
+//!
+//! Invariants: the output does not depend on the thread count (views built independently
+//! and collected in order; the extraction's own guarantees).
+//!
+//! Cost: O(views · points) for the images and O(uncovered points + touched cells) per view
+//! and pass; memory about 9 bytes per pixel over the views plus 8 bytes per point of
+//! scratch per worker.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use rayon::prelude::*;
+use spatch_format::Patch;
+use spatch_mesh::Aabb;
+
+use crate::directions::ViewBasis;
+use crate::extract::{
+    absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
+};
+use crate::gap_fill::fill_gaps;
+use crate::progress::StageCounter;
+use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
+use crate::smooth::smooth_range_image;
+use crate::{
+    CloudError, CloudOptions, CloudWarning, PointId, BORDER_TOLERANCE, FRONT_BAND,
+    MIN_REGION_CELLS, PIXEL_BUDGET,
+};
+
+/// What every tile shares.
+pub(crate) struct TileContext<'a> {
+    /// The options.
+    pub(crate) options: &'a CloudOptions,
+    /// The views.
+    pub(crate) bases: &'a [ViewBasis],
+    /// The point spacing (model units).
+    pub(crate) spacing: f32,
+    /// The pixel size before any coarsening (model units).
+    pub(crate) pixel: f32,
+    /// Counts drawn range images.
+    pub(crate) images_done: &'a StageCounter<'a>,
+    /// Counts extracted views and passes.
+    pub(crate) views_done: &'a StageCounter<'a>,
+}
+
+/// One tile's points.
+pub(crate) struct TileJob<'a> {
+    /// Positions (relative to the cloud origin) of the tile's own and buffer points.
+    pub(crate) positions: &'a [Vec3],
+    /// The same points with their normals, as columns.
+    pub(crate) points: PointColumns,
+    /// Their colours, when the cloud has them.
+    pub(crate) colours: Option<&'a [[u8; 4]]>,
+    /// Indices (into the above) of the tile's own points: only these are offered to the
+    /// extraction; `None` when every point is the tile's own (made only once the images are
+    /// drawn, so it does not add to their peak memory).
+    pub(crate) own: Option<Vec<PointId>>,
+    /// What the range images cover.
+    pub(crate) bounds: Aabb,
+}
+
+/// What one tile produced.
+#[derive(Default)]
+pub(crate) struct TileOutput {
+    /// Its patches, in view, pass and region order.
+    pub(crate) patches: Vec<Patch>,
+    /// Split and wide patches, covered points.
+    pub(crate) counts: ExtractCounts,
+    /// Pixels filled by gap interpolation.
+    pub(crate) gap_pixels_filled: usize,
+    /// Own points no patch covers.
+    pub(crate) uncovered: usize,
+    /// The pixel used (larger than the context's when coarsened).
+    pub(crate) pixel: f32,
+    /// Wall time of the range images (seconds).
+    pub(crate) image_seconds: f64,
+    /// Wall time of the extraction (seconds).
+    pub(crate) extract_seconds: f64,
+}
+
+/// Converts one tile (see the module documentation).
+pub(crate) fn convert_tile(
+    job: TileJob<'_>,
+    context: &TileContext<'_>,
+    warnings: &mut Vec<CloudWarning>,
+) -> Result<TileOutput, CloudError> {
+    let started = Instant::now();
+    let (geometries, pixel) = plan_images(&job.bounds, context, warnings)?;
+    let spacing = context.spacing;
+    let options = context.options;
+    let jump = options.jump_factor * pixel;
+    let flush = FlushInput {
+        points: &job.points,
+        colours: job.colours,
+        band: FRONT_BAND * spacing,
+        jump,
+    };
+    let built: Vec<(ViewState, usize)> = geometries
+        .par_iter()
+        .map_init(FlushScratch::default, |scratch, &geometry| {
+            let mut image = flush_points(&flush, geometry, scratch);
+            let filled = fill_gaps(&mut image, options.max_gap, jump);
+            if let Some(smooth) = &options.smooth {
+                smooth_range_image(&mut image, smooth, spacing, jump);
+            }
+            context.images_done.step();
+            (ViewState::new(image), filled)
+        })
+        .collect();
+    drop(job.points);
+    let gap_pixels_filled = built.iter().map(|b| b.1).sum();
+    let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
+    let image_seconds = started.elapsed().as_secs_f64();
+
+    let started = Instant::now();
+    let settings = ExtractSettings {
+        jump,
+        tolerance: options.cover_tolerance * spacing,
+        tile: options.grid as usize - 1,
+        target_step: options.displacement_step * spacing,
+        max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+    };
+    let mut uncovered = job
+        .own
+        .unwrap_or_else(|| (0..job.positions.len() as u32).map(PointId).collect());
+    let mut counts = ExtractCounts::default();
+    let patches = extract_passes(
+        &mut views,
+        job.positions,
+        &mut uncovered,
+        options,
+        &settings,
+        &mut counts,
+        context,
+    )?;
+    drop(views);
+    Ok(TileOutput {
+        patches,
+        counts,
+        gap_pixels_filled,
+        uncovered: uncovered.len(),
+        pixel,
+        image_seconds,
+        extract_seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The views' image geometries over `bounds`, and the pixel they use: the context's, or
+/// enlarged to fit the budget when coarsening is allowed.
+fn plan_images(
+    bounds: &Aabb,
+    context: &TileContext<'_>,
+    warnings: &mut Vec<CloudWarning>,
+) -> Result<(Vec<ImageGeometry>, f32), CloudError> {
+    let cover = |pixel: f32| -> Vec<ImageGeometry> {
+        context
+            .bases
+            .iter()
+            .map(|&b| ImageGeometry::covering(b, bounds, pixel))
+            .collect()
+    };
+    let pixel = context.pixel;
+    let geometries = cover(pixel);
+    let total: usize = geometries.iter().map(ImageGeometry::pixel_count).sum();
+    if total <= PIXEL_BUDGET {
+        return Ok((geometries, pixel));
+    }
+    if !context.options.allow_coarsening {
+        return Err(CloudError::PixelBudgetExceeded {
+            pixels: total,
+            budget: PIXEL_BUDGET,
+        });
+    }
+    let factor = (total as f64 / PIXEL_BUDGET as f64).sqrt() as f32 * 1.02;
+    warnings.push(CloudWarning::PixelsCoarsened {
+        pixels: total,
+        budget: PIXEL_BUDGET,
+        factor,
+        pixel: pixel * factor,
+    });
+    Ok((cover(pixel * factor), pixel * factor))
+}
+
+/// The three extraction passes over the views in order (see the module documentation).
+fn extract_passes(
+    views: &mut [ViewState],
+    positions: &[Vec3],
+    uncovered: &mut Vec<PointId>,
+    options: &CloudOptions,
+    settings: &ExtractSettings,
+    counts: &mut ExtractCounts,
+    context: &TileContext<'_>,
+) -> Result<Vec<Patch>, CloudError> {
+    let preferred = PassLimits {
+        max_tan: options.preferred_slope_degrees.to_radians().tan(),
+        min_cells: MIN_REGION_CELLS,
+    };
+    let relaxed = PassLimits {
+        max_tan: options.max_slope_degrees.to_radians().tan(),
+        min_cells: MIN_REGION_CELLS,
+    };
+    let last = PassLimits {
+        min_cells: 1,
+        ..relaxed
+    };
+    let mut patches = Vec::new();
+    for (index, pass) in [preferred, relaxed, last].iter().enumerate() {
+        if index == 2 {
+            // Before small patches are made for the last points, let those at the border of
+            // an existing patch count as covered by it.
+            for view in views.iter() {
+                counts.covered += absorb_border_points(
+                    view,
+                    positions,
+                    uncovered,
+                    BORDER_TOLERANCE * context.spacing,
+                    settings,
+                );
+            }
+        }
+        for view in views.iter_mut() {
+            if !uncovered.is_empty() {
+                let found = extract_view(view, positions, uncovered, pass, settings, counts)?;
+                patches.extend(found);
+            }
+            context.views_done.step();
+        }
+    }
+    Ok(patches)
+}
