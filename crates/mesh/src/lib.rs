@@ -56,4 +56,4 @@ pub use mesh::{Aabb, TriangleMesh};
 pub use point_cloud::PointCloud;
 pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};
-pub use sample::{sample_surface, SplitMix64, SurfaceSample};
+pub use sample::{sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};
