@@ -27,8 +27,10 @@
 //! boxes, not a scan of empty space.
 //!
 //! [`PatchSurface::nearest_all`] queries in Morton order of the query points (so consecutive
-//! queries walk the same nodes and quads, which stay in cache) and returns the results in
-//! the caller's order; the per-point results do not depend on the order or the thread count.
+//! queries walk the same nodes and quads, which stay in cache), each search starting from
+//! the distance to the previous query's nearest cell (so boxes farther than that are pruned
+//! from the root down), and returns the results in the caller's order; the per-point results
+//! do not depend on the order, the hint or the thread count.
 //!
 //! Memory: the node positions of every patch (12 bytes per node; a cell's corners are read
 //! from there, not copied), 8 bytes per drawable cell (its patch and corner) and at most
@@ -299,7 +301,22 @@ impl PatchSurface {
     /// Distance from `p` to the nearest point of the patch surface and the patch that point
     /// belongs to (the lower patch index on a tie).
     pub fn nearest(&self, p: Vec3) -> (f32, u32) {
-        let (mut best, mut owner) = (f32::INFINITY, NO_PATCH);
+        let (d, owner, _) = self.search(p, None);
+        (d, owner)
+    }
+
+    /// [`PatchSurface::nearest`], and the nearest cell. The search starts from the distance
+    /// to `hint` (the previous query's cell, usually as near as the best): every box farther
+    /// than that is pruned from the start. The result is the same with any hint.
+    fn search(&self, p: Vec3, hint: Option<Cell>) -> (f32, u32, Cell) {
+        let (mut best, mut owner, mut best_cell) = match hint {
+            Some(c) => (
+                distance_to_quad(p, &self.quad(c)),
+                self.blocks[c.block as usize].owner,
+                c,
+            ),
+            None => (f32::INFINITY, NO_PATCH, self.cells[0]),
+        };
         let near_enough =
             |d2: f32, best: f32| d2 < f32::INFINITY && d2 <= best * best * (1.0 + PRUNE_SLACK);
         let mut stack = [(0u32, 0.0f32); STACK];
@@ -324,7 +341,7 @@ impl PatchSurface {
                     let d = distance_to_quad(p, &quad);
                     let o = self.blocks[cell.block as usize].owner;
                     if d < best || (d == best && o < owner) {
-                        (best, owner) = (d, o);
+                        (best, owner, best_cell) = (d, o, cell);
                     }
                 }
                 continue;
@@ -347,7 +364,7 @@ impl PatchSurface {
                 }
             }
         }
-        (best, owner)
+        (best, owner, best_cell)
     }
 
     /// [`PatchSurface::nearest`] for every point, in parallel, in the order given (see the
@@ -360,9 +377,15 @@ impl PatchSurface {
             .collect();
         order.par_sort_unstable();
         let found: Vec<(f32, u32)> = order
-            .par_iter()
-            .with_min_len(QUERY_CHUNK)
-            .map(|&(_, k)| self.nearest(points[k as usize]))
+            .par_chunks(QUERY_CHUNK)
+            .flat_map_iter(|chunk| {
+                let mut hint = None;
+                chunk.iter().map(move |&(_, k)| {
+                    let (d, owner, cell) = self.search(points[k as usize], hint);
+                    hint = Some(cell);
+                    (d, owner)
+                })
+            })
             .collect();
         let mut distances = vec![0.0f32; points.len()];
         let mut owners = vec![NO_PATCH; points.len()];
@@ -600,7 +623,7 @@ mod tests {
         assert_eq!(surface.cell_count(), quads.len());
         let mut rng = SplitMix64::new(9);
         for _ in 0..2000 {
-            let mut r = || (rng.next_f64() as f32 * 1.4 - 0.2);
+            let mut r = || rng.next_f64() as f32 * 1.4 - 0.2;
             let p = Vec3::new(r(), r(), r() * 0.5) + shift;
             assert_eq!(surface.nearest(p), linear_scan(p, &quads, &owners), "{p}");
         }

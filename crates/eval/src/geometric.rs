@@ -16,9 +16,10 @@
 //! Scene positions are moved into the mesh's coordinates by the difference of the two f64
 //! offsets, so a model far from the world origin is measured without f32 loss.
 //!
-//! The samples are drawn and measured [`SAMPLE_CHUNK`] at a time (`SurfaceSampler` jumps to
-//! any range of the seeded sequence), each chunk in face order, so the `max(100_000, 10 × F)`
-//! samples are never held at once: memory is four bytes per sample for its distance (and
+//! The samples are drawn [`SAMPLE_CHUNK`] at a time in parallel (`SurfaceSampler` jumps to
+//! any range of the seeded sequence), each chunk in face order, and measured
+//! [`QUERY_BATCH`] at a time (in Morton order, through `PatchSurface::nearest_all`), so the
+//! `max(100_000, 10 × F)` samples are never held at once: memory is four bytes per sample for its distance (and
 //! four for its patch where per-patch figures need it), not the 28 of a stored sample plus 12
 //! of its point. The figures are those of the whole sequence, whatever the chunking.
 //!
@@ -36,8 +37,11 @@ use spatch_mesh::{Bvh, SurfaceSampler, TriangleMesh};
 pub const MIN_SAMPLES: usize = 100_000;
 /// Samples per source face when that gives more than [`MIN_SAMPLES`].
 pub const SAMPLES_PER_FACE: usize = 10;
-/// Source samples drawn and measured together (one parallel work item).
+/// Source samples drawn together (one parallel work item).
 pub const SAMPLE_CHUNK: usize = 1 << 16;
+/// Source samples measured together: enough that, in Morton order, neighbouring queries
+/// share the nodes and cells they read (a 1 M-triangle source has about 4 M cells).
+pub const QUERY_BATCH: usize = 1 << 20;
 
 /// Summary of a set of distances: one named one-way error of a report.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -212,29 +216,33 @@ pub fn sampled_surface_to_patch<T: Send>(
         return Vec::new();
     };
     let shift = (scene.offset() - mesh.origin).as_vec3();
-    let surface = PatchSurface::new(scene, shift);
-    (0..count.div_ceil(SAMPLE_CHUNK))
-        .into_par_iter()
-        .flat_map_iter(|chunk| {
-            let start = chunk * SAMPLE_CHUNK;
-            let range = start..(start + SAMPLE_CHUNK).min(count);
-            let samples = sampler.samples_by_face(seed, range);
-            let found: Vec<T> = match &surface {
-                Some(surface) => samples
-                    .iter()
-                    .map(|s| {
-                        let (d, patch) = surface.nearest(s.point);
-                        keep(d, patch)
-                    })
-                    .collect(),
-                None => samples
-                    .iter()
-                    .map(|_| keep(f32::INFINITY, NO_PATCH))
-                    .collect(),
-            };
-            found
-        })
-        .collect()
+    let Some(surface) = PatchSurface::new(scene, shift) else {
+        return (0..count).map(|_| keep(f32::INFINITY, NO_PATCH)).collect();
+    };
+    let mut kept = Vec::with_capacity(count);
+    for start in (0..count).step_by(QUERY_BATCH) {
+        let end = (start + QUERY_BATCH).min(count);
+        let points: Vec<Vec3> = (start..end)
+            .step_by(SAMPLE_CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .flat_map_iter(|from| {
+                let range = from..(from + SAMPLE_CHUNK).min(end);
+                sampler
+                    .samples_by_face(seed, range)
+                    .into_iter()
+                    .map(|s| s.point)
+            })
+            .collect();
+        let (distances, owners) = surface.nearest_all(&points);
+        kept.par_extend(
+            distances
+                .into_par_iter()
+                .zip(owners)
+                .map(|(d, patch)| keep(d, patch)),
+        );
+    }
+    kept
 }
 
 /// The patch index [`nearest_patch_cells`] gives a point when the scene has no drawable cell.

@@ -63,7 +63,8 @@ pub use evaluate::{
 };
 pub use geometric::{
     cloud_error_entries, geometric_error, nearest_patch_cells, node_to_surface, sample_count,
-    sampled_surface_to_patch, surface_to_patch, ErrorStats, GeometricError, NO_PATCH, SAMPLE_CHUNK,
+    sampled_surface_to_patch, surface_to_patch, ErrorStats, GeometricError, NO_PATCH, QUERY_BATCH,
+    SAMPLE_CHUNK,
 };
 pub use histogram::{ErrorHistogram, HISTOGRAM_EDGES};
 pub use holes::{
