@@ -205,9 +205,10 @@ fn classify(err: EvalError, context: &Path) -> anyhow::Error {
             anyhow::Error::new(InternalFailure(format!("{}: {err}", context.display())))
         }
         // These already name their file.
-        EvalError::Source(_) | EvalError::NoSurface { .. } | EvalError::Cloud { .. } => {
-            anyhow::Error::new(err)
-        }
+        EvalError::Source(_)
+        | EvalError::NoSurface { .. }
+        | EvalError::Cloud { .. }
+        | EvalError::NoOverlap { .. } => anyhow::Error::new(err),
         _ => anyhow::Error::new(err).context(format!("{}", context.display())),
     }
 }

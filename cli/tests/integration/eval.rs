@@ -158,6 +158,50 @@ fn a_point_cloud_source_uses_the_cloud_error_and_skips_images() {
 }
 
 #[test]
+fn a_source_elsewhere_is_refused_before_measuring() {
+    // The ball's scene against the same ball 1000 units away, as a mesh and as a cloud: one
+    // line naming the source, exit 2, nothing on stdout, no report.
+    let t = TestCommand::new();
+    converted_ball(&t);
+    let far = spatch_fixtures::shapes::icosphere(1.0, 3);
+    std::fs::write(t.path("far.obj"), far.to_obj([1000.0, 0.0, 0.0])).unwrap();
+    let cloud = write_ball_cloud(&t, "near.xyz", 500);
+    let text = std::fs::read_to_string(t.path(&cloud)).unwrap();
+    let shifted: String = text
+        .lines()
+        .map(|l| {
+            let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            format!("{} {} {}\n", v[0], v[1] - 50.0, v[2])
+        })
+        .collect();
+    std::fs::write(t.path("far.xyz"), shifted).unwrap();
+    for source in ["far.obj", "far.xyz"] {
+        let run = t.run(&[
+            "eval",
+            "ball.spatch",
+            "--source",
+            source,
+            "--report",
+            "r.json",
+        ]);
+        assert_eq!(run.code, 2, "{source}: {}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+        assert!(
+            run.stderr.starts_with(&format!(
+                "spatch: error: {source}: does not overlap the scene"
+            )),
+            "{}",
+            run.stderr
+        );
+        assert!(run.stdout.is_empty());
+        assert!(!t.path("r.json").exists());
+    }
+    // The same cloud where it belongs is measured.
+    t.run(&["eval", "ball.spatch", "--source", &cloud, "--no-images"])
+        .success();
+}
+
+#[test]
 fn bad_input_gives_one_line_and_exit_2() {
     let t = TestCommand::new();
     let ball = converted_ball(&t);

@@ -13,7 +13,11 @@
 //!   (the [`Scene`](spatch_format::Scene), its bytes and a [`CloudReport`] with per-stage
 //!   wall times);
 //! - [`measure_cloud_error`] → [`CloudErrorReport`]: `cloud_to_patch` (every point to the
-//!   patch surface) and `node_to_cloud` (every node to the nearest point);
+//!   patch surface) and `node_to_cloud` (every node to the nearest point), with the
+//!   distances themselves from [`cloud_error_distances`];
+//! - [`PatchSurface`]: the drawable cells of a scene as bilinear quads in a bounding volume
+//!   hierarchy, for exact nearest-point queries (the error measures of `spatch-eval` use it
+//!   too), and [`distance_to_quad`] for one cell;
 //! - the stages on their own: [`PointTree`] and [`estimate_spacing`], [`estimate_normals`],
 //!   [`view_directions`];
 //! - spatial tiles for clouds of any extent ([`TileGrid`]; each tile under its own
@@ -54,8 +58,10 @@ mod gap_fill;
 mod ids;
 mod normals;
 mod options;
+mod patch_surface;
 mod pipeline;
 mod progress;
+mod quad_distance;
 mod range_image;
 mod report;
 mod smooth;
@@ -67,15 +73,20 @@ mod warning;
 pub use consensus::CONSENSUS_MIN_POINTS;
 pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
-pub use error_metrics::{measure_cloud_error, CloudErrorReport, CloudToPatch, DistanceStats};
+pub use error_metrics::{
+    cloud_error_distances, measure_cloud_error, CloudErrorDistances, CloudErrorReport,
+    CloudToPatch, DistanceStats,
+};
 pub use ids::{PointId, ViewId};
 pub use normals::{estimate_normals, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
+pub use patch_surface::{PatchSurface, LEAF_QUADS, NO_PATCH, PRUNE_SLACK};
 pub use pipeline::{
     cloud_to_scene, cloud_to_scene_with_progress, CloudConversion, BORDER_TOLERANCE, FRONT_BAND,
     MIN_REGION_CELLS, PIXEL_BUDGET,
 };
 pub use progress::{Progress, ProgressFn, Stage};
+pub use quad_distance::{bilinear, distance_to_quad, Quad};
 pub use report::{CloudReport, Counts, StageTime};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,

@@ -23,6 +23,20 @@ pub enum EvalError {
         /// What the cloud crate reported.
         source: spatch_cloud::CloudError,
     },
+    /// The source and the scene are apart: their bounding boxes do not meet, so no distance
+    /// between them measures a conversion.
+    #[error(
+        "{}: does not overlap the scene (source spans {}, scene spans {}): nothing meaningful to measure; is it the scene's source?",
+        path.display(), source_box, scene_box
+    )]
+    NoOverlap {
+        /// The source file.
+        path: PathBuf,
+        /// The source's bounding box, as text (model units).
+        source_box: String,
+        /// The scene's bounding box, as text (model units).
+        scene_box: String,
+    },
     /// The scene has no filled node, so there is nothing to measure.
     #[error("the scene has no filled node")]
     EmptyScene,

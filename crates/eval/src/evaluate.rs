@@ -13,6 +13,9 @@
 //!   surface by at most a quarter of a cell's twist). No image error: a cloud has no surface
 //!   to render ([`CLOUD_IMAGE_NOTE`]).
 //!
+//! First, the source and the scene must overlap ([`crate::overlap`]): a source elsewhere is
+//! refused with [`EvalError::NoOverlap`] before anything is measured.
+//!
 //! Every measurement is timed as a stage. Results do not depend on the thread count (except
 //! the times).
 
@@ -20,21 +23,21 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use glam::Vec3;
-use rayon::prelude::*;
 use serde::Serialize;
+use spatch_cloud::CloudErrorReport;
 use spatch_format::Scene;
 use spatch_mesh::{
-    load_mesh, load_point_cloud, prepare_mesh, sample_surface, Bvh, FileFormat, MeshError,
-    PointCloud, PrepareOptions, TriangleMesh,
+    load_mesh, load_point_cloud, prepare_mesh, Bvh, FileFormat, MeshError, PointCloud,
+    PrepareOptions, TriangleMesh,
 };
 use spatch_render::PreparedScene;
 
 use crate::geometric::{
-    cloud_error_entries, nearest_patch_cells, node_to_surface_distances, sample_count,
+    cloud_error_entries, node_to_surface_distances, sample_count, sampled_surface_to_patch,
 };
 use crate::histogram::ErrorHistogram;
 use crate::image_error::{image_error, ImageError, ImageOptions};
+use crate::overlap::{box_text, source_overlap};
 use crate::per_patch::{per_patch_errors, quantization_bound, PatchError, QuantizationBound};
 use crate::{ErrorStats, EvalError};
 
@@ -217,6 +220,13 @@ pub fn evaluate(
     if scene.filled_node_count() == 0 {
         return Err(EvalError::EmptyScene);
     }
+    if let Some(o) = source_overlap(scene, source).filter(|o| !o.meets) {
+        return Err(EvalError::NoOverlap {
+            path: source_path.to_path_buf(),
+            source_box: box_text(o.source),
+            scene_box: box_text(o.scene),
+        });
+    }
     let diagonal = source.diagonal();
     let start = Instant::now();
     let prepared = PreparedScene::new(scene);
@@ -258,18 +268,15 @@ fn measure_mesh(
     mesh: &TriangleMesh,
     options: &EvalOptions,
 ) -> Result<Distances, EvalError> {
-    let samples: Vec<Vec3> = timed(&mut e.stages, "sample_source", || {
-        sample_surface(mesh, sample_count(mesh), options.seed)
-            .into_iter()
-            .map(|s| s.point)
-            .collect()
-    });
     let nodes = timed(&mut e.stages, "node_to_surface", || {
         node_to_surface_distances(scene, mesh, &Bvh::new(mesh))
     });
-    let (distances, owners) = timed(&mut e.stages, "surface_to_patch", || {
-        nearest_patch_cells(scene, mesh.origin, &samples)
-    });
+    let (distances, owners): (Vec<f32>, Vec<u32>) =
+        timed(&mut e.stages, "surface_to_patch", || {
+            sampled_surface_to_patch(scene, mesh, sample_count(mesh), options.seed, |d, p| (d, p))
+                .into_iter()
+                .unzip()
+        });
     stats_and_histogram("node_to_surface", &nodes, e);
     stats_and_histogram("surface_to_patch", &distances, e);
     if let Some(image_options) = &options.image {
@@ -299,16 +306,21 @@ fn measure_cloud(
         spatch_cloud::estimate_spacing(&cloud.positions)
     })?
     .spacing;
-    let measured = timed(&mut e.stages, "cloud_error", || {
-        spatch_cloud::measure_cloud_error(cloud, scene, spacing)
-    })?;
+    let start = Instant::now();
+    let distances = spatch_cloud::cloud_error_distances(cloud, scene)?;
+    let measured = CloudErrorReport::from_distances(
+        &distances,
+        spacing,
+        f64::from(cloud.bounds().diagonal()),
+        start.elapsed().as_secs_f64(),
+    );
+    e.stages.push(("cloud_error", measured.seconds));
     e.error.extend(cloud_error_entries(&measured));
-    let nodes = timed(&mut e.stages, "node_to_cloud_per_node", || {
-        node_to_cloud_distances(scene, cloud)
-    })?;
-    let (samples, owners) = timed(&mut e.stages, "cloud_to_patch_per_point", || {
-        nearest_patch_cells(scene, cloud.origin, &cloud.positions)
-    });
+    let spatch_cloud::CloudErrorDistances {
+        to_patch: samples,
+        owners,
+        to_cloud: nodes,
+    } = distances;
     e.histograms.insert(
         "node_to_cloud".to_owned(),
         ErrorHistogram::from_distances(&nodes, e.diagonal),
@@ -326,23 +338,4 @@ fn measure_cloud(
         samples,
         owners,
     })
-}
-
-/// Distance from every filled node (scene order) to the nearest cloud point.
-fn node_to_cloud_distances(
-    scene: &Scene,
-    cloud: &PointCloud,
-) -> Result<Vec<f32>, spatch_cloud::CloudError> {
-    let tree = spatch_cloud::PointTree::build(&cloud.positions)?;
-    // Cloud coordinates of scene-relative points: subtract `shift`.
-    let shift = (cloud.origin - scene.offset()).as_vec3();
-    Ok(scene
-        .patches()
-        .par_iter()
-        .flat_map_iter(|p| {
-            let tree = &tree;
-            p.filled_nodes()
-                .map(move |(_, _, q)| tree.nearest(q - shift).0.sqrt())
-        })
-        .collect())
 }

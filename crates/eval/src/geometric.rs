@@ -8,28 +8,40 @@
 //!   samples are from the truth: quantization, frame rounding, a wrong layer.
 //! - **surface → patch**: points spread uniformly by area over the source
 //!   (`spatch_mesh::sample_surface`) to the nearest point of the patch surface, every drawable
-//!   cell taken as the bilinear quad through its four nodes (see `cell_grid` for the search
-//!   and its accuracy bound). It reveals what the nodes cannot: holes, cracks between patches,
-//!   missed pieces of surface.
+//!   cell taken as the bilinear quad through its four nodes (`spatch_cloud::PatchSurface`: an
+//!   exact search through a hierarchy of cell boxes; `spatch_cloud::distance_to_quad` states
+//!   the accuracy of the distance to one quad). It reveals what the nodes cannot: holes,
+//!   cracks between patches, missed pieces of surface.
 //!
 //! Scene positions are moved into the mesh's coordinates by the difference of the two f64
 //! offsets, so a model far from the world origin is measured without f32 loss.
 //!
-//! Cost: O(N log F) for N nodes, O(S × cells per shell) for S samples; both parallel (rayon),
-//! with results independent of the thread count.
+//! The samples are drawn [`SAMPLE_CHUNK`] at a time in parallel (`SurfaceSampler` jumps to
+//! any range of the seeded sequence), each chunk in face order, and measured
+//! [`QUERY_BATCH`] at a time (in Morton order, through `PatchSurface::nearest_all`), so the
+//! `max(100_000, 10 × F)` samples are never held at once: memory is four bytes per sample for its distance (and
+//! four for its patch where per-patch figures need it), not the 28 of a stored sample plus 12
+//! of its point. The figures are those of the whole sequence, whatever the chunking.
+//!
+//! Cost: O(N log F) for N nodes, O(S log C) for S samples and C drawable cells; both parallel
+//! (rayon), with results independent of the thread count.
 
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Deserializer, Serialize};
+use spatch_cloud::PatchSurface;
 use spatch_format::Scene;
-use spatch_mesh::{sample_surface, Bvh, TriangleMesh};
-
-use crate::cell_grid::{CellGrid, Quad};
+use spatch_mesh::{Bvh, SurfaceSampler, TriangleMesh};
 
 /// Fewest source samples for [`surface_to_patch`] (DESIGN §6).
 pub const MIN_SAMPLES: usize = 100_000;
 /// Samples per source face when that gives more than [`MIN_SAMPLES`].
 pub const SAMPLES_PER_FACE: usize = 10;
+/// Source samples drawn together (one parallel work item).
+pub const SAMPLE_CHUNK: usize = 1 << 16;
+/// Source samples measured together: enough that, in Morton order, neighbouring queries
+/// share the nodes and cells they read (a 1 M-triangle source has about 4 M cells).
+pub const QUERY_BATCH: usize = 1 << 20;
 
 /// Summary of a set of distances: one named one-way error of a report.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -158,36 +170,6 @@ pub fn node_to_surface(scene: &Scene, mesh: &TriangleMesh, bvh: &Bvh) -> ErrorSt
     ErrorStats::from_distances(&mut d, f64::from(mesh.diagonal()))
 }
 
-/// The drawable cells of `scene` as bilinear quads shifted by `shift`, with the index of the
-/// patch each belongs to.
-fn drawable_quads(scene: &Scene, shift: Vec3) -> (Vec<Quad>, Vec<u32>) {
-    scene
-        .patches()
-        .par_iter()
-        .enumerate()
-        .flat_map_iter(|(k, patch)| {
-            let (cols, rows) = (
-                usize::from(patch.grid().cols()),
-                usize::from(patch.grid().rows()),
-            );
-            let mut quads = Vec::new();
-            for j in 0..rows - 1 {
-                for i in 0..cols - 1 {
-                    if let (Some(a), Some(b), Some(c), Some(d)) = (
-                        patch.node_position(i, j),
-                        patch.node_position(i + 1, j),
-                        patch.node_position(i, j + 1),
-                        patch.node_position(i + 1, j + 1),
-                    ) {
-                        quads.push(([a + shift, b + shift, c + shift, d + shift], k as u32));
-                    }
-                }
-            }
-            quads
-        })
-        .unzip()
-}
-
 /// Distance from each of `samples` (points in `mesh` coordinates, usually on its surface) to
 /// the nearest point of the patch surface of `scene`; infinite when the scene has no drawable
 /// cell.
@@ -209,24 +191,62 @@ pub fn nearest_patch_cells(
     points: &[Vec3],
 ) -> (Vec<f32>, Vec<u32>) {
     let shift = (scene.offset() - origin).as_vec3();
-    let (quads, owners) = drawable_quads(scene, shift);
-    let Some(grid) = CellGrid::new(quads) else {
-        return (
+    match PatchSurface::new(scene, shift) {
+        Some(surface) => surface.nearest_all(points),
+        None => (
             vec![f32::INFINITY; points.len()],
             vec![NO_PATCH; points.len()],
-        );
+        ),
+    }
+}
+
+/// The first `count` samples of `mesh` drawn from `seed` (the points of
+/// `sample_surface(mesh, count, seed)`) to the patch surface of `scene`: `keep(distance,
+/// patch)` of each, ordered by chunk, then by face within a chunk (see the module docs).
+/// Empty when the mesh has no area; infinite distances and [`NO_PATCH`] when the scene has
+/// no drawable cell.
+pub fn sampled_surface_to_patch<T: Send>(
+    scene: &Scene,
+    mesh: &TriangleMesh,
+    count: usize,
+    seed: u64,
+    keep: impl Fn(f32, u32) -> T + Sync,
+) -> Vec<T> {
+    let Some(sampler) = SurfaceSampler::new(mesh) else {
+        return Vec::new();
     };
-    points
-        .par_iter()
-        .map(|&p| {
-            let (d, quad) = grid.nearest(p);
-            (d, owners.get(quad as usize).copied().unwrap_or(NO_PATCH))
-        })
-        .unzip()
+    let shift = (scene.offset() - mesh.origin).as_vec3();
+    let Some(surface) = PatchSurface::new(scene, shift) else {
+        return (0..count).map(|_| keep(f32::INFINITY, NO_PATCH)).collect();
+    };
+    let mut kept = Vec::with_capacity(count);
+    for start in (0..count).step_by(QUERY_BATCH) {
+        let end = (start + QUERY_BATCH).min(count);
+        let points: Vec<Vec3> = (start..end)
+            .step_by(SAMPLE_CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .flat_map_iter(|from| {
+                let range = from..(from + SAMPLE_CHUNK).min(end);
+                sampler
+                    .samples_by_face(seed, range)
+                    .into_iter()
+                    .map(|s| s.point)
+            })
+            .collect();
+        let (distances, owners) = surface.nearest_all(&points);
+        kept.par_extend(
+            distances
+                .into_par_iter()
+                .zip(owners)
+                .map(|(d, patch)| keep(d, patch)),
+        );
+    }
+    kept
 }
 
 /// The patch index [`nearest_patch_cells`] gives a point when the scene has no drawable cell.
-pub const NO_PATCH: u32 = u32::MAX;
+pub use spatch_cloud::NO_PATCH;
 
 /// [`ErrorStats`] of `samples` (points on `mesh`) to the patch surface of `scene`.
 pub fn surface_to_patch(scene: &Scene, mesh: &TriangleMesh, samples: &[Vec3]) -> ErrorStats {
@@ -239,17 +259,19 @@ pub fn sample_count(mesh: &TriangleMesh) -> usize {
     MIN_SAMPLES.max(SAMPLES_PER_FACE * mesh.face_count())
 }
 
-/// Both distances, with [`sample_count`] samples drawn from `seed`.
+/// Both distances, with [`sample_count`] samples drawn from `seed` (the BVH of the source
+/// is dropped before the patch surface is indexed, so the two are never held together).
 pub fn geometric_error(scene: &Scene, mesh: &TriangleMesh, seed: u64) -> GeometricError {
-    let bvh = Bvh::new(mesh);
-    let samples: Vec<Vec3> = sample_surface(mesh, sample_count(mesh), seed)
-        .into_iter()
-        .map(|s| s.point)
-        .collect();
+    let diagonal = f64::from(mesh.diagonal());
+    let node_to_surface = {
+        let bvh = Bvh::new(mesh);
+        node_to_surface(scene, mesh, &bvh)
+    };
+    let mut distances = sampled_surface_to_patch(scene, mesh, sample_count(mesh), seed, |d, _| d);
     GeometricError {
-        node_to_surface: node_to_surface(scene, mesh, &bvh),
-        surface_to_patch: surface_to_patch(scene, mesh, &samples),
-        diagonal: f64::from(mesh.diagonal()),
+        node_to_surface,
+        surface_to_patch: ErrorStats::from_distances(&mut distances, diagonal),
+        diagonal,
     }
 }
 

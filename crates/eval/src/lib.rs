@@ -42,13 +42,13 @@
 //! ```
 #![forbid(unsafe_code)]
 
-mod cell_grid;
 mod error;
 pub mod evaluate;
 pub mod geometric;
 pub mod histogram;
 pub mod holes;
 pub mod image_error;
+pub mod overlap;
 pub mod pareto;
 pub mod per_patch;
 pub mod plot;
@@ -63,7 +63,8 @@ pub use evaluate::{
 };
 pub use geometric::{
     cloud_error_entries, geometric_error, nearest_patch_cells, node_to_surface, sample_count,
-    surface_to_patch, ErrorStats, GeometricError, NO_PATCH,
+    sampled_surface_to_patch, surface_to_patch, ErrorStats, GeometricError, NO_PATCH, QUERY_BATCH,
+    SAMPLE_CHUNK,
 };
 pub use histogram::{ErrorHistogram, HISTOGRAM_EDGES};
 pub use holes::{
@@ -74,6 +75,7 @@ pub use image_error::{
     compare_views, image_error, image_view_camera, views_for_count, ImageError, ImageOptions,
     SourceViews, ViewError, MAX_VIEWS,
 };
+pub use overlap::{source_overlap, Overlap, OVERLAP_TOLERANCE};
 pub use pareto::{dominates, pareto_front};
 pub use per_patch::{
     per_patch_csv, per_patch_errors, quantization_bound, PatchError, QuantizationBound,

@@ -58,4 +58,4 @@ pub use point_cloud::PointCloud;
 pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};
 pub use robust_centre::{robust_centre, CENTRE_SAMPLES};
-pub use sample::{sample_surface, SplitMix64, SurfaceSample};
+pub use sample::{sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};

@@ -6,7 +6,14 @@
 //! [`SplitMix64`], written here so results are identical on every platform and
 //! independent of any external crate's version.
 //!
-//! Cost: O(F) to build the area table, O(log F) per sample.
+//! Sample `k` uses the generator's draws `3k..3k + 3`, and SplitMix64 can jump to any draw
+//! ([`SplitMix64::skip`]), so a [`SurfaceSampler`] can produce any range of the sequence on
+//! its own (in parallel, a chunk at a time, without holding all samples):
+//! [`SurfaceSampler::samples_by_face`] returns a range's samples ordered by face, which
+//! walks the area table in order instead of a random binary search per sample (the table of a
+//! million faces does not fit in cache).
+//!
+//! Cost: O(F) to build the area table, O(log F) per sample (amortized less by face order).
 //!
 //! Based on: Turk, *Generating Random Points in Triangles* (Graphics Gems, 1990); Osada et
 //! al., *Shape Distributions* (ACM TOG 2002), eq. 1; Steele, Lea and Flood, *Fast Splittable
@@ -48,6 +55,13 @@ impl SplitMix64 {
         z ^ (z >> 31)
     }
 
+    /// Skips the next `draws` values, in constant time.
+    pub fn skip(&mut self, draws: u64) {
+        self.state = self
+            .state
+            .wrapping_add(0x9E37_79B9_7F4A_7C15u64.wrapping_mul(draws));
+    }
+
     /// A uniform value in `[0, 1)` with 53 random bits.
     pub fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
@@ -57,35 +71,91 @@ impl SplitMix64 {
 /// `count` points spread uniformly by area over `mesh`, reproducible from `seed`. Empty when
 /// the mesh has no area.
 pub fn sample_surface(mesh: &TriangleMesh, count: usize, seed: u64) -> Vec<SurfaceSample> {
-    let mut cumulative = Vec::with_capacity(mesh.triangles.len());
-    let mut total = 0.0f64;
-    for f in mesh.faces() {
-        let [a, b, c] = mesh.face_positions(f).map(Vec3::as_dvec3);
-        total += 0.5 * (b - a).cross(c - a).length();
-        cumulative.push(total);
-    }
-    if !(total > 0.0 && total.is_finite()) {
+    let Some(sampler) = SurfaceSampler::new(mesh) else {
         return Vec::new();
-    }
+    };
     let mut rng = SplitMix64::new(seed);
     (0..count)
         .map(|_| {
-            let target = rng.next_f64() * total;
-            // First face whose running sum exceeds the target (zero-area faces never do).
-            let i = cumulative
-                .partition_point(|&c| c <= target)
-                .min(cumulative.len() - 1);
-            let face = FaceId(i as u32);
-            let s = rng.next_f64().sqrt();
-            let r2 = rng.next_f64();
-            let barycentric = Vec3::new((1.0 - s) as f32, (s * (1.0 - r2)) as f32, (s * r2) as f32);
-            SurfaceSample {
-                face,
-                point: mesh.point_at(face, barycentric),
-                barycentric,
-            }
+            let draws = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+            let face = sampler.face_of(draws[0] * sampler.total, 0);
+            sampler.sample_in(face, draws)
         })
         .collect()
+}
+
+/// The area table of a mesh, to draw the samples of [`sample_surface`] by ranges.
+#[derive(Clone, Debug)]
+pub struct SurfaceSampler<'a> {
+    mesh: &'a TriangleMesh,
+    /// Running sum of face areas (f64).
+    cumulative: Vec<f64>,
+    total: f64,
+}
+
+impl<'a> SurfaceSampler<'a> {
+    /// The area table of `mesh`; `None` when the mesh has no area.
+    pub fn new(mesh: &'a TriangleMesh) -> Option<SurfaceSampler<'a>> {
+        let mut cumulative = Vec::with_capacity(mesh.triangles.len());
+        let mut total = 0.0f64;
+        for f in mesh.faces() {
+            let [a, b, c] = mesh.face_positions(f).map(Vec3::as_dvec3);
+            total += 0.5 * (b - a).cross(c - a).length();
+            cumulative.push(total);
+        }
+        (total > 0.0 && total.is_finite()).then_some(SurfaceSampler {
+            mesh,
+            cumulative,
+            total,
+        })
+    }
+
+    /// Samples `range` of the sequence `sample_surface(mesh, _, seed)` draws, ordered by face
+    /// (then by draw), not by index: the same points in an order that reads the area table
+    /// in sequence.
+    pub fn samples_by_face(&self, seed: u64, range: std::ops::Range<usize>) -> Vec<SurfaceSample> {
+        let mut rng = SplitMix64::new(seed);
+        rng.skip(3 * range.start as u64);
+        let mut draws: Vec<[f64; 3]> = range
+            .map(|_| [rng.next_f64(), rng.next_f64(), rng.next_f64()])
+            .collect();
+        draws.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+        let mut face = 0;
+        draws
+            .into_iter()
+            .map(|d| {
+                face = self.face_of(d[0] * self.total, face);
+                self.sample_in(face, d)
+            })
+            .collect()
+    }
+
+    /// The first face at or after `from` whose running sum exceeds `target` (zero-area faces
+    /// never do); `from` must not be past it. Gallops from `from`, then bisects.
+    fn face_of(&self, target: f64, from: usize) -> usize {
+        let c = &self.cumulative;
+        let last = c.len() - 1;
+        let (mut lo, mut step) = (from.min(last), 1);
+        while lo + step <= last && c[lo + step] <= target {
+            lo += step;
+            step *= 2;
+        }
+        let hi = (lo + step).min(last + 1);
+        (lo + c[lo..hi].partition_point(|&x| x <= target)).min(last)
+    }
+
+    /// The point of `face` for the last two `draws` (the square-root mapping).
+    fn sample_in(&self, face: usize, draws: [f64; 3]) -> SurfaceSample {
+        let face = FaceId(face as u32);
+        let s = draws[1].sqrt();
+        let r2 = draws[2];
+        let barycentric = Vec3::new((1.0 - s) as f32, (s * (1.0 - r2)) as f32, (s * r2) as f32);
+        SurfaceSample {
+            face,
+            point: self.mesh.point_at(face, barycentric),
+            barycentric,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -116,6 +186,46 @@ mod tests {
             assert!(s.barycentric.min_element() >= 0.0);
             assert!((s.barycentric.element_sum() - 1.0).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn ranges_by_face_are_the_sequence_reordered() {
+        let mesh = TriangleMesh::new(
+            (0..40)
+                .map(|k| Vec3::new((k % 8) as f32, (k / 8) as f32, (k % 3) as f32 * 0.3))
+                .collect(),
+            (0..28)
+                .map(|k| {
+                    let (i, j) = (k % 7, k / 7);
+                    let a = j * 8 + i;
+                    [a, a + 1, a + 9]
+                })
+                .collect(),
+        )
+        .unwrap();
+        let sequence = sample_surface(&mesh, 1000, 5);
+        let sampler = SurfaceSampler::new(&mesh).unwrap();
+        let key = |s: &SurfaceSample| (s.face, s.point.to_array().map(f32::to_bits));
+        for range in [0..1000, 0..1, 317..640, 999..1000] {
+            let mut expected = sequence[range.clone()].to_vec();
+            let got = sampler.samples_by_face(5, range);
+            assert!(got.windows(2).all(|w| w[0].face <= w[1].face));
+            expected.sort_by_key(key);
+            let mut got = got;
+            got.sort_by_key(key);
+            assert_eq!(got, expected);
+        }
+    }
+
+    #[test]
+    fn skip_jumps_draws() {
+        let mut a = SplitMix64::new(11);
+        for _ in 0..37 {
+            a.next_u64();
+        }
+        let mut b = SplitMix64::new(11);
+        b.skip(37);
+        assert_eq!(a.next_u64(), b.next_u64());
     }
 
     #[test]
