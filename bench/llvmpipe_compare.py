@@ -234,7 +234,7 @@ def spatch_median_ms(args, camera, extra):
         f"--eye={vec(eye)}", f"--target={vec(target)}", "--fov", str(args.fov),
     ] + extra
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-    return json.loads(out)["ms"]["frame"]["median_ms"]
+    return json.loads(out)["details"]["bench"]["ms"]["frame"]["median_ms"]
 
 
 def main():

@@ -9,6 +9,10 @@ use crate::commands;
 #[derive(Debug, Parser)]
 #[command(name = "spatch", version, about, long_about = None, propagate_version = true)]
 pub(crate) struct Cli {
+    /// No progress bar and no summary (errors are still printed; --json and
+    /// --report still write their reports).
+    #[arg(short, long, global = true)]
+    pub(crate) quiet: bool,
     /// What to do.
     #[command(subcommand)]
     pub(crate) command: Command,

@@ -7,6 +7,7 @@ mod exit_guard;
 mod failure;
 mod output;
 mod overwrite_guard;
+mod progress;
 mod report;
 mod usage_error;
 
@@ -18,6 +19,7 @@ use crate::args::{Cli, Command};
 use crate::failure::Failure;
 
 fn run(cli: Cli) -> anyhow::Result<()> {
+    progress::set_quiet(cli.quiet);
     cli.command.files().check()?;
     match cli.command {
         Command::Demo(args) => commands::demo::run(&args),

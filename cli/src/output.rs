@@ -95,6 +95,11 @@ pub(crate) fn claim_stdout_if_named(path: &Path) {
     }
 }
 
+/// Whether `path` names this process's standard output (`-`, `/dev/stdout`, …).
+pub(crate) fn is_stdout(path: &Path) -> bool {
+    matches!(standard_stream(path), Some(StandardStream::Out))
+}
+
 /// Standard output or standard error named as an output path.
 enum StandardStream {
     Out,
@@ -132,6 +137,24 @@ pub(crate) fn print_stdout(text: &str) -> anyhow::Result<()> {
         err.write_all(text.as_bytes())?;
         return Ok(err.flush()?);
     }
+    write_stdout(text.as_bytes())
+}
+
+/// Prints the human summary of a run (see [`print_stdout`]), unless the run
+/// is quiet (`-q`) or prints its report as JSON instead (`--json`).
+pub(crate) fn print_summary(text: &str, json: bool) -> anyhow::Result<()> {
+    if json || crate::progress::is_quiet() {
+        return Ok(());
+    }
+    print_stdout(text)
+}
+
+/// Prints a report as one pretty-printed JSON object on standard output
+/// (`--json`).
+pub(crate) fn print_json(report: &impl serde::Serialize) -> anyhow::Result<()> {
+    let mut text = serde_json::to_string_pretty(report)
+        .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
+    text.push('\n');
     write_stdout(text.as_bytes())
 }
 

@@ -20,6 +20,8 @@ pub(crate) struct Files<'a> {
     pub(crate) outputs: Vec<&'a Path>,
     /// The format of each output whose extension is checked.
     formats: Vec<(&'a Path, Written)>,
+    /// `--json` was given: the report goes to standard output, so no output may.
+    json_on_stdout: bool,
 }
 
 /// The format a command writes to an output.
@@ -123,10 +125,26 @@ impl<'a> Files<'a> {
         self
     }
 
+    /// Notes that the run prints its report on standard output (`--json`).
+    pub(crate) fn json_on_stdout(mut self, json: bool) -> Self {
+        self.json_on_stdout = json;
+        self
+    }
+
     /// Refuses the run when an output is a folder, sits in a folder that does
-    /// not exist, is the same file as an input, is named twice, or has the
-    /// extension of another format than the one written.
+    /// not exist, is the same file as an input, is named twice, has the
+    /// extension of another format than the one written, or is standard
+    /// output while `--json` prints there.
     pub(crate) fn check(&self) -> anyhow::Result<()> {
+        if self.json_on_stdout {
+            if let Some(path) = self.outputs.iter().find(|p| crate::output::is_stdout(p)) {
+                anyhow::bail!(
+                    "{}: --json prints the report on standard output, where this output would go too; \
+                     write the output to a file, or leave out --json",
+                    path.display()
+                );
+            }
+        }
         let inputs: Vec<(&Path, (u64, u64))> = self
             .inputs
             .iter()

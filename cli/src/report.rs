@@ -1,8 +1,11 @@
 //! Building the shared JSON report (`spatch_eval::Report`, docs/report-schema.md) from what
 //! each command measured.
 
+use serde::Serialize;
 use serde_json::{Map, Value};
-use spatch_eval::{Report, Stages};
+use spatch_convert::{ConvertReport, EdgeStats, PrepareCounts, SideCounts};
+use spatch_earth::GlobeSummary;
+use spatch_eval::{HoleReport, Report, Stages};
 
 use crate::failure::InternalFailure;
 
@@ -70,4 +73,78 @@ pub(crate) fn set_detail(
         map.insert(key.to_owned(), value);
     }
     Ok(())
+}
+
+/// The `details` of a mesh conversion's report (`convert`, `earth`, `demo`): the
+/// pipeline's own figures, the hole fraction with `--holes`, and the globe for `earth`
+/// (docs/report-schema.md).
+#[derive(Debug, Clone, Serialize)]
+pub(crate) struct ConversionDetails {
+    /// Source triangles after preparation.
+    pub(crate) triangles: usize,
+    /// Regions found by the segmenter.
+    pub(crate) regions: usize,
+    /// Regions split into several patches.
+    pub(crate) split_regions: usize,
+    /// Patches with 16-bit displacements.
+    pub(crate) wide_patches: usize,
+    /// Node spacing used (model units).
+    pub(crate) spacing: f32,
+    /// Colour channel of the scene.
+    pub(crate) colour: &'static str,
+    /// What welding and cleaning changed.
+    pub(crate) prepare: PrepareCounts,
+    /// What the sharp-edge stage found and made (`null` when it was off).
+    pub(crate) edges: Option<EdgeStats>,
+    /// Bytes the edge patches add to the file.
+    pub(crate) edge_bytes: usize,
+    /// Boundary edges, openings, two-sided patches.
+    pub(crate) sides: SideCounts,
+    /// The hole fraction, with `--holes`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) holes: Option<Holes>,
+    /// What the globe was made of (`earth` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) globe: Option<GlobeSummary>,
+}
+
+impl ConversionDetails {
+    /// The pipeline's figures of `r`; no holes, no globe.
+    pub(crate) fn of(r: &ConvertReport) -> Self {
+        Self {
+            triangles: r.triangles,
+            regions: r.regions,
+            split_regions: r.split_regions,
+            wide_patches: r.wide_patches,
+            spacing: r.spacing,
+            colour: r.colour,
+            prepare: r.prepare,
+            edges: r.edges,
+            edge_bytes: r.edge_bytes,
+            sides: r.sides,
+            holes: None,
+            globe: None,
+        }
+    }
+}
+
+/// The hole fraction of a conversion.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub(crate) enum Holes {
+    /// `convert --holes`: with the edge patches, and without them when there are any.
+    WithAndWithoutEdges {
+        /// The whole scene.
+        with_edges: HoleReport,
+        /// The scene without its edge patches (`null` when it has none).
+        without_edges: Option<HoleReport>,
+    },
+    /// `earth --holes`: the scene against the globe mesh.
+    Scene(HoleReport),
+}
+
+/// The diagonal of `scene`'s bounding box (the report's `diagonal` for commands that read
+/// or build a scene without a source); `None` for a scene without filled nodes.
+pub(crate) fn scene_diagonal(scene: &spatch_format::Scene) -> Option<f64> {
+    scene.bounds().map(|(lo, hi)| (hi - lo).length())
 }

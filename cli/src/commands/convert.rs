@@ -1,13 +1,12 @@
 //! `spatch convert`: a mesh file to a `.spatch` scene, with a report.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::Context;
-use serde_json::{json, Value};
 use spatch_convert::{
-    convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
+    convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions, ProgressEvent,
+    Stage,
 };
 use spatch_eval::{
     geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport, Report, Stages,
@@ -15,9 +14,11 @@ use spatch_eval::{
 use spatch_fit::FitOptions;
 use spatch_format::WriteOptions;
 
+use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_json_report, write_output};
-use crate::report::{details_from, new_report, set_detail, stages_from};
+use crate::output::{print_json, print_summary, write_json_report, write_output};
+use crate::progress::Progress;
+use crate::report::{stages_from, tool, ConversionDetails, Holes};
 
 /// Arguments of `spatch convert`.
 #[derive(Debug, clap::Args)]
@@ -27,9 +28,13 @@ pub(crate) struct ConvertArgs {
     /// ASCII).
     #[arg(value_name = "MESH")]
     input: PathBuf,
-    /// Output .spatch file.
+    /// Output .spatch file (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print the report (the --report JSON, docs/report-schema.md) as one object on
+    /// standard output instead of the summary; refused with `-o -`.
+    #[arg(long)]
+    json: bool,
     #[command(flatten)]
     pipeline: PipelineArgs,
 }
@@ -62,9 +67,8 @@ pub(crate) struct PipelineArgs {
     /// Skip measuring the geometric error (it can take as long as the conversion).
     #[arg(long)]
     pub(crate) no_error: bool,
-    /// Worker threads, 0..=1024 (0 = all cores) [default: all cores].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
-    pub(crate) threads: Option<u32>,
+    #[command(flatten)]
+    pub(crate) threads: ThreadsArg,
     /// Leave out the sharp-edge patches (to compare holes and bytes without them).
     #[arg(long)]
     pub(crate) no_sharp_edges: bool,
@@ -143,61 +147,30 @@ impl PipelineArgs {
         });
         options
     }
-
-    /// Sets up the worker threads (once per process).
-    pub(crate) fn init_threads(&self) -> anyhow::Result<()> {
-        if let Some(n) = self.threads {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n as usize)
-                .build_global()
-                .map_err(|e| InternalFailure(format!("cannot start {n} worker threads: {e}")))?;
-        }
-        Ok(())
-    }
-}
-
-/// A spinner on standard error naming the current stage, only on a terminal.
-pub(crate) struct Progress {
-    bar: Option<indicatif::ProgressBar>,
-}
-
-impl Progress {
-    /// A spinner labelled `what`, or nothing when standard error is not a terminal.
-    pub(crate) fn new(what: &str) -> Self {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let bar = indicatif::ProgressBar::new_spinner();
-            if let Ok(style) =
-                indicatif::ProgressStyle::with_template("{spinner} {prefix}: {msg} ({elapsed})")
-            {
-                bar.set_style(style);
-            }
-            bar.set_prefix(what.to_owned());
-            bar.enable_steady_tick(Duration::from_millis(100));
-            bar
-        });
-        Self { bar }
-    }
-
-    /// Shows `message` as the current step.
-    pub(crate) fn step(&self, message: &str) {
-        if let Some(bar) = &self.bar {
-            bar.set_message(message.to_owned());
-        }
-    }
-}
-
-impl Drop for Progress {
-    fn drop(&mut self) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-    }
 }
 
 /// A finished conversion, written out.
 pub(crate) struct Outcome {
     pub(crate) conversion: Conversion,
+    /// The JSON report (written with `--report`, printed with `--json`).
+    pub(crate) report: Report<ConversionDetails>,
+    /// The human summary.
     pub(crate) text: String,
+}
+
+/// The progress bar's steps of a conversion: the pipeline's stages, writing, and the
+/// measurements asked for.
+pub(crate) fn conversion_steps(before: usize, args_no_error: bool, holes: bool) -> usize {
+    before + Stage::ALL.len() + 1 + usize::from(!args_no_error) + usize::from(holes)
+}
+
+/// Shows a mesh-pipeline event on the bar.
+pub(crate) fn show_event(progress: &Progress, event: ProgressEvent) {
+    match event {
+        ProgressEvent::Stage(stage) => progress.step(stage.name()),
+        ProgressEvent::Count { done, total } => progress.count(done, total),
+        _ => {}
+    }
 }
 
 /// Converts `input`, writes `output` (and the report when asked), and returns what happened.
@@ -207,55 +180,48 @@ pub(crate) fn convert_and_write(
     args: &PipelineArgs,
 ) -> anyhow::Result<Outcome> {
     let options = args.options();
-    let progress = Progress::new(&input.display().to_string());
+    let progress = Progress::new(
+        &input.display().to_string(),
+        conversion_steps(0, args.no_error, args.holes),
+    );
     let started = Instant::now();
-    let conversion = convert_with_progress(ConvertInput::Path(input), &options, &|stage| {
-        progress.step(stage.name())
+    let conversion = convert_with_progress(ConvertInput::Path(input), &options, &|event| {
+        show_event(&progress, event)
     })
     .map_err(|e| classify(e, input))?;
-    progress.step("write");
-    let write_started = Instant::now();
-    write_output(output, &conversion.bytes)?;
-    let write_seconds = write_started.elapsed().as_secs_f64();
-    let seconds = started.elapsed().as_secs_f64();
-    let mut measured = Stages::default();
-    let error = (!args.no_error).then(|| {
-        progress.step("measuring error");
-        let start = Instant::now();
-        let error = geometric_error(&conversion.scene, &conversion.mesh, 1);
-        measured.push("error", start.elapsed().as_secs_f64());
-        error
-    });
+    let finished = write_and_measure(&progress, conversion, output, args.no_error, started)?;
     let holes = if args.holes {
         progress.step("measuring holes");
         let start = Instant::now();
-        let holes = measure_holes(&conversion)?;
-        measured.push("holes", start.elapsed().as_secs_f64());
-        Some(holes)
+        let holes = measure_holes(&finished.conversion)?;
+        Some((holes, start.elapsed().as_secs_f64()))
     } else {
         None
     };
     drop(progress);
-
-    let mut report = report_json(
+    let Measured {
+        conversion,
+        error,
+        mut times,
+    } = finished;
+    let mut details = ConversionDetails::of(&conversion.report);
+    if let Some(((with, without), seconds)) = holes {
+        times.measured.push("holes", seconds);
+        details.holes = Some(Holes::WithAndWithoutEdges {
+            with_edges: with,
+            without_edges: without,
+        });
+    }
+    let seconds = times.seconds;
+    let report = report_json(
         "convert",
         &input.display().to_string(),
         output,
         &conversion,
         error.as_ref(),
-        Times {
-            seconds,
-            write_seconds,
-            measured,
-        },
-    )?;
-    if let Some(holes) = &holes {
-        set_detail(
-            &mut report,
-            "holes",
-            &json!({ "with_edges": holes.0, "without_edges": holes.1 }),
-        )?;
-    }
+        times,
+        details,
+    );
     if let Some(path) = &args.report {
         write_json_report(path, &report)?;
     }
@@ -266,7 +232,11 @@ pub(crate) fn convert_and_write(
         seconds,
         args.report.as_deref(),
     );
-    if let Some((with, without)) = &holes {
+    if let Some(Holes::WithAndWithoutEdges {
+        with_edges: with,
+        without_edges: without,
+    }) = &report.details.holes
+    {
         let without = without
             .as_ref()
             .map_or("n/a".to_owned(), |w| format!("{:.4} %", w.fraction * 100.0));
@@ -279,7 +249,51 @@ pub(crate) fn convert_and_write(
             without
         ));
     }
-    Ok(Outcome { conversion, text })
+    Ok(Outcome {
+        conversion,
+        report,
+        text,
+    })
+}
+
+/// A conversion written out, with its geometric error when measured.
+pub(crate) struct Measured {
+    pub(crate) conversion: Conversion,
+    pub(crate) error: Option<GeometricError>,
+    pub(crate) times: Times,
+}
+
+/// Writes the scene to `output`, then measures its geometric error unless `no_error`
+/// (the steps `write` and `measuring error` of `progress`).
+pub(crate) fn write_and_measure(
+    progress: &Progress,
+    conversion: Conversion,
+    output: &Path,
+    no_error: bool,
+    started: Instant,
+) -> anyhow::Result<Measured> {
+    progress.step("write");
+    let write_started = Instant::now();
+    write_output(output, &conversion.bytes)?;
+    let write_seconds = write_started.elapsed().as_secs_f64();
+    let seconds = started.elapsed().as_secs_f64();
+    let mut measured = Stages::default();
+    let error = (!no_error).then(|| {
+        progress.step("measuring error");
+        let start = Instant::now();
+        let error = geometric_error(&conversion.scene, &conversion.mesh, 1);
+        measured.push("error", start.elapsed().as_secs_f64());
+        error
+    });
+    Ok(Measured {
+        conversion,
+        error,
+        times: Times {
+            seconds,
+            write_seconds,
+            measured,
+        },
+    })
 }
 
 /// The hole fraction of the scene, and of the scene without its edge patches (which the
@@ -336,7 +350,7 @@ pub(crate) struct Times {
 
 /// The shared JSON report of a conversion (docs/report-schema.md): the pipeline's stages and
 /// `write`, the geometric error when measured (`measured` holds the measurements' times),
-/// and the rest of the pipeline's report under `details`.
+/// and the command's own figures (`details`).
 pub(crate) fn report_json(
     command: &str,
     input: &str,
@@ -344,14 +358,15 @@ pub(crate) fn report_json(
     c: &Conversion,
     error: Option<&GeometricError>,
     times: Times,
-) -> anyhow::Result<Report<Value>> {
+    details: ConversionDetails,
+) -> Report<ConversionDetails> {
     let Times {
         seconds,
         write_seconds,
         measured,
     } = times;
     let r = &c.report;
-    let mut report = new_report(command, input);
+    let mut report = Report::new(&tool(), command, input, details);
     report.output = Some(output.display().to_string());
     report.counts = r.counts;
     report.stages = stages_from(r.stages.iter().map(|s| (s.name, s.seconds)));
@@ -370,8 +385,7 @@ pub(crate) fn report_json(
             .insert("surface_to_patch".to_owned(), e.surface_to_patch);
     }
     report.warnings = r.warnings.clone();
-    report.details = Value::Object(details_from(r)?);
-    Ok(report)
+    report
 }
 
 /// The short human summary.
@@ -428,15 +442,18 @@ pub(crate) fn summary(
     text
 }
 
-/// Converts a mesh and prints a summary.
+/// Converts a mesh and prints a summary (or the report, with `--json`).
 pub(crate) fn run(args: &ConvertArgs) -> anyhow::Result<()> {
-    args.pipeline.init_threads()?;
+    args.pipeline.threads.init()?;
     if !args.input.is_file() {
         return Err(anyhow::anyhow!("{}: no such file", args.input.display()))
             .context("cannot read the input mesh");
     }
     let outcome = convert_and_write(&args.input, &args.output, &args.pipeline)?;
-    print_stdout(&outcome.text)
+    if args.json {
+        print_json(&outcome.report)?;
+    }
+    print_summary(&outcome.text, args.json)
 }
 
 impl ConvertArgs {
@@ -447,13 +464,13 @@ impl ConvertArgs {
             .input(Some(&self.input))
             .output_as(Some(&self.output), Written::Spatch)
             .output_as(self.pipeline.report.as_deref(), Written::Json)
+            .json_on_stdout(self.json)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use spatch_convert::Stage;
 
     #[test]
     fn every_stage_has_a_name() {

@@ -11,7 +11,7 @@ use anyhow::Context;
 
 use super::convert::{convert_and_write, PipelineArgs};
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_output};
+use crate::output::{print_summary, write_output};
 
 /// The embedded source files: name in the output folder, bytes.
 const SOURCE_FILES: [(&str, &[u8]); 3] = [
@@ -82,7 +82,7 @@ fn create_dir(dir: &Path) -> anyhow::Result<()> {
 
 /// Runs the demo and prints where everything went.
 pub(crate) fn run(args: &DemoArgs) -> anyhow::Result<()> {
-    args.pipeline.init_threads()?;
+    args.pipeline.threads.init()?;
     let source_dir = args.output.join("source");
     create_dir(&source_dir)?;
     for (name, bytes) in SOURCE_FILES {
@@ -116,5 +116,5 @@ pub(crate) fn run(args: &DemoArgs) -> anyhow::Result<()> {
         scene_path.display(),
         scene_path.display(),
     );
-    print_stdout(&text)
+    print_summary(&text, false)
 }

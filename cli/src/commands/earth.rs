@@ -1,20 +1,25 @@
 //! `spatch earth`: the Earth model from a colour map (and an elevation map
-//! when given), converted by the mesh pipeline.
+//! when given), converted by the mesh pipeline (`spatch_earth::convert_earth`);
+//! this file only turns arguments into options and prints.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use spatch_convert::{convert_with_progress, ConvertInput, ConvertOptions};
 use spatch_earth::{
-    build_globe, heights_from_colour, heights_from_elevation, ColourMap, ElevationEncoding,
-    ElevationOptions, GlobeOptions, HueLevels, DEFAULT_MAX_MAP_WIDTH,
+    convert_earth, Density, EarthOptions, EarthStep, ElevationEncoding, ElevationOptions,
+    HeightSource, DEFAULT_MAX_MAP_WIDTH,
 };
+use spatch_eval::{hole_fraction, HoleOptions};
 use spatch_format::WriteOptions;
 
-use super::convert::{report_json, summary, Progress, Times};
+use super::convert::{
+    conversion_steps, report_json, show_event, summary, write_and_measure, Measured,
+};
+use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_json_report, write_output};
-use crate::report::set_detail;
+use crate::output::{print_json, print_summary, write_json_report};
+use crate::progress::Progress;
+use crate::report::{ConversionDetails, Holes};
 
 /// Patch density, as the original work's three Earth models.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -25,18 +30,6 @@ pub(crate) enum Level {
     Medium,
     /// About 2,712 patches (spacing 0.62).
     High,
-}
-
-impl Level {
-    /// Node spacing in model units on the radius-128 globe, calibrated so
-    /// that the built-in map lands near the original's patch counts.
-    fn spacing(self) -> f32 {
-        match self {
-            Self::Low => 1.88,
-            Self::Medium => 1.01,
-            Self::High => 0.62,
-        }
-    }
 }
 
 /// How to read 16-bit elevation samples.
@@ -51,9 +44,15 @@ pub(crate) enum Encoding {
 /// Arguments of `spatch earth`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct EarthArgs {
-    /// Output .spatch file.
+    /// Output .spatch file (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print the report (the --report JSON, docs/report-schema.md) as one object on
+    /// standard output instead of the summary; refused with `-o -`.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    threads: ThreadsArg,
     /// Equirectangular colour map (PNG or JPEG, longitude −180° at the left edge)
     /// [default: the built-in 1024×512 NASA Visible Earth map].
     #[arg(long, value_name = "MAP", visible_alias = "color")]
@@ -102,126 +101,106 @@ pub(crate) struct EarthArgs {
     holes: bool,
 }
 
-/// Builds the globe, converts it, writes the scene and the report.
-pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
-    let progress = Progress::new("earth");
-    let started = Instant::now();
-    progress.step("colour map");
-    let map = match &args.colour {
-        Some(path) => ColourMap::load(path, args.map_width)?,
-        None => ColourMap::built_in()?,
-    };
-    progress.step("heights");
-    let heights = match &args.elevation {
-        Some(path) => {
-            let mut options = ElevationOptions::default();
-            options.sea_level = args.sea_level;
-            options.void = args.void;
-            options.encoding = match args.elevation_encoding {
+impl EarthArgs {
+    /// The library options these arguments ask for.
+    fn options(&self) -> EarthOptions {
+        let mut options = EarthOptions::default();
+        options.colour = self.colour.clone();
+        options.map_width = self.map_width;
+        if let Some(path) = &self.elevation {
+            let mut elevation = ElevationOptions::default();
+            elevation.sea_level = self.sea_level;
+            elevation.void = self.void;
+            elevation.encoding = match self.elevation_encoding {
                 Encoding::Unsigned => ElevationEncoding::Unsigned,
                 Encoding::Signed => ElevationEncoding::Signed,
             };
-            heights_from_elevation(path, &options)?
+            options.heights = HeightSource::Elevation {
+                path: path.clone(),
+                options: elevation,
+            };
         }
-        None => heights_from_colour(&map, &HueLevels::default()),
-    };
-    let heights_seconds = started.elapsed().as_secs_f64();
-    progress.step("globe mesh");
-    let mut globe_options = GlobeOptions::default();
-    globe_options.triangles = args.triangles;
-    globe_options.exaggeration = args.exaggeration;
-    let globe_started = Instant::now();
-    let globe = build_globe(&map, &heights, &globe_options)?;
-    let globe_seconds = globe_started.elapsed().as_secs_f64();
+        options.globe.triangles = self.triangles;
+        options.globe.exaggeration = self.exaggeration;
+        options.density = match self.level {
+            Level::Low => Density::Low,
+            Level::Medium => Density::Medium,
+            Level::High => Density::High,
+        };
+        options.convert.fit.spacing = self.spacing;
+        options.convert.write = WriteOptions::with_compression(super::compression(self.compress));
+        options
+    }
+}
 
-    let mut options = ConvertOptions::default();
-    options.fit.spacing = Some(args.spacing.unwrap_or(args.level.spacing()));
-    options.write = WriteOptions::with_compression(super::compression(args.compress));
-    let mut conversion =
-        convert_with_progress(ConvertInput::Mesh(globe.mesh), &options, &|stage| {
-            progress.step(stage.name())
-        })
-        .map_err(|e| {
-            anyhow::Error::new(InternalFailure(format!("converting the globe failed: {e}")))
-        })?;
-    // The globe stages come first in the report, as the pipeline's load stage would.
-    conversion.report.stages.retain(|s| s.name != "load");
-    conversion.report.stages.insert(
-        0,
-        spatch_convert::StageTime {
-            name: "globe",
-            seconds: globe_seconds,
-        },
+/// Builds the globe, converts it, writes the scene and the report.
+pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
+    args.threads.init()?;
+    let options = args.options();
+    let progress = Progress::new(
+        "earth",
+        conversion_steps(EarthStep::BEFORE_CONVERT, args.no_error, args.holes),
     );
-    conversion.report.stages.insert(
-        0,
-        spatch_convert::StageTime {
-            name: "heights",
-            seconds: heights_seconds,
-        },
-    );
-    progress.step("write");
-    let write_started = Instant::now();
-    write_output(&args.output, &conversion.bytes)?;
-    let write_seconds = write_started.elapsed().as_secs_f64();
-    let seconds = started.elapsed().as_secs_f64();
-    let mut measured = spatch_eval::Stages::default();
-    let error = (!args.no_error).then(|| {
-        progress.step("measuring error");
-        let start = Instant::now();
-        let error = spatch_eval::geometric_error(&conversion.scene, &conversion.mesh, 1);
-        measured.push("error", start.elapsed().as_secs_f64());
-        error
-    });
+    let started = Instant::now();
+    let earth = convert_earth(&options, &|step| match step {
+        EarthStep::ColourMap => progress.step("colour map"),
+        EarthStep::Heights => progress.step("heights"),
+        EarthStep::Globe => progress.step("globe mesh"),
+        EarthStep::Convert(event) => show_event(&progress, event),
+        _ => {}
+    })
+    .map_err(|e| {
+        if e.is_bug() {
+            anyhow::Error::new(InternalFailure(e.to_string()))
+        } else {
+            anyhow::Error::new(e)
+        }
+    })?;
+    let finished = write_and_measure(
+        &progress,
+        earth.conversion,
+        &args.output,
+        args.no_error,
+        started,
+    )?;
     let holes = if args.holes {
         progress.step("measuring holes");
         let start = Instant::now();
-        let report = spatch_eval::hole_fraction(
-            &conversion.scene,
-            &conversion.mesh,
-            &spatch_eval::HoleOptions::default(),
-        )
-        .map_err(|e| anyhow::Error::new(InternalFailure(format!("measuring holes failed: {e}"))))?;
-        measured.push("holes", start.elapsed().as_secs_f64());
-        Some(report)
+        let c = &finished.conversion;
+        let holes = hole_fraction(&c.scene, &c.mesh, &HoleOptions::default())
+            .map_err(|e| InternalFailure(format!("measuring holes failed: {e}")))?;
+        Some((holes, start.elapsed().as_secs_f64()))
     } else {
         None
     };
     drop(progress);
-    let source_name = match (&args.elevation, &args.colour) {
-        (Some(dem), _) => format!("globe from {}", dem.display()),
-        (None, Some(map)) => format!("globe from {}", map.display()),
-        (None, None) => "globe from the built-in map".to_owned(),
-    };
-    let mut report = report_json(
+    let Measured {
+        conversion,
+        error,
+        mut times,
+    } = finished;
+    let mut details = ConversionDetails::of(&conversion.report);
+    details.globe = Some(earth.globe);
+    if let Some((holes, seconds)) = holes {
+        times.measured.push("holes", seconds);
+        details.holes = Some(Holes::Scene(holes));
+    }
+    let seconds = times.seconds;
+    let source_name = options.source_name();
+    let report = report_json(
         "earth",
         &source_name,
         &args.output,
         &conversion,
         error.as_ref(),
-        Times {
-            seconds,
-            write_seconds,
-            measured,
-        },
-    )?;
-    set_detail(
-        &mut report,
-        "globe",
-        &serde_json::json!({
-            "triangles": conversion.report.triangles,
-            "frequency": globe.frequency,
-            "area_ratio": globe.area_ratio,
-            "map": [map.width(), map.height()],
-            "heights": if args.elevation.is_some() { "elevation" } else { "colour" },
-            "exaggeration": args.exaggeration,
-        }),
-    )?;
-    if let Some(holes) = &holes {
-        set_detail(&mut report, "holes", holes)?;
-    }
+        times,
+        details,
+    );
     if let Some(path) = &args.report {
         write_json_report(path, &report)?;
+    }
+    if args.json {
+        print_json(&report)?;
     }
     let mut text = summary(
         &args.output,
@@ -230,7 +209,7 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         seconds,
         args.report.as_deref(),
     );
-    if let Some(holes) = &holes {
+    if let Some(Holes::Scene(holes)) = &report.details.holes {
         text.push_str(&format!(
             "  holes: {:.4} % of the globe's pixels over {} views ({} of {})\n",
             holes.fraction * 100.0,
@@ -239,10 +218,13 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
             holes.source_pixels
         ));
     }
-    print_stdout(&format!(
-        "{source_name}: {} triangles\n{text}",
-        conversion.report.triangles
-    ))
+    print_summary(
+        &format!(
+            "{source_name}: {} triangles\n{text}",
+            conversion.report.triangles
+        ),
+        args.json,
+    )
 }
 
 impl EarthArgs {
@@ -254,5 +236,6 @@ impl EarthArgs {
             .input(self.elevation.as_deref())
             .output_as(Some(&self.output), Written::Spatch)
             .output_as(self.report.as_deref(), Written::Json)
+            .json_on_stdout(self.json)
     }
 }

@@ -14,10 +14,11 @@ use spatch_eval::{
 };
 use spatch_render::{CellScheme, Projection, RenderOptions};
 
-use super::convert::Progress;
 use super::render::{CellsArg, ProjectionArg};
+use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, read_spatch, write_json_report, write_output};
+use crate::output::{print_json, print_summary, read_spatch, write_json_report, write_output};
+use crate::progress::Progress;
 use crate::report::{new_report, set_detail, tool};
 
 /// Default number of views of `spatch eval` (the 6 axes and 8 diagonals).
@@ -78,9 +79,8 @@ pub(crate) struct EvalArgs {
     /// Also write the JSON report to this file.
     #[arg(long, value_name = "FILE", conflicts_with = "sweep")]
     report: Option<PathBuf>,
-    /// Worker threads, 0..=1024 (0 = all cores) [default: all cores].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
-    threads: Option<u32>,
+    #[command(flatten)]
+    threads: ThreadsArg,
     /// Sweep conversion and render settings on this mesh, writing sweep.csv, sweep.json and
     /// sweep.svg (error against time, Pareto front marked) into --out.
     #[arg(long, value_name = "MESH", requires = "out")]
@@ -138,7 +138,7 @@ impl EvalArgs {
             CellsArg::Bilinear => CellScheme::Bilinear,
             CellsArg::Smooth => CellScheme::Smooth,
         };
-        render.threads = self.threads.map_or(0, |n| n as usize);
+        render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render
     }
@@ -182,12 +182,7 @@ impl EvalArgs {
 
 /// Runs `spatch eval`.
 pub(crate) fn run(args: &EvalArgs) -> anyhow::Result<()> {
-    if let Some(n) = args.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n as usize)
-            .build_global()
-            .map_err(|e| InternalFailure(format!("cannot start {n} worker threads: {e}")))?;
-    }
+    args.threads.init()?;
     match (&args.sweep, &args.out, &args.scene, &args.source) {
         (Some(mesh), Some(out), _, _) => sweep(args, mesh, out),
         (None, _, Some(scene), Some(source)) => eval(args, scene, source),
@@ -214,7 +209,7 @@ fn classify(err: EvalError, context: &Path) -> anyhow::Error {
 }
 
 fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Result<()> {
-    let progress = Progress::new("eval");
+    let progress = Progress::new("eval", 3);
     progress.step("reading the scene");
     let start = Instant::now();
     let (scene, _) = read_spatch(scene_path)?;
@@ -271,18 +266,12 @@ fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Resul
         write_json_report(path, &report)?;
     }
     if args.json {
-        let mut text = serde_json::to_string_pretty(&report)
-            .map_err(|e| InternalFailure(format!("cannot format the report: {e}")))?;
-        text.push('\n');
-        return print_stdout(&text);
+        return print_json(&report);
     }
-    print_stdout(&summary(
-        args,
-        scene_path,
-        source_path,
-        &report,
-        &evaluation,
-    ))
+    print_summary(
+        &summary(args, scene_path, source_path, &report, &evaluation),
+        false,
+    )
 }
 
 /// The worst `WORST_LISTED` patches by `key` (largest first, then by index).
@@ -467,7 +456,7 @@ fn sweep(args: &EvalArgs, mesh: &Path, out: &Path) -> anyhow::Result<()> {
     let options = args.sweep_options()?;
     std::fs::create_dir_all(out)
         .with_context(|| format!("{}: cannot create the output folder", out.display()))?;
-    let progress = Progress::new("sweep");
+    let progress = Progress::new("sweep", 1);
     let result =
         run_sweep(mesh, &options, &|step| progress.step(step)).map_err(|e| classify(e, mesh))?;
     drop(progress);
@@ -481,7 +470,7 @@ fn sweep(args: &EvalArgs, mesh: &Path, out: &Path) -> anyhow::Result<()> {
     write_output(&out.join("sweep.csv"), sweep_csv(&result).as_bytes())?;
     write_json_report(&out.join("sweep.json"), &json)?;
     write_output(&out.join("sweep.svg"), svg.as_bytes())?;
-    print_stdout(&sweep_summary(out, &result))
+    print_summary(&sweep_summary(out, &result), false)
 }
 
 /// sweep.json: the shared header keys that apply to a sweep, then the sweep itself.
@@ -559,5 +548,6 @@ impl EvalArgs {
             .input(self.sweep.as_deref())
             .output_as(self.per_patch.as_deref(), Written::Csv)
             .output_as(self.report.as_deref(), Written::Json)
+            .json_on_stdout(self.json)
     }
 }

@@ -2,12 +2,17 @@
 //! PLY, OBJ, glTF or GLB.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::ValueEnum;
 use glam::DVec3;
+use serde::Serialize;
+use spatch_eval::{Counts, Report};
 use spatch_export::{export_scene, Content, ExportOptions, Format, PositionType};
 
-use crate::output::{print_stdout, read_spatch, write_output};
+use crate::output::{print_json, print_summary, read_spatch, write_output};
+use crate::progress::Progress;
+use crate::report::{scene_diagonal, tool};
 
 /// The file format of `spatch export`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -39,9 +44,14 @@ pub(crate) struct ExportArgs {
     /// Input .spatch file (`-`: standard input, at most 1 GiB).
     #[arg(value_name = "FILE")]
     input: PathBuf,
-    /// Output file (.ply, .obj, .gltf or .glb).
+    /// Output file (.ply, .obj, .gltf or .glb; `-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print a report (docs/report-schema.md: the input's counts, stages, what was
+    /// written in `details`) as one JSON object on standard output instead of the
+    /// summary; refused with `-o -`.
+    #[arg(long)]
+    json: bool,
     /// Output format [default: from the output's extension].
     #[arg(long, value_enum)]
     format: Option<FormatArg>,
@@ -97,13 +107,72 @@ fn chosen_format(output: &std::path::Path) -> anyhow::Result<Format> {
     })
 }
 
+/// The `details` of an export's report.
+#[derive(Debug, Serialize)]
+struct ExportDetails {
+    /// `ply`, `obj`, `gltf` or `glb`.
+    format: &'static str,
+    /// `nodes` (points) or `cells` (triangles).
+    content: &'static str,
+    /// Meshes (or point sets) written, one per patch with something to export.
+    meshes: usize,
+    /// Vertices written.
+    vertices: usize,
+    /// Triangles written (0 for points).
+    triangles: usize,
+    /// Whether positions were written as f64.
+    f64_positions: bool,
+    /// The point subtracted from every position.
+    origin: [f64; 3],
+    /// Bytes of the exported file.
+    bytes: usize,
+}
+
 /// Reads the scene and writes the export.
 pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let options = options(args)?;
-    let (scene, _) = read_spatch(&args.input)?;
+    let progress = Progress::new("export", 3);
+    let started = Instant::now();
+    progress.step("read");
+    let (scene, info) = read_spatch(&args.input)?;
+    let read_seconds = started.elapsed().as_secs_f64();
+    progress.step("export");
+    let export_started = Instant::now();
     let exported = export_scene(&scene, &options)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.output.display()))?;
+    let export_seconds = export_started.elapsed().as_secs_f64();
+    progress.step("write");
+    let write_started = Instant::now();
     write_output(&args.output, &exported.bytes)?;
+    let write_seconds = write_started.elapsed().as_secs_f64();
+    drop(progress);
+    if args.json {
+        let details = ExportDetails {
+            format: options.format.name(),
+            content: if args.cells { "cells" } else { "nodes" },
+            meshes: exported.meshes,
+            vertices: exported.vertices,
+            triangles: exported.triangles,
+            f64_positions: exported.f64_positions,
+            origin: options.origin.to_array(),
+            bytes: exported.bytes.len(),
+        };
+        let mut report = Report::new(
+            &tool(),
+            "export",
+            &args.input.display().to_string(),
+            details,
+        );
+        report.output = Some(args.output.display().to_string());
+        report.counts = Counts::of(&scene, info.file_len);
+        report.diagonal = scene_diagonal(&scene);
+        report.stages.push("read", read_seconds);
+        report.stages.push("export", export_seconds);
+        report.stages.push("write", write_seconds);
+        report.seconds = started.elapsed().as_secs_f64();
+        report.threads = 1;
+        print_json(&report)?;
+    }
     let what = if args.cells {
         format!(
             "{} meshes, {} vertices, {} triangles",
@@ -117,21 +186,26 @@ pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
     } else {
         ""
     };
-    print_stdout(&format!(
-        "{}: {} of {} ({}{precision}), {} bytes\n",
-        args.output.display(),
-        options.format.name(),
-        args.input.display(),
-        what,
-        exported.bytes.len()
-    ))
+    print_summary(
+        &format!(
+            "{}: {} of {} ({}{precision}), {} bytes\n",
+            args.output.display(),
+            options.format.name(),
+            args.input.display(),
+            what,
+            exported.bytes.len()
+        ),
+        args.json,
+    )
 }
 
 impl ExportArgs {
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
-        let files = crate::overwrite_guard::Files::default().input(Some(&self.input));
+        let files = crate::overwrite_guard::Files::default()
+            .input(Some(&self.input))
+            .json_on_stdout(self.json);
         let written = match self.format {
             Some(FormatArg::Ply) => Written::Ply,
             Some(FormatArg::Obj) => Written::Obj,

@@ -15,8 +15,10 @@ use spatch_format::WriteOptions;
 use spatch_mesh::load::xyz::XyzLayout;
 use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions};
 
+use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, write_json_report, write_output};
+use crate::output::{print_json, print_summary, write_json_report, write_output};
+use crate::progress::Progress;
 use crate::report::{details_from, new_report, set_detail, stages_from};
 
 /// Arguments of `spatch from-cloud`.
@@ -36,14 +38,20 @@ pub(crate) struct FromCloudArgs {
     /// the number of columns.
     #[arg(long, value_name = "LAYOUT", value_parser = parse_layout)]
     columns: Option<XyzLayout>,
-    /// Output .spatch file.
+    /// Output .spatch file (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print the report (the --report JSON, docs/report-schema.md) as one object on
+    /// standard output instead of the summary; refused with `-o -`.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    threads: ThreadsArg,
     /// Also write a JSON report (counts, stage times and the cloud error; the shape of
     /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
-    /// Measure the error (cloud to patch, node to cloud) even without --report.
+    /// Measure the error (cloud to patch, node to cloud) even without --report or --json.
     #[arg(long)]
     error: bool,
     /// Number of view directions, spread evenly over the sphere (1..=1000).
@@ -160,12 +168,17 @@ impl FromCloudArgs {
 
 /// Loads the cloud, converts it, writes the scene (and the report).
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
+    args.threads.init()?;
     let mut options = args.options();
+    let measure = args.error || args.report.is_some() || args.json;
+    let progress = Progress::new(&args.input_label(), 3 + usize::from(measure));
     let started = Instant::now();
+    progress.step("load");
     let loaded = read_inputs(args)?;
     options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
     let load_seconds = started.elapsed().as_secs_f64();
     let label = args.input_label();
+    progress.step("range images");
     let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {
         CloudError::Bug(_) | CloudError::Internal { .. } => {
             anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
@@ -175,6 +188,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         }
         e => anyhow::Error::new(e).context(label.clone()),
     })?;
+    progress.step("write");
     let write_started = Instant::now();
     write_output(&args.output, &conversion.bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
@@ -201,11 +215,13 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         seconds: write_seconds,
     });
     report.seconds = report.stages.iter().map(|s| s.seconds).sum();
-    if args.error || args.report.is_some() {
+    if measure {
+        progress.step("measuring error");
         let error = measure_cloud_error(&loaded.cloud, &conversion.scene, report.spacing)
             .with_context(|| format!("{label}: measuring the error"))?;
         report.error = Some(error);
     }
+    drop(progress);
 
     let mut text = String::new();
     if loaded.scans.len() > 1 {
@@ -273,10 +289,16 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
             n.rms, n.max, n.p95, error.seconds
         ));
     }
-    if let Some(path) = &args.report {
-        write_json_report(path, &shared_report(args, &report, warnings)?)?;
+    if args.report.is_some() || args.json {
+        let shared = shared_report(args, &report, warnings)?;
+        if let Some(path) = &args.report {
+            write_json_report(path, &shared)?;
+        }
+        if args.json {
+            print_json(&shared)?;
+        }
     }
-    print_stdout(&text)
+    print_summary(&text, args.json)
 }
 
 /// `--columns` as a layout (clap prints the message).
@@ -333,7 +355,8 @@ impl FromCloudArgs {
         use crate::overwrite_guard::Written;
         let mut files = crate::overwrite_guard::Files::default()
             .output_as(Some(&self.output), Written::Spatch)
-            .output_as(self.report.as_deref(), Written::Json);
+            .output_as(self.report.as_deref(), Written::Json)
+            .json_on_stdout(self.json);
         files
             .inputs
             .extend(self.inputs.iter().map(PathBuf::as_path));

@@ -2,18 +2,25 @@
 //! and a frame-time benchmark.
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use anyhow::Context;
 use clap::ValueEnum;
 use glam::DVec3;
+use serde::Serialize;
 use serde_json::json;
+use spatch_eval::{Counts, Report, Stages};
 use spatch_render::{
     measure_shortcuts, Camera, CellScheme, Culling, PreparedScene, Projection, RenderError,
-    RenderMode, RenderOptions, RenderStats, Renderer, Shading,
+    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
+use super::frame_bench::{bench, BenchReport};
+use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_stdout, read_spatch, write_output};
+use crate::output::{print_json, print_summary, read_spatch, write_output};
+use crate::progress::Progress;
+use crate::report::{scene_diagonal, tool};
 
 /// What to rasterize.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -116,9 +123,8 @@ pub(crate) struct RenderArgs {
     /// behind from both sides, lit two-sided.
     #[arg(long, value_enum, default_value_t = CullArg::Auto)]
     cull: CullArg,
-    /// Worker threads (0 = all cores). The image does not depend on it.
-    #[arg(long, value_name = "N", default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadsArg,
     /// Supersampling factor per axis, 1..=4.
     #[arg(long, value_name = "K", default_value_t = 1)]
     ssaa: u32,
@@ -174,8 +180,10 @@ pub(crate) struct RenderArgs {
     /// frame and per stage.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
     bench: Option<u32>,
-    /// Print the --bench report as JSON.
-    #[arg(long, requires = "bench")]
+    /// Print a report (docs/report-schema.md: the scene's counts, stages, the frame's
+    /// statistics, camera and --bench timings in `details`) as one JSON object on
+    /// standard output instead of the summary; refused with `-o -`.
+    #[arg(long)]
     json: bool,
 }
 
@@ -278,7 +286,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
         CullArg::Back => Culling::Back,
         CullArg::None => Culling::None,
     };
-    o.threads = args.threads;
+    o.threads = args.threads.count();
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
     o.mip_limit = args.mip_limit;
@@ -313,7 +321,7 @@ fn camera(args: &RenderArgs, scene: &PreparedScene) -> Result<Camera, RenderErro
 }
 
 /// A render-library error as an exit-code-aware error.
-fn classify(err: RenderError) -> anyhow::Error {
+pub(crate) fn classify(err: RenderError) -> anyhow::Error {
     match err {
         RenderError::Bug(_) | RenderError::ThreadPool { .. } | RenderError::Encode { .. } => {
             anyhow::Error::new(InternalFailure(err.to_string()))
@@ -322,9 +330,57 @@ fn classify(err: RenderError) -> anyhow::Error {
     }
 }
 
+/// The camera as reports show it.
+#[derive(Debug, Serialize)]
+struct CameraJson {
+    eye: [f64; 3],
+    target: [f64; 3],
+    up: [f64; 3],
+    fov_y_degrees: f64,
+}
+
+impl CameraJson {
+    fn of(camera: &Camera) -> Self {
+        Self {
+            eye: camera.eye().to_array(),
+            target: camera.target().to_array(),
+            up: camera.up().to_array(),
+            fov_y_degrees: camera.fov_y_degrees(),
+        }
+    }
+}
+
+/// The `--stats` file: the frame's statistics, the camera, and the cost of the shortcuts.
+#[derive(Debug, Serialize)]
+struct StatsFile<'a> {
+    #[serde(flatten)]
+    stats: &'a RenderStats,
+    input: String,
+    overlap_cells_trimmed: u64,
+    overlap_cells_trimmable: u64,
+    camera: CameraJson,
+    shortcuts: ShortcutCosts,
+}
+
+/// The `details` of the `--json` report.
+#[derive(Debug, Serialize)]
+struct RenderDetails<'a> {
+    /// The frame's statistics (as in `--stats`).
+    stats: &'a RenderStats,
+    camera: CameraJson,
+    /// The `--bench` timings, `null` without it.
+    bench: Option<BenchReport>,
+}
+
 /// Renders (and benchmarks) the scene and writes the requested files.
 pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let (scene, _) = read_spatch(&args.input)?;
+    let steps = 5 + usize::from(args.bench.is_some()) + usize::from(args.stats.is_some());
+    let progress = Progress::new("render", steps);
+    let started = Instant::now();
+    progress.step("read");
+    let (scene, info) = read_spatch(&args.input)?;
+    let mut stages = Stages::default();
+    stages.push("read", started.elapsed().as_secs_f64());
     let options = render_options(args);
     let mut renderer = Renderer::new(options).map_err(classify)?;
     let prepare = |renderer: &Renderer, trim: bool| {
@@ -334,19 +390,30 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
             renderer.prepare(&scene)
         }
     };
+    progress.step("prepare");
+    let clock = Instant::now();
     let prepared = prepare(&renderer, args.trim_overlaps);
+    stages.push("prepare", clock.elapsed().as_secs_f64());
     let camera = camera(args, &prepared).map_err(classify)?;
+    progress.step("render");
+    let clock = Instant::now();
     let out = renderer.render(&prepared, &camera).map_err(classify)?;
-    if let Some(frames) = args.bench {
-        bench(
-            &mut renderer,
-            &prepared,
-            &camera,
-            frames as usize,
-            args.json,
-        )?;
-    }
+    stages.push("render", clock.elapsed().as_secs_f64());
+    let bench = match args.bench {
+        Some(frames) => {
+            progress.step("bench");
+            let clock = Instant::now();
+            let report = bench(&mut renderer, &prepared, &camera, frames as usize, &|k| {
+                progress.count(k, frames as usize)
+            })?;
+            stages.push("bench", clock.elapsed().as_secs_f64());
+            Some(report)
+        }
+        None => None,
+    };
     // Encode everything first, so a failure leaves no output behind.
+    progress.step("encode");
+    let clock = Instant::now();
     let mut files = Vec::new();
     if let Some(path) = &args.output {
         files.push((path, out.image.encode_png().map_err(classify)?));
@@ -366,7 +433,10 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
             files.push((path, out.image.encode_depth_png().map_err(classify)?));
         }
     }
+    stages.push("encode", clock.elapsed().as_secs_f64());
     if let Some(path) = &args.stats {
+        progress.step("shortcuts");
+        let clock = Instant::now();
         // The other preparation, for the cost of trimming.
         let other = prepare(&renderer, !args.trim_overlaps);
         let overlaps = if args.trim_overlaps {
@@ -376,28 +446,54 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
         };
         let shortcuts =
             measure_shortcuts(&prepared, Some(overlaps), &camera, &options, 3).map_err(classify)?;
-        let mut value = serde_json::to_value(&out.stats).context("statistics")?;
-        value["input"] = json!(args.input.display().to_string());
-        value["overlap_cells_trimmed"] = json!(prepared.trimmed_cells());
-        value["overlap_cells_trimmable"] = json!(overlaps.0.trimmed_cells());
-        value["camera"] = json!({
-            "eye": camera.eye().to_array(),
-            "target": camera.target().to_array(),
-            "up": camera.up().to_array(),
-            "fov_y_degrees": camera.fov_y_degrees(),
-        });
-        value["shortcuts"] = serde_json::to_value(shortcuts).context("statistics")?;
-        let mut text = serde_json::to_string_pretty(&value).context("statistics")?;
+        let file = StatsFile {
+            stats: &out.stats,
+            input: args.input.display().to_string(),
+            overlap_cells_trimmed: prepared.trimmed_cells(),
+            overlap_cells_trimmable: overlaps.0.trimmed_cells(),
+            camera: CameraJson::of(&camera),
+            shortcuts,
+        };
+        let mut text = serde_json::to_string_pretty(&file).context("statistics")?;
         text.push('\n');
         files.push((path, text.into_bytes()));
+        stages.push("shortcuts", clock.elapsed().as_secs_f64());
     }
+    progress.step("write");
+    let clock = Instant::now();
     for (path, bytes) in &files {
         write_output(path, bytes)?;
     }
+    stages.push("write", clock.elapsed().as_secs_f64());
+    drop(progress);
+    let threads = renderer.threads();
+    if args.json {
+        let details = RenderDetails {
+            stats: &out.stats,
+            camera: CameraJson::of(&camera),
+            bench,
+        };
+        let mut report = Report::new(
+            &tool(),
+            "render",
+            &args.input.display().to_string(),
+            details,
+        );
+        report.output = args.output.as_ref().map(|p| p.display().to_string());
+        report.counts = Counts::of(&scene, info.file_len);
+        report.diagonal = scene_diagonal(&scene);
+        report.seconds = stages.total();
+        report.stages = stages;
+        report.threads = threads;
+        return print_json(&report);
+    }
+    if let Some(bench) = &bench {
+        return print_summary(&bench.table(), false);
+    }
     if let Some(path) = &args.output {
-        if args.bench.is_none() {
-            let s = &out.stats;
-            print_stdout(&format!(
+        let s = &out.stats;
+        print_summary(
+            &format!(
                 "{}: {}x{}, {} of {} patches drawn, {:.2} ms\n",
                 path.display(),
                 s.image[0],
@@ -405,76 +501,11 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 s.patches - s.patches_culled_frustum - s.patches_culled_backface,
                 s.patches,
                 s.times_ms.total_wall
-            ))?;
-        }
+            ),
+            false,
+        )?;
     }
     Ok(())
-}
-
-/// Median and minimum of a list of times.
-fn median_min(mut v: Vec<f64>) -> (f64, f64) {
-    v.sort_by(f64::total_cmp);
-    (v[v.len() / 2], v[0])
-}
-
-fn bench(
-    renderer: &mut Renderer,
-    scene: &PreparedScene,
-    camera: &Camera,
-    frames: usize,
-    as_json: bool,
-) -> anyhow::Result<()> {
-    // Warm-up: the first frame above, and one more.
-    let warm = renderer.render(scene, camera).map_err(classify)?;
-    renderer.recycle(warm.image);
-    let mut all: Vec<RenderStats> = Vec::with_capacity(frames);
-    for _ in 0..frames {
-        let out = renderer.render(scene, camera).map_err(classify)?;
-        renderer.recycle(out.image);
-        all.push(out.stats);
-    }
-    type Pick = fn(&RenderStats) -> f64;
-    let stages: [(&str, Pick); 13] = [
-        ("frame", |s| s.times_ms.total_wall),
-        ("plan_wall", |s| s.times_ms.plan_wall),
-        ("bin_wall", |s| s.times_ms.bin_wall),
-        ("raster_wall", |s| s.times_ms.raster_wall),
-        ("gather_wall", |s| s.times_ms.gather_wall),
-        ("cull_cpu", |s| s.times_ms.cull),
-        ("split_cpu", |s| s.times_ms.split),
-        ("traverse_cpu", |s| s.times_ms.traverse),
-        ("normals_cpu", |s| s.times_ms.normals),
-        ("triangle_setup_cpu", |s| s.times_ms.triangle_setup),
-        ("cells_cpu", |s| s.times_ms.cells),
-        ("triangles_cpu", |s| s.times_ms.triangles),
-        ("resolve_cpu", |s| s.times_ms.resolve),
-    ];
-    let rows: Vec<(&str, f64, f64)> = stages
-        .iter()
-        .map(|(name, pick)| {
-            let (med, min) = median_min(all.iter().map(pick).collect());
-            (*name, med, min)
-        })
-        .collect();
-    let threads = renderer.threads();
-    let size = camera.width().to_string() + "x" + &camera.height().to_string();
-    if as_json {
-        let mut stages = serde_json::Map::new();
-        for (name, med, min) in &rows {
-            stages.insert(name.to_string(), json!({ "median_ms": med, "min_ms": min }));
-        }
-        let value = json!({ "frames": frames, "threads": threads, "size": size, "ms": stages });
-        print_stdout(&(serde_json::to_string_pretty(&value)? + "\n"))
-    } else {
-        let mut text = format!(
-            "{frames} frames at {size}, {threads} threads (ms; *_cpu summed over threads)\n"
-        );
-        text += &format!("{:<20} {:>10} {:>10}\n", "stage", "median", "min");
-        for (name, med, min) in rows {
-            text += &format!("{name:<20} {med:>10.3} {min:>10.3}\n");
-        }
-        print_stdout(&text)
-    }
 }
 
 impl RenderArgs {
@@ -496,5 +527,6 @@ impl RenderArgs {
             .output_as(self.output.as_deref(), Written::Png)
             .output_as(self.depth.as_deref(), self.depth_written())
             .output_as(self.stats.as_deref(), Written::Json)
+            .json_on_stdout(self.json)
     }
 }

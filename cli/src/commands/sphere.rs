@@ -3,17 +3,30 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use serde::Serialize;
+use spatch_eval::{Counts, Report};
 use spatch_format::{encode_scene, WriteOptions};
+
 use spatch_sphere::{build_sphere, SphereOptions};
 
-use crate::output::{print_stdout, write_output};
+use super::ThreadsArg;
+use crate::output::{print_json, print_summary, write_output};
+use crate::progress::Progress;
+use crate::report::{scene_diagonal, tool};
 
 /// Arguments of `spatch sphere`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct SphereArgs {
-    /// Output .spatch file.
+    /// Output .spatch file (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print a report (docs/report-schema.md: counts, stages, the radial error in
+    /// `details`) as one JSON object on standard output instead of the summary; refused
+    /// with `-o -`.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    threads: ThreadsArg,
     /// Sphere radius in model units.
     #[arg(long, default_value_t = SphereOptions::DEFAULT_RADIUS)]
     radius: f64,
@@ -46,10 +59,32 @@ impl SphereArgs {
     }
 }
 
+/// The `details` of the sphere's report.
+#[derive(Debug, Serialize)]
+struct SphereDetails {
+    /// Sphere radius (model units).
+    radius: f64,
+    /// Nodes per patch side.
+    grid: u32,
+    /// Node spacing `|ax| = |ay|`.
+    spacing: f64,
+    /// Displacement step `|az|`.
+    step: f64,
+    /// Largest distance of a filled node from the sphere.
+    radial_error_max: f64,
+    /// The quantization bound, `step / 2`.
+    radial_error_bound: f64,
+    /// Smallest room between a patch's Voronoi cell and its square edge (negative: gaps).
+    coverage_margin: f64,
+}
+
 /// Builds the sphere, measures its radial error, writes it.
 pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
+    args.threads.init()?;
     let options = args.options();
+    let progress = Progress::new("sphere", 3);
     let started = Instant::now();
+    progress.step("build");
     let sphere = build_sphere(&options)?;
     let build_seconds = started.elapsed().as_secs_f64();
     let scene = &sphere.scene;
@@ -61,13 +96,43 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
                 .map(|(_, _, q)| (q.as_dvec3().length() - options.radius).abs())
         })
         .fold(0.0f64, f64::max);
-    let write_started = Instant::now();
+    progress.step("encode");
+    let encode_started = Instant::now();
     let bytes = encode_scene(
         scene,
         &WriteOptions::with_compression(super::compression(args.compress)),
     )?;
+    let encode_seconds = encode_started.elapsed().as_secs_f64();
+    progress.step("write");
+    let write_started = Instant::now();
     write_output(&args.output, &bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
+    drop(progress);
+    if args.json {
+        let mut report = Report::new(
+            &tool(),
+            "sphere",
+            "the perfect sphere",
+            SphereDetails {
+                radius: options.radius,
+                grid: options.grid,
+                spacing: options.spacing,
+                step: options.step,
+                radial_error_max: worst,
+                radial_error_bound: options.step / 2.0,
+                coverage_margin: sphere.coverage_margin,
+            },
+        );
+        report.output = Some(args.output.display().to_string());
+        report.counts = Counts::of(scene, bytes.len());
+        report.diagonal = scene_diagonal(scene);
+        report.stages.push("build", build_seconds);
+        report.stages.push("encode", encode_seconds);
+        report.stages.push("write", write_seconds);
+        report.seconds = started.elapsed().as_secs_f64();
+        report.threads = rayon::current_num_threads();
+        print_json(&report)?;
+    }
     let mut text = format!(
         "{}: {} patches, {} nodes, {} bytes\n  radial error max {:.6} (bound: step/2 = {:.6})\n",
         args.output.display(),
@@ -91,15 +156,17 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
     text.push_str(&format!(
         "  time: build {:.1} ms, encode+write {:.1} ms\n",
         build_seconds * 1e3,
-        write_seconds * 1e3
+        (encode_seconds + write_seconds) * 1e3
     ));
-    print_stdout(&text)
+    print_summary(&text, args.json)
 }
 
 impl SphereArgs {
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
-        crate::overwrite_guard::Files::default().output_as(Some(&self.output), Written::Spatch)
+        crate::overwrite_guard::Files::default()
+            .output_as(Some(&self.output), Written::Spatch)
+            .json_on_stdout(self.json)
     }
 }

@@ -21,11 +21,15 @@
 //! - `output_safety`: issue 20 — outputs that name inputs, symlinks, FIFOs, devices, kept
 //!   modes, temporary files after a kill, endless streams, one-line usage errors, completions
 //!   and the manual page.
+//! - `conventions`: issue 20 — `-q`, `--json` on every reporting command (and refused
+//!   with an output on standard output), `--threads` on every command that works, no
+//!   progress without a terminal.
 //! - `readme_tour`: every command of the README's tour, as written.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
 mod bad_input;
+mod conventions;
 mod convert;
 mod earth;
 mod edges;

@@ -169,8 +169,9 @@ fn bench_prints_median_and_min_per_stage() {
         ])
         .success();
     let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
-    assert!(v["ms"]["frame"]["median_ms"].as_f64().unwrap() > 0.0);
-    assert_eq!(v["frames"], 3);
+    let bench = &v["details"]["bench"];
+    assert!(bench["ms"]["frame"]["median_ms"].as_f64().unwrap() > 0.0);
+    assert_eq!(bench["frames"], 3);
 }
 
 #[test]

@@ -29,7 +29,9 @@ mod sides;
 
 pub use error::ConvertError;
 pub use options::ConvertOptions;
-pub use pipeline::{convert, convert_with_progress, Conversion, ConvertInput, Stage};
+pub use pipeline::{
+    convert, convert_with_progress, Conversion, ConvertInput, ProgressEvent, Stage,
+};
 pub use report::{ConvertReport, Counts, PrepareCounts, StageTime};
 pub use sides::{apply_sides, find_mesh_sides, MeshSides, SideCounts, MAX_OPENINGS};
 /// The sharp-edge stage's options and counts, re-exported for callers of the pipeline.

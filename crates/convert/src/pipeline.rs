@@ -10,7 +10,7 @@ use std::time::Instant;
 use spatch_edges::generate_edge_patches;
 
 use crate::sides::{apply_sides, find_mesh_sides};
-use spatch_fit::{choose_channel, default_spacing, fit_regions, FitRegion};
+use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
 use spatch_segment::segment;
@@ -99,16 +99,33 @@ pub fn convert(
     convert_with_progress(input, options, &|_| {})
 }
 
-/// [`convert`], calling `on_stage` as each stage starts (for a progress display).
+/// What the pipeline tells a progress display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ProgressEvent {
+    /// A stage starts.
+    Stage(Stage),
+    /// Inside the current stage, `done` of `total` items are finished (the fit stage
+    /// counts regions). Sent from worker threads, in increasing `done` per thread only.
+    Count {
+        /// Items finished so far.
+        done: usize,
+        /// Items of the stage.
+        total: usize,
+    },
+}
+
+/// [`convert`], calling `on_progress` as each stage starts and as the fit stage finishes
+/// each region (for a progress display; it may be called from worker threads).
 pub fn convert_with_progress(
     input: ConvertInput<'_>,
     options: &ConvertOptions,
-    on_stage: &dyn Fn(Stage),
+    on_progress: &(dyn Fn(ProgressEvent) + Sync),
 ) -> Result<Conversion, ConvertError> {
     let mut stages = Vec::with_capacity(Stage::ALL.len());
     let mut clock = Clock {
         stages: &mut stages,
-        on_stage,
+        on_progress,
     };
 
     let (raw, load_warnings) = clock.run(Stage::Load, || match input {
@@ -149,7 +166,9 @@ pub fn convert_with_progress(
                 axis: r.axis,
             })
             .collect();
-        fit_regions(&mesh, &adjacency, &regions, &fit_options)
+        fit_regions_counted(&mesh, &adjacency, &regions, &fit_options, &|done, total| {
+            on_progress(ProgressEvent::Count { done, total })
+        })
     })?;
     let stats = fitted.stats;
     let mut channel = fitted.channel;
@@ -233,12 +252,12 @@ pub fn convert_with_progress(
 /// Times stages and announces them.
 struct Clock<'a> {
     stages: &'a mut Vec<StageTime>,
-    on_stage: &'a dyn Fn(Stage),
+    on_progress: &'a (dyn Fn(ProgressEvent) + Sync),
 }
 
 impl Clock<'_> {
     fn run<T>(&mut self, stage: Stage, work: impl FnOnce() -> T) -> T {
-        (self.on_stage)(stage);
+        (self.on_progress)(ProgressEvent::Stage(stage));
         let start = Instant::now();
         let out = work();
         self.stages.push(StageTime {

@@ -48,4 +48,14 @@ pub enum EarthError {
     /// The mesh crate refused the globe (a bug).
     #[error("internal error building the globe mesh (this is a bug): {0}")]
     Mesh(#[from] spatch_mesh::MeshError),
+    /// The mesh pipeline refused the globe (a bug: the globe is a valid closed mesh).
+    #[error("internal error converting the globe (this is a bug): {0}")]
+    Convert(#[from] spatch_convert::ConvertError),
+}
+
+impl EarthError {
+    /// Whether this is spatch's own failure rather than the input's.
+    pub fn is_bug(&self) -> bool {
+        matches!(self, Self::Mesh(_) | Self::Convert(_))
+    }
 }

@@ -9,7 +9,8 @@
 //! equirectangular texture coordinates (with the seam at ±180° and the poles
 //! handled), displaces each vertex along its normal by the bilinearly
 //! interpolated height, and attaches the colour map as the texture. The
-//! conversion to patches is the mesh pipeline's (`spatch-convert`).
+//! conversion to patches is the mesh pipeline's (`spatch-convert`);
+//! [`convert_earth`] runs the whole chain from [`EarthOptions`].
 //!
 //! ```
 //! use spatch_earth::{build_globe, heights_from_colour, ColourMap, GlobeOptions, HueLevels};
@@ -28,6 +29,7 @@ mod error;
 mod globe_mesh;
 mod heightmap;
 mod hue;
+mod pipeline;
 
 pub use colour_map::{ColourMap, DEFAULT_MAP_JPEG, DEFAULT_MAX_MAP_WIDTH};
 pub use elevation::{heights_from_elevation, ElevationEncoding, ElevationOptions};
@@ -35,3 +37,6 @@ pub use error::EarthError;
 pub use globe_mesh::{build_globe, equirectangular_uv, Globe, GlobeOptions};
 pub use heightmap::HeightMap;
 pub use hue::{heights_from_colour, HueLevels};
+pub use pipeline::{
+    convert_earth, Density, EarthConversion, EarthOptions, EarthStep, GlobeSummary, HeightSource,
+};

@@ -84,7 +84,21 @@ pub fn fit_regions(
     regions: &[FitRegion<'_>],
     options: &FitOptions,
 ) -> Result<FitOutput, FitError> {
+    fit_regions_counted(mesh, adjacency, regions, options, &|_, _| {})
+}
+
+/// [`fit_regions`], calling `on_region(done, total)` from the worker threads as each
+/// region is fitted (for a progress display; `done` counts up to `total` = the number of
+/// regions, in no particular order of regions). Costs one atomic add per region.
+pub fn fit_regions_counted(
+    mesh: &TriangleMesh,
+    adjacency: &FaceAdjacency,
+    regions: &[FitRegion<'_>],
+    options: &FitOptions,
+    on_region: &(dyn Fn(usize, usize) + Sync),
+) -> Result<FitOutput, FitError> {
     options.validate()?;
+    let finished = std::sync::atomic::AtomicUsize::new(0);
     let spacing = match options.spacing {
         Some(s) => s,
         None => default_spacing(mesh).ok_or(FitError::NoSurface)?,
@@ -94,7 +108,7 @@ pub fn fit_regions(
         .par_iter()
         .enumerate()
         .map(|(index, region)| {
-            fit_region(
+            let patches = fit_region(
                 &RegionJob {
                     mesh,
                     adjacency,
@@ -104,7 +118,10 @@ pub fn fit_regions(
                 },
                 index,
                 region,
-            )
+            );
+            let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            on_region(done, regions.len());
+            patches
         })
         .collect::<Result<_, _>>()?;
     let mut stats = FitStats {

@@ -53,6 +53,6 @@ mod quantize;
 
 pub use colour::{choose_channel, sample_colour};
 pub use error::FitError;
-pub use fit::{fit_regions, FitOutput, FitRegion, FitStats};
+pub use fit::{fit_regions, fit_regions_counted, FitOutput, FitRegion, FitStats};
 pub use options::{default_spacing, FitOptions, SPACING_PER_TRIANGLE_SIZE};
 pub use quantize::{choose_quantizer, quantize_height};

@@ -95,12 +95,12 @@ pub enum FormatError {
         offset: usize,
     },
     /// A structural value in the file is impossible.
-    #[error("corrupt {section} section: {problem}")]
+    #[error("corrupt {section} section: {kind}")]
     Corrupt {
-        /// Section tag (or `"header"`).
+        /// Section tag.
         section: String,
         /// What is wrong.
-        problem: String,
+        kind: Corruption,
     },
     /// A required section is absent.
     #[error("missing required {0} section")]
@@ -131,4 +131,125 @@ pub enum FormatError {
     /// An internal invariant failed; this is a bug in spatch.
     #[error("internal error (this is a bug in spatch): {0}")]
     Bug(&'static str),
+}
+
+/// What is wrong with a section of a `.spatch` file ([`FormatError::Corrupt`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Corruption {
+    /// Bytes 5..8 of the section header are not zero.
+    #[error("reserved header bytes are not zero")]
+    ReservedBytes,
+    /// A known section appears twice, or before one that must precede it.
+    #[error("section repeated or out of order")]
+    OutOfOrder,
+    /// A section that must be raw (SCNE, FRAM, ORGR, SIDE, OPEN) names a codec.
+    #[error("this section must be raw, found codec {0}")]
+    NotRaw(u8),
+    /// A raw section whose raw length is not its stored length.
+    #[error("raw section whose raw length {raw} differs from its stored length {stored}")]
+    RawLengthNotStored {
+        /// Stored length in the header.
+        stored: usize,
+        /// Raw length in the header.
+        raw: usize,
+    },
+    /// A node-data section's raw length is not what the frames imply.
+    #[error("raw length {found} but the frames need {expected}")]
+    RawLength {
+        /// Raw length in the header.
+        found: usize,
+        /// Length the frames (or the filled nodes) imply.
+        expected: usize,
+    },
+    /// A codec-1 section announces more raw bytes than its coded bytes can hold.
+    #[error("raw length {raw} is impossible for {stored} coded bytes")]
+    Expansion {
+        /// Raw length in the header.
+        raw: usize,
+        /// Stored (coded) length.
+        stored: usize,
+    },
+    /// The coded stream runs out before the announced raw bytes are decoded.
+    #[error("compressed stream ends early")]
+    StreamEndsEarly,
+    /// A codec number this reader does not know.
+    #[error("unknown codec {0}")]
+    UnknownCodec(u8),
+    /// The payload is not one record of `record` bytes per patch.
+    #[error("{bytes} bytes for {count} patches of {record} bytes")]
+    RecordCount {
+        /// Payload bytes.
+        bytes: usize,
+        /// Patches in the scene.
+        count: usize,
+        /// Bytes per patch record.
+        record: usize,
+    },
+    /// The payload is not a whole number of records.
+    #[error("{bytes} bytes is not a whole number of {record}-byte records")]
+    PartialRecord {
+        /// Payload bytes.
+        bytes: usize,
+        /// Bytes per record.
+        record: usize,
+    },
+    /// The SCNE payload is shorter than its fields.
+    #[error("payload is {found} bytes, needs {needed}")]
+    Short {
+        /// Payload bytes.
+        found: usize,
+        /// Bytes of the fields.
+        needed: usize,
+    },
+    /// A field holds a value outside its list of codes.
+    #[error("unknown {field} {value}")]
+    UnknownCode {
+        /// The field, e.g. `colour storage`.
+        field: &'static str,
+        /// The value found.
+        value: u8,
+    },
+    /// The colour channel and the colour storage of SCNE disagree.
+    #[error("colour channel and colour storage disagree")]
+    ChannelStorage,
+    /// A COLR section in a scene without per-node colour.
+    #[error("colour section in a scene without per-node colour")]
+    UnexpectedColours,
+    /// A frame record's displacement width is neither 8 nor 16 bits.
+    #[error("patch {patch}: displacement width {bits} bits")]
+    Width {
+        /// Patch index.
+        patch: usize,
+        /// The width found.
+        bits: u8,
+    },
+    /// A SIDE code is not one of the known sides (0..=2).
+    #[error("patch {patch}: unknown code {code}")]
+    SideCode {
+        /// Patch index.
+        patch: usize,
+        /// The code found.
+        code: u8,
+    },
+    /// A patch's stored values are refused (its frame, grid, residual or
+    /// node data).
+    #[error("patch {patch}: {error}")]
+    Patch {
+        /// Patch index.
+        patch: usize,
+        /// Why.
+        error: Box<FormatError>,
+    },
+    /// An opening's stored values are refused.
+    #[error("opening {index}: {error}")]
+    Opening {
+        /// Opening index.
+        index: usize,
+        /// Why.
+        error: Box<FormatError>,
+    },
+    /// The scene's stored values are refused (its shared grid, its offset).
+    #[error("{0}")]
+    Scene(Box<FormatError>),
 }

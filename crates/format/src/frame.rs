@@ -145,10 +145,11 @@ impl Frame {
         self.lengths
     }
 
-    /// The unit axis directions `[x̂, ŷ, ẑ]`.
+    /// The unit axis directions `[x̂, ŷ, ẑ]`: the stored quaternion normalized
+    /// and applied to X, Y, Z by the exact f32 expression of docs/format.md §1.1
+    /// (the same bits on every platform).
     pub fn unit_axes(&self) -> [Vec3; 3] {
-        let q = self.rotation.normalize();
-        [q * Vec3::X, q * Vec3::Y, q * Vec3::Z]
+        crate::axes::unit_axes(self.rotation)
     }
 
     /// The scaled axes `[ax, ay, az]`.

@@ -28,6 +28,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod axes;
 mod container;
 mod error;
 mod frame;
@@ -43,7 +44,7 @@ pub use container::{
     write_file_atomically, write_scene, Compression, ContainerInfo, SectionInfo, WriteOptions,
     MAGIC, VERSION_MAJOR, VERSION_MINOR,
 };
-pub use error::FormatError;
+pub use error::{Corruption, FormatError};
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};
 pub use grid::GridSize;
 pub use patch::{DisplacementWidth, Patch, EMPTY};

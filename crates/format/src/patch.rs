@@ -190,6 +190,14 @@ impl Patch {
         Some(self.frame.precise_origin() + self.node_local(i, j)?.as_dvec3())
     }
 
+    /// Model-space position of node `(i, j)` in a scene with offset `offset`:
+    /// `(offset + (P + r)) + local` in f64, the exact expression of
+    /// docs/format.md §1.1 (what `spatch export` writes). `None` when the node
+    /// is empty.
+    pub fn model_position(&self, offset: DVec3, i: usize, j: usize) -> Option<DVec3> {
+        Some((offset + self.frame.precise_origin()) + self.node_local(i, j)?.as_dvec3())
+    }
+
     /// Positions of all non-empty nodes, in node order, with their `(i, j)`.
     pub fn filled_nodes(&self) -> impl Iterator<Item = (usize, usize, Vec3)> + '_ {
         let [ax, ay, az] = self.frame.axes();

@@ -8,9 +8,11 @@
 //! Nodes whose grid position lies outside the sphere's silhouette (only for
 //! patches wider than the sphere) are left empty.
 //!
-//! Cost: O(patches × nodes), about 400k nodes by default (a few ms).
+//! Cost: O(patches × nodes), about 400k nodes by default (a few ms); the
+//! patches are built in parallel on the current rayon pool.
 
 use glam::DVec3;
+use rayon::prelude::*;
 use spatch_format::{ColourChannel, FormatError, Frame, GridSize, Patch, Scene, EMPTY};
 
 use crate::centres::neighbours_within;
@@ -176,15 +178,15 @@ pub fn build_sphere(options: &SphereOptions) -> Result<Sphere, SphereError> {
     // Voronoi neighbours lie within about two mean spacings; three is safe.
     let reach = 3.0 * (4.0 * std::f64::consts::PI / patches as f64).sqrt();
     let neighbours = neighbours_within(&centres, reach);
-    let mut coverage_margin = f64::INFINITY;
-    let scene_patches = centres
-        .iter()
+    // One patch per centre, in parallel (the orientation search dominates); the order of
+    // the patches and the smallest margin do not depend on the thread count.
+    let built: Vec<(Patch, f64)> = centres
+        .par_iter()
         .zip(&neighbours)
         .map(|(&normal, near)| {
             let (x0, y0) = tangent_axes(normal);
             let near: Vec<DVec3> = near.iter().map(|&k| centres[k]).collect();
             let orientation = orient_patch(normal, x0, y0, &near, radius, half);
-            coverage_margin = coverage_margin.min(orientation.margin);
             let x = orientation.x;
             let y = normal.cross(x);
             let origin = normal * lowest - x * half - y * half;
@@ -194,9 +196,12 @@ pub fn build_sphere(options: &SphereOptions) -> Result<Sphere, SphereError> {
                 (y * spacing).as_vec3(),
                 (normal * step).as_vec3(),
             )?;
-            Patch::new(frame, grid, displacements.clone(), None)
+            let patch = Patch::new(frame, grid, displacements.clone(), None)?;
+            Ok::<_, SphereError>((patch, orientation.margin))
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let coverage_margin = built.iter().map(|(_, m)| *m).fold(f64::INFINITY, f64::min);
+    let scene_patches: Vec<Patch> = built.into_iter().map(|(p, _)| p).collect();
     Ok(Sphere {
         scene: Scene::new(DVec3::ZERO, ColourChannel::None, scene_patches)?,
         coverage_margin,

@@ -1,6 +1,8 @@
 //! Byte-level constants and the scene section's fields, shared by the reader
 //! and the writer.
 
+use crate::Corruption;
+
 /// File header: magic (6), major (1), minor (1), section count (u32), CRC-32
 /// of the first 12 bytes (u32).
 pub(crate) const FILE_HEADER_LEN: usize = 16;
@@ -109,35 +111,39 @@ impl SceneFields {
 
     /// Parses the first [`SCENE_LEN`] bytes; later minor versions may append
     /// fields, which a 1.0 reader ignores.
-    pub(crate) fn from_bytes(b: &[u8]) -> Result<Self, String> {
+    pub(crate) fn from_bytes(b: &[u8]) -> Result<Self, Corruption> {
         if b.len() < SCENE_LEN {
-            return Err(format!("payload is {} bytes, needs {SCENE_LEN}", b.len()));
+            return Err(Corruption::Short {
+                found: b.len(),
+                needed: SCENE_LEN,
+            });
         }
+        let unknown = |field, value| Corruption::UnknownCode { field, value };
         let f64_at = |k: usize| f64::from_le_bytes(b[k..k + 8].try_into().unwrap_or([0; 8]));
         let u16_at = |k: usize| u16::from_le_bytes([b[k], b[k + 1]]);
         let colour_storage = match b[29] {
             0 => ColourStorage::None,
             1 => ColourStorage::Flat,
             2 => ColourStorage::PerNode,
-            v => return Err(format!("unknown colour storage {v}")),
+            v => return Err(unknown("colour storage", v)),
         };
         let grid_storage = match b[30] {
             0 => GridStorage::PerPatch,
             1 => GridStorage::Shared,
-            v => return Err(format!("unknown grid storage {v}")),
+            v => return Err(unknown("grid storage", v)),
         };
         let width_storage = match b[31] {
             0 => WidthStorage::PerPatch,
             1 => WidthStorage::All8,
             2 => WidthStorage::All16,
-            v => return Err(format!("unknown displacement width storage {v}")),
+            v => return Err(unknown("displacement width storage", v)),
         };
         let channel = b[28];
         if channel > 2 {
-            return Err(format!("unknown colour channel {channel}"));
+            return Err(unknown("colour channel", channel));
         }
         if (channel == 0) != (colour_storage == ColourStorage::None) {
-            return Err("colour channel and colour storage disagree".to_owned());
+            return Err(Corruption::ChannelStorage);
         }
         Ok(Self {
             offset: [f64_at(0), f64_at(8), f64_at(16)],

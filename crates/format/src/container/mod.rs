@@ -14,6 +14,10 @@ mod layout;
 mod predictive;
 mod range_coder;
 mod read;
+mod read_frames;
+mod read_nodes;
+mod read_sides;
+mod sections;
 mod stream;
 mod write;
 

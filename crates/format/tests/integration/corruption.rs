@@ -75,7 +75,12 @@ fn a_flipped_byte_in_any_section_is_caught() {
 
 /// Rewrites a section's stored/raw length fields and fixes its CRC, so the
 /// lie reaches the structural checks.
-fn with_section_lengths(bytes: &[u8], tag: &str, stored: Option<u32>, raw: Option<u32>) -> Vec<u8> {
+pub(crate) fn with_section_lengths(
+    bytes: &[u8],
+    tag: &str,
+    stored: Option<u32>,
+    raw: Option<u32>,
+) -> Vec<u8> {
     let (_, info) = inspect(bytes).unwrap();
     let section = info.sections.iter().find(|s| s.tag == tag).unwrap();
     let mut out = bytes.to_vec();

@@ -7,11 +7,14 @@
 //!   versions and trailing bytes all give errors, never panics.
 //! - `two_sided`: the visible sides and openings of container 1.1 (`SIDE`, `OPEN`): round
 //!   trip, 1.0 bytes when nothing needs them, merge, lying sections.
+//! - `container_spec`: docs/format.md against the reader: the raw-length rule of every
+//!   section (§3.2) and the exact f32 evaluation of node positions (§1.1).
 //! - `atomic`: a failed write leaves nothing under the output name.
 //! - `far_merge`: merged scenes far apart keep each part's node positions
 //!   (issue 22), through the ORGR section.
 
 mod atomic;
+mod container_spec;
 mod corruption;
 mod far_merge;
 mod golden;
