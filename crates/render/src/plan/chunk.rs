@@ -68,28 +68,19 @@ pub(crate) fn plan_chunk(
         let (lo, hi) = root.local_box(level0.d_range);
         let class = setup.frustum.classify(&map, t0, lo, hi);
         work.counters.cull_ns += nanos_since(start);
-        work.pieces.clear();
-        work.cells.clear();
+        work.split.pieces.clear();
+        work.split.cells.clear();
         match class {
             BoxClass::Outside => {
                 work.counters.culled_frustum += 1;
                 continue;
             }
-            BoxClass::Inside => work.pieces.push(root),
+            BoxClass::Inside => work.split.pieces.push(root),
             BoxClass::Partial => {
                 let start = Instant::now();
                 work.counters.split += 1;
-                let counts = split_patch(
-                    level0,
-                    &setup.frustum,
-                    &map,
-                    t0,
-                    root,
-                    &mut work.stack,
-                    &mut work.pieces,
-                    &mut work.cells,
-                );
-                work.counters.split_pieces += work.pieces.len() as u64;
+                let counts = split_patch(level0, &setup.frustum, (&map, t0), root, &mut work.split);
+                work.counters.split_pieces += work.split.pieces.len() as u64;
                 work.counters.pieces_dropped += counts.dropped as u64;
                 work.counters.split_ns += nanos_since(start);
             }
@@ -105,14 +96,14 @@ pub(crate) fn plan_chunk(
             cell_test,
             setup,
         };
-        let pieces = std::mem::take(&mut work.pieces);
+        let pieces = std::mem::take(&mut work.split.pieces);
         for &piece in &pieces {
             plan_piece(work, &ctx, piece);
         }
-        work.pieces = pieces;
-        if !work.cells.is_empty() {
+        work.split.pieces = pieces;
+        if !work.split.cells.is_empty() {
             let start = Instant::now();
-            let cells = std::mem::take(&mut work.cells);
+            let cells = std::mem::take(&mut work.split.cells);
             for &(i, j) in &cells {
                 let range = NodeRange {
                     i0: i,
@@ -123,7 +114,7 @@ pub(crate) fn plan_chunk(
                 let emitted = emit_cell_triangles(work, &ctx, 0, range);
                 work.counters.clipped_cells += (emitted > 0) as u64;
             }
-            work.cells = cells;
+            work.split.cells = cells;
             work.counters.setup_ns += nanos_since(start);
         }
     }
