@@ -31,8 +31,8 @@ use std::process::ExitCode;
 
 use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use spatch_render::{
-    Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer,
-    Shading, TriangleMesh as RasterMesh,
+    Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
+    TriangleMesh as RasterMesh,
 };
 
 /// Grey levels below the neighbourhood median by more than this make a speck.
@@ -73,7 +73,11 @@ fn scene_options(flags: &[String]) -> Result<RenderOptions, String> {
     let mut options = RenderOptions::default();
     let mut it = flags.iter();
     while let Some(flag) = it.next() {
-        let mut value = || it.next().map(String::as_str).ok_or(format!("{flag} needs a value"));
+        let mut value = || {
+            it.next()
+                .map(String::as_str)
+                .ok_or(format!("{flag} needs a value"))
+        };
         match flag.as_str() {
             "--mode" => match value()? {
                 "triangles" => options.mode = RenderMode::Triangles,

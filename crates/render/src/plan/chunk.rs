@@ -52,7 +52,13 @@ pub(crate) fn plan_chunk(
             work.counters.cull_ns += nanos_since(start);
             continue;
         }
-        let facing_away = p.cone.axis.dot(eye - p.centre) < 0.0;
+        // Lit two-sided (the frame flipped) only where the patch's back may
+        // show. A patch whose back is culled shows its front even where its
+        // cone's axis faces away: an edge patch bent over a crease, or a
+        // patch whose margin overlaps the next face, whose front cells the
+        // flip lit from behind (dark specks along fandisk's creases, issue
+        // 21 item 3).
+        let facing_away = !culled && p.cone.axis.dot(eye - p.centre) < 0.0;
         // No cell of a patch facing the eye entirely can face away.
         let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, facing_away);
@@ -62,28 +68,19 @@ pub(crate) fn plan_chunk(
         let (lo, hi) = root.local_box(level0.d_range);
         let class = setup.frustum.classify(&map, t0, lo, hi);
         work.counters.cull_ns += nanos_since(start);
-        work.pieces.clear();
-        work.cells.clear();
+        work.split.pieces.clear();
+        work.split.cells.clear();
         match class {
             BoxClass::Outside => {
                 work.counters.culled_frustum += 1;
                 continue;
             }
-            BoxClass::Inside => work.pieces.push(root),
+            BoxClass::Inside => work.split.pieces.push(root),
             BoxClass::Partial => {
                 let start = Instant::now();
                 work.counters.split += 1;
-                let counts = split_patch(
-                    level0,
-                    &setup.frustum,
-                    &map,
-                    t0,
-                    root,
-                    &mut work.stack,
-                    &mut work.pieces,
-                    &mut work.cells,
-                );
-                work.counters.split_pieces += work.pieces.len() as u64;
+                let counts = split_patch(level0, &setup.frustum, (&map, t0), root, &mut work.split);
+                work.counters.split_pieces += work.split.pieces.len() as u64;
                 work.counters.pieces_dropped += counts.dropped as u64;
                 work.counters.split_ns += nanos_since(start);
             }
@@ -99,14 +96,14 @@ pub(crate) fn plan_chunk(
             cell_test,
             setup,
         };
-        let pieces = std::mem::take(&mut work.pieces);
+        let pieces = std::mem::take(&mut work.split.pieces);
         for &piece in &pieces {
             plan_piece(work, &ctx, piece);
         }
-        work.pieces = pieces;
-        if !work.cells.is_empty() {
+        work.split.pieces = pieces;
+        if !work.split.cells.is_empty() {
             let start = Instant::now();
-            let cells = std::mem::take(&mut work.cells);
+            let cells = std::mem::take(&mut work.split.cells);
             for &(i, j) in &cells {
                 let range = NodeRange {
                     i0: i,
@@ -117,7 +114,7 @@ pub(crate) fn plan_chunk(
                 let emitted = emit_cell_triangles(work, &ctx, 0, range);
                 work.counters.clipped_cells += (emitted > 0) as u64;
             }
-            work.cells = cells;
+            work.split.cells = cells;
             work.counters.setup_ns += nanos_since(start);
         }
     }

@@ -78,20 +78,33 @@ pub(crate) struct SplitCounts {
     pub(crate) dropped: u32,
 }
 
-/// Splits `root` of `level` until every piece is inside (pushed to
-/// `pieces`), outside (dropped) or a single partial cell (pushed to
-/// `cells` as its `(i, j)`).
-#[allow(clippy::too_many_arguments)] // the scratch vectors are reused by the caller
+/// What splitting a patch leaves: the pieces to draw and the single cells
+/// to clip, with the scratch stack; kept by a chunk and reused from patch
+/// to patch.
+#[derive(Debug, Default)]
+pub(crate) struct SplitWork {
+    pub(crate) stack: Vec<NodeRange>,
+    /// Pieces inside the guard band.
+    pub(crate) pieces: Vec<NodeRange>,
+    /// Single partial cells, as their `(i, j)`.
+    pub(crate) cells: Vec<(usize, usize)>,
+}
+
+/// Splits `root` of `level` (local map `(map, t0)`) until every piece is
+/// inside (pushed to `work.pieces`), outside (dropped) or a single partial
+/// cell (pushed to `work.cells`).
 pub(crate) fn split_patch(
     level: &MipLevel,
     frustum: &Frustum,
-    map: &Mat3,
-    t0: Vec3,
+    (map, t0): (&Mat3, Vec3),
     root: NodeRange,
-    stack: &mut Vec<NodeRange>,
-    pieces: &mut Vec<NodeRange>,
-    cells: &mut Vec<(usize, usize)>,
+    work: &mut SplitWork,
 ) -> SplitCounts {
+    let SplitWork {
+        stack,
+        pieces,
+        cells,
+    } = work;
     let mut counts = SplitCounts::default();
     stack.clear();
     stack.push(root);
@@ -145,17 +158,9 @@ mod tests {
             far: 100.0,
             guard: 0.1,
         };
-        let (mut stack, mut pieces, mut cells) = (Vec::new(), Vec::new(), Vec::new());
-        let counts = split_patch(
-            level,
-            &f,
-            &map,
-            t0,
-            NodeRange::whole(level),
-            &mut stack,
-            &mut pieces,
-            &mut cells,
-        );
+        let mut work = SplitWork::default();
+        let counts = split_patch(level, &f, (&map, t0), NodeRange::whole(level), &mut work);
+        let (pieces, cells) = (&work.pieces, &work.cells);
         // Cells with i in 4..5 straddle the near plane; those at i < 4 are behind it.
         assert!(cells.iter().all(|&(i, _)| i == 4));
         assert_eq!(cells.len(), 8);

@@ -16,7 +16,7 @@ use crate::options::RenderOptions;
 use crate::plan::counters::Counters;
 use crate::plan::cull::Frustum;
 use crate::plan::node_xy::NodeXY;
-use crate::plan::split::NodeRange;
+use crate::plan::split::SplitWork;
 use crate::prepare::normal_buffer::NormalBuffer;
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::Portal;
@@ -89,11 +89,8 @@ pub(crate) struct ChunkWork {
     pub(crate) xy: NodeXY,
     /// The normal buffer of the chunk (cleared per frame).
     pub(crate) normals: NormalBuffer,
-    /// Scratch of splitting: its stack, the pieces to draw and the single
-    /// cells to clip.
-    pub(crate) stack: Vec<NodeRange>,
-    pub(crate) pieces: Vec<NodeRange>,
-    pub(crate) cells: Vec<(usize, usize)>,
+    /// Splitting's pieces, single cells and stack.
+    pub(crate) split: SplitWork,
     /// Scratch of [`emit_cell_triangles`](crate::plan::cell_triangles::emit_cell_triangles).
     pub(crate) vertices: Vec<ClipVertex>,
     /// Scratch of [`drop_undrawn_nodes`](crate::raster::splat::drop_undrawn_nodes).

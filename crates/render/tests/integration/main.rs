@@ -8,11 +8,14 @@
 //!   projection / cell / shading / mip / supersampling variants.
 //! - `mesh`: the public triangle rasterizer on plain meshes.
 //! - `camera`: degenerate cameras and options refused.
+//! - `crease`: a patch bent over a crease keeps its front lit with
+//!   back-face culling (issue 21 item 3).
 //! - `layers`: the modules of `src/` form one layered order without
 //!   import circles (reads the sources).
 
 mod camera;
 mod common;
+mod crease;
 mod layers;
 mod mesh;
 mod modes;
