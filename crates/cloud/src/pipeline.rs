@@ -5,18 +5,18 @@
 //! its encoded bytes and a [`CloudReport`]).
 //!
 //! Stages:
-//! 1. `filter` ([`keep_finite`]): points with a non-finite coordinate or normal are dropped
+//! 1. `filter` (`keep_finite`): points with a non-finite coordinate or normal are dropped
 //!    and counted.
-//! 2. `sort` ([`sort_spatially`]): the points are put in Morton order, so that every later
+//! 2. `sort` (`sort_spatially`): the points are put in Morton order, so that every later
 //!    pass over them (one per view) reads and writes the images in a cache-friendly order.
-//! 3. `spacing` ([`measure_spacing`]): the spacing `s` from 12 nearest neighbours
+//! 3. `spacing` (`measure_spacing`): the spacing `s` from 12 nearest neighbours
 //!    (`spacing.rs`), unless given.
-//! 4. `normals` ([`estimate_surface`]): the file's normals when it has them, else PCA
+//! 4. `normals` (`estimate_surface`): the file's normals when it has them, else PCA
 //!    normals over voxel blocks (`normals.rs`).
-//! 5. `consensus` ([`apply_consensus`]): every point moved onto its voxel block's
+//! 5. `consensus` (`apply_consensus`): every point moved onto its voxel block's
 //!    least-squares plane (`consensus.rs`), so overlapping scans give one surface (unless
 //!    turned off).
-//! 6. `tiles` ([`plan_conversion`]): when the views' range images over the whole cloud fit
+//! 6. `tiles` (`plan_conversion`): when the views' range images over the whole cloud fit
 //!    [`PIXEL_BUDGET`], the cloud is one tile; otherwise a grid of spatial tiles, each with
 //!    a buffer and its own images under the budget (`tiles.rs`), and the points of nearly
 //!    empty tiles dropped as outliers.

@@ -63,7 +63,7 @@ pub struct Progress {
 /// A caller's progress function (see the module documentation).
 pub type ProgressFn<'a> = &'a (dyn Fn(Progress) + Sync);
 
-/// Counts the units of one stage and reports each to a [`ProgressFn`].
+/// Counts the units of one stage and reports each to a `ProgressFn`.
 pub(crate) struct StageCounter<'a> {
     stage: Stage,
     total: usize,

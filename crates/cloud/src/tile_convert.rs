@@ -1,11 +1,11 @@
 //! One tile's conversion: its range images (one per view) and the patches cut from them for
 //! the tile's own points.
 //!
-//! Input: a [`TileJob`] (the tile's points as coordinate columns, its own points, the bounds
-//! its images cover) and the [`TileContext`] shared by every tile (views, pixel, extraction
-//! settings). Output: a [`TileOutput`]: patches, counts and stage times.
+//! Input: a `TileJob` (the tile's points as coordinate columns, its own points, the bounds
+//! its images cover) and the `TileContext` shared by every tile (views, pixel, extraction
+//! settings). Output: a `TileOutput`: patches, counts and stage times.
 //!
-//! Method: the views' [`ImageGeometry`]s cover the job's bounds with the context's pixel.
+//! Method: the views' `ImageGeometry`s cover the job's bounds with the context's pixel.
 //! When their pixels exceed [`PIXEL_BUDGET`], the pixel is enlarged to fit if the options
 //! allow coarsening (with a [`CloudWarning::PixelsCoarsened`]), otherwise the conversion
 //! fails with [`CloudError::PixelBudgetExceeded`] (the resolution never drops silently).

@@ -2,7 +2,7 @@
 //! their own pixel budget whatever the cloud's extent.
 //!
 //! Input: positions (relative to the cloud's f64 origin), the origin and a [`TileGrid`].
-//! Output: a [`TilePlan`]: the occupied tiles in key order, each with its *own* points (those
+//! Output: a `TilePlan`: the occupied tiles in key order, each with its *own* points (those
 //! inside its bounds) and its *buffer* points (those of neighbouring tiles within
 //! [`TileGrid::buffer`] of its bounds), and the points dropped as outliers.
 //!
