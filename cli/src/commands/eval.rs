@@ -39,7 +39,9 @@ pub(crate) struct EvalArgs {
     )]
     scene: Option<PathBuf>,
     /// The source the scene was made from: a mesh (.obj, .gltf, .glb, .ply, .off, .stl) or a point
-    /// cloud (.xyz, .txt, .pts, or a .ply without faces).
+    /// cloud (.xyz, .txt, .pts, or a .ply without faces). A source that does not overlap the
+    /// scene (bounding boxes apart even when each is grown by 1 % of the larger diagonal) is
+    /// refused before anything is measured.
     #[arg(
         long,
         value_name = "MESH|CLOUD",
