@@ -62,6 +62,25 @@ pub enum ScanError {
         source: Box<las::Error>,
     },
     /// The E57 reader refused the file (bad header, XML, checksum or binary section).
+    /// A LAS header whose sizes the `las` crate's own arithmetic overflows on: point
+    /// records ending past the largest file offset, or a header size smaller than the
+    /// version's fields.
+    #[error(
+        "{}: not a readable LAS/LAZ file: its header sizes are impossible ({points} points \
+         of {record_len} bytes after byte {offset}, or a header shorter than its version's)",
+        path.display()
+    )]
+    LasSize {
+        /// The file.
+        path: PathBuf,
+        /// Points the header declares.
+        points: u64,
+        /// Bytes per point record.
+        record_len: u16,
+        /// Offset of the point data.
+        offset: u32,
+    },
+    /// The E57 reader refused the file.
     #[error("{}: not a readable E57 file: {source}", path.display())]
     E57 {
         /// The file.

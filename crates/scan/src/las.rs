@@ -24,8 +24,86 @@ use glam::DVec3;
 
 use crate::{Pose, PosedScan, ScanError, ScanWarning};
 
-/// Points decoded per call into the `las` reader.
+/// Points decoded per call into the `las` reader (fewer for long records: at most 16 MiB
+/// of records per call).
 pub const LAS_CHUNK: u64 = 1 << 16;
+
+/// The most bytes of point records decoded per call: the `las` reader allocates a chunk's
+/// records before reading them, so a header announcing 58 KB records (extra bytes) would
+/// otherwise allocate 3.8 GB for one chunk of a 301-byte file (found by `las_load`).
+pub(crate) const LAS_CHUNK_BYTES: u64 = 1 << 24;
+
+/// Refuses a header whose point records (legacy or 1.4 count × record length, after the
+/// point data offset) would end past `u64::MAX`, before the `las` crate computes that end
+/// unchecked (found by `las_load`). Leaves the file at its start.
+fn check_point_extent(path: &Path, file: &mut std::fs::File) -> Result<(), ScanError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let io = |source| ScanError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut header = Vec::new();
+    file.by_ref()
+        .take(255)
+        .read_to_end(&mut header)
+        .map_err(io)?;
+    file.seek(SeekFrom::Start(0)).map_err(io)?;
+    let u16_at = |k: usize| {
+        header
+            .get(k..k + 2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+    };
+    let u32_at = |k: usize| {
+        header
+            .get(k..k + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let (Some(offset), Some(record_len), Some(legacy)) = (u32_at(96), u16_at(105), u32_at(107))
+    else {
+        return Ok(()); // too short: the las reader refuses it
+    };
+    // The header size must hold the version's own fields (227, 235 or 375 bytes): the `las`
+    // crate allocates the difference unchecked.
+    let minor = header.get(25).copied().unwrap_or(0);
+    let needed: u16 = match minor {
+        0..=2 => 227,
+        3 => 235,
+        _ => 375,
+    };
+    if u16_at(94).is_some_and(|size| size < needed) {
+        return Err(ScanError::LasSize {
+            path: path.to_path_buf(),
+            points: u64::from(legacy),
+            record_len,
+            offset,
+        });
+    }
+    // The 64-bit count exists from LAS 1.4 (version minor at byte 25).
+    let large = header
+        .get(247..255)
+        .filter(|_| header.get(25).is_some_and(|&minor| minor >= 4))
+        .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]));
+    for points in [Some(u64::from(legacy)), large].into_iter().flatten() {
+        let end = points
+            .checked_mul(u64::from(record_len))
+            .and_then(|bytes| bytes.checked_add(u64::from(offset)));
+        if end.is_none() {
+            return Err(ScanError::LasSize {
+                path: path.to_path_buf(),
+                points,
+                record_len,
+                offset,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Points per call for records of `record_len` bytes: at most [`LAS_CHUNK`] and
+/// `LAS_CHUNK_BYTES` worth, at least one.
+fn chunk_points(record_len: u16) -> u64 {
+    (LAS_CHUNK_BYTES / u64::from(record_len).max(1)).clamp(1, LAS_CHUNK)
+}
 
 /// Reads a LAS or LAZ file; see the module docs.
 pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError> {
@@ -34,8 +112,11 @@ pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError>
         source,
     })?;
     let refuse = |source| las_error(path, source);
+    let mut file = file;
+    check_point_extent(path, &mut file)?;
     let mut reader = las::Reader::new(std::io::BufReader::new(file)).map_err(refuse)?;
     let declared = reader.header().number_of_points();
+    let chunk = chunk_points(reader.header().point_format().len());
     let mut data = las::PointDataBuilder::new()
         .for_header(reader.header())
         .build();
@@ -44,7 +125,7 @@ pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError>
     let mut intensity: Vec<u16> = Vec::new();
     loop {
         let n = reader
-            .fill_points(LAS_CHUNK, &mut data)
+            .fill_points(chunk, &mut data)
             .map_err(|source| truncation_or(path, source, declared, positions.len() as u64))?;
         if n == 0 {
             break;
@@ -157,6 +238,14 @@ pub fn intensity_to_grey(intensity: &[u16]) -> Option<Vec<[u8; 4]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_chunk_of_long_records_stays_within_its_byte_budget() {
+        assert_eq!(chunk_points(20), LAS_CHUNK);
+        assert_eq!(chunk_points(58_368), LAS_CHUNK_BYTES / 58_368);
+        assert!(chunk_points(u16::MAX) * u64::from(u16::MAX) <= LAS_CHUNK_BYTES);
+        assert_eq!(chunk_points(0), LAS_CHUNK);
+    }
 
     #[test]
     fn eight_bit_colours_stay_and_sixteen_bit_take_the_high_byte() {

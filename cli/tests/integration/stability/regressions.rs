@@ -42,3 +42,18 @@ fn ply_load_inputs() {
 fn obj_load_inputs() {
     load_as("obj_load", "obj");
 }
+
+/// LAS/LAZ inputs (as the `las_load` target) through the scan reader: a cloud or an error,
+/// never a panic, and no allocation the file's bytes do not justify (the `oom-*` input
+/// declares 58 KB records and made one chunk allocate 3.8 GB).
+#[test]
+fn las_load_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    for path in inputs("las_load") {
+        for name in ["input.las", "input.laz"] {
+            let scratch = dir.path().join(name);
+            std::fs::copy(&path, &scratch).unwrap();
+            let _ = spatch_scan::load_scans(&[scratch], &spatch_scan::ScanOptions::default());
+        }
+    }
+}

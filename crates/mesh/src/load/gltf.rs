@@ -77,6 +77,23 @@ struct Piece {
     material: Option<usize>,
 }
 
+/// Refuses a GLB whose header declares a total length shorter than the header itself (the
+/// glTF crate subtracts the header size from it unchecked: an overflow panic in builds with
+/// overflow checks, found by the `gltf_load` fuzz target).
+fn check_glb_length(bytes: &[u8]) -> Result<(), gltf::Error> {
+    const GLB_HEADER_LEN: u32 = 12;
+    if let [b'g', b'l', b'T', b'F', _, _, _, _, l0, l1, l2, l3, ..] = *bytes {
+        let length = u32::from_le_bytes([l0, l1, l2, l3]);
+        if length < GLB_HEADER_LEN {
+            return Err(gltf::Error::Binary(gltf::binary::Error::Length {
+                length,
+                length_read: bytes.len(),
+            }));
+        }
+    }
+    Ok(())
+}
+
 /// Loads a `.gltf` or `.glb` file.
 pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
@@ -84,6 +101,7 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
         path: path.to_path_buf(),
         source,
     };
+    check_glb_length(&bytes).map_err(gltf_err)?;
     let unvalidated = gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
     let blob = unvalidated.blob;
     let mut json = unvalidated.document.into_json();
