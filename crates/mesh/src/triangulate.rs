@@ -195,7 +195,7 @@ fn clip_ears(q: &[DVec2], out: &mut Vec<[u32; 3]>) -> PolygonSplit {
     let mut blocking: Vec<bool> = (0..n)
         .map(|i| turn(q[prev[i] as usize], q[i], q[next[i] as usize]) != Turn::Convex)
         .collect();
-    let grid = BlockingGrid::new(q, &blocking);
+    let mut grid = BlockingGrid::new(q, &blocking);
     let mut split = PolygonSplit::EarClipped;
     let mut remaining = n;
     let mut cursor = 0u32;
@@ -207,7 +207,7 @@ fn clip_ears(q: &[DVec2], out: &mut Vec<[u32; 3]>) -> PolygonSplit {
             Turn::Flat => true,
             Turn::Convex => {
                 misses >= remaining
-                    || !grid.any_inside(q, &blocking, [p, c, x], |k| k != p && k != c && k != x)
+                    || !grid.any_inside(q, [p, c, x], |k| k != p && k != c && k != x)
             }
             Turn::Reflex => false,
         };
@@ -228,10 +228,15 @@ fn clip_ears(q: &[DVec2], out: &mut Vec<[u32; 3]>) -> PolygonSplit {
         next[p as usize] = x;
         prev[x as usize] = p;
         remaining -= 1;
+        // The cut corner (straight ones block) leaves the outline; its neighbours' angles
+        // shrink, and those that turn convex stop blocking.
+        blocking[c as usize] = false;
+        grid.remove(c);
         for k in [p, x] {
             let k = k as usize;
-            if blocking[k] {
-                blocking[k] = turn(q[prev[k] as usize], q[k], q[next[k] as usize]) != Turn::Convex;
+            if blocking[k] && turn(q[prev[k] as usize], q[k], q[next[k] as usize]) == Turn::Convex {
+                blocking[k] = false;
+                grid.remove(k as u32);
             }
         }
         misses = 0;
@@ -252,14 +257,20 @@ fn push_rest_as_fan(start: u32, remaining: usize, next: &[u32], out: &mut Vec<[u
     }
 }
 
-/// The corners that were blocking when the grid was built, bucketed into a uniform grid over
-/// the polygon's bounding box (about one per cell), in CSR form.
+/// The blocking corners, bucketed into a uniform grid over the polygon's bounding box (about
+/// two cells per corner), in CSR form. Each cell keeps its live corners first: a corner that
+/// stops blocking is swapped behind them, so tests never visit it again.
 struct BlockingGrid {
     min: DVec2,
     inv_cell: DVec2,
     side: [usize; 2],
     starts: Vec<u32>,
+    /// Live corners per cell (a prefix of the cell's range).
+    live: Vec<u32>,
     corners: Vec<u32>,
+    /// Per polygon corner: its cell (`u32::MAX` when never blocking) and its slot in `corners`.
+    cell: Vec<u32>,
+    slot: Vec<u32>,
 }
 
 impl BlockingGrid {
@@ -270,9 +281,11 @@ impl BlockingGrid {
             min = min.min(p);
             max = max.max(p);
         }
-        let count = blocking.iter().filter(|&&b| b).count().max(1);
+        let count = 2 * blocking.iter().filter(|&&b| b).count().max(1);
         let extent = (max - min).max(DVec2::splat(f64::MIN_POSITIVE));
-        // Cells about square, about `count` of them.
+        // Cells about square, about `count` of them (corners lie on curves, so a cell whose
+        // side is the mean corner spacing would be mostly empty; twice as many cells as
+        // corners halves each cell's load on a curve at little memory).
         let aspect = (extent.x / extent.y).clamp(1e-6, 1e6);
         let nx = ((count as f64 * aspect).sqrt().ceil() as usize).clamp(1, count);
         let ny = count.div_ceil(nx).max(1);
@@ -283,32 +296,55 @@ impl BlockingGrid {
             inv_cell,
             side,
             starts: vec![0; nx * ny + 1],
+            live: vec![0; nx * ny],
             corners: Vec::new(),
+            cell: Vec::new(),
+            slot: vec![0; q.len()],
         };
-        let cells: Vec<usize> = (0..q.len())
+        grid.cell = (0..q.len())
             .map(|i| {
                 if blocking[i] {
-                    grid.cell_of(q[i])
+                    grid.cell_of(q[i]) as u32
                 } else {
-                    usize::MAX
+                    u32::MAX
                 }
             })
             .collect();
-        for &cell in cells.iter().filter(|&&c| c != usize::MAX) {
-            grid.starts[cell + 1] += 1;
+        for &cell in grid.cell.iter().filter(|&&c| c != u32::MAX) {
+            grid.starts[cell as usize + 1] += 1;
+            grid.live[cell as usize] += 1;
         }
         for k in 1..grid.starts.len() {
             grid.starts[k] += grid.starts[k - 1];
         }
         let mut fill = grid.starts.clone();
         grid.corners = vec![0; grid.starts[nx * ny] as usize];
-        for (i, &cell) in cells.iter().enumerate() {
-            if cell != usize::MAX {
-                grid.corners[fill[cell] as usize] = i as u32;
-                fill[cell] += 1;
+        for (i, &cell) in grid.cell.iter().enumerate() {
+            if cell != u32::MAX {
+                let at = &mut fill[cell as usize];
+                grid.corners[*at as usize] = i as u32;
+                grid.slot[i] = *at;
+                *at += 1;
             }
         }
         grid
+    }
+
+    /// Takes corner `k` (which has stopped blocking) out of its cell's live corners.
+    fn remove(&mut self, k: u32) {
+        let cell = self.cell[k as usize];
+        if cell == u32::MAX {
+            return;
+        }
+        let cell = cell as usize;
+        let last = self.starts[cell] + self.live[cell] - 1;
+        let at = self.slot[k as usize];
+        let moved = self.corners[last as usize];
+        self.corners.swap(at as usize, last as usize);
+        self.slot[moved as usize] = at;
+        self.slot[k as usize] = last;
+        self.live[cell] -= 1;
+        self.cell[k as usize] = u32::MAX;
     }
 
     /// The cell column and row of `p`, clamped to the grid.
@@ -326,37 +362,70 @@ impl BlockingGrid {
         y * self.side[0] + x
     }
 
-    /// Whether a corner still blocking, accepted by `other`, lies in or on the
+    /// Whether a live (still blocking) corner accepted by `other` lies in or on the
     /// counter-clockwise triangle `tri` (corners at the same position as one of its three
     /// corners do not count: they are where the outline touches itself).
-    fn any_inside(
-        &self,
-        q: &[DVec2],
-        blocking: &[bool],
-        tri: [u32; 3],
-        other: impl Fn(u32) -> bool,
-    ) -> bool {
+    fn any_inside(&self, q: &[DVec2], tri: [u32; 3], other: impl Fn(u32) -> bool) -> bool {
         let [a, b, c] = tri.map(|k| q[k as usize]);
         let lo = self.cell_xy(a.min(b).min(c));
         let hi = self.cell_xy(a.max(b).max(c));
+        let cell_height = 1.0 / self.inv_cell.y;
         for y in lo[1]..=hi[1] {
+            // Only the cells of this row that the triangle reaches (a long thin ear crosses
+            // few cells of its bounding box), widened by one cell against rounding.
+            let y0 = self.min.y + y as f64 * cell_height;
+            let margin = 1e-9 * cell_height;
+            let band = (y0 - margin, y0 + cell_height + margin);
+            let Some((x0, x1)) = x_range_in_band([a, b, c], band.0, band.1) else {
+                continue;
+            };
+            let first = self.cell_xy(DVec2::new(x0, y0))[0]
+                .saturating_sub(1)
+                .max(lo[0]);
+            let last = (self.cell_xy(DVec2::new(x1, y0))[0] + 1).min(hi[0]);
             let row = y * self.side[0];
-            let span = self.starts[row + lo[0]] as usize..self.starts[row + hi[0] + 1] as usize;
-            for &k in &self.corners[span] {
-                if !blocking[k as usize] || !other(k) {
-                    continue;
-                }
-                let p = q[k as usize];
-                if p == a || p == b || p == c {
-                    continue;
-                }
-                if cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0 {
-                    return true;
+            for cell in row + first..=row + last {
+                let start = self.starts[cell] as usize;
+                for &k in &self.corners[start..start + self.live[cell] as usize] {
+                    if !other(k) {
+                        continue;
+                    }
+                    let p = q[k as usize];
+                    if p == a || p == b || p == c {
+                        continue;
+                    }
+                    if cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0 {
+                        return true;
+                    }
                 }
             }
         }
         false
     }
+}
+
+/// The x extent of the part of triangle `tri` inside the horizontal band `y0..=y1`, or `None`
+/// when it misses the band. The part is convex, so its extent is that of the triangle's
+/// edges clipped to the band.
+fn x_range_in_band(tri: [DVec2; 3], y0: f64, y1: f64) -> Option<(f64, f64)> {
+    let (mut x_min, mut x_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    for k in 0..3 {
+        let (p, r) = (tri[k], tri[(k + 1) % 3]);
+        let (lo, hi) = if p.y <= r.y { (p, r) } else { (r, p) };
+        if hi.y < y0 || lo.y > y1 {
+            continue;
+        }
+        let dy = hi.y - lo.y;
+        let (xa, xb) = if dy > 0.0 {
+            let at = |y: f64| lo.x + (hi.x - lo.x) * ((y - lo.y) / dy).clamp(0.0, 1.0);
+            (at(y0.max(lo.y)), at(y1.min(hi.y)))
+        } else {
+            (lo.x, hi.x)
+        };
+        x_min = x_min.min(xa.min(xb));
+        x_max = x_max.max(xa.max(xb));
+    }
+    (x_min <= x_max).then_some((x_min, x_max))
 }
 
 /// Triangulates polygons given as vertex indices into one position list, for the loaders,

@@ -52,7 +52,10 @@ fn star(n: usize) -> Vec<DVec3> {
 
 /// A comb: a spine along the bottom and `teeth` teeth pointing up (counter-clockwise).
 fn comb(teeth: usize) -> Vec<DVec3> {
-    let mut p = vec![DVec3::new(0.0, 0.0, 0.0), DVec3::new(teeth as f64, 0.0, 0.0)];
+    let mut p = vec![
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(teeth as f64, 0.0, 0.0),
+    ];
     for k in (0..teeth).rev() {
         let x = k as f64;
         p.push(DVec3::new(x + 1.0, 1.0, 0.0));
@@ -136,7 +139,11 @@ fn small_convex_faces_triangulate_exactly_as_before() {
         }
         let first = points.len() as u32;
         for (k, a) in angles.iter().enumerate() {
-            let lift = if angles.len() == 4 && k == 2 { 0.05 } else { 0.0 };
+            let lift = if angles.len() == 4 && k == 2 {
+                0.05
+            } else {
+                0.0
+            };
             points.push(tilt(DVec3::new(a.cos() + face as f64 * 3.0, a.sin(), lift)));
         }
         let mut corners: Vec<u32> = (first..points.len() as u32).collect();
@@ -166,7 +173,10 @@ fn triangles_and_convex_polygons_report_a_fan() {
     assert_eq!(triangulate_polygon(&square, &mut out), PolygonSplit::Fan);
     assert_eq!(out, vec![[0, 1, 2], [0, 2, 3]]);
     out.clear();
-    assert_eq!(triangulate_polygon(&square[..3], &mut out), PolygonSplit::Fan);
+    assert_eq!(
+        triangulate_polygon(&square[..3], &mut out),
+        PolygonSplit::Fan
+    );
     assert_eq!(out, vec![[0, 1, 2]]);
 }
 
