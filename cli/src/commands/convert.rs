@@ -226,6 +226,16 @@ pub(crate) fn convert_and_write(
         measured.push("error", start.elapsed().as_secs_f64());
         error
     });
+    let mut conversion = conversion;
+    if let Some(warning) = error.as_ref().and_then(|e| {
+        spatch_convert::check_error_budget(
+            conversion.report.spacing,
+            options.fit.max_step_error,
+            e.surface_to_patch.p95,
+        )
+    }) {
+        conversion.report.warnings.push(warning.to_string());
+    }
     let holes = if args.holes {
         progress.step("measuring holes");
         let start = Instant::now();
