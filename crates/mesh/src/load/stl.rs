@@ -15,7 +15,7 @@
 //! read (the winding gives the normal; exporters often write zeros). Attribute bytes (a few
 //! tools store a colour there, with conflicting conventions) are ignored. A loop of more than
 //! three vertices is split by [`triangulate_polygon`](crate::triangulate_polygon) and counted in
-//! [`LoadWarning::PolygonsTriangulated`].
+//! [`LoadWarning::PolygonsTriangulated`](crate::LoadWarning::PolygonsTriangulated).
 //!
 //! Cost: one pass; memory O(triangles). The triangle count of a binary file is checked
 //! against the file length before anything is sized by it.
