@@ -41,7 +41,9 @@ pub(crate) struct PipelineArgs {
     /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     pub(crate) report: Option<PathBuf>,
-    /// Node spacing in model units [default: derived from the source's triangle size].
+    /// Node spacing in model units [default: derived from the source's triangle size]. Thin
+    /// parts that give no patch at this spacing are refitted finer; a mesh that still gives
+    /// none is refused.
     #[arg(long, value_parser = positive_f32)]
     pub(crate) spacing: Option<f32>,
     /// Largest number of nodes per patch side (2..=257); larger regions are split.
