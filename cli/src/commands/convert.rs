@@ -46,7 +46,9 @@ pub(crate) struct PipelineArgs {
     /// docs/report-schema.md) to this file.
     #[arg(long, value_name = "FILE")]
     pub(crate) report: Option<PathBuf>,
-    /// Node spacing in model units [default: derived from the source's triangle size].
+    /// Node spacing in model units [default: derived from the source's triangle size]. Thin
+    /// parts that give no patch at this spacing are refitted finer; a mesh that still gives
+    /// none is refused.
     #[arg(long, value_parser = positive_f32)]
     pub(crate) spacing: Option<f32>,
     /// Largest number of nodes per patch side (2..=257); larger regions are split.
@@ -189,7 +191,17 @@ pub(crate) fn convert_and_write(
         show_event(&progress, event)
     })
     .map_err(|e| classify(e, input))?;
-    let finished = write_and_measure(&progress, conversion, output, args.no_error, started)?;
+    let mut finished = write_and_measure(&progress, conversion, output, args.no_error, started)?;
+    let budget_warning = finished.error.as_ref().and_then(|e| {
+        spatch_convert::check_error_budget(
+            finished.conversion.report.spacing,
+            options.fit.max_step_error,
+            e.surface_to_patch.p95,
+        )
+    });
+    if let Some(warning) = budget_warning {
+        finished.conversion.report.warnings.push(warning.to_string());
+    }
     let holes = if args.holes {
         progress.step("measuring holes");
         let start = Instant::now();

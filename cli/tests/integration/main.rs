@@ -11,6 +11,8 @@
 //!   bad clouds.
 //! - `golden`: small renders (shadings, modes, the sphere, textured Spot, an open tube, a
 //!   concave crease) compared pixel for pixel with `testdata/golden/render/`.
+//! - `issue_22_thin`: thin meshes convert to patches, unsampleable ones are refused naming
+//!   `--spacing`, a cube with flipped triangles warns about its error.
 //! - `eval`: `spatch eval` against meshes and clouds (error both ways, images, per-patch CSV,
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
 //! - `scan_inputs`: `spatch from-cloud` on bun.conf, several inputs of several formats
@@ -37,6 +39,7 @@ mod eval;
 mod export;
 mod from_cloud;
 mod golden;
+mod issue_22_thin;
 mod merge;
 mod output_safety;
 mod readme_tour;

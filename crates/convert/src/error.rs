@@ -19,6 +19,19 @@ pub enum ConvertError {
         /// Faces before preparation.
         faces: usize,
     },
+    /// Not one patch could be fitted: the surface is thinner than the node lattice can sample
+    /// even after the fitter refined the spacing of its thin regions, or hidden along every
+    /// region's axis. A smaller spacing is the option to change.
+    #[error(
+        "no patches: the surface is too thin to sample at node spacing {spacing} (also \
+         refined up to {refinements} times); set a smaller spacing with --spacing"
+    )]
+    NoPatches {
+        /// The target node spacing (model units).
+        spacing: f32,
+        /// How many times the fitter refined thin regions (`spatch_fit::MAX_REFINEMENTS`).
+        refinements: u32,
+    },
     /// The segmenter refused its input or options.
     #[error("segmentation failed: {0}")]
     Segment(#[from] SegmentError),

@@ -8,6 +8,10 @@
 //! bytes, the prepared mesh (for measuring error against it) and a [`ConvertReport`] with the
 //! wall time of every stage and the counts of every step.
 //!
+//! A conversion that yields no patch at all is refused ([`ConvertError::NoPatches`], naming
+//! the spacing); [`check_error_budget`] turns a measured error far above the fitter's budget
+//! into a warning.
+//!
 //! The CLI (`spatch convert`, `spatch demo`) and the evaluation sweeps share this crate, so
 //! they always measure the same pipeline.
 //!
@@ -21,12 +25,14 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod budget;
 mod error;
 mod options;
 mod pipeline;
 mod report;
 mod sides;
 
+pub use budget::{check_error_budget, ErrorBudgetWarning, FAR_ABOVE_BUDGET};
 pub use error::ConvertError;
 pub use options::ConvertOptions;
 pub use pipeline::{

@@ -185,6 +185,14 @@ pub fn convert_with_progress(
         None => None,
     };
 
+    let edge_count = edges.as_ref().map_or(0, |(e, _)| e.len());
+    if patches.is_empty() && edge_count == 0 {
+        return Err(ConvertError::NoPatches {
+            spacing,
+            refinements: spatch_fit::MAX_REFINEMENTS,
+        });
+    }
+
     let sides = clock.run(Stage::Sides, || {
         let mut found = find_mesh_sides(&mesh, &adjacency);
         found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
@@ -223,6 +231,7 @@ pub fn convert_with_progress(
         triangles: mesh.face_count(),
         regions: segmentation.regions.len(),
         split_regions: stats.split_regions,
+        refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,
         colour: channel.name(),
         diagonal: f64::from(mesh.diagonal()),

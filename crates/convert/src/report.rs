@@ -44,6 +44,9 @@ pub struct ConvertReport {
     pub regions: usize,
     /// Regions split into several patches by the fitter.
     pub split_regions: usize,
+    /// Thin regions that gave no patch at the target spacing and were fitted at a finer one
+    /// (`spatch_fit::MAX_REFINEMENTS`).
+    pub refined_regions: usize,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
     /// Colour channel of the scene: `none`, `rgb8` or `rgba8`.

@@ -50,6 +50,9 @@ pub struct FitStats {
     pub empty_regions: usize,
     /// Regions split into more than one patch because they exceed the grid.
     pub split_regions: usize,
+    /// Regions too thin for the target spacing that were fitted at a finer one (see
+    /// [`MAX_REFINEMENTS`]).
+    pub refined_regions: usize,
     /// Patches made.
     pub patches: usize,
     /// Patches that need 16-bit displacements.
@@ -104,7 +107,7 @@ pub fn fit_regions_counted(
         None => default_spacing(mesh).ok_or(FitError::NoSurface)?,
     };
     let with_colour = options.colour && mesh.has_colour();
-    let fitted: Vec<Vec<Patch>> = regions
+    let fitted: Vec<RegionPatches> = regions
         .par_iter()
         .enumerate()
         .map(|(index, region)| {
@@ -129,13 +132,14 @@ pub fn fit_regions_counted(
         ..FitStats::default()
     };
     let mut patches = Vec::new();
-    for region_patches in fitted {
-        match region_patches.len() {
+    for region in fitted {
+        match region.patches.len() {
             0 => stats.empty_regions += 1,
             1 => {}
             _ => stats.split_regions += 1,
         }
-        patches.extend(region_patches);
+        stats.refined_regions += usize::from(region.refined);
+        patches.extend(region.patches);
     }
     stats.patches = patches.len();
     for p in &patches {
@@ -163,11 +167,14 @@ struct RegionJob<'a> {
     with_colour: bool,
 }
 
+/// Fits one region (steps 1-6 of the module docs), refining the spacing up to
+/// [`MAX_REFINEMENTS`] times while the region gives no patch (a thin region, narrower than a
+/// cell at the target spacing).
 fn fit_region(
     job: &RegionJob<'_>,
     index: usize,
     region: &FitRegion<'_>,
-) -> Result<Vec<Patch>, FitError> {
+) -> Result<RegionPatches, FitError> {
     let mesh = job.mesh;
     let axis = region.axis.normalize_or_zero();
     if !axis.is_finite() || axis == Vec3::ZERO {
@@ -188,7 +195,7 @@ fn fit_region(
         .filter(|&f| mesh.face_area(f) > 0.0)
         .collect();
     if faces.is_empty() {
-        return Ok(Vec::new());
+        return Ok(RegionPatches::default());
     }
 
     // 1. Frame.
@@ -204,31 +211,90 @@ fn fit_region(
     }
     let rect = min_area_rect(basis, &mut projected);
 
-    // 2. Lattice.
-    let (lattice, count) = Lattice::over_rect(&rect, job.spacing, job.options.overlap);
-    if count > job.options.max_region_nodes as u64 {
-        return Err(FitError::TooManyNodes {
-            region: index,
-            nodes: count,
-            spacing: job.spacing,
-            limit: job.options.max_region_nodes,
-        });
+    // 2.-6. at the target spacing, then finer while the region gives no patch.
+    let mut spacing = job.spacing;
+    for refinement in 0..=MAX_REFINEMENTS {
+        let (lattice, count) = Lattice::over_rect(&rect, spacing, job.options.overlap);
+        if count > job.options.max_region_nodes as u64 {
+            if refinement > 0 {
+                // Finer would cost more nodes than allowed: the region stays empty.
+                break;
+            }
+            return Err(FitError::TooManyNodes {
+                region: index,
+                nodes: count,
+                spacing,
+                limit: job.options.max_region_nodes,
+            });
+        }
+        let patches = fit_lattice(job, &faces, &lattice, spacing)?;
+        if !patches.is_empty() {
+            return Ok(RegionPatches {
+                patches,
+                refined: refinement > 0,
+            });
+        }
+        match finer_spacing(spacing, &rect) {
+            Some(finer) => spacing = finer,
+            None => break,
+        }
     }
+    Ok(RegionPatches::default())
+}
 
+/// How many times the fitter refines the spacing of a thin region that gives no patch at
+/// the target spacing. The first refinement brings the spacing to a quarter of the region's
+/// narrow side at most; each further one halves it, while the region is narrower than
+/// [`THIN_REGION_CELLS`] cells.
+pub const MAX_REFINEMENTS: u32 = 6;
+
+/// A region narrower than this many cells (of its rectangle's narrow side) that gives no
+/// patch is fitted again at a finer spacing; a wider one is empty for another reason (its
+/// faces are hidden along its axis) and is left empty.
+pub const THIN_REGION_CELLS: f32 = 8.0;
+
+/// The next spacing to try for a region over `rect` that gave no patch at `spacing`: half of
+/// it, and at most a quarter of the rectangle's narrow side (a region narrower than a cell
+/// cannot hold one with four filled corners); `None` when the region is not thin.
+fn finer_spacing(spacing: f32, rect: &crate::frame_fit::PlaneRect) -> Option<f32> {
+    let size = rect.max - rect.min;
+    let narrow = size.x.min(size.y) as f32;
+    if !(narrow > 0.0 && narrow < THIN_REGION_CELLS * spacing) {
+        return None;
+    }
+    let finer = (0.5 * spacing).min(0.25 * narrow);
+    (finer.is_finite() && finer > 0.0).then_some(finer)
+}
+
+/// The patches of one region, and whether they needed a finer spacing than the target.
+#[derive(Default)]
+struct RegionPatches {
+    patches: Vec<Patch>,
+    refined: bool,
+}
+
+/// Steps 3-6 of the module docs on one lattice of the region's faces.
+fn fit_lattice(
+    job: &RegionJob<'_>,
+    faces: &[FaceId],
+    lattice: &Lattice,
+    spacing: f32,
+) -> Result<Vec<Patch>, FitError> {
+    let mesh = job.mesh;
     // 3. Needed nodes, neighbourhood. 4. Rays.
-    let needed = needed_nodes(mesh, &faces, &lattice, job.options.overlap);
+    let needed = needed_nodes(mesh, faces, lattice, job.options.overlap);
     let mut hits = vec![Hit::NONE; lattice.cols * lattice.rows];
-    cast_nodes(mesh, &faces, &lattice, &needed, None, &mut hits);
+    cast_nodes(mesh, faces, lattice, &needed, None, &mut hits);
     let around = neighbourhood(
         mesh,
         job.adjacency,
-        &faces,
-        &lattice,
+        faces,
+        lattice,
         &needed,
         job.options.neighbourhood_rings,
     );
     let locked: Vec<bool> = hits.iter().map(Hit::is_hit).collect();
-    cast_nodes(mesh, &around, &lattice, &needed, Some(&locked), &mut hits);
+    cast_nodes(mesh, &around, lattice, &needed, Some(&locked), &mut hits);
 
     // 5. Quantizer.
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -239,11 +305,7 @@ fn fit_region(
     if h_min > h_max {
         return Ok(Vec::new());
     }
-    let quantizer = choose_quantizer(
-        h_max - h_min,
-        job.spacing,
-        job.options.max_step_error * job.spacing,
-    )?;
+    let quantizer = choose_quantizer(h_max - h_min, spacing, job.options.max_step_error * spacing)?;
     let codes: Vec<u16> = hits
         .iter()
         .map(|h| {
@@ -258,7 +320,7 @@ fn fit_region(
     // 6. Windows.
     let Some(filled) = filled_bounds(
         &codes,
-        &lattice,
+        lattice,
         (0, lattice.cols - 1),
         (0, lattice.rows - 1),
     ) else {
@@ -268,11 +330,11 @@ fn fit_region(
     let mut patches = Vec::new();
     for (ia, ib) in split_span(filled.0, max_cells) {
         for (ja, jb) in split_span(filled.1, max_cells) {
-            let Some(window) = filled_bounds(&codes, &lattice, (ia, ib), (ja, jb)) else {
+            let Some(window) = filled_bounds(&codes, lattice, (ia, ib), (ja, jb)) else {
                 continue;
             };
             if let Some(patch) =
-                make_patch(job, &lattice, &hits, &codes, window, (&quantizer, h_min))?
+                make_patch(job, lattice, &hits, &codes, window, (&quantizer, h_min))?
             {
                 patches.push(patch);
             }

@@ -7,8 +7,9 @@
 //! - the frame's z axis is the cone axis, x and y follow the smallest rectangle around the
 //!   region's projection (rotating calipers over the convex hull);
 //! - nodes lie on a lattice of the requested spacing ([`FitOptions::spacing`], by default
-//!   [`default_spacing`] from the source's triangle size); regions wider than
-//!   [`FitOptions::grid`] nodes are split into patches on one shared lattice;
+//!   [`default_spacing`] from the source's triangle size; a thin region that would give no
+//!   patch at that spacing is fitted again at a finer one, see [`MAX_REFINEMENTS`]); regions
+//!   wider than [`FitOptions::grid`] nodes are split into patches on one shared lattice;
 //! - each node takes the height of the first hit of a ray along −z that lands on the region or
 //!   on its neighbourhood (faces connected to it across edges and facing the axis), so a layer
 //!   of the model behind or in front of the region is never taken; nodes with no such hit are
@@ -53,6 +54,9 @@ mod quantize;
 
 pub use colour::{choose_channel, sample_colour};
 pub use error::FitError;
-pub use fit::{fit_regions, fit_regions_counted, FitOutput, FitRegion, FitStats};
+pub use fit::{
+    fit_regions, fit_regions_counted, FitOutput, FitRegion, FitStats, MAX_REFINEMENTS,
+    THIN_REGION_CELLS,
+};
 pub use options::{default_spacing, FitOptions, SPACING_PER_TRIANGLE_SIZE};
 pub use quantize::{choose_quantizer, quantize_height};

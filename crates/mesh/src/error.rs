@@ -720,8 +720,14 @@ pub enum LoadWarning {
         /// The material.
         material: String,
     },
-    /// Polygons with more than three vertices were split into triangle fans.
-    PolygonsFanned {
+    /// Polygons with more than three vertices were split into triangles (convex ones as a fan
+    /// from their first corner, others by ear clipping in their plane).
+    PolygonsTriangulated {
+        /// How many polygons.
+        count: u64,
+    },
+    /// Polygons that cross or touch themselves: some of their triangles overlap.
+    PolygonsNotSimple {
         /// How many polygons.
         count: u64,
     },
@@ -770,12 +776,16 @@ impl fmt::Display for LoadWarning {
                 f,
                 "material {material}: transparency ignored (colours are stored opaque)"
             ),
-            LoadWarning::PolygonsFanned { count } => {
+            LoadWarning::PolygonsTriangulated { count } => {
                 write!(
                     f,
-                    "{count} polygons with more than 3 vertices were split into fans"
+                    "{count} polygons with more than 3 vertices were split into triangles"
                 )
             }
+            LoadWarning::PolygonsNotSimple { count } => write!(
+                f,
+                "{count} polygons cross or touch themselves; some of their triangles overlap"
+            ),
             LoadWarning::NonTrianglePrimitivesSkipped { count } => {
                 write!(f, "{count} point or line primitives were skipped")
             }

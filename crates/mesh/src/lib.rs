@@ -11,6 +11,7 @@
 //!   queries ([`Bvh::closest_point`]);
 //! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, STL, XYZ), then
 //!   [`prepare_mesh`] to weld and clean; [`sample_surface`] for area-uniform samples;
+//! - [`triangulate_polygon`]: polygon faces to triangles (fan when convex, else ear clipping);
 //! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
 //! - [`MeshError`]: the one error type, naming the file and the element at fault.
 //!
@@ -42,6 +43,7 @@ mod prepare;
 mod ray;
 mod robust_centre;
 mod sample;
+mod triangulate;
 
 pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
 pub use bvh::{Bvh, BIN_COUNT, MAX_DEPTH, MAX_LEAF_SIZE};
@@ -59,3 +61,4 @@ pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};
 pub use robust_centre::{robust_centre, CENTRE_SAMPLES};
 pub use sample::{sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};
+pub use triangulate::{triangulate_polygon, PolygonSplit};

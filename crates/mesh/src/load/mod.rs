@@ -24,7 +24,9 @@
 //! - a UTF-8 byte-order mark before the first line of a text format is skipped;
 //! - files a model refers to (glTF buffers and images, OBJ material libraries and textures)
 //!   are read only from the model's folder or below (no absolute paths, no `..`);
-//! - polygons are split into triangle fans (counted in [`LoadWarning::PolygonsFanned`]);
+//! - polygons are split into triangles by [`triangulate_polygon`](crate::triangulate_polygon)
+//!   (a fan from the first corner when convex, as always; ear clipping otherwise), counted in
+//!   [`LoadWarning::PolygonsTriangulated`] and [`LoadWarning::PolygonsNotSimple`];
 //! - problems that leave a usable mesh (a missing texture or material library, ignored
 //!   options) become [`LoadWarning`]s, never errors and never prints;
 //! - no input bytes make a reader panic; counts read from a file never size an allocation
@@ -42,6 +44,7 @@ pub mod gltf;
 mod gltf_accessor;
 mod gltf_buffers;
 mod local_reference;
+mod mtl;
 pub mod obj;
 pub mod off;
 pub mod ply;

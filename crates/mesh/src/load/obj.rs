@@ -21,7 +21,15 @@
 //! corner in OBJ, become per-vertex normals by averaging a vertex's corner normals (only when
 //! every corner has one).
 //!
-//! Cost: one pass over the text, O(file size) time and memory.
+//! Polygons are split by [`triangulate_polygon`](crate::triangulate_polygon): a fan from the
+//! first corner when convex (as always), ear clipping in the polygon's plane otherwise.
+//!
+//! Structure: [`load_obj`] feeds each logical line to an `ObjReader`, which has one method per
+//! keyword and a `finish` that turns the collected lists into a mesh; MTL libraries are read
+//! by the `mtl` module.
+//!
+//! Cost: one pass over the text, O(file size) time and memory (plus the triangulation, near
+//! linear in each polygon's corners).
 //!
 //! Based on: the OBJ and MTL format notes (Wavefront Technologies, *Advanced Visualizer*
 //! manual, appendices B1 and B2).
@@ -31,10 +39,11 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
 
-use super::local_reference::resolve_name;
+use super::mtl::MtlLibrary;
 use super::texture::load_texture_file;
 use super::{parent_dir, read_file, unit_to_byte, LoadedMesh, MeshBuilder};
-use crate::error::{Element, ElementKind, OutsideReason, SyntaxProblem};
+use crate::error::{Element, ElementKind, SyntaxProblem};
+use crate::triangulate::PolygonTriangulator;
 use crate::{LoadWarning, Material, MaterialId, MeshError, Texture};
 
 /// One face corner: indices into the file's position, UV and normal lists.
@@ -45,49 +54,14 @@ struct Corner {
     vn: Option<u32>,
 }
 
-/// A material as the MTL file defines it, before its texture is loaded.
-#[derive(Clone, Default)]
-struct MtlDef {
-    diffuse: Option<[f32; 3]>,
-    texture: Option<PathBuf>,
-    uv_scale: [f32; 2],
-    uv_offset: [f32; 2],
-    transparent: bool,
-}
-
 /// Loads an OBJ file and the materials and textures it names.
 pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
     let text = super::strip_bom(&text);
-    let dir = parent_dir(path);
-    let err = |line: usize, problem| MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem,
-    };
-
-    let mut warnings = Vec::new();
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut colours: Vec<[u8; 4]> = Vec::new();
-    let mut texcoords: Vec<Vec2> = Vec::new();
-    let mut normals: Vec<Vec3> = Vec::new();
-    let mut corners: Vec<[Corner; 3]> = Vec::new();
-    let mut face_material: Vec<Option<u32>> = Vec::new();
-    let mut used_materials: Vec<String> = Vec::new();
-    let mut used_index: HashMap<String, u32> = HashMap::new();
-    let mut library: HashMap<String, MtlDef> = HashMap::new();
-    let mut library_order: Vec<String> = Vec::new();
-    let mut saw_mtllib = false;
-    let mut current_material: Option<u32> = None;
-    let mut face_count: u64 = 0;
-    let mut fanned: u64 = 0;
-    let mut coloured: usize = 0;
-    let mut polygon: Vec<Corner> = Vec::new();
-
+    let mut reader = ObjReader::new(path);
     let mut logical = String::new();
     for (line_index, raw) in text.lines().enumerate() {
-        let line_no = line_index + 1;
         if let Some(stripped) = raw.strip_suffix('\\') {
             logical.push_str(stripped);
             logical.push(' ');
@@ -95,244 +69,353 @@ pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
         }
         logical.push_str(raw);
         let line = std::mem::take(&mut logical);
+        reader.line = line_index + 1;
+        reader.read_line(&line)?;
+    }
+    reader.finish()
+}
+
+/// The state of one OBJ file being read: the element lists so far and the material in use.
+struct ObjReader<'p> {
+    path: &'p Path,
+    dir: PathBuf,
+    /// The (1-based) line being read, for errors.
+    line: usize,
+    warnings: Vec<LoadWarning>,
+    positions: Vec<DVec3>,
+    /// Vertex colours, filled with white up to the last coloured vertex.
+    colours: Vec<[u8; 4]>,
+    /// How many vertices carried a colour.
+    coloured: usize,
+    texcoords: Vec<Vec2>,
+    normals: Vec<Vec3>,
+    /// Triangles as corners, after triangulation.
+    corners: Vec<[Corner; 3]>,
+    face_material: Vec<Option<u32>>,
+    /// Material names in order of first `usemtl`.
+    used_materials: Vec<String>,
+    used_index: HashMap<String, u32>,
+    library: MtlLibrary,
+    saw_mtllib: bool,
+    current_material: Option<u32>,
+    /// Faces (`f` statements) read so far.
+    face_count: u64,
+    /// Scratch: the corners and vertex indices of the face being read.
+    polygon: Vec<Corner>,
+    polygon_vertices: Vec<u32>,
+    triangulator: PolygonTriangulator,
+}
+
+impl<'p> ObjReader<'p> {
+    /// An empty reader for the file at `path`.
+    fn new(path: &'p Path) -> ObjReader<'p> {
+        ObjReader {
+            path,
+            dir: parent_dir(path),
+            line: 0,
+            warnings: Vec::new(),
+            positions: Vec::new(),
+            colours: Vec::new(),
+            coloured: 0,
+            texcoords: Vec::new(),
+            normals: Vec::new(),
+            corners: Vec::new(),
+            face_material: Vec::new(),
+            used_materials: Vec::new(),
+            used_index: HashMap::new(),
+            library: MtlLibrary::default(),
+            saw_mtllib: false,
+            current_material: None,
+            face_count: 0,
+            polygon: Vec::new(),
+            polygon_vertices: Vec::new(),
+            triangulator: PolygonTriangulator::default(),
+        }
+    }
+
+    /// A syntax error on the current line.
+    fn syntax(&self, problem: SyntaxProblem) -> MeshError {
+        MeshError::Syntax {
+            path: self.path.to_path_buf(),
+            line: self.line,
+            problem,
+        }
+    }
+
+    /// Reads one logical line (continuations joined); comments and unknown keywords (`o`,
+    /// `g`, `s`, `l`, `p`, ...) are skipped.
+    fn read_line(&mut self, line: &str) -> Result<(), MeshError> {
         let content = line.split('#').next().unwrap_or("");
         let mut tokens = content.split_ascii_whitespace();
         let Some(keyword) = tokens.next() else {
-            continue;
+            return Ok(());
         };
+        let rest = || content.trim_start()[keyword.len()..].trim();
         match keyword {
-            "v" => {
-                let values = parse_numbers(tokens, line_no, path)?;
-                if values.len() < 3 {
-                    return Err(err(
-                        line_no,
-                        SyntaxProblem::TooFewValues {
-                            expected: 3,
-                            found: values.len(),
-                        },
-                    ));
-                }
-                let p = DVec3::new(values[0], values[1], values[2]);
-                if !p.is_finite() {
-                    return Err(MeshError::NonFinite {
-                        path: path.to_path_buf(),
-                        element: Element::Vertex(positions.len() as u64),
-                    });
-                }
-                // `v x y z r g b` (6 or 7 values) carries a vertex colour in 0..1.
-                if values.len() >= 6 {
-                    coloured += 1;
-                    colours.resize(positions.len(), [255; 4]);
-                    colours.push([
-                        unit_to_byte(values[3]),
-                        unit_to_byte(values[4]),
-                        unit_to_byte(values[5]),
-                        255,
-                    ]);
-                }
-                positions.push(p);
-            }
-            "vt" => {
-                let values = parse_numbers(tokens, line_no, path)?;
-                let uv = match values.as_slice() {
-                    [u] => Vec2::new(*u as f32, 0.0),
-                    [u, v, ..] => Vec2::new(*u as f32, *v as f32),
-                    [] => {
-                        return Err(err(
-                            line_no,
-                            SyntaxProblem::TooFewValues {
-                                expected: 2,
-                                found: 0,
-                            },
-                        ))
-                    }
-                };
-                if !uv.is_finite() {
-                    return Err(MeshError::NonFinite {
-                        path: path.to_path_buf(),
-                        element: Element::TexCoord(texcoords.len() as u64),
-                    });
-                }
-                texcoords.push(uv);
-            }
-            "vn" => {
-                let values = parse_numbers(tokens, line_no, path)?;
-                if values.len() < 3 {
-                    return Err(err(
-                        line_no,
-                        SyntaxProblem::TooFewValues {
-                            expected: 3,
-                            found: values.len(),
-                        },
-                    ));
-                }
-                let n = Vec3::new(values[0] as f32, values[1] as f32, values[2] as f32);
-                if !n.is_finite() {
-                    return Err(MeshError::NonFinite {
-                        path: path.to_path_buf(),
-                        element: Element::Normal(normals.len() as u64),
-                    });
-                }
-                normals.push(n);
-            }
-            "f" | "fo" => {
-                polygon.clear();
-                for (column, token) in tokens.enumerate() {
-                    let mut parts = token.split('/');
-                    let v = parts.next().unwrap_or("");
-                    let vt = parts.next().filter(|s| !s.is_empty());
-                    let vn = parts.next().filter(|s| !s.is_empty());
-                    let v = resolve_index(v, positions.len(), line_no, column + 1, path)?;
-                    let Some(v) = v.filter(|&v| (v as usize) < positions.len()) else {
-                        return Err(MeshError::IndexOutOfRange {
-                            path: path.to_path_buf(),
-                            face: face_count,
-                            index: raw_index(token),
-                            vertex_count: positions.len() as u64,
-                        });
-                    };
-                    let vt = attribute_index(vt, texcoords.len(), line_no, column + 1, path)?;
-                    let vn = attribute_index(vn, normals.len(), line_no, column + 1, path)?;
-                    polygon.push(Corner { v, vt, vn });
-                }
-                if polygon.len() < 3 {
-                    return Err(err(
-                        line_no,
-                        SyntaxProblem::FaceTooSmall { len: polygon.len() },
-                    ));
-                }
-                if polygon.len() > 3 {
-                    fanned += 1;
-                }
-                for k in 1..polygon.len() - 1 {
-                    corners.push([polygon[0], polygon[k], polygon[k + 1]]);
-                    face_material.push(current_material);
-                }
-                face_count += 1;
-            }
+            "v" => self.read_vertex(tokens),
+            "vt" => self.read_texcoord(tokens),
+            "vn" => self.read_normal(tokens),
+            "f" | "fo" => self.read_face(tokens),
             "usemtl" => {
-                let name = content.trim_start()["usemtl".len()..].trim().to_owned();
-                let next = used_materials.len() as u32;
-                let id = *used_index.entry(name.clone()).or_insert_with(|| {
-                    used_materials.push(name);
-                    next
-                });
-                current_material = Some(id);
+                self.use_material(rest());
+                Ok(())
             }
             "mtllib" => {
-                saw_mtllib = true;
-                let rest = content.trim_start()["mtllib".len()..].trim();
-                for lib in library_candidates(&dir, rest) {
-                    let lib = match lib {
-                        Ok(lib) => lib,
-                        Err((name, reason)) => {
-                            warnings.push(LoadWarning::MissingMaterialLibrary {
-                                path: PathBuf::from(name),
-                                reason: format!("not read: {reason}"),
-                            });
-                            continue;
-                        }
-                    };
-                    match std::fs::read(&lib) {
-                        Ok(mtl) => parse_mtl(
-                            &String::from_utf8_lossy(&mtl),
-                            &parent_dir(&lib),
-                            &mut library,
-                            &mut library_order,
-                            &mut warnings,
-                        ),
-                        Err(e) => warnings.push(LoadWarning::MissingMaterialLibrary {
-                            path: lib,
-                            reason: e.to_string(),
-                        }),
-                    }
-                }
+                self.saw_mtllib = true;
+                self.library
+                    .read_statement(&self.dir, rest(), &mut self.warnings);
+                Ok(())
             }
-            _ => {}
+            _ => Ok(()),
         }
     }
 
-    if corners.len() >= u32::MAX as usize {
-        return Err(MeshError::TooManyElements {
-            path: path.to_path_buf(),
-            kind: ElementKind::Triangles,
-            count: corners.len() as u64,
+    /// `v x y z [r g b [a]]`: a position, and a vertex colour in `0..=1` when given.
+    fn read_vertex<'a>(&mut self, tokens: impl Iterator<Item = &'a str>) -> Result<(), MeshError> {
+        let values = parse_numbers(tokens, self.line, self.path)?;
+        if values.len() < 3 {
+            return Err(self.syntax(SyntaxProblem::TooFewValues {
+                expected: 3,
+                found: values.len(),
+            }));
+        }
+        let p = DVec3::new(values[0], values[1], values[2]);
+        if !p.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: self.path.to_path_buf(),
+                element: Element::Vertex(self.positions.len() as u64),
+            });
+        }
+        if values.len() >= 6 {
+            self.coloured += 1;
+            self.colours.resize(self.positions.len(), [255; 4]);
+            self.colours.push([
+                unit_to_byte(values[3]),
+                unit_to_byte(values[4]),
+                unit_to_byte(values[5]),
+                255,
+            ]);
+        }
+        self.positions.push(p);
+        Ok(())
+    }
+
+    /// `vt u [v [w]]`: a texture coordinate (`v` defaults to 0).
+    fn read_texcoord<'a>(
+        &mut self,
+        tokens: impl Iterator<Item = &'a str>,
+    ) -> Result<(), MeshError> {
+        let values = parse_numbers(tokens, self.line, self.path)?;
+        let uv = match values.as_slice() {
+            [u] => Vec2::new(*u as f32, 0.0),
+            [u, v, ..] => Vec2::new(*u as f32, *v as f32),
+            [] => {
+                return Err(self.syntax(SyntaxProblem::TooFewValues {
+                    expected: 2,
+                    found: 0,
+                }))
+            }
+        };
+        if !uv.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: self.path.to_path_buf(),
+                element: Element::TexCoord(self.texcoords.len() as u64),
+            });
+        }
+        self.texcoords.push(uv);
+        Ok(())
+    }
+
+    /// `vn x y z`: a normal.
+    fn read_normal<'a>(&mut self, tokens: impl Iterator<Item = &'a str>) -> Result<(), MeshError> {
+        let values = parse_numbers(tokens, self.line, self.path)?;
+        if values.len() < 3 {
+            return Err(self.syntax(SyntaxProblem::TooFewValues {
+                expected: 3,
+                found: values.len(),
+            }));
+        }
+        let n = Vec3::new(values[0] as f32, values[1] as f32, values[2] as f32);
+        if !n.is_finite() {
+            return Err(MeshError::NonFinite {
+                path: self.path.to_path_buf(),
+                element: Element::Normal(self.normals.len() as u64),
+            });
+        }
+        self.normals.push(n);
+        Ok(())
+    }
+
+    /// `f v[/vt[/vn]] ...`: a polygon, split into triangles with the current material.
+    fn read_face<'a>(&mut self, tokens: impl Iterator<Item = &'a str>) -> Result<(), MeshError> {
+        self.polygon.clear();
+        for (column, token) in tokens.enumerate() {
+            let corner = self.read_corner(token, column + 1)?;
+            self.polygon.push(corner);
+        }
+        if self.polygon.len() < 3 {
+            return Err(self.syntax(SyntaxProblem::FaceTooSmall {
+                len: self.polygon.len(),
+            }));
+        }
+        self.polygon_vertices.clear();
+        self.polygon_vertices
+            .extend(self.polygon.iter().map(|c| c.v));
+        let triangles = self
+            .triangulator
+            .split(&self.positions, &self.polygon_vertices);
+        for t in triangles {
+            self.corners.push(t.map(|k| self.polygon[k as usize]));
+            self.face_material.push(self.current_material);
+        }
+        self.face_count += 1;
+        Ok(())
+    }
+
+    /// One `v[/vt[/vn]]` corner of a face, its indices checked against the elements so far.
+    fn read_corner(&self, token: &str, column: usize) -> Result<Corner, MeshError> {
+        let mut parts = token.split('/');
+        let v = parts.next().unwrap_or("");
+        let vt = parts.next().filter(|s| !s.is_empty());
+        let vn = parts.next().filter(|s| !s.is_empty());
+        let count = self.positions.len();
+        let v = resolve_index(v, count, self.line, column, self.path)?;
+        let Some(v) = v.filter(|&v| (v as usize) < count) else {
+            return Err(MeshError::IndexOutOfRange {
+                path: self.path.to_path_buf(),
+                face: self.face_count,
+                index: raw_index(token),
+                vertex_count: count as u64,
+            });
+        };
+        let vt = attribute_index(vt, self.texcoords.len(), self.line, column, self.path)?;
+        let vn = attribute_index(vn, self.normals.len(), self.line, column, self.path)?;
+        Ok(Corner { v, vt, vn })
+    }
+
+    /// `usemtl name`: the material of the faces that follow.
+    fn use_material(&mut self, name: &str) {
+        let next = self.used_materials.len() as u32;
+        let used_materials = &mut self.used_materials;
+        let id = *self.used_index.entry(name.to_owned()).or_insert_with(|| {
+            used_materials.push(name.to_owned());
+            next
         });
-    }
-    if fanned > 0 {
-        warnings.push(LoadWarning::PolygonsFanned { count: fanned });
+        self.current_material = Some(id);
     }
 
-    let mut builder = MeshBuilder {
-        triangles: corners.iter().map(|c| c.map(|k| k.v)).collect(),
-        ..MeshBuilder::default()
-    };
+    /// Turns the collected lists into a validated mesh.
+    fn finish(mut self) -> Result<LoadedMesh, MeshError> {
+        if self.corners.len() >= u32::MAX as usize {
+            return Err(MeshError::TooManyElements {
+                path: self.path.to_path_buf(),
+                kind: ElementKind::Triangles,
+                count: self.corners.len() as u64,
+            });
+        }
+        self.warnings.extend(self.triangulator.warnings());
+        let mut builder = MeshBuilder {
+            triangles: self.corners.iter().map(|c| c.map(|k| k.v)).collect(),
+            ..MeshBuilder::default()
+        };
+        builder.face_uvs = self.corner_uvs();
+        builder.vertex_normals = self.vertex_normals();
+        builder.vertex_colours = self.vertex_colours();
+        if self.used_materials.is_empty() && self.library.order.len() == 1 {
+            // A library with one material and no `usemtl`: it can only mean that material.
+            self.used_materials.push(self.library.order[0].clone());
+            self.face_material.iter_mut().for_each(|m| *m = Some(0));
+        }
+        if !self.used_materials.is_empty() {
+            self.apply_materials(&mut builder);
+        } else if !self.saw_mtllib && builder.face_uvs.is_some() {
+            self.apply_guessed_texture(&mut builder);
+        }
+        builder.positions = std::mem::take(&mut self.positions);
+        let mesh = builder.finish(self.path)?;
+        Ok(LoadedMesh {
+            mesh,
+            warnings: self.warnings,
+        })
+    }
 
-    // Texture coordinates per corner.
-    let with_uv = corners
-        .iter()
-        .filter(|c| c.iter().all(|k| k.vt.is_some()))
-        .count();
-    if corners.iter().any(|c| c.iter().any(|k| k.vt.is_some())) {
+    /// Texture coordinates per triangle corner, when any corner has one (the others get
+    /// `(0, 0)`, with a warning).
+    fn corner_uvs(&mut self) -> Option<Vec<[Vec2; 3]>> {
+        let corners = &self.corners;
+        if !corners.iter().any(|c| c.iter().any(|k| k.vt.is_some())) {
+            return None;
+        }
+        let with_uv = corners
+            .iter()
+            .filter(|c| c.iter().all(|k| k.vt.is_some()))
+            .count();
         if with_uv < corners.len() {
-            warnings.push(LoadWarning::PartialTexCoords {
+            self.warnings.push(LoadWarning::PartialTexCoords {
                 faces_without: (corners.len() - with_uv) as u64,
             });
         }
-        builder.face_uvs = Some(
+        let texcoords = &self.texcoords;
+        Some(
             corners
                 .iter()
                 .map(|c| c.map(|k| k.vt.map_or(Vec2::ZERO, |i| texcoords[i as usize])))
                 .collect(),
-        );
+        )
     }
 
-    // Normals: average the corner normals of each vertex, when every corner has one.
-    let corners_with_normal = corners.iter().flatten().filter(|k| k.vn.is_some()).count();
-    if corners_with_normal == corners.len() * 3 && !corners.is_empty() {
-        let mut sum = vec![Vec3::ZERO; positions.len()];
-        for k in corners.iter().flatten() {
-            if let Some(n) = k.vn {
-                sum[k.v as usize] += normals[n as usize];
+    /// Per-vertex normals, the average of each vertex's corner normals, when every corner
+    /// has one.
+    fn vertex_normals(&mut self) -> Option<Vec<Vec3>> {
+        let corners = &self.corners;
+        let with_normal = corners.iter().flatten().filter(|k| k.vn.is_some()).count();
+        if with_normal == corners.len() * 3 && !corners.is_empty() {
+            let mut sum = vec![Vec3::ZERO; self.positions.len()];
+            for k in corners.iter().flatten() {
+                if let Some(n) = k.vn {
+                    sum[k.v as usize] += self.normals[n as usize];
+                }
             }
+            return Some(sum.into_iter().map(Vec3::normalize_or_zero).collect());
         }
-        builder.vertex_normals = Some(sum.into_iter().map(Vec3::normalize_or_zero).collect());
-    } else if corners_with_normal > 0 {
-        warnings.push(LoadWarning::NormalsDropped);
+        if with_normal > 0 {
+            self.warnings.push(LoadWarning::NormalsDropped);
+        }
+        None
     }
 
-    // Vertex colours: only when every vertex has one.
-    if !colours.is_empty() {
-        if coloured == positions.len() {
-            builder.vertex_colours = Some(colours);
-        } else {
-            warnings.push(LoadWarning::ColoursDropped);
+    /// Vertex colours, only when every vertex has one.
+    fn vertex_colours(&mut self) -> Option<Vec<[u8; 4]>> {
+        if self.colours.is_empty() {
+            return None;
         }
+        if self.coloured == self.positions.len() {
+            return Some(std::mem::take(&mut self.colours));
+        }
+        self.warnings.push(LoadWarning::ColoursDropped);
+        None
     }
 
-    // Materials.
-    if used_materials.is_empty() && library_order.len() == 1 {
-        // A library with one material and no `usemtl`: it can only mean that material.
-        used_materials.push(library_order[0].clone());
-        face_material.iter_mut().for_each(|m| *m = Some(0));
-    }
-    if !used_materials.is_empty() {
+    /// The used materials from the libraries (textures loaded once each), the faces'
+    /// material ids, and each material's `-s`/`-o` UV transform applied to its faces.
+    fn apply_materials(&mut self, builder: &mut MeshBuilder) {
         let mut texture_cache: HashMap<PathBuf, Option<Texture>> = HashMap::new();
         let mut uv_transforms = Vec::new();
-        for name in &used_materials {
+        for name in &self.used_materials {
             let mut material = Material::white(name.clone());
             let mut transform = ([1.0f32; 2], [0.0f32; 2]);
-            match library.get(name) {
+            match self.library.defs.get(name) {
                 Some(def) => {
                     if let Some(kd) = def.diffuse {
                         material.base_colour = [kd[0], kd[1], kd[2], 1.0];
                     }
                     if def.transparent {
-                        warnings.push(LoadWarning::TransparencyIgnored {
+                        self.warnings.push(LoadWarning::TransparencyIgnored {
                             material: name.clone(),
                         });
                     }
                     if let Some(tex_path) = &def.texture {
+                        let warnings = &mut self.warnings;
                         let texture = texture_cache
                             .entry(tex_path.clone())
                             .or_insert_with(|| match load_texture_file(tex_path) {
@@ -350,20 +433,21 @@ pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
                         material.texture = texture;
                     }
                 }
-                None if saw_mtllib => {
-                    warnings.push(LoadWarning::UnknownMaterial { name: name.clone() })
-                }
+                None if self.saw_mtllib => self
+                    .warnings
+                    .push(LoadWarning::UnknownMaterial { name: name.clone() }),
                 None => {}
             }
             builder.materials.push(material);
             uv_transforms.push(transform);
         }
         let default_id = builder.materials.len() as u32;
-        if face_material.iter().any(Option::is_none) {
+        if self.face_material.iter().any(Option::is_none) {
             builder.materials.push(Material::white("default"));
             uv_transforms.push(([1.0; 2], [0.0; 2]));
         }
-        builder.face_materials = face_material
+        builder.face_materials = self
+            .face_material
             .iter()
             .map(|m| MaterialId(m.unwrap_or(default_id)))
             .collect();
@@ -377,26 +461,28 @@ pub fn load_obj(path: &Path) -> Result<LoadedMesh, MeshError> {
                 }
             }
         }
-    } else if !saw_mtllib && builder.face_uvs.is_some() {
-        if let Some(image) = guess_texture(path) {
-            match load_texture_file(&image) {
-                Ok(texture) => {
-                    warnings.push(LoadWarning::TextureGuessed { path: image });
-                    builder.materials.push(Material {
-                        name: "texture".to_owned(),
-                        base_colour: [1.0; 4],
-                        texture: Some(texture),
-                    });
-                    builder.face_materials = vec![MaterialId(0); builder.triangles.len()];
-                }
-                Err(w) => warnings.push(w),
-            }
-        }
     }
 
-    builder.positions = positions;
-    let mesh = builder.finish(path)?;
-    Ok(LoadedMesh { mesh, warnings })
+    /// For an OBJ with UVs and no material library: the lone image beside it, if any, as
+    /// its texture.
+    fn apply_guessed_texture(&mut self, builder: &mut MeshBuilder) {
+        let Some(image) = guess_texture(self.path) else {
+            return;
+        };
+        match load_texture_file(&image) {
+            Ok(texture) => {
+                self.warnings
+                    .push(LoadWarning::TextureGuessed { path: image });
+                builder.materials.push(Material {
+                    name: "texture".to_owned(),
+                    base_colour: [1.0; 4],
+                    texture: Some(texture),
+                });
+                builder.face_materials = vec![MaterialId(0); builder.triangles.len()];
+            }
+            Err(w) => self.warnings.push(w),
+        }
+    }
 }
 
 /// Parses every remaining token as a number.
@@ -478,157 +564,6 @@ fn attribute_index(
     }
 }
 
-/// A library or texture name resolved inside the model's folder, or the name and why it was
-/// refused.
-type Resolved = Result<PathBuf, (String, OutsideReason)>;
-
-/// The files an `mtllib` statement names: the whole rest of the line if that file exists
-/// (names may hold spaces), else each whitespace-separated name; each only inside `dir`.
-fn library_candidates(dir: &Path, rest: &str) -> Vec<Resolved> {
-    let resolve = |name: &str| resolve_name(dir, name).map_err(|r| (name.to_owned(), r));
-    let whole = resolve(rest);
-    if whole.as_ref().is_ok_and(|p| p.is_file()) || !rest.contains(char::is_whitespace) {
-        return vec![whole];
-    }
-    rest.split_ascii_whitespace().map(resolve).collect()
-}
-
-/// Parses MTL text into `library` (the first definition of a name wins).
-fn parse_mtl(
-    text: &str,
-    dir: &Path,
-    library: &mut HashMap<String, MtlDef>,
-    order: &mut Vec<String>,
-    warnings: &mut Vec<LoadWarning>,
-) {
-    let mut current: Option<(String, MtlDef)> = None;
-    let mut finish = |current: &mut Option<(String, MtlDef)>| {
-        if let Some((name, def)) = current.take() {
-            if let std::collections::hash_map::Entry::Vacant(slot) = library.entry(name) {
-                order.push(slot.key().clone());
-                slot.insert(def);
-            }
-        }
-    };
-    for raw in text.lines() {
-        let content = raw.split('#').next().unwrap_or("").trim();
-        let mut tokens = content.split_ascii_whitespace();
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
-        if keyword == "newmtl" {
-            finish(&mut current);
-            let name = content["newmtl".len()..].trim().to_owned();
-            current = Some((
-                name,
-                MtlDef {
-                    uv_scale: [1.0; 2],
-                    ..MtlDef::default()
-                },
-            ));
-            continue;
-        }
-        let Some((name, def)) = current.as_mut() else {
-            continue;
-        };
-        match keyword {
-            "Kd" => {
-                let v: Vec<f32> = tokens.filter_map(|t| t.parse().ok()).collect();
-                // `Kd r g b`, or one value for grey; anything else keeps the default.
-                let kd = match v.as_slice() {
-                    [g] => Some([*g; 3]),
-                    [r, g, b, ..] => Some([*r, *g, *b]),
-                    _ => None,
-                };
-                def.diffuse = kd
-                    .filter(|c| c.iter().all(|x| x.is_finite()))
-                    .map(|c| c.map(|x| x.clamp(0.0, 1.0)));
-            }
-            "d" => {
-                if let Some(d) = tokens.next().and_then(|t| t.parse::<f32>().ok()) {
-                    def.transparent |= d < 1.0;
-                }
-            }
-            "Tr" => {
-                // Tr is 1 - d by the specification, but MeshLab writes `Tr 1` for opaque.
-                if let Some(tr) = tokens.next().and_then(|t| t.parse::<f32>().ok()) {
-                    def.transparent |= tr > 0.0 && tr < 1.0;
-                }
-            }
-            "map_Kd" => {
-                let args: Vec<&str> = tokens.collect();
-                let (file, options) = split_texture_options(&args);
-                for option in options {
-                    match option.as_slice() {
-                        [flag, rest @ ..] if *flag == "-s" || *flag == "-o" => {
-                            let values: Vec<f32> =
-                                rest.iter().filter_map(|t| t.parse().ok()).collect();
-                            let target = if *flag == "-s" {
-                                &mut def.uv_scale
-                            } else {
-                                &mut def.uv_offset
-                            };
-                            for (k, v) in values.iter().take(2).enumerate() {
-                                if v.is_finite() {
-                                    target[k] = *v;
-                                }
-                            }
-                        }
-                        _ => warnings.push(LoadWarning::TextureOptionIgnored {
-                            material: name.clone(),
-                            option: option.join(" "),
-                        }),
-                    }
-                }
-                if !file.is_empty() {
-                    match resolve_name(dir, &file) {
-                        Ok(texture) => def.texture = Some(texture),
-                        Err(reason) => warnings.push(LoadWarning::TextureUnreadable {
-                            path: PathBuf::from(&file),
-                            reason: format!("not read: {reason}"),
-                        }),
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    finish(&mut current);
-}
-
-/// Splits `map_Kd` arguments into the file name (the tokens after the options, rejoined with
-/// spaces) and the options, each as its flag followed by its arguments.
-fn split_texture_options(args: &[&str]) -> (String, Vec<Vec<String>>) {
-    let mut options = Vec::new();
-    let mut i = 0;
-    while i < args.len() && args[i].starts_with('-') && args[i].len() > 1 {
-        let flag = args[i];
-        // Argument counts from the MTL specification; -o, -s and -t take 1 to 3 numbers.
-        let (min, max) = match flag {
-            "-o" | "-s" | "-t" => (1, 3),
-            "-mm" => (2, 2),
-            "-blendu" | "-blendv" | "-cc" | "-clamp" | "-bm" | "-boost" | "-texres"
-            | "-imfchan" | "-type" => (1, 1),
-            _ => (0, 0),
-        };
-        let mut option = vec![flag.to_owned()];
-        i += 1;
-        let mut taken = 0;
-        while taken < max && i < args.len() {
-            let numeric = args[i].parse::<f64>().is_ok();
-            // Past the required count, only numbers belong to the option.
-            if taken >= min && !numeric {
-                break;
-            }
-            option.push(args[i].to_owned());
-            i += 1;
-            taken += 1;
-        }
-        options.push(option);
-    }
-    (args[i.min(args.len())..].join(" "), options)
-}
-
 /// For an OBJ without `mtllib`: the single image in its folder named `<stem>.<ext>` or
 /// `*_texture.<ext>`, if there is exactly one.
 fn guess_texture(obj: &Path) -> Option<PathBuf> {
@@ -669,23 +604,6 @@ fn guess_texture(obj: &Path) -> Option<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn texture_options_are_split_from_the_file_name() {
-        let (file, options) =
-            split_texture_options(&["-s", "2", "2", "1", "-clamp", "on", "a", "b.png"]);
-        assert_eq!(file, "a b.png");
-        assert_eq!(
-            options,
-            vec![vec!["-s", "2", "2", "1"], vec!["-clamp", "on"]]
-        );
-        let (file, options) = split_texture_options(&["-o", "0.5", "tex.png"]);
-        assert_eq!(file, "tex.png");
-        assert_eq!(options, vec![vec!["-o", "0.5"]]);
-        let (file, options) = split_texture_options(&["plain.png"]);
-        assert_eq!(file, "plain.png");
-        assert!(options.is_empty());
-    }
 
     #[test]
     fn indices_resolve_relative_and_absolute() {

@@ -4,7 +4,7 @@
 //! (vertex colours), `N` (vertex normals); counts `vertices faces edges` on the header line or
 //! the next; then one vertex per line (`x y z [nx ny nz] [r g b [a]] [s t]`) and one face per
 //! line (`n i0 .. in-1 [face colour]`, face colours ignored). `#` starts a comment. Binary OFF
-//! is refused. Polygons are fanned.
+//! is refused. Polygons are split by [`triangulate_polygon`](crate::triangulate_polygon).
 //!
 //! Colours given as integers are bytes; given with a decimal point they are `0..=1`.
 //!
@@ -18,6 +18,7 @@ use glam::{DVec3, Vec3};
 
 use super::{read_file, LoadedMesh, MeshBuilder};
 use crate::error::{Element, ElementKind, SyntaxProblem};
+use crate::triangulate::PolygonTriangulator;
 use crate::{LoadWarning, MeshError};
 
 /// Loads an ASCII OFF file.
@@ -149,7 +150,7 @@ pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
     }
 
     let mut builder = MeshBuilder::default();
-    let mut fanned = 0u64;
+    let mut triangulator = PolygonTriangulator::default();
     for f in 0..face_count {
         let (n, l) = lines.next().ok_or_else(|| {
             err(
@@ -194,20 +195,10 @@ pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
             }
             polygon.push(index as u32);
         }
-        if len > 3 {
-            fanned += 1;
-        }
-        for k in 1..len - 1 {
-            builder
-                .triangles
-                .push([polygon[0], polygon[k], polygon[k + 1]]);
-        }
+        triangulator.push(&positions, &polygon, &mut builder.triangles);
     }
 
-    let mut warnings = Vec::new();
-    if fanned > 0 {
-        warnings.push(LoadWarning::PolygonsFanned { count: fanned });
-    }
+    let warnings: Vec<LoadWarning> = triangulator.warnings().collect();
     builder.positions = positions;
     if has_normal {
         builder.vertex_normals = Some(normals);

@@ -3,7 +3,7 @@
 //! One reader serves both: the `vertex` element gives positions (`x y z`, any numeric type,
 //! read as f64), optional normals (`nx ny nz`) and optional colours (`red green blue [alpha]`,
 //! `r g b [a]` or `diffuse_red ...`); the `face` element gives polygons through a
-//! `vertex_indices` or `vertex_index` list of any integer type, fanned into triangles, or,
+//! `vertex_indices` or `vertex_index` list of any integer type, split into triangles, or,
 //! when there is no `face` element, a `tristrips` element's `vertex_indices` lists (strips
 //! with `-1` restarts, see `tristrips`). Other
 //! vertex properties (confidence, intensity, ...) and other elements (`range_grid` of raw
@@ -32,7 +32,8 @@ use ply_rs_bw::ply::{
 use super::tristrips::strips_to_triangles;
 use super::{build_point_cloud, LoadedMesh, LoadedPointCloud, MeshBuilder};
 use crate::error::{Element, PlyProblem};
-use crate::{LoadWarning, MeshError};
+use crate::triangulate::PolygonTriangulator;
+use crate::MeshError;
 
 /// Loads a PLY file as a triangle mesh.
 pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
@@ -53,11 +54,15 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
         }
     }
     let mut warnings = Vec::new();
-    let mut builder = MeshBuilder::default();
-    let mut fanned = 0u64;
+    let mut builder = MeshBuilder {
+        positions: data.vertices.iter().map(PlyVertex::position).collect(),
+        ..MeshBuilder::default()
+    };
     match data.face_layout {
         FaceLayout::Polygons => {
-            fanned = fan_faces(path, &data.faces, vertex_count, &mut builder.triangles)?;
+            let mut triangulator = PolygonTriangulator::default();
+            split_faces(path, &data.faces, &mut builder, &mut triangulator)?;
+            warnings.extend(triangulator.warnings());
         }
         FaceLayout::Strips => {
             builder.triangles =
@@ -69,10 +74,6 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
                 )?;
         }
     }
-    if fanned > 0 {
-        warnings.push(LoadWarning::PolygonsFanned { count: fanned });
-    }
-    builder.positions = data.vertices.iter().map(PlyVertex::position).collect();
     if data.layout.normals {
         builder.vertex_normals = Some(data.vertices.iter().map(PlyVertex::normal).collect());
     }
@@ -83,14 +84,15 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
     Ok(LoadedMesh { mesh, warnings })
 }
 
-/// Fans polygon faces into `triangles`; returns how many had more than three vertices.
-fn fan_faces(
+/// Splits polygon faces into `builder.triangles` (positions already in place).
+fn split_faces(
     path: &Path,
     faces: &[PlyFace],
-    vertex_count: usize,
-    triangles: &mut Vec<[u32; 3]>,
-) -> Result<u64, MeshError> {
-    let mut fanned = 0u64;
+    builder: &mut MeshBuilder,
+    triangulator: &mut PolygonTriangulator,
+) -> Result<(), MeshError> {
+    let vertex_count = builder.positions.len();
+    let mut polygon = Vec::new();
     for (f, face) in faces.iter().enumerate() {
         if face.indices.len() < 3 {
             return Err(MeshError::PlyStructure {
@@ -113,13 +115,11 @@ fn fan_faces(
                 vertex_count: vertex_count as u64,
             });
         }
-        fanned += u64::from(face.indices.len() > 3);
-        let first = face.indices[0] as u32;
-        for k in 1..face.indices.len() - 1 {
-            triangles.push([first, face.indices[k] as u32, face.indices[k + 1] as u32]);
-        }
+        polygon.clear();
+        polygon.extend(face.indices.iter().map(|&i| i as u32));
+        triangulator.push(&builder.positions, &polygon, &mut builder.triangles);
     }
-    Ok(fanned)
+    Ok(())
 }
 
 /// Loads the vertices of any PLY file (faces, if any, are not read) as a point cloud.

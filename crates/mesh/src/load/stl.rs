@@ -14,7 +14,8 @@
 //! [`prepare_mesh`](crate::prepare_mesh) (bit-identical positions). Facet normals are not
 //! read (the winding gives the normal; exporters often write zeros). Attribute bytes (a few
 //! tools store a colour there, with conflicting conventions) are ignored. A loop of more than
-//! three vertices is fanned and counted in [`LoadWarning::PolygonsFanned`].
+//! three vertices is split by [`triangulate_polygon`](crate::triangulate_polygon) and counted in
+//! [`LoadWarning::PolygonsTriangulated`](crate::LoadWarning::PolygonsTriangulated).
 //!
 //! Cost: one pass; memory O(triangles). The triangle count of a binary file is checked
 //! against the file length before anything is sized by it.
@@ -27,7 +28,8 @@ use glam::DVec3;
 
 use super::{read_file, LoadedMesh, MeshBuilder};
 use crate::error::{Element, SyntaxProblem};
-use crate::{LoadWarning, MeshError};
+use crate::triangulate::PolygonTriangulator;
+use crate::MeshError;
 
 /// Bytes before the first binary triangle: the header and the count.
 const BINARY_HEADER_BYTES: usize = 84;
@@ -135,7 +137,7 @@ fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
         problem,
     };
     let mut builder = MeshBuilder::default();
-    let mut fanned = 0u64;
+    let mut triangulator = PolygonTriangulator::default();
     let mut loop_start: Option<usize> = None;
     let mut last_line = 1;
     let mut it = words(text);
@@ -174,11 +176,8 @@ fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
                 if len < 3 {
                     return Err(err(word.line, SyntaxProblem::FaceTooSmall { len }));
                 }
-                fanned += u64::from(len > 3);
-                let first = start as u32;
-                for k in start + 1..start + len - 1 {
-                    builder.triangles.push([first, k as u32, k as u32 + 1]);
-                }
+                let polygon: Vec<u32> = (start as u32..(start + len) as u32).collect();
+                triangulator.push(&builder.positions, &polygon, &mut builder.triangles);
             }
             // Everything else (solid names, facet normals, end keywords) carries nothing
             // this reader needs.
@@ -189,10 +188,6 @@ fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
         return Err(err(last_line, SyntaxProblem::StlUnclosedLoop));
     }
     let mesh = builder.finish(path)?;
-    let warnings = if fanned > 0 {
-        vec![LoadWarning::PolygonsFanned { count: fanned }]
-    } else {
-        Vec::new()
-    };
+    let warnings = triangulator.warnings().collect();
     Ok(LoadedMesh { mesh, warnings })
 }

@@ -170,7 +170,7 @@ fn obj_features_negative_indices_polygons_and_colours() {
     assert_eq!(uvs[1][2], glam::Vec2::new(0.0, 1.0));
     assert!(loaded
         .warnings
-        .contains(&LoadWarning::PolygonsFanned { count: 1 }));
+        .contains(&LoadWarning::PolygonsTriangulated { count: 1 }));
 }
 
 #[test]

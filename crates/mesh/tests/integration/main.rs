@@ -7,6 +7,8 @@
 //!   bad indices, missing materials and textures; never a panic;
 //! - `gltf_compressed`: gltfpack's quantized and meshopt files against the f32 original;
 //!   hostile URIs and accessor indices;
+//! - `issue_22_triangulation`: polygon faces: convex ones fanned as before, concave ones ear
+//!   clipped (area kept, none inverted), self-crossing ones reported;
 //! - `issue_20_loaders`: BOM, CR-only PLY headers, extents beyond f32, outside references;
 //! - `regression_inputs`: the STL, glTF and tristrips fuzz inputs kept in testdata/regression;
 //! - `adjacency`: face adjacency on generated shapes, non-manifold fans, winding;
@@ -19,6 +21,7 @@
 mod adjacency;
 mod gltf_compressed;
 mod issue_20_loaders;
+mod issue_22_triangulation;
 mod load_errors;
 mod load_real;
 mod ply_points;

@@ -110,7 +110,7 @@ fn ascii_stl_quad_loop_is_fanned_and_counted() {
     assert_eq!(loaded.mesh.triangles, vec![[0, 1, 2], [0, 2, 3]]);
     assert!(matches!(
         loaded.warnings[..],
-        [LoadWarning::PolygonsFanned { count: 1 }]
+        [LoadWarning::PolygonsTriangulated { count: 1 }]
     ));
 }
 
