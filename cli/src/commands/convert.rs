@@ -200,7 +200,11 @@ pub(crate) fn convert_and_write(
         )
     });
     if let Some(warning) = budget_warning {
-        finished.conversion.report.warnings.push(warning.to_string());
+        finished
+            .conversion
+            .report
+            .warnings
+            .push(warning.to_string());
     }
     let holes = if args.holes {
         progress.step("measuring holes");
