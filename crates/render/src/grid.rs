@@ -84,7 +84,7 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
 
 /// Per node of a `cols × rows` piece with cell flags `flags`: in `um`,
 /// all ones when a drawn cell has the u edge starting there, and in `vm`
-/// the same for the v edge (see [`piece_edges_masked_small`]).
+/// the same for the v edge (see [`crate::plan::measure::piece_edges_masked_small`]).
 pub(crate) fn drawn_edge_masks(
     flags: &[u8],
     cols: usize,

@@ -254,7 +254,7 @@ pub(crate) fn pack_fixed_normal(x: i32, y: i32, z: i32) -> u32 {
     q(x) | (q(y) << 10) | (q(z) << 20)
 }
 
-/// Unpacks a normal packed by [`pack_normal`] (not normalized).
+/// Unpacks a normal packed by `pack_normal` (not normalized).
 #[inline]
 pub(crate) fn unpack_normal(p: u32) -> Vec3 {
     let f = |shift: u32| (((p >> shift) << 22) as i32 >> 22) as f32;

@@ -9,7 +9,7 @@ use std::time::Instant;
 use crate::prepare::mip::MAX_MIP_LEVELS;
 use crate::prepare::normal_buffer::NormalCounts;
 
-/// Counters of one chunk of work (summed into [`RenderStats`]).
+/// Counters of one chunk of work (summed into [`crate::RenderStats`]).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Counters {
     pub(crate) patches: u64,

@@ -72,7 +72,7 @@ impl RowStats {
     };
 
     /// From the row's smallest and largest scaled lanes (see
-    /// [`scaled_lanes`]) over `count` used nodes.
+    /// [`crate::plan::lanes::scaled_lanes`]) over `count` used nodes.
     #[inline(always)]
     pub(crate) fn of(lo: Vec4, hi: Vec4, count: u32) -> Self {
         if count == 0 {

@@ -35,27 +35,27 @@ pub(crate) struct MipLevel {
     /// Nodes that are a corner of at least one drawable cell.
     pub(crate) used: Vec<bool>,
     /// Per node, the normal-buffer slot of its displacement differences
-    /// ([`crate::normal_buffer::table_slot`]; meaningless for empty nodes).
+    /// ([`crate::prepare::normals::table_slot`]; meaningless for empty nodes).
     pub(crate) normal_slots: Vec<u16>,
     /// Smallest and largest used displacement (0, 0 when none).
     pub(crate) d_range: (u16, u16),
     /// Per node, its trilinear weight along `d_range`
-    /// ([`crate::traverse::push_weights`]): a piece of whole rows at the
+    /// ([`crate::grid::push_weights`]): a piece of whole rows at the
     /// level's range reads them instead of converting every frame.
     pub(crate) weights: Vec<f32>,
     pub(crate) drawable_cells: u32,
     /// Per cell (row-major, `(cols - 1) × (rows - 1)`), the flags of the
     /// whole level without back-face culling: [`CELL_DRAW`] when its four
-    /// corners are filled, and [`crate::traverse::CELL_RIGHT`] /
-    /// [`crate::traverse::CELL_TOP`] when it closes
+    /// corners are filled, and [`crate::grid::CELL_RIGHT`] /
+    /// [`crate::grid::CELL_TOP`] when it closes
     /// its column / row. Why: which cells have four used corners does not
     /// depend on the view, so a frame only adds the back-face test (see
-    /// [`crate::traverse::measure_cells`]).
+    /// [`crate::plan::measure::measure_cells`]).
     pub(crate) cell_flags: Vec<u8>,
     /// Closing counts of [`Self::cell_flags`]: right, top, both.
     pub(crate) closing: [u64; 3],
     /// When some cells are not drawn, the edge masks of
-    /// [`crate::traverse::drawn_edge_masks`] for [`Self::cell_flags`], so a
+    /// [`crate::grid::drawn_edge_masks`] for [`Self::cell_flags`], so a
     /// frame drawing the whole level need not build them.
     pub(crate) edge_masks: Option<(Vec<i32>, Vec<i32>)>,
 }
@@ -86,7 +86,7 @@ impl MipLevel {
     }
 
     /// Leaves out the cells `trimmed` marks (row-major per cell; see
-    /// [`crate::overlap`]), keeping the level's nodes.
+    /// [`crate::prepare::overlap`]), keeping the level's nodes.
     pub(crate) fn trim_cells(&mut self, trimmed: &[bool]) {
         let drawn: Vec<bool> = self
             .cell_flags
@@ -180,7 +180,7 @@ impl MipLevel {
     }
 
     /// True when cell `(i, j)` is drawn: its four corners are filled and it
-    /// was not trimmed away ([`crate::overlap`]).
+    /// was not trimmed away ([`crate::prepare::overlap`]).
     pub(crate) fn cell_is_drawable(&self, i: usize, j: usize) -> bool {
         self.cell_flags[j * (self.cols - 1) + i] & CELL_DRAW != 0
     }
@@ -238,7 +238,7 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
 
 /// Builds the whole pyramid of `patch` (level 0 first); empty when the
 /// patch has no drawable cell. A prepared patch builds its levels above 0
-/// on first use instead ([`crate::prepare::PreparedPatch::level`]).
+/// on first use instead ([`crate::prepare::patch::PreparedPatch::level`]).
 #[cfg(test)]
 pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
     let Some(base) = base_level(patch) else {

@@ -58,7 +58,7 @@ fn covered_range(v: i32, half: i32) -> (i32, i32) {
 
 /// Marks as unused (in the projected-node array of a `cols × rows` piece)
 /// every node that no drawn cell has as a corner (cell flags `flags`, see
-/// [`crate::traverse::measure_cells`]): nodes of cells facing away or
+/// [`crate::plan::measure::measure_cells`]): nodes of cells facing away or
 /// without four used corners, which the cells' splats do not need. Only
 /// the position is overwritten; attributes stay for the resolve pass.
 /// `scratch` holds one byte per cell column (reused).

@@ -29,7 +29,7 @@ pub(crate) struct Lane {
 }
 
 /// What the Phong resolve pass needs of every draw item of a frame, by
-/// index (as [`Resolve::items`]), and the bilinear weights of the
+/// index (as [`crate::shade::resolve::Resolve::items`]), and the bilinear weights of the
 /// sub-nodes of every subdivision the frame uses. Built once per frame.
 /// Why a flat table: where patches overlap, a third of the sphere's pixels
 /// change item, and the item → chunk → item → patch → level lookups cost
@@ -158,7 +158,7 @@ impl<'a> PhongItem<'a> {
     }
 
     /// The normal interpolated at sample `sub` (`w` unused): the same
-    /// operations in the same order as [`phong_reference`].
+    /// operations in the same order as `phong_reference`.
     #[inline(always)]
     pub(crate) fn normal(&self, sub: u32, weights: &[[Vec4; 4]]) -> Vec4 {
         let cols = self.cols as usize;
@@ -173,7 +173,7 @@ impl<'a> PhongItem<'a> {
 
     /// The normal and albedo (from `colours`, the item's) interpolated at
     /// sample `sub`: the same operations in the same order as
-    /// [`phong_reference`].
+    /// `phong_reference`.
     #[inline(always)]
     pub(crate) fn interpolate(&self, sub: u32, colours: &[Vec4], weights: &[[Vec4; 4]]) -> Lane {
         let cols = self.cols as usize;

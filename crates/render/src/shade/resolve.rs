@@ -106,12 +106,12 @@ fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth
 /// neighbours at a time: their eye depths, their normals and albedos
 /// interpolated straight into lanes ([`phong_lane`]), shaded together
 /// ([`Material::shade4_with`], bit-identical to shading them one by one; tested
-/// against [`phong_reference`]), the background where a lane is empty.
+/// against `phong_reference`), the background where a lane is empty.
 /// Why groups of neighbours rather than a queue of covered pixels: the
 /// queue's round trip through memory, its indices and scattered stores
 /// were ~50 of the ~150 instructions per covered pixel, and groups only
 /// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
-/// Not inlined: inlined into [`Band::resolve`] the queued pass cost 2.5 M
+/// Not inlined: inlined into [`resolve_band`] the queued pass cost 2.5 M
 /// instructions more per frame (register allocation).
 #[inline(never)]
 fn resolve_phong_pixels<const SQUARINGS: u32>(
@@ -331,7 +331,7 @@ fn own_albedo(r: &Resolve<'_>, g: &[Lane; 4], red: Vec4) -> [Vec4; 3] {
 
 /// Red, green and blue lanes in 0..=255 (as [`Material::shade4_with`] returns
 /// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
-/// [`truncate_to_bytes`] gives them.
+/// `truncate_to_bytes` gives them.
 #[inline(always)]
 fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
     // Why spelled out: `array::map` here became an out-of-line call per
@@ -375,7 +375,7 @@ fn truncate_to_bytes(c: Vec4) -> [u8; 4] {
 }
 
 /// `2^23 + trunc(c)` per lane: the truncated value sits in the low
-/// mantissa bits (see [`truncate_to_bytes`]).
+/// mantissa bits (see `truncate_to_bytes`).
 #[inline(always)]
 fn truncated_bits(c: Vec4) -> Vec4 {
     const SHIFT: f32 = 8_388_608.0; // 2^23: the unit of the last mantissa bit is 1.
