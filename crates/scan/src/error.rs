@@ -80,6 +80,22 @@ pub enum ScanError {
         /// Offset of the point data.
         offset: u32,
     },
+    /// A LAS 1.4 extended variable-length record reaches past the end of the file.
+    #[error(
+        "{}: an extended variable-length record at byte {start} declares {length} bytes, \
+         past the end of the {file_len}-byte file",
+        path.display()
+    )]
+    LasExtendedRecord {
+        /// The file.
+        path: PathBuf,
+        /// Where the record starts.
+        start: u64,
+        /// Bytes the record declares after its 60-byte header.
+        length: u64,
+        /// The file's length.
+        file_len: u64,
+    },
     /// The E57 reader refused the file.
     #[error("{}: not a readable E57 file: {source}", path.display())]
     E57 {

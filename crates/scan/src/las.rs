@@ -83,6 +83,9 @@ fn check_point_extent(path: &Path, file: &mut std::fs::File) -> Result<(), ScanE
         .get(247..255)
         .filter(|_| header.get(25).is_some_and(|&minor| minor >= 4))
         .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]));
+    if minor >= 4 {
+        check_extended_records(path, file, &header)?;
+    }
     for points in [Some(u64::from(legacy)), large].into_iter().flatten() {
         let end = points
             .checked_mul(u64::from(record_len))
@@ -96,6 +99,50 @@ fn check_point_extent(path: &Path, file: &mut std::fs::File) -> Result<(), ScanE
             });
         }
     }
+    Ok(())
+}
+
+/// Refuses a LAS 1.4 header whose extended variable-length records (start at byte 235,
+/// count at 243, each a 60-byte header with its u64 length at byte 20) reach past the end
+/// of the file: the `las` crate allocates each declared length before reading it (found
+/// by `las_load`). The walk ends at the file's end, so it costs at most one read per 60
+/// bytes of file. Leaves the file at its start.
+fn check_extended_records(
+    path: &Path,
+    file: &mut std::fs::File,
+    header: &[u8],
+) -> Result<(), ScanError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let io = |source| ScanError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let (Some(start), Some(count)) = (header.get(235..243), header.get(243..247)) else {
+        return Ok(()); // too short: the las reader refuses it
+    };
+    let mut at = u64::from_le_bytes(start.try_into().expect("8 bytes"));
+    let count = u32::from_le_bytes(count.try_into().expect("4 bytes"));
+    let file_len = file.metadata().map_err(io)?.len();
+    let refuse = |start: u64, length: u64| ScanError::LasExtendedRecord {
+        path: path.to_path_buf(),
+        start,
+        length,
+        file_len,
+    };
+    for _ in 0..count {
+        let mut record = [0u8; 60];
+        if at.checked_add(60).is_none_or(|end| end > file_len) {
+            return Err(refuse(at, 0));
+        }
+        file.seek(SeekFrom::Start(at)).map_err(io)?;
+        file.read_exact(&mut record).map_err(io)?;
+        let length = u64::from_le_bytes(record[20..28].try_into().expect("8 bytes"));
+        match (at + 60).checked_add(length) {
+            Some(end) if end <= file_len => at = end,
+            _ => return Err(refuse(at, length)),
+        }
+    }
+    file.seek(SeekFrom::Start(0)).map_err(io)?;
     Ok(())
 }
 
