@@ -70,8 +70,9 @@ impl Progress {
     pub(crate) fn step(&self, name: &str) {
         let done = self.step.fetch_add(1, Ordering::Relaxed);
         if let Some(bar) = &self.bar {
-            bar.set_length(self.steps.max(done + 1));
+            // Position first: a draw between the two never shows a count past the length.
             bar.set_position(done);
+            bar.set_length(self.steps.max(done + 1));
             bar.reset_eta();
             bar.set_message(name.to_owned());
         }
@@ -89,6 +90,12 @@ impl Progress {
         }
     }
 
+    /// A bar that is never drawn, over `steps` steps (for other modules' tests).
+    #[cfg(test)]
+    pub(crate) fn hidden(steps: usize) -> Self {
+        Self::shown_if(false, "test", steps)
+    }
+
     /// Whether the bar is drawn (a terminal, not quiet).
     #[cfg(test)]
     fn is_shown(&self) -> bool {
@@ -97,7 +104,7 @@ impl Progress {
 
     /// Steps started so far.
     #[cfg(test)]
-    fn steps_started(&self) -> u64 {
+    pub(crate) fn steps_started(&self) -> u64 {
         self.step.load(Ordering::Relaxed)
     }
 }

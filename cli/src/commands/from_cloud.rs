@@ -7,14 +7,15 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
-    cloud_to_scene, measure_cloud_error, CloudError, CloudOptions, CloudReport, SmoothOptions,
-    StageTime,
+    cloud_to_scene_with_progress, measure_cloud_error, CloudError, CloudOptions, CloudReport,
+    SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
 use spatch_mesh::load::xyz::XyzLayout;
 use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions};
 
+use super::cloud_progress::CloudSteps;
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, write_json_report, write_output};
@@ -166,28 +167,35 @@ impl FromCloudArgs {
     }
 }
 
+/// Stages the cloud pipeline reports at most (docs/report-schema.md: filter to encode).
+const CLOUD_STAGES: usize = 9;
+
 /// Loads the cloud, converts it, writes the scene (and the report).
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     args.threads.init()?;
     let mut options = args.options();
     let measure = args.error || args.report.is_some() || args.json;
-    let progress = Progress::new(&args.input_label(), 3 + usize::from(measure));
+    // load, the pipeline's stages (CLOUD_STAGES, consensus included), write, the error.
+    let progress = Progress::new(&args.input_label(), 2 + CLOUD_STAGES + usize::from(measure));
     let started = Instant::now();
     progress.step("load");
     let loaded = read_inputs(args)?;
     options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
     let load_seconds = started.elapsed().as_secs_f64();
     let label = args.input_label();
-    progress.step("range images");
-    let conversion = cloud_to_scene(&loaded.cloud, &options).map_err(|e| match e {
-        CloudError::Bug(_) | CloudError::Internal { .. } => {
-            anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
-        }
-        e @ CloudError::PixelBudgetExceeded { .. } => {
-            anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
-        }
-        e => anyhow::Error::new(e).context(label.clone()),
-    })?;
+    let steps = CloudSteps::new(&progress);
+    let on_progress = |p| steps.report(p);
+    let conversion = cloud_to_scene_with_progress(&loaded.cloud, &options, &on_progress).map_err(
+        |e| match e {
+            CloudError::Bug(_) | CloudError::Internal { .. } => {
+                anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
+            }
+            e @ CloudError::PixelBudgetExceeded { .. } => {
+                anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
+            }
+            e => anyhow::Error::new(e).context(label.clone()),
+        },
+    )?;
     progress.step("write");
     let write_started = Instant::now();
     write_output(&args.output, &conversion.bytes)?;

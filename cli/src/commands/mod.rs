@@ -1,6 +1,7 @@
 //! One module per subcommand: arguments → library options → library call →
 //! report.
 
+pub(crate) mod cloud_progress;
 pub(crate) mod completions;
 pub(crate) mod convert;
 pub(crate) mod demo;
