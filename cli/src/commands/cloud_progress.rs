@@ -11,8 +11,9 @@ use crate::progress::Progress;
 /// Turns [`CloudProgress`] reports (from any worker thread) into steps and counts.
 pub(crate) struct CloudSteps<'a> {
     bar: &'a Progress,
-    /// The stage the bar shows now.
-    current: Mutex<Option<Stage>>,
+    /// The stages started so far (the last is the one the bar shows) and the largest
+    /// count shown for it.
+    shown: Mutex<(Vec<Stage>, usize)>,
 }
 
 impl<'a> CloudSteps<'a> {
@@ -20,18 +21,23 @@ impl<'a> CloudSteps<'a> {
     pub(crate) fn new(bar: &'a Progress) -> Self {
         CloudSteps {
             bar,
-            current: Mutex::new(None),
+            shown: Mutex::new((Vec::new(), 0)),
         }
     }
 
-    /// One report of the pipeline: a step when its stage is new, then its count.
+    /// One report of the pipeline: a step when its stage is new, then its count. Tiles
+    /// alternate range images and extraction, and worker threads report out of order, so
+    /// only the newest stage's counts are shown, and only growing ones.
     pub(crate) fn report(&self, p: CloudProgress) {
-        let mut current = self.current.lock().unwrap_or_else(|e| e.into_inner());
-        if *current != Some(p.stage) {
-            *current = Some(p.stage);
+        let mut shown = self.shown.lock().unwrap_or_else(|e| e.into_inner());
+        let (stages, largest) = &mut *shown;
+        if !stages.contains(&p.stage) {
+            stages.push(p.stage);
+            *largest = 0;
             self.bar.step(p.stage.name());
         }
-        if p.total > 1 {
+        if stages.last() == Some(&p.stage) && p.total > 1 && p.done > *largest {
+            *largest = p.done;
             self.bar.count(p.done, p.total);
         }
     }
@@ -53,8 +59,11 @@ mod tests {
         for done in 1..=6 {
             report(&steps, Stage::RangeImages, done, 6);
         }
-        report(&steps, Stage::Extract, 1, 2);
-        report(&steps, Stage::Extract, 2, 2);
-        assert_eq!(bar.steps_started(), 3);
+        report(&steps, Stage::Extract, 1, 4);
+        // A second tile's range images: no new step.
+        report(&steps, Stage::RangeImages, 1, 6);
+        report(&steps, Stage::Extract, 2, 4);
+        report(&steps, Stage::Encode, 1, 1);
+        assert_eq!(bar.steps_started(), 4);
     }
 }
