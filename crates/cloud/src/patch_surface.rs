@@ -132,7 +132,7 @@ struct Block {
 /// the module docs).
 #[derive(Debug)]
 pub struct PatchSurface {
-    /// Every node position of every block (empty nodes hold a placeholder no cell uses).
+    /// Every node position of every block (an empty node keeps an unused position: no drawable cell touches it).
     positions: Vec<Vec3>,
     blocks: Vec<Block>,
     /// Cells in Morton order of their centres.

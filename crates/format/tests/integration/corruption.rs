@@ -5,6 +5,7 @@ use spatch_format::{
 };
 
 use crate::scenes::{minimal_scene, mixed_scene};
+use crate::section_bytes::section_bytes;
 
 fn files() -> Vec<Vec<u8>> {
     let mut out = vec![encode_scene(&minimal_scene(), &WriteOptions::default()).unwrap()];
@@ -166,18 +167,7 @@ fn a_newer_minor_version_with_an_extra_section_still_reads() {
     bytes[8..12].copy_from_slice(&count.to_le_bytes());
     let crc = crc32fast::hash(&bytes[..12]);
     bytes[12..16].copy_from_slice(&crc.to_le_bytes());
-    let payload = b"future";
-    let mut header = Vec::new();
-    header.extend_from_slice(b"xtra");
-    header.extend_from_slice(&[0, 0, 0, 0]);
-    header.extend_from_slice(&(payload.len() as u32).to_le_bytes());
-    header.extend_from_slice(&(payload.len() as u32).to_le_bytes());
-    let mut crc = crc32fast::Hasher::new();
-    crc.update(&header);
-    crc.update(payload);
-    header.extend_from_slice(&crc.finalize().to_le_bytes());
-    bytes.extend_from_slice(&header);
-    bytes.extend_from_slice(payload);
+    bytes.extend_from_slice(&section_bytes(b"xtra", 0, b"future"));
     let (scene, info) = inspect(&bytes).unwrap();
     assert_eq!(scene, minimal_scene());
     assert_eq!(info.version_minor, 7);

@@ -20,4 +20,5 @@ mod far_merge;
 mod golden;
 mod round_trip;
 mod scenes;
+mod section_bytes;
 mod two_sided;

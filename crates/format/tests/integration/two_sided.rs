@@ -6,6 +6,7 @@ use spatch_format::{
 };
 
 use crate::scenes::{minimal_scene, mixed_scene};
+use crate::section_bytes::section_bytes;
 
 /// `scene` with patch `k` given `sides(k)` and the openings `openings`.
 pub(crate) fn with_sides(
@@ -88,16 +89,8 @@ fn with_payload(bytes: &[u8], tag: &str, payload: &[u8], codec: u8) -> Vec<u8> {
     let k = info.sections.iter().position(|s| s.tag == tag).unwrap();
     let s = &info.sections[k];
     let mut out = bytes[..s.offset].to_vec();
-    let mut header = tag.as_bytes().to_vec();
-    header.extend_from_slice(&[codec, 0, 0, 0]);
-    header.extend_from_slice(&(payload.len() as u32).to_le_bytes());
-    header.extend_from_slice(&(payload.len() as u32).to_le_bytes());
-    let mut crc = crc32fast::Hasher::new();
-    crc.update(&header);
-    crc.update(payload);
-    header.extend_from_slice(&crc.finalize().to_le_bytes());
-    out.extend_from_slice(&header);
-    out.extend_from_slice(payload);
+    let tag: &[u8; 4] = tag.as_bytes().try_into().unwrap();
+    out.extend_from_slice(&section_bytes(tag, codec, payload));
     out.extend_from_slice(&bytes[s.offset + 20 + s.stored_len..]);
     out
 }
