@@ -4,8 +4,11 @@
 //! `(i, j)` is node `(2i, 2j)` of level `m` (so the surface still passes
 //! through real nodes and the patch keeps its outline), with its colour the
 //! 1-2-1 tent average of the filled nodes around it (so far views do not
-//! alias). A level exists while both sides have an even number of cells and
-//! the halved grid still has a drawable cell: 17 → 9 → 5 → 3 → 2 nodes.
+//! alias). A side with an odd number of cells is first padded with one
+//! node extrapolated from its last two (see [`padded`]), so every grid of at
+//! least three nodes a side halves: 17 → 9 → 5 → 3 → 2, 16 → 9 → 5 → 3 → 2.
+//! A level exists while both sides have three nodes or more and the halved
+//! grid still has a drawable cell among the nodes it shares with level 0.
 //!
 //! Each level also records which nodes belong to a drawable cell (`used`),
 //! its displacement range and its number of drawable cells.
@@ -209,24 +212,30 @@ pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
     (base.drawable_cells > 0).then_some(base)
 }
 
-/// How many levels the pyramid over `base` has above it: levels halve
-/// while both sides have an even number of cells and the halved grid has
-/// a drawable cell (up to [`MAX_MIP_LEVELS`] in all). Counted from level
-/// 0's nodes (level `m`'s node `(i, j)` is level 0's `(2^m i, 2^m j)`)
-/// without building the levels, so that they can be built on first use.
+/// How many levels the pyramid over `base` has above it (up to
+/// [`MAX_MIP_LEVELS`] in all): levels halve while both sides have three
+/// nodes or more ([`halved_side`]) and the halved grid has a drawable cell
+/// whose four corners are level-0 nodes (level `m`'s node `(i, j)` is level
+/// 0's `(2^m i, 2^m j)` up to level 0's last node; nodes past it are
+/// padding). Counted from level 0's nodes without building the levels, so
+/// that they can be built on first use; a counted level always halves and
+/// has a drawable cell.
 pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
     let (mut cols, mut rows, mut step) = (base.cols, base.rows, 1);
     let mut count = 0;
     while count + 1 < MAX_MIP_LEVELS {
-        if cols < 3 || rows < 3 || (cols - 1) % 2 != 0 || (rows - 1) % 2 != 0 {
+        let (Some(c), Some(r)) = (halved_side(cols), halved_side(rows)) else {
             break;
-        }
-        (cols, rows, step) = ((cols - 1) / 2 + 1, (rows - 1) / 2 + 1, step * 2);
-        // Level 0's index of this level's node (i, j), and its neighbours'
-        // distances along a row and across rows.
+        };
+        (cols, rows, step) = (c, r, step * 2);
+        // This level's nodes that are level 0's, and their distances in
+        // level 0 along a row and across rows.
+        let real_cols = (base.cols - 1) / step + 1;
+        let real_rows = (base.rows - 1) / step + 1;
         let (di, dj) = (step, step * base.cols);
-        let drawable = (0..rows - 1).any(|j| {
-            (0..cols - 1).any(|i| corners_filled(&base.displacements, j * dj + i * di, di, dj))
+        let drawable = (0..real_rows.saturating_sub(1)).any(|j| {
+            (0..real_cols.saturating_sub(1))
+                .any(|i| corners_filled(&base.displacements, j * dj + i * di, di, dj))
         });
         if !drawable {
             break;
@@ -234,6 +243,12 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
         count += 1;
     }
     count
+}
+
+/// Nodes on a side of `n` nodes after halving (an odd number of cells is
+/// padded by one node first), or `None` below three nodes.
+fn halved_side(n: usize) -> Option<usize> {
+    (n >= 3).then_some(n.div_ceil(2) + usize::from(n % 2 == 0))
 }
 
 /// Builds the whole pyramid of `patch` (level 0 first); empty when the
@@ -253,25 +268,25 @@ pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
     levels
 }
 
-/// Level `m + 1` from level `m`, or `None` when a side has an odd number
-/// of cells (or fewer than two).
+/// Level `m + 1` from level `m` (padded first where a side has an odd
+/// number of cells, see [`padded`]), or `None` when a side has fewer than
+/// three nodes.
 pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
-    let (cols, rows) = (level.cols, level.rows);
-    if cols < 3 || rows < 3 || (cols - 1) % 2 != 0 || (rows - 1) % 2 != 0 {
-        return None;
-    }
-    let (hc, hr) = ((cols - 1) / 2 + 1, (rows - 1) / 2 + 1);
+    let (hc, hr) = (halved_side(level.cols)?, halved_side(level.rows)?);
+    let grid = padded(level);
+    let cols = grid.cols;
     let mut displacements = Vec::with_capacity(hc * hr);
     for j in 0..hr {
         for i in 0..hc {
-            displacements.push(level.displacements[2 * j * cols + 2 * i]);
+            displacements.push(grid.displacements[2 * j * cols + 2 * i]);
         }
     }
-    let colours = level.colours.as_ref().map(|src| {
+    fill_corners(level, hc, hr, &mut displacements);
+    let colours = grid.colours.as_ref().map(|src| {
         let mut out = Vec::with_capacity(hc * hr);
         for j in 0..hr {
             for i in 0..hc {
-                out.push(tent_average(level, src, 2 * i, 2 * j));
+                out.push(tent_average(&grid, src, 2 * i, 2 * j));
             }
         }
         out
@@ -285,11 +300,144 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
     ))
 }
 
-/// 1-2-1 tent average of the filled colours around node `(ci, cj)`.
-fn tent_average(level: &MipLevel, colours: &[[u8; 4]], ci: usize, cj: usize) -> [u8; 4] {
-    if level.displacements[cj * level.cols + ci] == EMPTY {
-        return [0; 4];
+/// Fills the empty nodes of the halved grid `d` (`hc × hr`) that are a
+/// corner of a coarse cell holding a drawable cell of `fine`, so that the
+/// coarse level draws wherever the finer one does (a coarse cell needs four
+/// filled corners; without this, a coarse level opens holes along the
+/// patch's empty regions, its outline on the surface). A filled node takes
+/// the mean of the linear extrapolations from its filled neighbours along
+/// the grid's eight directions (the nearer one repeated when the farther
+/// is empty or outside), rounded and clamped to the codes' range. Why: it
+/// stays on the surface's tangent plane, so it draws at most one cell of
+/// the level past the patch's outline, at the depth of the neighbouring
+/// patch that overlaps it there.
+fn fill_corners(fine: &MipLevel, hc: usize, hr: usize, d: &mut [u16]) {
+    let fc = fine.cols - 1;
+    let mut wanted = vec![false; hc * hr];
+    for (k, &f) in fine.cell_flags.iter().enumerate() {
+        if f & CELL_DRAW != 0 {
+            let (i, j) = ((k % fc) / 2, (k / fc) / 2);
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                wanted[(j + dj) * hc + i + di] = true;
+            }
+        }
     }
+    let source = d.to_vec();
+    let at = |i: isize, j: isize| -> Option<i32> {
+        if i < 0 || j < 0 || i >= hc as isize || j >= hr as isize {
+            return None;
+        }
+        let v = source[j as usize * hc + i as usize];
+        (v != EMPTY).then_some(v as i32)
+    };
+    for (k, w) in wanted.iter().enumerate() {
+        if !w || source[k] != EMPTY {
+            continue;
+        }
+        let (i, j) = ((k % hc) as isize, (k / hc) as isize);
+        let (mut sum, mut n) = (0i32, 0i32);
+        for (di, dj) in [
+            (-1, 0),
+            (1, 0),
+            (0, -1),
+            (0, 1),
+            (-1, -1),
+            (1, -1),
+            (-1, 1),
+            (1, 1),
+        ] {
+            if let Some(a) = at(i + di, j + dj) {
+                sum += at(i + 2 * di, j + 2 * dj).map_or(a, |b| 2 * a - b);
+                n += 1;
+            }
+        }
+        if n > 0 {
+            d[k] = ((sum + n / 2).div_euclid(n)).clamp(0, EMPTY as i32 - 1) as u16;
+        }
+    }
+}
+
+/// A level's nodes, as [`halve_level`] reads them.
+struct NodeGrid {
+    cols: usize,
+    rows: usize,
+    displacements: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+}
+
+/// `level`'s nodes with one column (row) appended when its rows (columns)
+/// have an odd number of cells, so that every other node lands on both
+/// ends. A padding node continues its row (column) linearly from the last
+/// two nodes (clamped to the codes' range), or repeats the last node when
+/// the one before it is empty; its colour repeats the last node's. Why
+/// extrapolate rather than keep a shorter last cell: every level keeps one
+/// uniform spacing, which the projection, the cell code and the normals
+/// assume. It costs up to one cell of the level past the patch's outline
+/// (where neighbouring patches overlap it on a closed surface).
+fn padded(level: &MipLevel) -> NodeGrid {
+    let mut grid = NodeGrid {
+        cols: level.cols,
+        rows: level.rows,
+        displacements: level.displacements.clone(),
+        colours: level.colours.clone(),
+    };
+    if grid.cols % 2 == 0 {
+        pad_columns(&mut grid);
+    }
+    if grid.rows % 2 == 0 {
+        pad_rows(&mut grid);
+    }
+    grid
+}
+
+/// Appends one extrapolated node to every row of `grid`.
+fn pad_columns(grid: &mut NodeGrid) {
+    let (cols, rows) = (grid.cols, grid.rows);
+    let mut d = Vec::with_capacity((cols + 1) * rows);
+    let mut colours = grid
+        .colours
+        .as_ref()
+        .map(|_| Vec::with_capacity((cols + 1) * rows));
+    for j in 0..rows {
+        let row = &grid.displacements[j * cols..(j + 1) * cols];
+        d.extend_from_slice(row);
+        d.push(extrapolate(row[cols - 2], row[cols - 1]));
+        if let (Some(out), Some(src)) = (colours.as_mut(), grid.colours.as_ref()) {
+            let row = &src[j * cols..(j + 1) * cols];
+            out.extend_from_slice(row);
+            out.push(row[cols - 1]);
+        }
+    }
+    (grid.cols, grid.displacements, grid.colours) = (cols + 1, d, colours);
+}
+
+/// Appends one extrapolated row to `grid`.
+fn pad_rows(grid: &mut NodeGrid) {
+    let (cols, rows) = (grid.cols, grid.rows);
+    let (before, last) = ((rows - 2) * cols, (rows - 1) * cols);
+    for i in 0..cols {
+        let v = extrapolate(grid.displacements[before + i], grid.displacements[last + i]);
+        grid.displacements.push(v);
+    }
+    if let Some(c) = grid.colours.as_mut() {
+        c.extend_from_within(last..last + cols);
+    }
+    grid.rows = rows + 1;
+}
+
+/// The node after `a, b` on a line through them (clamped to the codes'
+/// range), `b` when `a` is empty, empty when `b` is.
+fn extrapolate(a: u16, b: u16) -> u16 {
+    match (a, b) {
+        (_, EMPTY) => EMPTY,
+        (EMPTY, b) => b,
+        (a, b) => (2 * b as i32 - a as i32).clamp(0, EMPTY as i32 - 1) as u16,
+    }
+}
+
+/// 1-2-1 tent average of the filled colours around node `(ci, cj)` (an
+/// empty node takes its filled neighbours', for [`fill_corners`]).
+fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> [u8; 4] {
     let mut sum = [0u32; 4];
     let mut weight = 0u32;
     for dj in -1i32..=1 {
@@ -308,6 +456,9 @@ fn tent_average(level: &MipLevel, colours: &[[u8; 4]], ci: usize, cj: usize) -> 
             }
             weight += w;
         }
+    }
+    if weight == 0 {
+        return [0; 4];
     }
     sum.map(|s| ((s + weight / 2) / weight) as u8)
 }
@@ -332,16 +483,46 @@ mod tests {
         assert_eq!(last.d_range, (0, 32));
     }
 
-    #[test]
-    fn coarse_levels_are_counted_as_halving_finds_them() {
-        // Grids of 2–33 nodes a side (odd and even cell counts), with holes
-        // from none to most nodes: the count from level 0's nodes equals
-        // the halvings that exist and still have a drawable cell.
-        let mut rng = crate::test_rng::XorShift(0x001e_7e15);
+    /// A patch of `cols × rows` nodes with displacements from `d(i, j)`.
+    fn patch_of(cols: u32, rows: u32, d: impl Fn(u32, u32) -> u16) -> Patch {
         let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+        let d: Vec<u16> = (0..cols * rows).map(|k| d(k % cols, k / cols)).collect();
+        Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap()
+    }
+
+    #[test]
+    fn odd_sides_halve_through_a_padding_node_that_stays_on_a_plane() {
+        // 16 × 15 nodes: 15 and 14 cells, so the columns are padded at
+        // levels 0 and 1 and the rows at level 1. On a plane the padding
+        // nodes continue the plane exactly, and nodes shared with level 0
+        // keep its values.
+        let plane = |i: u32, j: u32| (100 + 3 * i + 5 * j) as u16;
+        let levels = build_mip_pyramid(&patch_of(16, 15, plane));
+        let sides: Vec<[usize; 2]> = levels.iter().map(|l| [l.cols, l.rows]).collect();
+        // Level 4 (2 × 2) would have no cell whose corners are level 0's.
+        assert_eq!(sides, vec![[16, 15], [9, 8], [5, 5], [3, 3]]);
+        for level in &levels {
+            let s = level.spacing;
+            for j in 0..level.rows {
+                for i in 0..level.cols {
+                    let got = level.displacements[j * level.cols + i];
+                    assert_eq!(got, plane(i as u32 * s, j as u32 * s), "{i}, {j} at {s}");
+                }
+            }
+            assert_eq!(level.drawable_cells as usize, level.cell_flags.len());
+        }
+    }
+
+    #[test]
+    fn coarse_levels_draw_every_cell_their_finer_level_draws() {
+        // Grids of 2–33 nodes a side with holes from none to most nodes:
+        // each counted level halves, has a drawable cell, and holds every
+        // drawable cell of the level below in one of its drawable cells
+        // (so drawing it opens no hole); without holes the count is every
+        // halving the sides allow that keeps a cell of level-0 corners.
+        let mut rng = crate::test_rng::XorShift(0x001e_7e15);
         let mut deep = 0;
         for case in 0..600 {
-            // Half the sides halve cleanly (2^k + 1 nodes), half are any size.
             let side = |r: &mut crate::test_rng::XorShift| match r.below(2) {
                 0 => [3, 5, 9, 17, 33][r.below(5) as usize],
                 _ => 2 + r.below(32),
@@ -357,25 +538,47 @@ mod tests {
                     }
                 })
                 .collect();
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
             let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
             let Some(base) = base_level(&patch) else {
                 continue;
             };
-            let mut expected = 0;
+            let count = coarse_level_count(&base);
             let mut level = base.clone();
-            while expected + 1 < MAX_MIP_LEVELS {
-                match halve_level(&level) {
-                    Some(next) if next.drawable_cells > 0 => level = next,
-                    _ => break,
+            for m in 0..count {
+                let next = halve_level(&level).expect("a counted level halves");
+                assert!(next.drawable_cells > 0, "{cols} x {rows}, level {}", m + 1);
+                let fc = level.cols - 1;
+                for (k, &f) in level.cell_flags.iter().enumerate() {
+                    if f & CELL_DRAW != 0 {
+                        let (i, j) = (k % fc, k / fc);
+                        assert!(
+                            next.cell_is_drawable(i / 2, j / 2),
+                            "{cols} x {rows}, {holes} %: cell {i}, {j} of level {m}"
+                        );
+                    }
                 }
-                expected += 1;
+                level = next;
             }
-            assert_eq!(
-                coarse_level_count(&base),
-                expected,
-                "{cols} x {rows}, {holes} %"
-            );
-            deep += (expected >= 2) as usize;
+            if holes == 0 {
+                let (mut c, mut r, mut expected) = (cols as usize, rows as usize, 0);
+                // A level needs a cell whose corners are level 0's nodes.
+                let reach = |n: usize, m: usize| (n - 1) >> m >= 1;
+                while expected + 1 < MAX_MIP_LEVELS
+                    && c >= 3
+                    && r >= 3
+                    && reach(cols as usize, expected + 1)
+                    && reach(rows as usize, expected + 1)
+                {
+                    (c, r, expected) = (
+                        halved_side(c).unwrap(),
+                        halved_side(r).unwrap(),
+                        expected + 1,
+                    );
+                }
+                assert_eq!(count, expected, "{cols} x {rows}");
+            }
+            deep += (count >= 2) as usize;
         }
         assert!(deep > 20, "{deep} grids with two coarse levels or more");
     }
