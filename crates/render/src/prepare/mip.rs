@@ -248,7 +248,7 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
 /// Nodes on a side of `n` nodes after halving (an odd number of cells is
 /// padded by one node first), or `None` below three nodes.
 fn halved_side(n: usize) -> Option<usize> {
-    (n >= 3).then_some(n.div_ceil(2) + usize::from(n % 2 == 0))
+    (n >= 3).then_some(n.div_ceil(2) + usize::from(n.is_multiple_of(2)))
 }
 
 /// Builds the whole pyramid of `patch` (level 0 first); empty when the
@@ -381,10 +381,10 @@ fn padded(level: &MipLevel) -> NodeGrid {
         displacements: level.displacements.clone(),
         colours: level.colours.clone(),
     };
-    if grid.cols % 2 == 0 {
+    if grid.cols.is_multiple_of(2) {
         pad_columns(&mut grid);
     }
-    if grid.rows % 2 == 0 {
+    if grid.rows.is_multiple_of(2) {
         pad_rows(&mut grid);
     }
     grid
