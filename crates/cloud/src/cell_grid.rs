@@ -207,12 +207,16 @@ impl CellGrid {
         c[0] | (c[1] << AXIS_BITS) | (c[2] << (2 * AXIS_BITS))
     }
 
+    /// The home slot of `key`: the SplitMix64 finalizer, whose every output bit depends on
+    /// every input bit (a plain multiplicative hash clustered the regular keys of a flat
+    /// sheet: 7.7 probes per hit instead of 1.46, test `hash_probes_stay_short_on_a_flat_sheet`).
     #[inline]
     fn hash(&self, key: u64) -> usize {
-        // Fibonacci hashing: the top bits of the product, spread over the table.
-        let bits = self.slots.len().trailing_zeros();
-        (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - bits.max(1))) as usize
-            & (self.slots.len() - 1)
+        let mut x = key;
+        x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        x ^= x >> 31;
+        x as usize & (self.slots.len() - 1)
     }
 
     /// The items of grid cell `c` (empty outside the grid or when none is there).
@@ -371,6 +375,33 @@ mod tests {
         let nan = grid.cells_within(Vec3::NAN, 0.0);
         assert_eq!(nan, whole);
         assert_eq!(CellRange::EMPTY.count(), 0.0);
+    }
+
+    #[test]
+    fn hash_probes_stay_short_on_a_flat_sheet() {
+        // A million cells of a plane: regular keys must not cluster in the table.
+        let n = 1000;
+        let b: Vec<(Vec3, Vec3)> = (0..n * n)
+            .map(|k| {
+                let lo = Vec3::new((k % n) as f32, (k / n) as f32, 0.0) * 1e-3;
+                (lo, lo + Vec3::new(1e-3, 1e-3, 0.0))
+            })
+            .collect();
+        let grid = CellGrid::build(&b).unwrap();
+        let mask = grid.slots.len() - 1;
+        let (mut probes, mut keys) = (0usize, 0usize);
+        for slot in grid.slots.iter().filter(|s| s.key != EMPTY_KEY) {
+            let mut at = grid.hash(slot.key);
+            probes += 1;
+            while grid.slots[at].key != slot.key {
+                at = (at + 1) & mask;
+                probes += 1;
+            }
+            keys += 1;
+        }
+        let mean = probes as f64 / keys as f64;
+        eprintln!("{keys} grid cells, {} slots, {mean} probes per hit", grid.slots.len());
+        assert!(mean < 2.0, "{mean} probes per hit");
     }
 
     #[test]
