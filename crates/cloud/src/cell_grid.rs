@@ -17,9 +17,11 @@
 //! [`MAX_EXTRAS`] are left). Coordinates are reduced to grid cells in f64 with a margin, so
 //! rounding never drops a box that qualifies.
 //!
-//! Storage: the item indices grouped by grid cell (4 bytes an item) and an open-addressing
-//! hash table (linear probing) from a cell's packed coordinates to its group, 16 bytes a
-//! slot, at most half full.
+//! Storage: the item indices grouped by grid cell (4 bytes an item); the grid cells in
+//! blocks of 4³, each non-empty block a run of 65 item offsets (260 bytes); an
+//! open-addressing hash table (linear probing) from a block's packed coordinates to its
+//! run, 16 bytes a slot, at most half full. Blocks keep the cells a query reads in one or
+//! two cache lines: hashing every cell alone cost a cache miss per cell read.
 //!
 //! Cost: build O(n log n) (a parallel sort of the items by grid cell); a query visits the
 //! `(1 + 2(r + reach)/side)³` cells around it at most, each one hash probe.
@@ -47,15 +49,23 @@ const AXIS_BITS: u32 = 21;
 /// Margin in grid cells added to both ends of a query's cell range against rounding.
 const ROUNDING_MARGIN: f64 = 1e-6;
 
+/// Bits of each axis of a cell's position within its block: blocks of 4³ grid cells are
+/// hashed, so the cells a query reads around it usually share one block and a cache line
+/// or two of `starts` (one hash slot per cell cost a cache miss for every cell read).
+const BLOCK_BITS: u32 = 2;
+
+/// Grid cells per block.
+const BLOCK_CELLS: usize = 1 << (3 * BLOCK_BITS);
+
 /// Marks an unused hash slot (no packed coordinate reaches it: each axis is below 2²¹).
 const EMPTY_KEY: u64 = u64::MAX;
 
-/// One hash slot: a grid cell's packed coordinates and its items, `members[start..end]`.
+/// One hash slot: a block's packed coordinates and where its [`BLOCK_CELLS`] + 1 run starts
+/// begin in `starts`.
 #[derive(Clone, Copy, Debug)]
 struct Slot {
     key: u64,
-    start: u32,
-    end: u32,
+    base: u32,
 }
 
 /// The grid (see the module docs).
@@ -69,9 +79,13 @@ pub(crate) struct CellGrid {
     dims: [i64; 3],
     /// Largest half-extent of a gridded box, per axis.
     reach: DVec3,
-    /// Item indices grouped by grid cell.
+    /// Item indices grouped by grid cell, the cells of a block together.
     members: Vec<u32>,
-    /// Open-addressing table of the non-empty grid cells.
+    /// Per non-empty block, where each of its cells' items start in `members` (and where
+    /// the block's end): cell `l` of the block at `base` holds `starts[base + l]..starts[base
+    /// + l + 1]`.
+    starts: Vec<u32>,
+    /// Open-addressing table of the non-empty blocks.
     slots: Vec<Slot>,
     /// Items kept out of the grid, visited by every query.
     extras: Vec<u32>,
@@ -127,6 +141,7 @@ impl CellGrid {
             dims,
             reach,
             members: Vec::new(),
+            starts: Vec::new(),
             slots: Vec::new(),
             extras,
         };
@@ -163,32 +178,43 @@ impl CellGrid {
         }
     }
 
-    /// Groups the sorted `(key, item)` pairs and builds the hash table of their cells.
+    /// Groups the sorted `(key, item)` pairs by block and cell and builds the hash table of
+    /// the blocks.
     fn fill(&mut self, keyed: &[(u64, u32)]) {
         self.members = keyed.par_iter().map(|&(_, k)| k).collect();
-        let groups = keyed.windows(2).filter(|w| w[0].0 != w[1].0).count() + 1;
-        let size = (2 * groups).next_power_of_two();
+        let block_of = |key: u64| key >> (3 * BLOCK_BITS);
+        let blocks = keyed
+            .windows(2)
+            .filter(|w| block_of(w[0].0) != block_of(w[1].0))
+            .count()
+            + 1;
+        let size = (2 * blocks).next_power_of_two();
         self.slots = vec![
             Slot {
                 key: EMPTY_KEY,
-                start: 0,
-                end: 0,
+                base: 0,
             };
             size
         ];
+        self.starts = Vec::with_capacity(blocks * (BLOCK_CELLS + 1));
         let mut start = 0;
         while start < keyed.len() {
-            let key = keyed[start].0;
-            let end = start + keyed[start..].partition_point(|&(k, _)| k == key);
-            let mut at = self.hash(key);
+            let block = block_of(keyed[start].0);
+            let run = &keyed[start..];
+            let end = start + run.partition_point(|&(k, _)| block_of(k) == block);
+            let mut at = self.hash(block);
             while self.slots[at].key != EMPTY_KEY {
                 at = (at + 1) & (size - 1);
             }
             self.slots[at] = Slot {
-                key,
-                start: start as u32,
-                end: end as u32,
+                key: block,
+                base: self.starts.len() as u32,
             };
+            let local = |k: u64| (k & (BLOCK_CELLS as u64 - 1)) as usize;
+            for l in 0..=BLOCK_CELLS {
+                let first = keyed[start..end].partition_point(|&(k, _)| local(k) < l);
+                self.starts.push((start + first) as u32);
+            }
             start = end;
         }
     }
@@ -200,11 +226,18 @@ impl CellGrid {
         [t.x as i64, t.y as i64, t.z as i64]
     }
 
-    /// Packed coordinates of an in-range cell.
+    /// Packed coordinates of an in-range cell: its block's coordinates, then its position
+    /// in the block (so a sort by key groups each block's cells).
     #[inline]
     fn key_of(&self, c: [i64; 3]) -> u64 {
         let c = [0, 1, 2].map(|a| c[a].clamp(0, self.dims[a] - 1) as u64);
-        c[0] | (c[1] << AXIS_BITS) | (c[2] << (2 * AXIS_BITS))
+        let low = (1u64 << BLOCK_BITS) - 1;
+        let block_bits = AXIS_BITS - BLOCK_BITS;
+        let block = (c[0] >> BLOCK_BITS)
+            | ((c[1] >> BLOCK_BITS) << block_bits)
+            | ((c[2] >> BLOCK_BITS) << (2 * block_bits));
+        let local = (c[0] & low) | ((c[1] & low) << BLOCK_BITS) | ((c[2] & low) << (2 * BLOCK_BITS));
+        (block << (3 * BLOCK_BITS)) | local
     }
 
     /// The home slot of `key`: the SplitMix64 finalizer, whose every output bit depends on
@@ -226,12 +259,17 @@ impl CellGrid {
             return &[];
         }
         let key = self.key_of(c);
+        let (block, local) = (
+            key >> (3 * BLOCK_BITS),
+            (key & (BLOCK_CELLS as u64 - 1)) as usize,
+        );
         let mask = self.slots.len() - 1;
-        let mut at = self.hash(key);
+        let mut at = self.hash(block);
         loop {
             let slot = self.slots[at];
-            if slot.key == key {
-                return &self.members[slot.start as usize..slot.end as usize];
+            if slot.key == block {
+                let at = slot.base as usize + local;
+                return &self.members[self.starts[at] as usize..self.starts[at + 1] as usize];
             }
             if slot.key == EMPTY_KEY {
                 return &[];
@@ -389,6 +427,7 @@ mod tests {
             .collect();
         let grid = CellGrid::build(&b).unwrap();
         let mask = grid.slots.len() - 1;
+        assert_eq!(grid.starts.len() % (BLOCK_CELLS + 1), 0);
         let (mut probes, mut keys) = (0usize, 0usize);
         for slot in grid.slots.iter().filter(|s| s.key != EMPTY_KEY) {
             let mut at = grid.hash(slot.key);
@@ -400,7 +439,7 @@ mod tests {
             keys += 1;
         }
         let mean = probes as f64 / keys as f64;
-        eprintln!("{keys} grid cells, {} slots, {mean} probes per hit", grid.slots.len());
+        eprintln!("{keys} grid blocks, {} slots, {mean} probes per hit", grid.slots.len());
         assert!(mean < 2.0, "{mean} probes per hit");
     }
 
