@@ -115,8 +115,7 @@ impl CellGrid {
             return None;
         }
         let (extras, limit) = Self::split_extras(boxes, median);
-        let in_grid =
-            |k: usize| !(centre_and_half(boxes[k].0, boxes[k].1).1.max_element() > limit);
+        let in_grid = |k: usize| !(centre_and_half(boxes[k].0, boxes[k].1).1.max_element() > limit);
         let (lo, hi, reach) = (0..boxes.len())
             .into_par_iter()
             .filter(|&k| in_grid(k))
@@ -236,7 +235,8 @@ impl CellGrid {
         let block = (c[0] >> BLOCK_BITS)
             | ((c[1] >> BLOCK_BITS) << block_bits)
             | ((c[2] >> BLOCK_BITS) << (2 * block_bits));
-        let local = (c[0] & low) | ((c[1] & low) << BLOCK_BITS) | ((c[2] & low) << (2 * BLOCK_BITS));
+        let local =
+            (c[0] & low) | ((c[1] & low) << BLOCK_BITS) | ((c[2] & low) << (2 * BLOCK_BITS));
         (block << (3 * BLOCK_BITS)) | local
     }
 
@@ -408,7 +408,10 @@ mod tests {
     fn ranges_are_clipped_to_the_grid() {
         let grid = CellGrid::build(&boxes(2000, 5)).unwrap();
         let whole = grid.cells_within(Vec3::splat(0.5), 10.0);
-        assert_eq!(whole.count(), grid.dims.iter().map(|&d| d as f64).product::<f64>());
+        assert_eq!(
+            whole.count(),
+            grid.dims.iter().map(|&d| d as f64).product::<f64>()
+        );
         assert_eq!(grid.cells_within(Vec3::splat(50.0), 1.0).count(), 0.0);
         let nan = grid.cells_within(Vec3::NAN, 0.0);
         assert_eq!(nan, whole);
@@ -439,7 +442,10 @@ mod tests {
             keys += 1;
         }
         let mean = probes as f64 / keys as f64;
-        eprintln!("{keys} grid blocks, {} slots, {mean} probes per hit", grid.slots.len());
+        eprintln!(
+            "{keys} grid blocks, {} slots, {mean} probes per hit",
+            grid.slots.len()
+        );
         assert!(mean < 2.0, "{mean} probes per hit");
     }
 

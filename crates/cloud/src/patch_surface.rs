@@ -353,7 +353,9 @@ impl PatchSurface {
                 let r = f64::from(best.distance) * (1.0 + f64::from(PRUNE_SLACK));
                 let rest = grid.cells_within(p, r);
                 if rest.count() <= MAX_GRID_CELLS {
-                    grid.visit(&rest, &first, |items| self.consider_all(p, items, &mut best));
+                    grid.visit(&rest, &first, |items| {
+                        self.consider_all(p, items, &mut best)
+                    });
                     return (best.distance, best.owner, best.cell);
                 }
             }
@@ -636,7 +638,10 @@ mod tests {
         for k in 0..n {
             let size = 10f32.powf(-3.0 + 2.0 * r()) * if k % 50 == 0 { 40.0 } else { 1.0 };
             let o = Vec3::new(r(), r(), r());
-            let (u, v) = (Vec3::new(r(), r(), r()) - 0.5, Vec3::new(r(), r(), r()) - 0.5);
+            let (u, v) = (
+                Vec3::new(r(), r(), r()) - 0.5,
+                Vec3::new(r(), r(), r()) - 0.5,
+            );
             let twist = (Vec3::new(r(), r(), r()) - 0.5) * 0.3;
             let (u, v) = (u * size, v * size);
             quads.push([o, o + u, o + v, o + u + v + twist * size]);
