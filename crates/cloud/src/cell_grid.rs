@@ -115,7 +115,11 @@ impl CellGrid {
             return None;
         }
         let (extras, limit) = Self::split_extras(boxes, median);
-        let in_grid = |k: usize| !(centre_and_half(boxes[k].0, boxes[k].1).1.max_element() > limit);
+        // Exactly the boxes `split_extras` did not set aside (a NaN extent among them).
+        let in_grid = |k: usize| {
+            let half = centre_and_half(boxes[k].0, boxes[k].1).1.max_element();
+            half.partial_cmp(&limit) != Some(std::cmp::Ordering::Greater)
+        };
         let (lo, hi, reach) = (0..boxes.len())
             .into_par_iter()
             .filter(|&k| in_grid(k))
