@@ -26,6 +26,12 @@
 //! A point far from every patch (a source that does not overlap the scene) costs a few more
 //! boxes, not a scan of empty space.
 //!
+//! In front of the tree, a flat grid of the cells by centre (`cell_grid.rs`) answers most
+//! queries: the grid cells within reach of the point, then those within the best distance
+//! found; the tree is descended only when that neighbourhood would pass
+//! `MAX_GRID_CELLS` grid cells (points far from the surface). The result is the same
+//! either way.
+//!
 //! [`PatchSurface::nearest_all`] queries in Morton order of the query points (so consecutive
 //! queries walk the same nodes and quads, which stay in cache), each search starting from
 //! the distance to the previous query's nearest cell (so boxes farther than that are pruned
