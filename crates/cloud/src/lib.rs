@@ -49,6 +49,7 @@
 #![forbid(unsafe_code)]
 
 mod bucket_sort;
+mod cell_grid;
 mod consensus;
 mod directions;
 mod error;

@@ -26,6 +26,12 @@
 //! A point far from every patch (a source that does not overlap the scene) costs a few more
 //! boxes, not a scan of empty space.
 //!
+//! In front of the tree, a flat grid of the cells by centre (`cell_grid.rs`) answers most
+//! queries: the grid cells within reach of the point, then those within the best distance
+//! found; the tree is descended only when that neighbourhood would pass
+//! `MAX_GRID_CELLS` grid cells (points far from the surface). The result is the same
+//! either way.
+//!
 //! [`PatchSurface::nearest_all`] queries in Morton order of the query points (so consecutive
 //! queries walk the same nodes and quads, which stay in cache), each search starting from
 //! the distance to the previous query's nearest cell (so boxes farther than that are pruned
@@ -48,6 +54,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use spatch_format::Scene;
 
+use crate::cell_grid::{CellGrid, CellRange};
 use crate::quad_distance::{distance_to_quad, Quad};
 
 /// Quads per leaf of the tree.
@@ -68,6 +75,9 @@ const SEQUENTIAL_SPLIT: usize = 1 << 14;
 
 /// Queries per parallel work item.
 const QUERY_CHUNK: usize = 2048;
+
+/// Most grid cells a query reads around its own before it searches the tree instead.
+const MAX_GRID_CELLS: f64 = 64.0;
 
 /// Traversal stack: each level leaves at most one sibling pending, and the tree has at most
 /// 31 levels (leaves of four quads with `u32` quad indices), so 64 entries never overflow.
@@ -143,6 +153,9 @@ pub struct PatchSurface {
     leaves: usize,
     /// Bounds of all cells (the frame of the Morton codes).
     bounds: Node,
+    /// The cells (indices into `cells`) in a flat grid by their centres, the first place a
+    /// query looks; `None` when the cells have no extent.
+    grid: Option<CellGrid>,
 }
 
 impl PatchSurface {
@@ -237,6 +250,7 @@ impl PatchSurface {
             nodes: Vec::new(),
             leaves: 0,
             bounds: Node::EMPTY,
+            grid: None,
         };
         surface.bounds = cells
             .par_iter()
@@ -276,6 +290,15 @@ impl PatchSurface {
             width /= 2;
         }
         surface.nodes = nodes;
+        let boxes: Vec<(Vec3, Vec3)> = surface
+            .cells
+            .par_iter()
+            .map(|&c| {
+                let b = Node::of_quad(&surface.quad(c));
+                (b.lo, b.hi)
+            })
+            .collect();
+        surface.grid = CellGrid::build(&boxes);
         Some(surface)
     }
 
@@ -306,19 +329,77 @@ impl PatchSurface {
     }
 
     /// [`PatchSurface::nearest`], and the nearest cell. The search starts from the distance
-    /// to `hint` (the previous query's cell, usually as near as the best): every box farther
-    /// than that is pruned from the start. The result is the same with any hint.
+    /// to `hint` (the previous query's cell, usually as near as the best) and the cells of
+    /// the query's own grid cell, then reads the grid cells around it that can hold a nearer
+    /// cell; when that neighbourhood is too wide (a point far from the surface) it descends
+    /// the tree instead, pruning every box farther than the best so far. The result is the
+    /// same with any hint and either way.
     fn search(&self, p: Vec3, hint: Option<Cell>) -> (f32, u32, Cell) {
-        let (mut best, mut owner, mut best_cell) = match hint {
-            Some(c) => (
-                distance_to_quad(p, &self.quad(c)),
-                self.blocks[c.block as usize].owner,
-                c,
-            ),
-            None => (f32::INFINITY, NO_PATCH, self.cells[0]),
+        let mut best = match hint {
+            Some(c) => Best {
+                distance: distance_to_quad(p, &self.quad(c)),
+                owner: self.blocks[c.block as usize].owner,
+                cell: c,
+            },
+            None => Best {
+                distance: f32::INFINITY,
+                owner: NO_PATCH,
+                cell: self.cells[0],
+            },
         };
-        let near_enough =
-            |d2: f32, best: f32| d2 < f32::INFINITY && d2 <= best * best * (1.0 + PRUNE_SLACK);
+        if let Some(grid) = &self.grid {
+            // First the cells that can hold a cell containing `p` (its own one, for a point on
+            // the surface), then those that can hold one nearer than the best found.
+            let first = grid.cells_within(p, 0.0);
+            if first.count() <= MAX_GRID_CELLS {
+                self.consider_all(p, grid.extras(), &mut best);
+                grid.visit(&first, &CellRange::EMPTY, |items| {
+                    self.consider_all(p, items, &mut best)
+                });
+                let r = f64::from(best.distance) * (1.0 + f64::from(PRUNE_SLACK));
+                let rest = grid.cells_within(p, r);
+                if rest.count() <= MAX_GRID_CELLS {
+                    grid.visit(&rest, &first, |items| {
+                        self.consider_all(p, items, &mut best)
+                    });
+                    return (best.distance, best.owner, best.cell);
+                }
+            }
+        }
+        self.descend(p, &mut best);
+        (best.distance, best.owner, best.cell)
+    }
+
+    /// [`PatchSurface::consider`] for the cells `items` (indices into `cells`).
+    #[inline]
+    fn consider_all(&self, p: Vec3, items: &[u32], best: &mut Best) {
+        for &k in items {
+            self.consider(p, self.cells[k as usize], best);
+        }
+    }
+
+    /// Takes `cell` as `best` when it is nearer to `p` (or as near, of a lower patch); its
+    /// box is tested first.
+    #[inline]
+    fn consider(&self, p: Vec3, cell: Cell, best: &mut Best) {
+        let quad = self.quad(cell);
+        if !near_enough(Node::of_quad(&quad).distance_squared(p), best.distance) {
+            return;
+        }
+        let d = distance_to_quad(p, &quad);
+        let o = self.blocks[cell.block as usize].owner;
+        if d < best.distance || (d == best.distance && o < best.owner) {
+            *best = Best {
+                distance: d,
+                owner: o,
+                cell,
+            };
+        }
+    }
+
+    /// Improves `best` by a descent of the tree, nearer child first, pruning every box
+    /// farther than the best so far.
+    fn descend(&self, p: Vec3, best: &mut Best) {
         let mut stack = [(0u32, 0.0f32); STACK];
         stack[0] = (0, self.nodes[0].distance_squared(p));
         let mut top = 1;
@@ -326,7 +407,7 @@ impl PatchSurface {
         while top > 0 {
             top -= 1;
             let (k, d2) = stack[top];
-            if !near_enough(d2, best) {
+            if !near_enough(d2, best.distance) {
                 continue;
             }
             let k = k as usize;
@@ -334,15 +415,7 @@ impl PatchSurface {
                 let (n, l) = (self.cells.len(), k - first_leaf);
                 let range = leaf_start(l, n, self.leaves)..leaf_start(l + 1, n, self.leaves);
                 for &cell in &self.cells[range] {
-                    let quad = self.quad(cell);
-                    if !near_enough(Node::of_quad(&quad).distance_squared(p), best) {
-                        continue;
-                    }
-                    let d = distance_to_quad(p, &quad);
-                    let o = self.blocks[cell.block as usize].owner;
-                    if d < best || (d == best && o < owner) {
-                        (best, owner, best_cell) = (d, o, cell);
-                    }
+                    self.consider(p, cell, best);
                 }
                 continue;
             }
@@ -358,13 +431,12 @@ impl PatchSurface {
             };
             // The nearer child is popped first.
             for (node, d2) in [far, near] {
-                if near_enough(d2, best) {
+                if near_enough(d2, best.distance) {
                     stack[top] = (node as u32, d2);
                     top += 1;
                 }
             }
         }
-        (best, owner, best_cell)
     }
 
     /// [`PatchSurface::nearest`] for every point, in parallel, in the order given (see the
@@ -395,6 +467,21 @@ impl PatchSurface {
         }
         (distances, owners)
     }
+}
+
+/// The nearest cell found so far, its distance and patch.
+#[derive(Clone, Copy, Debug)]
+struct Best {
+    distance: f32,
+    owner: u32,
+    cell: Cell,
+}
+
+/// Whether a box at squared distance `d2` may hold a cell as near as `best` (with the
+/// relative slack [`PRUNE_SLACK`] for rounding).
+#[inline]
+fn near_enough(d2: f32, best: f32) -> bool {
+    d2 < f32::INFINITY && d2 <= best * best * (1.0 + PRUNE_SLACK)
 }
 
 /// The first cell of leaf `l` of `leaves` over `n` cells (the last leaf ends at `n`): the
@@ -545,6 +632,58 @@ mod tests {
             let expected = linear_scan(p, &quads, &owners);
             assert_eq!(surface.nearest(p), expected, "{p}");
             assert_eq!((all_d[k], all_o[k]), expected, "{p}");
+        }
+    }
+
+    /// Random twisted quads of sizes spread over three decades, a few of them long slivers
+    /// (the grid's extras), in a unit cube.
+    fn quad_soup(n: usize, seed: u64) -> (Vec<Quad>, Vec<u32>) {
+        let mut rng = SplitMix64::new(seed);
+        let mut r = move || rng.next_f64() as f32;
+        let (mut quads, mut owners) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            let size = 10f32.powf(-3.0 + 2.0 * r()) * if k % 50 == 0 { 40.0 } else { 1.0 };
+            let o = Vec3::new(r(), r(), r());
+            let (u, v) = (
+                Vec3::new(r(), r(), r()) - 0.5,
+                Vec3::new(r(), r(), r()) - 0.5,
+            );
+            let twist = (Vec3::new(r(), r(), r()) - 0.5) * 0.3;
+            let (u, v) = (u * size, v * size);
+            quads.push([o, o + u, o + v, o + u + v + twist * size]);
+            owners.push((k % 17) as u32);
+        }
+        (quads, owners)
+    }
+
+    #[test]
+    fn random_quad_soups_match_a_linear_scan() {
+        for seed in 0..4 {
+            let (quads, owners) = quad_soup(3000, seed);
+            let surface = PatchSurface::from_quads(&quads, &owners).unwrap();
+            assert!(surface.grid.is_some());
+            let mut rng = SplitMix64::new(100 + seed);
+            let mut r = move || rng.next_f64() as f32;
+            let points: Vec<Vec3> = (0..4000)
+                .map(|k| match k % 3 {
+                    // On a quad, near one, anywhere in the cube and around it.
+                    0 => {
+                        let q = &quads[(r() * quads.len() as f32) as usize % quads.len()];
+                        crate::quad_distance::bilinear(q, r(), r())
+                    }
+                    1 => {
+                        let q = &quads[(r() * quads.len() as f32) as usize % quads.len()];
+                        q[0] + (Vec3::new(r(), r(), r()) - 0.5) * 0.01
+                    }
+                    _ => Vec3::new(r(), r(), r()) * 3.0 - 1.0,
+                })
+                .collect();
+            let (all_d, all_o) = surface.nearest_all(&points);
+            for (k, &p) in points.iter().enumerate() {
+                let expected = linear_scan(p, &quads, &owners);
+                assert_eq!(surface.nearest(p), expected, "seed {seed}: {p}");
+                assert_eq!((all_d[k], all_o[k]), expected, "seed {seed}: {p}");
+            }
         }
     }
 

@@ -150,18 +150,34 @@ fn scene_to_mesh(scene: &Scene, mesh: &TriangleMesh) -> Vec3 {
 
 /// Distance from every filled node of `scene` to the nearest point of `mesh` (whose BVH is
 /// `bvh`), in patch order then node order.
+///
+/// Neighbouring nodes have neighbouring nearest points, so each search is bounded by the
+/// distance to the previous node's nearest point (a point of the surface, so the nearest
+/// is never farther): boxes beyond it are pruned from the root down. The distances are
+/// those of an unbounded search.
 pub fn node_to_surface_distances(scene: &Scene, mesh: &TriangleMesh, bvh: &Bvh) -> Vec<f32> {
     let shift = scene_to_mesh(scene, mesh);
     scene
         .patches()
         .par_iter()
         .flat_map_iter(|patch| {
+            let mut previous: Option<Vec3> = None;
             patch.filled_nodes().map(move |(_, _, q)| {
-                bvh.closest_point(q + shift, f32::INFINITY)
-                    .map_or(f32::INFINITY, |c| c.distance)
+                let q = q + shift;
+                let found = previous
+                    .and_then(|c| bvh.closest_point(q, bound_through(q, c)))
+                    .or_else(|| bvh.closest_point(q, f32::INFINITY));
+                previous = found.map(|c| c.point);
+                found.map_or(f32::INFINITY, |c| c.distance)
             })
         })
         .collect()
+}
+
+/// A search radius from `q` that surely holds the surface point `c`: their distance with a
+/// relative margin for rounding (the search falls back to no radius if it finds nothing).
+fn bound_through(q: Vec3, c: Vec3) -> f32 {
+    q.distance(c) * (1.0 + 1e-4) + f32::MIN_POSITIVE
 }
 
 /// [`ErrorStats`] of every filled node of `scene` to the nearest point of `mesh`.

@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 use spatch_convert::{convert, ConvertInput, ConvertOptions};
+use spatch_eval::geometric::node_to_surface_distances;
 use spatch_eval::{geometric_error, node_to_surface, surface_to_patch};
 use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene};
 use spatch_mesh::{sample_surface, Bvh, TriangleMesh};
@@ -75,6 +76,37 @@ fn offsets_are_applied_in_f64() {
         e.node_to_surface.max < 1e-6 && e.surface_to_patch.max < 1e-5,
         "{e:?}"
     );
+}
+
+#[test]
+fn bounded_node_searches_give_the_unbounded_distances() {
+    // A converted sphere moved off its source, so every node has a real distance.
+    let shape = spatch_fixtures::shapes::icosphere(1.0, 3);
+    let mesh = TriangleMesh::new(
+        shape.positions.iter().map(|&p| Vec3::from(p)).collect(),
+        shape.triangles.clone(),
+    )
+    .unwrap();
+    let c = convert(ConvertInput::Mesh(mesh.clone()), &ConvertOptions::default()).unwrap();
+    let mut source = mesh;
+    source.origin += glam::DVec3::new(0.03, -0.02, 0.05);
+    let bvh = Bvh::new(&source);
+    let got = node_to_surface_distances(&c.scene, &source, &bvh);
+    let shift = (c.scene.offset() - source.origin).as_vec3();
+    let expected: Vec<f32> = c
+        .scene
+        .patches()
+        .iter()
+        .flat_map(|p| {
+            p.filled_nodes()
+                .map(|(_, _, q)| q + shift)
+                .collect::<Vec<_>>()
+        })
+        .map(|q| bvh.closest_point(q, f32::INFINITY).unwrap().distance)
+        .collect();
+    assert_eq!(got.len(), expected.len());
+    assert!(got.iter().any(|&d| d > 0.01));
+    assert_eq!(got, expected);
 }
 
 #[test]
