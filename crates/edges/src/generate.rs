@@ -3,7 +3,8 @@
 //! 1. sharp edges and their chains (`sharp_edges`);
 //! 2. with [`EdgeOptions::only_gaps`], the creases the surface patches already cover
 //!    (`coverage`);
-//! 3. the chains cut into pieces around those, one lattice per piece (`edge_patch`);
+//! 3. the chains joined through corners where they run on straight (`chain_runs`) and cut
+//!    into pieces around the covered creases, one lattice per piece (`edge_patch`);
 //! 4. every piece's lattice cast against the source and quantized into a patch
 //!    (`lattice_cast`);
 //! 5. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
@@ -13,17 +14,18 @@
 //! Casting runs in parallel and is collected in order (pieces by chain, then corners by
 //! vertex id), so the output never depends on the thread count.
 //!
-//! Cost: O(E) for detection, O(creases × probes) for coverage, O(F log F) for the BVH and
-//! O(edge nodes × log F) for the casts; memory O(F) for the BVH.
+//! Cost: O(E) for detection, O(creases × probes) for coverage, O(faces near each strip +
+//! its nodes) for the casts; memory O(creases + the largest lattice).
 
 use rayon::prelude::*;
 use serde::Serialize;
 use spatch_format::Patch;
-use spatch_mesh::{Bvh, FaceAdjacency, FaceId, TriangleMesh, VertexId};
+use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh, VertexId};
 
+use crate::chain_runs::chain_runs;
 use crate::corner_patch::corner_lattice;
 use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage, COVER_TOLERANCE};
-use crate::edge_patch::{cut_pieces, piece_lattice};
+use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
 use crate::{EdgeError, EdgeOptions};
@@ -115,16 +117,20 @@ pub fn generate_edge_patches(
         vec![false; sharp.creases.len()]
     };
     stats.covered_creases = covered.iter().filter(|&&c| c).count();
-    let (pieces, _) = cut_pieces(mesh, &sharp, &covered, max_len, options.max_turn_deg);
+    let limits = PieceLimits {
+        max_len,
+        cos_turn: options.max_turn_deg.to_radians().cos(),
+        max_stray: options.max_stray * edge_spacing,
+    };
+    let runs = chain_runs(mesh, &sharp, limits.cos_turn);
+    let (pieces, _) = cut_pieces(mesh, &sharp, &runs, &covered, &limits);
     stats.pieces = pieces.len();
     let lattices: Vec<(NodeLattice, Vec<FaceId>)> = pieces
         .par_iter()
         .filter_map(|piece| piece_lattice(mesh, adjacency, &sharp, piece, edge_spacing, strip))
         .collect();
-    let bvh = Bvh::new(mesh);
     let job = CastJob {
         mesh,
-        bvh: &bvh,
         spacing: edge_spacing,
         max_step_error: options.max_step_error,
         with_colour: options.colour && mesh.has_colour(),

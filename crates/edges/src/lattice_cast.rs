@@ -14,20 +14,21 @@
 //! 3. the lattice is cropped to its filled nodes, codes are rebased to the smallest, colours
 //!    are sampled at the hits ([`spatch_fit::sample_colour`]).
 //!
-//! Rays go through the mesh's BVH ([`Bvh::ray_cast_filtered`]) rather than the fitter's
-//! face-first z-buffer, whose lattice type is tied to its regions; an edge patch has a few
-//! hundred nodes, so a tree walk per node costs little.
+//! The rays are answered by projecting the allowed faces onto the lattice (`lattice_raster`),
+//! not by a tree walk per node: the allowed faces are the few near the strip, and long sliver
+//! triangles (CAD tessellations) make each walk through the whole mesh's BVH visit many boxes.
 //!
 //! Invariant: a node's reconstructed point lies on the ray through it, within half a
 //! displacement step of the source surface.
 //!
-//! Cost: O(nodes × log F) ray casts; memory O(nodes).
+//! Cost: O(allowed faces + nodes); memory O(nodes).
 
 use glam::Vec3;
 use spatch_fit::{choose_quantizer, quantize_height, sample_colour};
 use spatch_format::{Frame, GridSize, Patch, EMPTY};
-use spatch_mesh::{Bvh, FaceId, TriangleMesh};
+use spatch_mesh::{FaceId, TriangleMesh};
 
+use crate::lattice_raster::raster_hits;
 use crate::EdgeError;
 
 /// Faces whose normal · z is at most this are edge-on or facing away and never hit.
@@ -57,18 +58,11 @@ pub(crate) struct NodeLattice {
 /// What casting needs besides the lattice.
 pub(crate) struct CastJob<'a> {
     pub(crate) mesh: &'a TriangleMesh,
-    pub(crate) bvh: &'a Bvh,
     /// Edge node spacing (for the quantizer's budget).
     pub(crate) spacing: f32,
     /// Half-step budget as a fraction of `spacing`.
     pub(crate) max_step_error: f32,
     pub(crate) with_colour: bool,
-}
-
-struct NodeHit {
-    height: f32,
-    face: FaceId,
-    bary: Vec3,
 }
 
 /// Casts `lattice` against the faces in `allowed` (sorted) and builds its patch (see the
@@ -80,27 +74,7 @@ pub(crate) fn cast_lattice(
     index: usize,
 ) -> Result<Option<Patch>, EdgeError> {
     let mesh = job.mesh;
-    let accept = |f: FaceId| {
-        allowed.binary_search(&f).is_ok() && mesh.face_normal(f).dot(lattice.z) > MIN_FACING
-    };
-    let depth = lattice.heights[1] - lattice.heights[0];
-    let mut hits: Vec<Option<NodeHit>> = Vec::with_capacity(lattice.cols * lattice.rows);
-    for j in 0..lattice.rows {
-        for i in 0..lattice.cols {
-            let u = lattice.start[0] + i as f32 * lattice.spacing[0];
-            let v = lattice.start[1] + j as f32 * lattice.spacing[1];
-            let origin = lattice.x * u + lattice.y * v + lattice.z * lattice.heights[1];
-            let hit = job
-                .bvh
-                .ray_cast_filtered(origin, -lattice.z, 0.0, depth, accept)
-                .map(|h| NodeHit {
-                    height: lattice.heights[1] - h.t,
-                    face: h.face,
-                    bary: h.barycentric,
-                });
-            hits.push(hit);
-        }
-    }
+    let hits = raster_hits(mesh, lattice, allowed);
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
     for h in hits.iter().flatten() {
         h_min = h_min.min(h.height);

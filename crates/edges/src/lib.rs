@@ -42,12 +42,14 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod chain_runs;
 mod corner_patch;
 mod coverage;
 mod edge_patch;
 mod error;
 mod generate;
 mod lattice_cast;
+mod lattice_raster;
 mod options;
 mod sharp_edges;
 
@@ -55,7 +57,7 @@ pub use coverage::{COVER_TOLERANCE, MAX_FACING_ANGLE_DEG, MAX_PROBES_ALONG, PROB
 pub use error::EdgeError;
 pub use generate::{generate_edge_patches, EdgeStats};
 pub use options::{
-    EdgeOptions, DEFAULT_CREASE_ANGLE_DEG, DEFAULT_MAX_COLS, DEFAULT_MAX_TURN_DEG,
-    DEFAULT_RESOLUTION, DEFAULT_STRIP_WIDTH,
+    EdgeOptions, DEFAULT_CREASE_ANGLE_DEG, DEFAULT_MAX_COLS, DEFAULT_MAX_STRAY,
+    DEFAULT_MAX_TURN_DEG, DEFAULT_RESOLUTION, DEFAULT_STRIP_WIDTH,
 };
 pub use sharp_edges::{detect_sharp_edges, Crease, CreaseChain, SharpEdges, KNIFE_ANGLE_DEG};

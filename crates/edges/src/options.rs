@@ -21,10 +21,17 @@ pub const DEFAULT_RESOLUTION: f32 = 1.0;
 pub const DEFAULT_STRIP_WIDTH: f32 = 0.8;
 /// Default [`EdgeOptions::max_cols`]: 33 nodes (32 cells) along the edge per patch.
 pub const DEFAULT_MAX_COLS: u32 = 33;
-/// Default [`EdgeOptions::max_turn_deg`]: 8°. A piece's row along the crease follows its
-/// chord, so a curved crease strays from that row by about `length × turn / 8`; 8° kept the
-/// sweep frustums' rims under 0.02 % holes where 15° left 0.06 %.
-pub const DEFAULT_MAX_TURN_DEG: f32 = 8.0;
+/// Default [`EdgeOptions::max_turn_deg`]: 10°. The faces' bisector may turn this far within a
+/// piece (and a run may turn this far through a corner); how far the crease strays from the
+/// piece's row is limited separately by [`EdgeOptions::max_stray`]. On fandisk 8° made 157
+/// edge + corner patches, 10° 147, 12° 142; but beyond 10° the sweep's rims, whose steep
+/// faces are seen at up to 75° from the bisector, open (30° rim: 0.009 % holes at 10°,
+/// 0.058 % at 11° and 12°; docs/algorithms/edges.md).
+pub const DEFAULT_MAX_TURN_DEG: f32 = 10.0;
+/// Default [`EdgeOptions::max_stray`]: 0.75 edge spacings. On fandisk (at 12° of turn) 0.5
+/// made 142 edge + corner patches at 0.0004 % holes, 0.75 136 at 0.0006 %; the sweep is
+/// limited by the turn, not by this.
+pub const DEFAULT_MAX_STRAY: f32 = 0.75;
 
 /// How sharp edges are found and covered.
 ///
@@ -52,10 +59,17 @@ pub struct EdgeOptions {
     /// [`DEFAULT_MAX_COLS`]. Longer patches: fewer frames (40 bytes each) but wider rows
     /// where the edge curves.
     pub max_cols: u32,
-    /// Largest turn of the edge direction, or of the faces' bisector, within one edge patch,
-    /// in degrees. Range `(0, 90]`, default [`DEFAULT_MAX_TURN_DEG`]. Smaller: more, shorter
-    /// patches that follow a curved rim closely; larger: fewer patches with more empty nodes.
+    /// Largest turn of the faces' bisector within one edge patch, in degrees. Range
+    /// `(0, 90]`, default [`DEFAULT_MAX_TURN_DEG`]. Smaller: more, shorter patches, each
+    /// seeing its faces more squarely; larger: fewer patches (a face is never taken into a
+    /// piece whose first bisector it is more than about 78° from).
     pub max_turn_deg: f32,
+    /// Largest distance of the crease from a piece's chord, in edge spacings. Range
+    /// `[0, 4]`, default [`DEFAULT_MAX_STRAY`]. The patch has a row of nodes along the
+    /// chord's mean offset, which lands on a straight crease; a crease that strays from it
+    /// is crossed by cells that cut its fold's tip (a rim's silhouette shrinks by up to the
+    /// stray). Smaller: more, shorter pieces on curved creases; larger: fewer, longer ones.
+    pub max_stray: f32,
     /// Whether to add a corner patch where three or more sharp edges meet, seen along the
     /// mean normal of the faces around the corner. Default `true`. A corner patch costs about
     /// one edge patch per corner.
@@ -81,6 +95,7 @@ impl Default for EdgeOptions {
             strip_width: DEFAULT_STRIP_WIDTH,
             max_cols: DEFAULT_MAX_COLS,
             max_turn_deg: DEFAULT_MAX_TURN_DEG,
+            max_stray: DEFAULT_MAX_STRAY,
             corners: true,
             max_step_error: FitOptions::DEFAULT_STEP_ERROR,
             colour: true,
@@ -109,6 +124,9 @@ impl EdgeOptions {
         let t = self.max_turn_deg;
         if !(t.is_finite() && t > 0.0 && t <= 90.0) {
             return bad("max_turn_deg", "must be in (0, 90] degrees");
+        }
+        if !(self.max_stray.is_finite() && (0.0..=4.0).contains(&self.max_stray)) {
+            return bad("max_stray", "must be in [0, 4] edge spacings");
         }
         let e = self.max_step_error;
         if !(e.is_finite() && e > 0.0) {
