@@ -29,6 +29,9 @@ use spatch_format::{DisplacementWidth, Frame, GridSize, Patch, Quantizer};
 use crate::range_image::RangeImage;
 use crate::CloudError;
 
+/// Cell coordinates `(cx, cy)`.
+type Cells = Vec<(usize, usize)>;
+
 /// Bytes a patch costs besides its nodes: its frame record with a stored grid and width
 /// (docs/format.md, FRAM).
 const FRAME_BYTES: usize = 45;
@@ -130,7 +133,7 @@ fn cut_region(
 
 /// The cells on either side of the middle of the bounding rectangle's longer side (both
 /// non-empty when there are two or more cells), each in the order of `cells`.
-fn halves(cells: &[(usize, usize)], extent: &Extent) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
+fn halves(cells: &[(usize, usize)], extent: &Extent) -> (Cells, Cells) {
     // `cols − 1` cells wide: the first half holds `(cols − 1) / 2` columns, at least one.
     if extent.cols >= extent.rows {
         let cut = extent.i0 + (extent.cols - 1).div_ceil(2);
