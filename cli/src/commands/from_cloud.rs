@@ -86,7 +86,7 @@ pub(crate) struct FromCloudArgs {
     /// Smoothing passes (1..=8), with --smooth.
     #[arg(long, default_value_t = SmoothOptions::DEFAULT_ITERATIONS, requires = "smooth")]
     smooth_iterations: u32,
-    /// Nodes per patch side (2..=257).
+    /// Most nodes per patch side (2..=257): each region of a view's range image becomes one patch when it fits, else it is halved until the pieces do.
     #[arg(long, default_value_t = CloudOptions::DEFAULT_GRID)]
     grid: u32,
     /// Point spacing in model units (default: estimated from 12 nearest neighbours).

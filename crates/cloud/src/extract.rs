@@ -3,8 +3,9 @@
 //!
 //! Input: one view's [`RangeImage`] (with the cells it already emitted), the positions, the
 //! list of points not covered yet, the steepest slope allowed in this pass and the
-//! [`ExtractSettings`]. Output: patches, and the list of uncovered points shrunk by the
-//! points they cover.
+//! [`ExtractSettings`]. Output: the view's emitted cells grown by this pass, and the list of
+//! uncovered points shrunk by the points they cover; [`cut_view`] turns a view's emitted
+//! cells into patches.
 //!
 //! Terms: a *cell* is the square between four neighbouring pixel centres (the nodes). A cell
 //! is *valid* when its four corners are filled, no edge has a depth step above `jump` (a
@@ -19,37 +20,30 @@
 //! 2. Emitted cells are the needed cells plus the valid cells around them (8-neighbours):
 //!    this closes cells that hold no point (sampling gaps) and makes neighbouring patches
 //!    overlap by a cell. A cell is emitted at most once per view.
-//! 3. The image is cut into fixed tiles of `tile × tile` cells (the patch grid minus one), so
-//!    a patch is a rectangle of at most `grid × grid` nodes and neighbouring tiles share their
-//!    border nodes (no cracks within a view). The emitted cells of a tile form one patch over
-//!    their bounding rectangle; nodes that are no emitted cell's corner are empty. When that
-//!    patch's depth range needs an 8-bit step coarser than `max_step`, the tile's cells are
-//!    split into 8-connected components, one patch each; a component that is still too deep
-//!    is stored with 16-bit displacements.
-//! 4. A patch's frame is the view's image axes scaled by the pixel size (`ax`, `ay`) and the
-//!    view direction scaled by the quantization step (`az`), with its origin at the first
-//!    node at the lowest height of the patch. Node colours are the pixel colours.
+//! 3. Once every pass is done, [`cut_view`] cuts the view's emitted cells into patches
+//!    (`patch_cut.rs`: regions halved until they fit the grid), so cells a view added in
+//!    several passes become whole patches.
 //!
 //! Invariants: every covered point lies within `tolerance` of a drawable cell of an emitted
-//! patch (before quantization, which adds at most half a step); the output order is the
-//! tile order, so it is deterministic.
+//! patch (before quantization, which adds at most half a step); the patches come in the
+//! order of `patch_cut.rs`, so the output is deterministic.
 //!
-//! Parallelism: step 1 is a map over the uncovered points and steps 2–4 a map over the
-//! touched tiles (a tile reads and emits only its own cells, and `needed` is fixed by then);
-//! both are collected in order, and the emitted marks are set after the tiles are built, so
-//! the patches and the surviving point list do not depend on the thread count. The views
-//! themselves stay in order, since each one sees only the points earlier views left.
+//! Parallelism: step 1 is a map over the uncovered points, collected in order; the
+//! emitted marks follow sequentially from `needed`, so the patches and the surviving point
+//! list do not depend on the thread count. The views themselves stay in order, since each
+//! one sees only the points earlier views left.
 //!
-//! Cost: O(uncovered points) for step 1, O(cells of touched tiles) for steps 2–4; memory one
-//! byte per cell for the needed marks.
+//! Cost: O(uncovered points) for step 1, O(needed cells) for step 2; memory one byte per
+//! cell for the needed marks.
 //!
 //! Based on: the rectangular region cutting of the spatial-patch paper (range images from
 //! several directions, each view adding only the surface that earlier views missed).
 
 use glam::Vec3;
 use rayon::prelude::*;
-use spatch_format::{DisplacementWidth, Frame, GridSize, Patch, Quantizer};
+use spatch_format::Patch;
 
+use crate::patch_cut::{cut_emitted, CutCounts, CutSettings};
 use crate::range_image::RangeImage;
 use crate::{CloudError, PointId};
 
@@ -61,12 +55,8 @@ pub(crate) struct ExtractSettings {
     /// Largest distance from a point to a cell surface for it to count as covered (model
     /// units).
     pub(crate) tolerance: f32,
-    /// Cells per tile side (the patch grid minus one), ≥ 1.
-    pub(crate) tile: usize,
-    /// Target 8-bit displacement step (model units).
-    pub(crate) target_step: f32,
-    /// Coarsest 8-bit step before a patch is split or widened (model units).
-    pub(crate) max_step: f32,
+    /// How a view's emitted cells become patches.
+    pub(crate) cut: CutSettings,
 }
 
 /// A view's range image plus the cells it has emitted so far.
@@ -157,7 +147,8 @@ fn valid_cell(
     })
 }
 
-/// Extracts the patches of one view for one pass (see the module documentation).
+/// Marks the cells one view emits in one pass (see the module documentation); the
+/// patches are cut from them by [`cut_view`] once every pass is done.
 ///
 /// `uncovered` is shrunk to the points still uncovered afterwards.
 pub(crate) fn extract_view(
@@ -167,7 +158,7 @@ pub(crate) fn extract_view(
     pass: &PassLimits,
     settings: &ExtractSettings,
     counts: &mut ExtractCounts,
-) -> Result<Vec<Patch>, CloudError> {
+) -> Result<(), CloudError> {
     let max_tan = pass.max_tan;
     let image = &state.image;
     let geometry = image.geometry;
@@ -217,89 +208,45 @@ pub(crate) fn extract_view(
         !(c != NO_CELL as usize && (needed[c] || state.emitted[c]))
     });
     counts.covered += before - uncovered.len();
-    if needed_list.is_empty() {
-        return Ok(Vec::new());
-    }
 
-    // Tiles that hold a needed cell or one of its neighbours.
-    let tile = settings.tile;
-    let (tiles_x, tiles_y) = (cw.div_ceil(tile), ch.div_ceil(tile));
-    let mut tile_touched = vec![false; tiles_x * tiles_y];
+    // Emitted: the needed cells and the valid cells around them, each once per view.
     for &c in &needed_list {
         let (cx, cy) = (c % cw, c / cw);
         for ny in cy.saturating_sub(1)..=(cy + 1).min(ch - 1) {
             for nx in cx.saturating_sub(1)..=(cx + 1).min(cw - 1) {
-                tile_touched[(ny / tile) * tiles_x + nx / tile] = true;
-            }
-        }
-    }
-    let is_needed_near = |cx: usize, cy: usize| {
-        (cy.saturating_sub(1)..=(cy + 1).min(ch - 1))
-            .any(|ny| (cx.saturating_sub(1)..=(cx + 1).min(cw - 1)).any(|nx| needed[ny * cw + nx]))
-    };
-    // Tiles are disjoint sets of cells, so each is built on its own (in parallel) and the
-    // results are joined in tile order.
-    let touched: Vec<usize> = (0..tile_touched.len())
-        .filter(|&t| tile_touched[t])
-        .collect();
-    let built: Vec<TilePatches> = touched
-        .par_iter()
-        .map(|&t| {
-            let (tx, ty) = (t % tiles_x, t / tiles_x);
-            let mut cells = Vec::new();
-            for cy in ty * tile..((ty + 1) * tile).min(ch) {
-                for cx in tx * tile..((tx + 1) * tile).min(cw) {
-                    let c = cy * cw + cx;
-                    if state.emitted[c] || !is_needed_near(cx, cy) {
-                        continue;
-                    }
-                    if valid_cell(&state.image, cx, cy, settings.jump, max_tan).is_some() {
-                        cells.push((cx, cy));
-                    }
+                let n = ny * cw + nx;
+                if !state.emitted[n]
+                    && valid_cell(&state.image, nx, ny, settings.jump, max_tan).is_some()
+                {
+                    state.emitted[n] = true;
                 }
             }
-            let mut tile_counts = ExtractCounts::default();
-            let mut patches = Vec::new();
-            let result = build_patches(
-                &state.image,
-                &cells,
-                settings,
-                true,
-                &mut tile_counts,
-                &mut patches,
-            );
-            TilePatches {
-                cells,
-                patches: result.map(|()| patches),
-                counts: tile_counts,
-            }
-        })
-        .collect();
-    let mut patches = Vec::new();
-    for tile in built {
-        for &(cx, cy) in &tile.cells {
-            state.emitted[cy * cw + cx] = true;
         }
-        counts.split_tiles += tile.counts.split_tiles;
-        counts.wide_patches += tile.counts.wide_patches;
-        patches.extend(tile.patches?);
     }
-    Ok(patches)
+    Ok(())
+}
+
+/// Cuts the cells a view emitted over all passes into patches (`patch_cut.rs`). Returns the
+/// patches in region order and the counts.
+pub(crate) fn cut_view(
+    state: &ViewState,
+    settings: &ExtractSettings,
+) -> Result<(Vec<Patch>, CutCounts), CloudError> {
+    let mut counts = CutCounts::default();
+    let mut patches = Vec::new();
+    cut_emitted(
+        &state.image,
+        &state.emitted,
+        &settings.cut,
+        &mut counts,
+        &mut patches,
+    )?;
+    Ok((patches, counts))
 }
 
 /// Uncovered points handed to one parallel task at least (smaller lists are not worth the
 /// split).
 const POINTS_PER_TASK: usize = 4096;
-
-/// What one tile of a view produced.
-struct TilePatches {
-    /// The tile's emitted cells.
-    cells: Vec<(usize, usize)>,
-    /// Its patches.
-    patches: Result<Vec<Patch>, CloudError>,
-    /// Its split and wide patches.
-    counts: ExtractCounts,
-}
 
 /// Marks "no cell" in the per-point candidate list.
 const NO_CELL: u32 = u32::MAX;
@@ -404,128 +351,4 @@ pub(crate) fn absorb_border_points(
         .filter(|&id| stays(id))
         .collect();
     before - uncovered.len()
-}
-
-/// Builds the patch (or patches) over `cells` of one tile.
-fn build_patches(
-    image: &RangeImage,
-    cells: &[(usize, usize)],
-    settings: &ExtractSettings,
-    may_split: bool,
-    counts: &mut ExtractCounts,
-    out: &mut Vec<Patch>,
-) -> Result<(), CloudError> {
-    let Some(&(first_x, first_y)) = cells.first() else {
-        return Ok(());
-    };
-    let (mut i0, mut j0, mut i1, mut j1) = (first_x, first_y, first_x, first_y);
-    for &(cx, cy) in cells {
-        i0 = i0.min(cx);
-        j0 = j0.min(cy);
-        i1 = i1.max(cx);
-        j1 = j1.max(cy);
-    }
-    let (cols, rows) = (i1 - i0 + 2, j1 - j0 + 2);
-    let mut filled = vec![false; cols * rows];
-    for &(cx, cy) in cells {
-        let k = (cy - j0) * cols + (cx - i0);
-        filled[k] = true;
-        filled[k + 1] = true;
-        filled[k + cols] = true;
-        filled[k + cols + 1] = true;
-    }
-    let geometry = image.geometry;
-    let width = geometry.width;
-    let height_of = |k: usize| image.depth[(j0 + k / cols) * width + i0 + k % cols];
-    let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
-    for k in (0..filled.len()).filter(|&k| filled[k]) {
-        low = low.min(height_of(k));
-        high = high.max(height_of(k));
-    }
-    let range = high - low;
-    let mut quantizer =
-        Quantizer::for_range(range, settings.target_step, DisplacementWidth::Bits8)?;
-    if quantizer.step() > settings.max_step {
-        if may_split {
-            let components = split_components(cells);
-            if components.len() > 1 {
-                counts.split_tiles += 1;
-                for component in components {
-                    build_patches(image, &component, settings, false, counts, out)?;
-                }
-                return Ok(());
-            }
-        }
-        quantizer = Quantizer::for_range(range, settings.target_step, DisplacementWidth::Bits16)?;
-        counts.wide_patches += 1;
-    }
-    let mut displacements = vec![spatch_format::EMPTY; cols * rows];
-    for (k, d) in displacements.iter_mut().enumerate() {
-        if filled[k] {
-            *d = quantizer
-                .quantize(height_of(k) - low)
-                .ok_or(CloudError::Internal {
-                    what: "a node height fell outside its patch's quantizer range",
-                })?;
-        }
-    }
-    let colours = image.colour.as_ref().map(|colour| {
-        (0..cols * rows)
-            .map(|k| colour[(j0 + k / cols) * width + i0 + k % cols])
-            .collect()
-    });
-    let basis = geometry.basis;
-    let frame = Frame::new(
-        geometry.point_at(i0, j0, low),
-        basis.u * geometry.pixel,
-        basis.w * geometry.pixel,
-        basis.direction * quantizer.step(),
-    )?;
-    let grid = GridSize::new(cols as u32, rows as u32)?;
-    out.push(Patch::new(frame, grid, displacements, colours)?);
-    Ok(())
-}
-
-/// The 8-connected components of `cells`, each in the order of `cells`.
-fn split_components(cells: &[(usize, usize)]) -> Vec<Vec<(usize, usize)>> {
-    let mut label = vec![usize::MAX; cells.len()];
-    let mut components: Vec<Vec<(usize, usize)>> = Vec::new();
-    let mut stack = Vec::new();
-    for start in 0..cells.len() {
-        if label[start] != usize::MAX {
-            continue;
-        }
-        let id = components.len();
-        label[start] = id;
-        stack.push(start);
-        let mut members = Vec::new();
-        while let Some(a) = stack.pop() {
-            members.push(a);
-            let (ax, ay) = cells[a];
-            for (b, &(bx, by)) in cells.iter().enumerate() {
-                if label[b] == usize::MAX && ax.abs_diff(bx) <= 1 && ay.abs_diff(by) <= 1 {
-                    label[b] = id;
-                    stack.push(b);
-                }
-            }
-        }
-        members.sort_unstable();
-        components.push(members.into_iter().map(|m| cells[m]).collect());
-    }
-    components
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn components_follow_8_connectivity() {
-        let cells = [(0, 0), (1, 1), (5, 5), (6, 5), (9, 0)];
-        let parts = split_components(&cells);
-        assert_eq!(
-            parts,
-            vec![vec![(0, 0), (1, 1)], vec![(5, 5), (6, 5)], vec![(9, 0)]]
-        );
-    }
 }

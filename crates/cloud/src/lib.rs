@@ -59,6 +59,7 @@ mod gap_fill;
 mod ids;
 mod normals;
 mod options;
+mod patch_cut;
 mod patch_surface;
 mod pipeline;
 mod progress;

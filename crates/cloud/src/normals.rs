@@ -158,16 +158,14 @@ impl VoxelColumns {
         self.starts[c] as usize..self.starts[c + 1] as usize
     }
 
-    /// The summed moments of the 3×3×3 block around every voxel of columns `range`, in voxel
-    /// order.
+    /// The plane of the summed moments of the 3×3×3 block around every voxel of columns
+    /// `range`, written to `out` (one slot per voxel of those columns, in voxel order).
     ///
     /// The nine neighbour columns of a column are found by three cursors (one per `dx`) that
     /// only move forward, since the neighbour keys grow with the column key; this replaces 27
     /// random hash lookups per voxel by a merge over the sorted column list.
-    fn block_planes(&self, range: std::ops::Range<usize>) -> Vec<BlockPlane> {
-        let first = self.starts[range.start] as usize;
-        let last = self.starts[range.end] as usize;
-        let mut normals = Vec::with_capacity(last - first);
+    fn block_planes(&self, range: std::ops::Range<usize>, out: &mut [BlockPlane]) {
+        let mut slots = out.iter_mut();
         let (y_mask, z_mask) = ((1u64 << self.y_bits) - 1, (1u64 << self.z_bits) - 1);
         let split = |column: u64| (column >> self.y_bits, column & y_mask);
         // Start each cursor at the first neighbour column of the task's first column.
@@ -217,10 +215,11 @@ impl VoxelColumns {
                         block.add(m);
                     }
                 }
-                normals.push(block.plane());
+                if let Some(slot) = slots.next() {
+                    *slot = block.plane();
+                }
             }
         }
-        normals
     }
 }
 
@@ -318,10 +317,21 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
         .step_by(COLUMNS_PER_TASK)
         .map(|c| c..(c + COLUMNS_PER_TASK).min(grid.columns.len()))
         .collect();
-    let planes: Vec<BlockPlane> = tasks
+    // Written in place, one slice of voxels per task: collecting the tasks' planes would hold
+    // them twice at the peak of this stage.
+    let mut planes = vec![BlockPlane::default(); grid.keys.len()];
+    let mut slices = Vec::with_capacity(tasks.len());
+    let mut rest = planes.as_mut_slice();
+    for range in &tasks {
+        let voxels = (grid.starts[range.end] - grid.starts[range.start]) as usize;
+        let (slice, tail) = rest.split_at_mut(voxels);
+        slices.push((range.clone(), slice));
+        rest = tail;
+    }
+    slices
         .into_par_iter()
-        .flat_map_iter(|range| grid.block_planes(range))
-        .collect();
+        .for_each(|(range, slice)| grid.block_planes(range, slice));
+    drop(grid);
     VoxelPlanes {
         origin,
         point_voxel,

@@ -89,9 +89,11 @@ pub struct CloudOptions {
     /// Edge-preserving smoothing of the range images, off by default (`None`). Use it for
     /// noisy scans.
     pub smooth: Option<SmoothOptions>,
-    /// Nodes per patch side, 2..=257. Default [`CloudOptions::DEFAULT_GRID`] (17, the
-    /// original's 2^4 + 1). Larger patches cost fewer frames (bytes) but have a wider depth
-    /// range to quantize and coarser culling.
+    /// Most nodes per patch side, 2..=257. Default [`CloudOptions::DEFAULT_GRID`] (33). Each
+    /// region of a view's range image becomes one patch when it fits, else it is halved
+    /// until the pieces do (`patch_cut.rs`). Larger patches cost fewer frames (bytes) and
+    /// fewer repeated border nodes but more 16-bit codes (a wider depth range) and coarser
+    /// culling (on the ten bunny scans 33 gives 156 filled nodes a patch, 17 gave 92).
     pub grid: u32,
     /// Voxel side for the PCA normals, in multiples of the spacing, 0.5..=8. Default
     /// [`CloudOptions::DEFAULT_NORMAL_VOXEL`] (2.0: each normal fits the points of a
@@ -117,7 +119,7 @@ pub struct CloudOptions {
     /// Target quantization step of the 8-bit displacements, in multiples of the spacing, > 0.
     /// Default [`CloudOptions::DEFAULT_DISPLACEMENT_STEP`] (0.01). Patches whose depth range
     /// needs a coarser step than [`CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP`] × spacing
-    /// are split by surface component and, if still too deep, stored with 16-bit codes.
+    /// are stored with 16-bit codes.
     pub displacement_step: f32,
     /// Container options (compression of node data). Default: uncompressed.
     pub write: WriteOptions,
@@ -150,7 +152,7 @@ impl CloudOptions {
     /// Default [`CloudOptions::cover_tolerance`].
     pub const DEFAULT_COVER_TOLERANCE: f32 = 1.5;
     /// Default [`CloudOptions::grid`].
-    pub const DEFAULT_GRID: u32 = 17;
+    pub const DEFAULT_GRID: u32 = 33;
     /// Default [`CloudOptions::normal_voxel`].
     pub const DEFAULT_NORMAL_VOXEL: f32 = 2.0;
     /// Default [`CloudOptions::displacement_step`].
@@ -160,7 +162,9 @@ impl CloudOptions {
     pub const CONSENSUS_MAX_SPREAD: f32 = 1.0;
     /// Largest distance (in spacings) a point moves onto its block's plane.
     pub const CONSENSUS_MAX_MOVE: f32 = 2.0;
-    /// Coarsest 8-bit step (in spacings) accepted before a patch is split or widened.
+    /// Coarsest 8-bit step (in spacings) before a patch is stored with 16-bit codes (0.1
+    /// made the ten bunny scans' file 24 % smaller with the same specks, but put the 95th
+    /// percentile of a clean tilted plane's cloud error at 0.026 s, over its 0.02 s test).
     pub const DEFAULT_MAX_DISPLACEMENT_STEP: f32 = 0.05;
 
     /// Checks every field against its documented range.

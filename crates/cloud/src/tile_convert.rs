@@ -30,9 +30,11 @@ use spatch_mesh::Aabb;
 
 use crate::directions::ViewBasis;
 use crate::extract::{
-    absorb_border_points, extract_view, ExtractCounts, ExtractSettings, PassLimits, ViewState,
+    absorb_border_points, cut_view, extract_view, ExtractCounts, ExtractSettings, PassLimits,
+    ViewState,
 };
 use crate::gap_fill::fill_gaps;
+use crate::patch_cut::CutSettings;
 use crate::progress::StageCounter;
 use crate::range_image::{flush_points, FlushInput, FlushScratch, ImageGeometry, PointColumns};
 use crate::smooth::smooth_range_image;
@@ -130,9 +132,11 @@ pub(crate) fn convert_tile(
     let settings = ExtractSettings {
         jump,
         tolerance: options.cover_tolerance * spacing,
-        tile: options.grid as usize - 1,
-        target_step: options.displacement_step * spacing,
-        max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+        cut: CutSettings {
+            grid: options.grid as usize,
+            target_step: options.displacement_step * spacing,
+            max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+        },
     };
     let mut uncovered = job
         .own
@@ -234,11 +238,22 @@ fn extract_passes(
         }
         for view in views.iter_mut() {
             if !uncovered.is_empty() {
-                let found = extract_view(view, positions, uncovered, pass, settings, counts)?;
-                patches.extend(found);
+                extract_view(view, positions, uncovered, pass, settings, counts)?;
             }
             context.views_done.step();
         }
+    }
+    // Each view's cells of every pass are cut together, so a region that grew over several
+    // passes becomes whole patches.
+    let cut: Vec<_> = views
+        .par_iter()
+        .map(|view| cut_view(view, settings))
+        .collect();
+    for result in cut {
+        let (found, cut_counts) = result?;
+        counts.split_tiles += cut_counts.split_tiles;
+        counts.wide_patches += cut_counts.wide_patches;
+        patches.extend(found);
     }
     Ok(patches)
 }
