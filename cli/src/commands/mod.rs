@@ -18,6 +18,7 @@ pub(crate) mod render;
 pub(crate) mod sphere;
 pub(crate) mod stats;
 pub(crate) mod tiled;
+pub(crate) mod tiled_scene;
 
 use spatch_format::Compression;
 

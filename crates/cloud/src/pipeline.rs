@@ -214,7 +214,8 @@ pub fn cloud_to_scene_with_progress(
         uncovered_points: tiled.uncovered,
         outlier_points,
         tiles: tile_count,
-        tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some()).then_some(grid.size),
+        tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
+            .then_some(grid.size),
         consensus_points,
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
