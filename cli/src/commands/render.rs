@@ -12,8 +12,8 @@ use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
 use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, Projection, RenderError,
-    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, Projection, RenderError, RenderMode,
+    RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
 use super::frame_bench::{bench, BenchReport};

@@ -29,8 +29,17 @@ pub(crate) fn write_city(t: &TestCommand, name: &str, points: u64) {
 fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index() {
     let t = TestCommand::new();
     write_city(&t, "city.ply", 6000);
-    t.run(&["plan", "city.ply", "--tile", "3", "--buffer", "0.8", "-o", "plan.json"])
-        .success();
+    t.run(&[
+        "plan",
+        "city.ply",
+        "--tile",
+        "3",
+        "--buffer",
+        "0.8",
+        "-o",
+        "plan.json",
+    ])
+    .success();
     let plan: serde_json::Value = t.json("plan.json");
     let tiles = plan["tiles"].as_array().unwrap();
     assert!(tiles.len() >= 4, "{}", tiles.len());
@@ -46,12 +55,23 @@ fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index()
     for k in 0..tiles.len() {
         let one = format!("{k}.spatch");
         t.run(&[
-            "from-cloud", "city.ply", "--plan", "plan.json", "--tile", &k.to_string(),
-            "--threads", "1", "-o", &one,
+            "from-cloud",
+            "city.ply",
+            "--plan",
+            "plan.json",
+            "--tile",
+            &k.to_string(),
+            "--threads",
+            "1",
+            "-o",
+            &one,
         ])
         .success();
         let local = std::fs::read(t.path(&format!("out/tile_{k:05}.spatch"))).unwrap();
-        assert!(std::fs::read(t.path(&one)).unwrap() == local, "tile {k} differs");
+        assert!(
+            std::fs::read(t.path(&one)).unwrap() == local,
+            "tile {k} differs"
+        );
         patches += read_scene(&t.path(&one)).unwrap().patches().len();
     }
     let listed: u64 = index["tiles"]
@@ -68,17 +88,48 @@ fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index()
     t.run(&["index", "plan.json", "out"]).success();
     assert_eq!(std::fs::read(t.path("out/index.json")).unwrap(), first);
 
-    let all = t.run(&["render", "out/index.json", "-o", "all.png"]).success();
-    assert!(all.stderr.contains(&format!("read {n} of {n} tiles", n = tiles.len() - empty(&index))), "{}", all.stderr);
+    let all = t
+        .run(&["render", "out/index.json", "-o", "all.png"])
+        .success();
+    assert!(
+        all.stderr.contains(&format!(
+            "read {n} of {n} tiles",
+            n = tiles.len() - empty(&index)
+        )),
+        "{}",
+        all.stderr
+    );
     // Looking along +x from the middle of the low-x edge: tiles behind the eye are not read.
     let side = plan["bounds"]["max"][0].as_f64().unwrap();
     let eye = format!("{},{},1.5", side / 2.0, side / 2.0);
     let target = format!("{},{},1.5", side, side / 2.0);
     let part = t
-        .run(&["render", "out/index.json", "--eye", &eye, "--target", &target, "-o", "part.png"])
+        .run(&[
+            "render",
+            "out/index.json",
+            "--eye",
+            &eye,
+            "--target",
+            &target,
+            "-o",
+            "part.png",
+        ])
         .success();
-    let read: usize = part.stderr.split("read ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
-    assert!(read > 0 && read < tiles.len() - empty(&index), "{}", part.stderr);
+    let read: usize = part
+        .stderr
+        .split("read ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        read > 0 && read < tiles.len() - empty(&index),
+        "{}",
+        part.stderr
+    );
 }
 
 /// Tiles of an index with no patch.
@@ -94,13 +145,27 @@ fn empty(index: &serde_json::Value) -> usize {
 #[test]
 fn plan_tile_runs_plan_and_tiles_in_one_go() {
     let t = TestCommand::new();
-    write_city(&t, "city.ply", 3000);
-    t.run(&["from-cloud", "city.ply", "--plan-tile", "3", "--spacing", "0.1", "--pixel-factor", "1.5", "-o", "out"])
-        .success();
+    write_city(&t, "city.ply", 8000);
+    t.run(&[
+        "from-cloud",
+        "city.ply",
+        "--plan-tile",
+        "3.5",
+        "--spacing",
+        "0.1",
+        "--pixel-factor",
+        "1",
+        "-o",
+        "out",
+    ])
+    .success();
     let plan: serde_json::Value = t.json("out/plan.json");
     assert_eq!(plan["spacing"].as_f64().unwrap() as f32, 0.1);
     let index: serde_json::Value = t.json("out/index.json");
-    assert_eq!(index["tiles"].as_array().unwrap().len(), plan["tiles"].as_array().unwrap().len());
+    let tiles = plan["tiles"].as_array().unwrap().len();
+    assert!(tiles >= 4, "{tiles}");
+    assert_eq!(index["tiles"].as_array().unwrap().len(), tiles);
+    assert!((plan["grid"]["buffer"].as_f64().unwrap() - 1.6).abs() < 1e-6);
 }
 
 #[test]
@@ -109,15 +174,37 @@ fn bad_plans_and_tiles_are_one_clear_line() {
     write_city(&t, "city.ply", 3000);
     t.run(&["plan", "missing.ply", "--tile", "3", "-o", "p.json"])
         .assert_one_clear_line("missing.ply");
-    t.run(&["plan", "city.ply", "--tile", "3", "--buffer", "2", "-o", "p.json"])
-        .assert_one_clear_line("buffer");
+    t.run(&[
+        "plan", "city.ply", "--tile", "3", "--buffer", "2", "-o", "p.json",
+    ])
+    .assert_one_clear_line("buffer");
     assert!(!t.path("p.json").exists());
     std::fs::write(t.path("bad.json"), "{\"version\": 1}").unwrap();
-    t.run(&["from-cloud", "city.ply", "--plan", "bad.json", "--tile", "0", "-o", "a.spatch"])
-        .assert_one_clear_line("bad.json");
-    t.run(&["plan", "city.ply", "--tile", "3", "--buffer", "0.5", "-o", "p.json"])
-        .success();
-    t.run(&["from-cloud", "city.ply", "--plan", "p.json", "--tile", "999", "-o", "a.spatch"])
-        .assert_one_clear_line("p.json");
+    t.run(&[
+        "from-cloud",
+        "city.ply",
+        "--plan",
+        "bad.json",
+        "--tile",
+        "0",
+        "-o",
+        "a.spatch",
+    ])
+    .assert_one_clear_line("bad.json");
+    t.run(&[
+        "plan", "city.ply", "--tile", "3", "--buffer", "0.5", "-o", "p.json",
+    ])
+    .success();
+    t.run(&[
+        "from-cloud",
+        "city.ply",
+        "--plan",
+        "p.json",
+        "--tile",
+        "999",
+        "-o",
+        "a.spatch",
+    ])
+    .assert_one_clear_line("p.json");
     assert!(!t.path("a.spatch").exists());
 }
