@@ -322,9 +322,12 @@ fn camera(args: &RenderArgs, sphere: Option<(DVec3, f64)>) -> Result<Camera, Ren
     )
 }
 
+/// A bounding sphere: centre and radius.
+type Sphere = (DVec3, f64);
+
 /// The scene to draw and its container: a `.spatch` file, or the tiles of an index in
 /// the camera's view (with the index's bounding sphere, which frames the camera).
-fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option<(DVec3, f64)>)> {
+fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option<Sphere>)> {
     use super::tiled_scene::{index_sphere, is_index, read_visible_tiles};
     if !is_index(&args.input) {
         let (scene, info) = read_spatch(&args.input)?;

@@ -47,6 +47,19 @@ impl ViewPyramid {
         })
     }
 
+    /// Whether a point at view coordinates `l` (right, up, forward) is inside `plane`: the
+    /// eye's plane, the four sides, the far plane.
+    fn inside(&self, plane: usize, l: &[f64; 3]) -> bool {
+        match plane {
+            0 => l[2] >= 0.0,
+            1 => l[0] <= l[2] * self.tan_x,
+            2 => -l[0] <= l[2] * self.tan_x,
+            3 => l[1] <= l[2] * self.tan_y,
+            4 => -l[1] <= l[2] * self.tan_y,
+            _ => self.far.is_none_or(|f| l[2] <= f),
+        }
+    }
+
     /// Whether any part of `b` may be in view (see the module documentation).
     pub fn may_see(&self, b: &WorldBox) -> bool {
         let corners: Vec<DVec3> = (0..8)
@@ -65,16 +78,8 @@ impl ViewPyramid {
                 [d.dot(self.right), d.dot(self.up), d.dot(self.forward)]
             })
             .collect();
-        // Each plane as a test every corner fails when the box is outside it.
-        let planes: [&dyn Fn(&[f64; 3]) -> bool; 6] = [
-            &|l| l[2] >= 0.0,
-            &|l| l[0] <= l[2] * self.tan_x,
-            &|l| -l[0] <= l[2] * self.tan_x,
-            &|l| l[1] <= l[2] * self.tan_y,
-            &|l| -l[1] <= l[2] * self.tan_y,
-            &|l| self.far.is_none_or(|f| l[2] <= f),
-        ];
-        planes.iter().all(|inside| local.iter().any(|l| inside(l)))
+        // Out of view when every corner is outside one of the six planes.
+        (0..6).all(|plane| local.iter().any(|l| self.inside(plane, l)))
     }
 }
 
