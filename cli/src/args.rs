@@ -36,6 +36,18 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch from-cloud bun000.ply -o bun000.spatch\n  spatch from-cloud bun.conf -o bunny.spatch        # a registered scan set (poses)\n  spatch from-cloud a.ply b.ply c.xyz -o abc.spatch  # several clouds, one frame\n  spatch from-cloud site.laz -o site.spatch\n  spatch from-cloud scan.txt --columns x,y,z,nx,ny,nz,r,g,b -o scan.spatch\n  spatch from-cloud scan.ply -o scan.spatch --smooth --report report.json"
     )]
     FromCloud(commands::from_cloud::FromCloudArgs),
+    /// Stream a point cloud and write a tile plan (JSON): the grid, the occupied tiles with
+    /// their bounds and counts, and the spacing every tile converts with.
+    #[command(
+        after_help = "Example:\n  spatch plan city.las --tile 50 -o plan.json\n  spatch from-cloud city.las --plan plan.json --tile 3 -o 3.spatch   # one tile\n  spatch from-cloud city.las --plan plan.json -o out/                # every tile + out/index.json"
+    )]
+    Plan(commands::plan::PlanArgs),
+    /// Write the tiled scene index (DIR/index.json) of a plan's tile files converted
+    /// elsewhere (GNU parallel, Dask).
+    #[command(
+        after_help = "Example:\n  spatch index plan.json out/\n  spatch render out/index.json -o city.png"
+    )]
+    Index(commands::index::IndexArgs),
     /// Build the perfect sphere of the original work as patches.
     #[command(
         after_help = "Example:\n  spatch sphere -o sphere.spatch\n  spatch sphere --radius 10 --patches 500 --grid 9 --step 0.001 -o small.spatch"
@@ -91,6 +103,8 @@ impl Command {
         match self {
             Command::Convert(args) => args.files(),
             Command::FromCloud(args) => args.files(),
+            Command::Plan(args) => args.files(),
+            Command::Index(args) => args.files(),
             Command::Sphere(args) => args.files(),
             Command::Stats(args) => args.files(),
             Command::Earth(args) => args.files(),

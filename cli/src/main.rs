@@ -25,6 +25,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo(args) => commands::demo::run(&args),
         Command::Convert(args) => commands::convert::run(&args),
         Command::FromCloud(args) => commands::from_cloud::run(&args),
+        Command::Plan(args) => commands::plan::run(&args),
+        Command::Index(args) => commands::index::run(&args),
         Command::Sphere(args) => commands::sphere::run(&args),
         Command::Stats(args) => commands::stats::run(&args),
         Command::Earth(args) => commands::earth::run(&args),

@@ -122,6 +122,18 @@ pub(crate) struct FromCloudArgs {
     /// rather than lose resolution silently.
     #[arg(long)]
     allow_coarsening: bool,
+    /// Convert with a tile plan (`spatch plan`, docs/scale.md): with --tile K only tile K
+    /// (its own points and its buffer's, read as a stream) to -o FILE; without, every tile
+    /// on this machine to the folder -o DIR (tile_00000.spatch, ...) and DIR/index.json.
+    #[arg(long, value_name = "PLAN", conflicts_with_all = ["json", "report", "error", "tile_size"])]
+    plan: Option<PathBuf>,
+    /// The tile of --plan to convert (its index in the plan).
+    #[arg(long, value_name = "K", requires = "plan")]
+    tile: Option<usize>,
+    /// Plan tiles of SIZE model units (as `spatch plan --tile SIZE`, written as
+    /// DIR/plan.json), then convert every tile on this machine to the folder -o DIR.
+    #[arg(long, value_name = "SIZE", conflicts_with_all = ["plan", "json", "report", "error", "tile_size"])]
+    plan_tile: Option<f64>,
 }
 
 impl FromCloudArgs {
@@ -174,6 +186,9 @@ const CLOUD_STAGES: usize = 9;
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     args.threads.init()?;
     let mut options = args.options();
+    if args.plan.is_some() || args.plan_tile.is_some() {
+        return run_planned(args, options);
+    }
     let measure = args.error || args.report.is_some() || args.json;
     // load, the pipeline's stages (CLOUD_STAGES, consensus included), write, the error.
     let progress = Progress::new(&args.input_label(), 2 + CLOUD_STAGES + usize::from(measure));
@@ -309,6 +324,27 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     print_summary(&text, args.json)
 }
 
+/// `--plan` / `--plan-tile` runs (`tiled.rs`): one input, consensus only when asked.
+fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Result<()> {
+    use super::tiled::{run_all, run_one, single_input, PlanSource};
+    let input = single_input(&args.inputs)?;
+    options.consensus = args.consensus;
+    match (&args.plan, args.tile, args.plan_tile) {
+        (Some(plan), Some(tile), _) => run_one(input, plan, tile, &args.output, &options),
+        (Some(plan), None, _) => run_all(input, PlanSource::File(plan), &args.output, &options),
+        (None, _, Some(size)) => {
+            let plan = spatch_tiling::PlanOptions {
+                tile: size,
+                buffer: None,
+                spacing: args.spacing,
+                pixel_factor: args.pixel_factor,
+            };
+            run_all(input, PlanSource::Make(plan), &args.output, &options)
+        }
+        (None, _, None) => anyhow::bail!("--plan or --plan-tile is needed"),
+    }
+}
+
 /// `--columns` as a layout (clap prints the message).
 fn parse_layout(spec: &str) -> Result<XyzLayout, String> {
     parse_columns(spec).map_err(|e| e.to_string())
@@ -361,8 +397,11 @@ impl FromCloudArgs {
     /// The files this run reads and writes, checked before any work.
     pub(crate) fn files(&self) -> crate::overwrite_guard::Files<'_> {
         use crate::overwrite_guard::Written;
+        // A planned run over every tile writes a folder, named by -o.
+        let folder = self.plan_tile.is_some() || (self.plan.is_some() && self.tile.is_none());
         let mut files = crate::overwrite_guard::Files::default()
-            .output_as(Some(&self.output), Written::Spatch)
+            .output_as((!folder).then_some(self.output.as_path()), Written::Spatch)
+            .input(self.plan.as_deref())
             .output_as(self.report.as_deref(), Written::Json)
             .json_on_stdout(self.json);
         files

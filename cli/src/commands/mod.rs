@@ -10,11 +10,15 @@ pub(crate) mod eval;
 pub(crate) mod export;
 pub(crate) mod frame_bench;
 pub(crate) mod from_cloud;
+pub(crate) mod index;
 pub(crate) mod man;
 pub(crate) mod merge;
+pub(crate) mod plan;
 pub(crate) mod render;
 pub(crate) mod sphere;
 pub(crate) mod stats;
+pub(crate) mod tiled;
+pub(crate) mod tiled_scene;
 
 use spatch_format::Compression;
 

@@ -10,9 +10,10 @@ use glam::DVec3;
 use serde::Serialize;
 use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
+use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, PreparedScene, Projection, RenderError,
-    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, Projection, RenderError, RenderMode,
+    RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
 use super::frame_bench::{bench, BenchReport};
@@ -75,7 +76,8 @@ pub(crate) enum CullArg {
 /// Arguments of `spatch render`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct RenderArgs {
-    /// Input .spatch file.
+    /// Input .spatch file, or a tiled scene's index.json (`spatch from-cloud --plan`), of
+    /// which only the tiles in view are read.
     #[arg(value_name = "FILE")]
     input: PathBuf,
     /// Output PNG (RGBA, transparent background unless --background); may be
@@ -300,8 +302,8 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
 }
 
 /// The camera from the flags; missing parts frame the scene.
-fn camera(args: &RenderArgs, scene: &PreparedScene) -> Result<Camera, RenderError> {
-    let (centre, radius) = scene.bounding_sphere().unwrap_or((DVec3::ZERO, 1.0));
+fn camera(args: &RenderArgs, sphere: Option<(DVec3, f64)>) -> Result<Camera, RenderError> {
+    let (centre, radius) = sphere.unwrap_or((DVec3::ZERO, 1.0));
     let target = args.target.unwrap_or(centre);
     let eye = match args.eye {
         Some(eye) => eye,
@@ -318,6 +320,35 @@ fn camera(args: &RenderArgs, scene: &PreparedScene) -> Result<Camera, RenderErro
         Camera::look_at(eye, target, args.up, args.fov, args.width, args.height)?
             .with_clip_planes(args.near, args.far)?,
     )
+}
+
+/// A bounding sphere: centre and radius.
+type Sphere = (DVec3, f64);
+
+/// The scene to draw and its container: a `.spatch` file, or the tiles of an index in
+/// the camera's view (with the index's bounding sphere, which frames the camera).
+fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option<Sphere>)> {
+    use super::tiled_scene::{index_sphere, is_index, read_visible_tiles};
+    if !is_index(&args.input) {
+        let (scene, info) = read_spatch(&args.input)?;
+        return Ok((scene, info, None));
+    }
+    let index = spatch_tiling::SceneIndex::read(&args.input).map_err(anyhow::Error::msg)?;
+    let sphere = index_sphere(&index);
+    let view = camera(args, sphere).map_err(classify)?;
+    let tiles = read_visible_tiles(&args.input, &index, &view, args.far)?;
+    let info = tiles
+        .info
+        .with_context(|| format!("{}: no tile in view", args.input.display()))?;
+    eprintln_tiles(tiles.loaded, tiles.total);
+    Ok((tiles.scene, info, sphere))
+}
+
+/// Notes on standard error how many tiles of an index were read (unless quiet).
+fn eprintln_tiles(loaded: usize, total: usize) {
+    if !crate::progress::is_quiet() {
+        eprintln!("read {loaded} of {total} tiles (the others are out of view)");
+    }
 }
 
 /// A render-library error as an exit-code-aware error.
@@ -378,7 +409,7 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let progress = Progress::new("render", steps);
     let started = Instant::now();
     progress.step("read");
-    let (scene, info) = read_spatch(&args.input)?;
+    let (scene, info, index_sphere) = read_input(args)?;
     let mut stages = Stages::default();
     stages.push("read", started.elapsed().as_secs_f64());
     let options = render_options(args);
@@ -394,7 +425,8 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let clock = Instant::now();
     let prepared = prepare(&renderer, args.trim_overlaps);
     stages.push("prepare", clock.elapsed().as_secs_f64());
-    let camera = camera(args, &prepared).map_err(classify)?;
+    let sphere = index_sphere.or_else(|| prepared.bounding_sphere());
+    let camera = camera(args, sphere).map_err(classify)?;
     progress.step("render");
     let clock = Instant::now();
     let out = renderer.render(&prepared, &camera).map_err(classify)?;

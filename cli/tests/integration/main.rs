@@ -26,6 +26,8 @@
 //! - `conventions`: issue 20 — `-q`, `--json` on every reporting command (and refused
 //!   with an output on standard output), `--threads` on every command that works, no
 //!   progress without a terminal.
+//! - `tiled`: issue 18 — `spatch plan`, `from-cloud --plan` one tile and every tile (the
+//!   same bytes), `spatch index`, `spatch render INDEX` reading only the tiles in view.
 //! - `readme_tour`: every command of the README's tour, as written.
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
@@ -50,3 +52,4 @@ mod sphere;
 mod stability;
 mod stats;
 mod test_command;
+mod tiled;

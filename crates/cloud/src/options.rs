@@ -134,6 +134,15 @@ pub struct CloudOptions {
     /// with [`CloudError::PixelBudgetExceeded`](crate::CloudError::PixelBudgetExceeded).
     /// Default off: the resolution never drops silently.
     pub allow_coarsening: bool,
+    /// A grid every run shares (a scale-out plan's: anchor, tile side, buffer), used
+    /// instead of one anchored at the cloud's lowest corner; overrides
+    /// [`CloudOptions::tile_size`]. Default `None`.
+    pub tile_grid: Option<crate::TileGrid>,
+    /// Convert only this tile of the grid (its key, see [`crate::TileGrid::key_of`]): its
+    /// own points and its buffer's, keeping the patches cut for its own points, so runs of
+    /// each tile of a cloud join with no duplicate. Needs [`CloudOptions::tile_grid`].
+    /// Default `None` (every tile).
+    pub only_tile: Option<[i64; 3]>,
 }
 
 impl CloudOptions {
@@ -230,6 +239,11 @@ impl CloudOptions {
             "tile_size",
             "must be a positive number",
         )?;
+        check(
+            self.only_tile.is_none() || self.tile_grid.is_some(),
+            "only_tile",
+            "needs tile_grid",
+        )?;
         if let Some(smooth) = self.smooth {
             check(
                 (1..=8).contains(&smooth.radius),
@@ -269,6 +283,8 @@ impl Default for CloudOptions {
             displacement_step: Self::DEFAULT_DISPLACEMENT_STEP,
             write: WriteOptions::default(),
             tile_size: None,
+            tile_grid: None,
+            only_tile: None,
             allow_coarsening: false,
         }
     }

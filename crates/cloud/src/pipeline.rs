@@ -214,7 +214,8 @@ pub fn cloud_to_scene_with_progress(
         uncovered_points: tiled.uncovered,
         outlier_points,
         tiles: tile_count,
-        tile_size: (tile_count > 1 || options.tile_size.is_some()).then_some(grid.size),
+        tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
+            .then_some(grid.size),
         consensus_points,
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
@@ -345,9 +346,10 @@ fn plan_conversion(
     let extent = f64::from(bounds.size().max_element());
     let anchor = cloud.origin + bounds.min.as_dvec3();
     let buffer = f64::from(TILE_BUFFER_PIXELS * pixel);
-    let grid = match options.tile_size {
-        Some(size) => TileGrid::new(anchor, f64::from(size).max(extent / 1e6), buffer),
-        None => {
+    let grid = match (options.tile_grid, options.tile_size) {
+        (Some(grid), _) => Some(grid),
+        (None, Some(size)) => TileGrid::new(anchor, f64::from(size).max(extent / 1e6), buffer),
+        (None, None) => {
             let whole: usize = view_directions(options.views)
                 .iter()
                 .map(|&b| ImageGeometry::covering(b, bounds, pixel).pixel_count())
@@ -357,7 +359,13 @@ fn plan_conversion(
         }
     };
     match grid {
-        Some(grid) => plan_tiles(positions, cloud.origin, grid),
+        Some(grid) => {
+            let mut plan = plan_tiles(positions, cloud.origin, grid);
+            if let Some(key) = options.only_tile {
+                keep_only_tile(&mut plan, positions, cloud.origin, key);
+            }
+            plan
+        }
         None => TilePlan {
             grid: TileGrid {
                 anchor,
@@ -373,6 +381,16 @@ fn plan_conversion(
             outlier_tiles: 0,
         },
     }
+}
+
+/// Keeps the one tile of `plan` whose own points lie in the tile `key` (see
+/// [`CloudOptions::only_tile`]); the others' points are only its buffer.
+fn keep_only_tile(plan: &mut TilePlan, positions: &[Vec3], origin: glam::DVec3, key: [i64; 3]) {
+    let grid = plan.grid;
+    plan.tiles.retain(|tile| {
+        let first = tile.members[tile.own[0].index()] as usize;
+        grid.key_of(origin + positions[first].as_dvec3()) == key
+    });
 }
 
 /// The cloud as the tiles read it.

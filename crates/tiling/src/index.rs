@@ -1,0 +1,157 @@
+//! Tiled scenes: an index (JSON) listing a plan's tile files with their bounds and counts,
+//! so a viewer loads only the tiles it needs (the schema is in `docs/scale.md`).
+//!
+//! The index is made from the plan and the tile files alone, in plan order, so every run of
+//! the same plan (local, GNU parallel, Dask, any worker count) writes the same bytes.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use spatch_format::read_scene;
+
+use crate::plan::{Plan, PlanGrid, WorldBox};
+use crate::TilingError;
+
+/// The index format's version (the `version` field).
+pub const INDEX_VERSION: u32 = 1;
+
+/// The file name of tile `index`'s scene in a run's directory.
+pub fn tile_file_name(index: usize) -> String {
+    format!("tile_{index:05}.spatch")
+}
+
+/// One tile of a tiled scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IndexTile {
+    /// Its index in the plan.
+    pub index: usize,
+    /// Its grid key.
+    pub key: [i64; 3],
+    /// Its scene file, relative to the index's directory.
+    pub file: String,
+    /// The box it owns (every patch's anchor is inside).
+    pub bounds: WorldBox,
+    /// The bounds of its filled nodes (`null` for a tile with no patch); they may reach a
+    /// little past `bounds` (a patch covers the points it was cut for and its border cells).
+    pub scene_bounds: Option<WorldBox>,
+    /// Its patches.
+    pub patches: usize,
+    /// Its grid nodes.
+    pub nodes: usize,
+    /// Its filled nodes.
+    pub filled_nodes: usize,
+    /// Its file's size in bytes.
+    pub bytes: u64,
+}
+
+/// A tiled scene (see the module documentation).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneIndex {
+    /// [`INDEX_VERSION`].
+    pub version: u32,
+    /// The plan's input.
+    pub input: String,
+    /// The plan's grid.
+    pub grid: PlanGrid,
+    /// The union of the tiles' scene bounds (`null` when no tile has a patch).
+    pub bounds: Option<WorldBox>,
+    /// The tiles in plan order.
+    pub tiles: Vec<IndexTile>,
+}
+
+/// The index of `plan`'s tiles written in `dir` (as [`tile_file_name`]).
+///
+/// Errors: [`TilingError::Io`] / [`TilingError::BadJson`] for a missing or unreadable tile
+/// file.
+pub fn build_index(plan: &Plan, dir: &Path) -> Result<SceneIndex, TilingError> {
+    let mut tiles = Vec::with_capacity(plan.tiles.len());
+    let mut bounds: Option<WorldBox> = None;
+    for tile in &plan.tiles {
+        let file = tile_file_name(tile.index);
+        let path = dir.join(&file);
+        let bytes = std::fs::metadata(&path)
+            .map_err(|e| TilingError::io(&path, e))?
+            .len();
+        let scene = read_scene(&path).map_err(|e| TilingError::BadJson {
+            path: path.clone(),
+            reason: format!("not a readable tile: {e}"),
+        })?;
+        let scene_bounds = scene.bounds().map(|(lo, hi)| WorldBox::new(lo, hi));
+        if let Some(b) = scene_bounds {
+            bounds = Some(match bounds {
+                None => b,
+                Some(u) => union(&u, &b),
+            });
+        }
+        tiles.push(IndexTile {
+            index: tile.index,
+            key: tile.key,
+            file,
+            bounds: tile.bounds,
+            scene_bounds,
+            patches: scene.patches().len(),
+            nodes: scene.node_count(),
+            filled_nodes: scene.filled_node_count(),
+            bytes,
+        });
+    }
+    Ok(SceneIndex {
+        version: INDEX_VERSION,
+        input: plan.input.clone(),
+        grid: plan.grid,
+        bounds,
+        tiles,
+    })
+}
+
+fn union(a: &WorldBox, b: &WorldBox) -> WorldBox {
+    WorldBox {
+        min: [0, 1, 2].map(|k| a.min[k].min(b.min[k])),
+        max: [0, 1, 2].map(|k| a.max[k].max(b.max[k])),
+    }
+}
+
+impl SceneIndex {
+    /// The index as pretty JSON with a final newline.
+    pub fn to_json(&self) -> String {
+        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
+        text.push('\n');
+        text
+    }
+
+    /// Reads an index; tile files are then relative to `path`'s directory.
+    ///
+    /// Errors: [`TilingError::Io`], [`TilingError::BadJson`].
+    pub fn read(path: &Path) -> Result<SceneIndex, TilingError> {
+        let text = std::fs::read_to_string(path).map_err(|e| TilingError::io(path, e))?;
+        let index: SceneIndex = serde_json::from_str(&text).map_err(|e| TilingError::BadJson {
+            path: path.to_path_buf(),
+            reason: format!("not a tiled scene index: {e}"),
+        })?;
+        if index.version != INDEX_VERSION {
+            return Err(TilingError::BadJson {
+                path: path.to_path_buf(),
+                reason: format!(
+                    "index version {} (this spatch reads {INDEX_VERSION})",
+                    index.version
+                ),
+            });
+        }
+        Ok(index)
+    }
+
+    /// Tile `tile`'s file for an index read from `index_path`.
+    pub fn tile_path(index_path: &Path, tile: &IndexTile) -> PathBuf {
+        index_path
+            .parent()
+            .unwrap_or_else(|| Path::new("."))
+            .join(&tile.file)
+    }
+}
+
+/// Whether a JSON file looks like a tiled scene index (its `version` and `tiles` fields),
+/// read cheaply enough to decide how to open a file.
+pub fn is_index_file(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}

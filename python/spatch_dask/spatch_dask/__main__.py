@@ -1,0 +1,7 @@
+"""``python -m spatch_dask``: the ``spatch-dask`` command."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())
