@@ -15,6 +15,7 @@ pub(crate) mod merge;
 pub(crate) mod render;
 pub(crate) mod sphere;
 pub(crate) mod stats;
+pub(crate) mod view;
 
 use spatch_format::Compression;
 

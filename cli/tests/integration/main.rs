@@ -27,6 +27,9 @@
 //!   with an output on standard output), `--threads` on every command that works, no
 //!   progress without a terminal.
 //! - `readme_tour`: every command of the README's tour, as written.
+//! - `view`: issue 17 — `spatch view` without a display, scripted screenshots equal to
+//!   `spatch render` of the printed command, the overlay strip, `--bench-orbit`, bad
+//!   scripts, several scenes, and the window under Xvfb (skipped without `xvfb-run`).
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -50,3 +53,4 @@ mod sphere;
 mod stability;
 mod stats;
 mod test_command;
+mod view;

@@ -17,7 +17,7 @@
 //! docs/viewer.md.
 //!
 //! Modules, in use order: `error`, `orbit`, `event`, `script`, `settings`,
-//! `camera_line`, `viewer`, `bench`, `font`, `overlay`, `window`.
+//! `camera_line`, `viewer`, `bench`, `font`, `overlay`, `replay`, `window`.
 #![forbid(unsafe_code)]
 
 mod bench;
@@ -27,6 +27,7 @@ mod event;
 pub mod font;
 mod orbit;
 mod overlay;
+mod replay;
 mod script;
 mod settings;
 mod viewer;
@@ -38,7 +39,8 @@ pub use error::ViewError;
 pub use event::Event;
 pub use orbit::{Axis, Orbit, ORBIT_RADIANS_PER_PIXEL, ZOOM_PER_STEP};
 pub use overlay::Framebuffer;
+pub use replay::{replay_offscreen, Replayed};
 pub use script::parse_script;
 pub use settings::{Quality, Settings, ViewShading, STILL_SSAA};
 pub use viewer::{Frame, Viewer, BACKGROUND};
-pub use window::{check_display, run_window, WindowConfig, WindowOutcome, STILL_AFTER};
+pub use window::{check_display, run_window, WindowConfig, STILL_AFTER};

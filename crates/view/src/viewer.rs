@@ -99,6 +99,16 @@ impl Viewer {
         (self.width, self.height)
     }
 
+    /// Worker threads of the renderers.
+    pub fn threads(&self) -> usize {
+        self.renderers
+            .iter()
+            .flatten()
+            .map(Renderer::threads)
+            .next()
+            .unwrap_or(0)
+    }
+
     /// Patches in the prepared scene.
     pub fn patch_count(&self) -> usize {
         self.scene.patch_count()

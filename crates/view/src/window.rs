@@ -10,6 +10,7 @@ use crate::error::ViewError;
 use crate::event::Event;
 use crate::orbit::{Axis, ORBIT_RADIANS_PER_PIXEL};
 use crate::overlay::Framebuffer;
+use crate::replay::{framebuffer, Replayed};
 use crate::settings::Quality;
 use crate::viewer::{Frame, Viewer};
 
@@ -27,15 +28,6 @@ pub struct WindowConfig {
     pub no_overlay: bool,
     /// Replay these events instead of reading input, then stop.
     pub script: Option<Vec<Event>>,
-}
-
-/// What a window run ended with.
-#[derive(Debug, Clone)]
-pub struct WindowOutcome {
-    /// The `spatch render` flags of the last frame shown.
-    pub render_flags: String,
-    /// The last framebuffer shown (overlay included unless left out).
-    pub screenshot: Framebuffer,
 }
 
 /// Fails with [`ViewError::NoDisplay`] unless an X display is named.
@@ -60,10 +52,7 @@ struct Screen {
 impl Screen {
     /// Shows `frame` (with its overlay unless left out).
     fn show(&mut self, viewer: &mut Viewer, frame: Frame, quality: Quality) -> Result<(), ViewError> {
-        let mut fb = Framebuffer::of_image(&frame.image);
-        if !self.no_overlay {
-            fb.draw_overlay(&frame.overlay, 1 + fb.width / 1600);
-        }
+        let fb = framebuffer(&frame.image, (!self.no_overlay).then_some(&frame.overlay));
         self.window
             .update_with_buffer(&fb.words, fb.width, fb.height)
             .map_err(|e| ViewError::Window(e.to_string()))?;
@@ -89,11 +78,11 @@ impl Screen {
         })
     }
 
-    fn outcome(self) -> Result<WindowOutcome, ViewError> {
+    fn outcome(self) -> Result<Replayed, ViewError> {
         let (screenshot, render_flags) = self
             .shown
             .ok_or_else(|| ViewError::Window("no frame was shown".into()))?;
-        Ok(WindowOutcome {
+        Ok(Replayed {
             render_flags,
             screenshot,
         })
@@ -101,13 +90,14 @@ impl Screen {
 }
 
 /// Opens a window on `viewer` and runs until q, Esc or closing (or, with a
-/// script, until its events are replayed and the refined frame is shown).
+/// script, until its events are replayed and the refined frame is shown,
+/// the frames [`crate::replay_offscreen`] renders).
 /// `on_print` receives the flags line when p is pressed.
 pub fn run_window(
     viewer: &mut Viewer,
     config: &WindowConfig,
     on_print: &mut dyn FnMut(&str),
-) -> Result<WindowOutcome, ViewError> {
+) -> Result<Replayed, ViewError> {
     check_display()?;
     let (w, h) = viewer.size();
     let options = WindowOptions {
