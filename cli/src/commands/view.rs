@@ -42,6 +42,11 @@ pub(crate) struct ViewArgs {
     /// With --script: write the last frame shown as a PNG.
     #[arg(long, value_name = "FILE", requires = "script")]
     screenshot: Option<PathBuf>,
+    /// Render moving frames K times smaller per side (1..=4) and enlarge
+    /// them to the window: about K² fewer pixels while the camera moves;
+    /// still frames are always full size.
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=4))]
+    moving_scale: u32,
     /// Leave the overlay line out of the window (and the screenshot).
     #[arg(long)]
     no_overlay: bool,
@@ -107,6 +112,7 @@ pub(crate) fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let first = &args.inputs[0];
     let mut viewer = Viewer::new(&scene, args.width, args.height, args.threads.count())
         .map_err(|e| classify(e, first))?;
+    viewer.set_moving_scale(args.moving_scale);
     if let Some(frames) = args.bench_orbit {
         return bench(&mut viewer, frames as usize, first);
     }
@@ -147,10 +153,16 @@ fn finish(args: &ViewArgs, outcome: &Replayed) -> anyhow::Result<()> {
 fn bench(viewer: &mut Viewer, frames: usize, file: &Path) -> anyhow::Result<()> {
     let b = bench_orbit(viewer, frames).map_err(|e| classify(e, file))?;
     let (w, h) = viewer.size();
+    let (rw, rh) = viewer.settings().render_size(spatch_view::Quality::Moving, w, h);
+    let rendered = if (rw, rh) == (w, h) {
+        String::new()
+    } else {
+        format!(" (rendered at {rw}x{rh})")
+    };
     let threads = viewer.threads();
     print_summary(
         &format!(
-            "orbit of {} frames at {w}x{h}, {threads} threads: median {:.2} ms ({:.0} fps), worst {:.2} ms; {} of {} patches drawn (median)\n",
+            "orbit of {} frames at {w}x{h}{rendered}, {threads} threads: median {:.2} ms ({:.0} fps), worst {:.2} ms; {} of {} patches drawn (median)\n",
             b.frames,
             b.median_ms,
             1e3 / b.median_ms,

@@ -132,6 +132,9 @@ fn the_orbit_benchmark_prints_median_and_worst_frame_times() {
     let (median, worst) = (number_after("median"), number_after("worst"));
     assert!(median > 0.0 && median <= worst, "{line}");
     assert!(line.ends_with("of 200 patches drawn (median)"), "{line}");
+    let args = ["view", "s.spatch", "--bench-orbit", "2", "--width", "200", "--height", "160"];
+    let run = run_without_display(&t, &[&args[..], &["--moving-scale", "2"]].concat()).success();
+    assert!(run.stdout.starts_with("orbit of 2 frames at 200x160 (rendered at 100x80), "), "{}", run.stdout);
 }
 
 #[test]

@@ -41,6 +41,6 @@ pub use orbit::{Axis, Orbit, ORBIT_RADIANS_PER_PIXEL, ZOOM_PER_STEP};
 pub use overlay::Framebuffer;
 pub use replay::{replay_offscreen, Replayed};
 pub use script::parse_script;
-pub use settings::{Quality, Settings, ViewShading, STILL_SSAA};
+pub use settings::{Quality, Settings, ViewShading, MAX_MOVING_SCALE, STILL_SSAA};
 pub use viewer::{Frame, Viewer, BACKGROUND};
 pub use window::{check_display, run_window, WindowConfig, STILL_AFTER};

@@ -38,6 +38,26 @@ impl Framebuffer {
         }
     }
 
+    /// This buffer enlarged `scale` times per side (each pixel a square),
+    /// cut to `width × height`.
+    pub fn enlarged(self, scale: u32, width: u32, height: u32) -> Framebuffer {
+        let k = scale.max(1) as usize;
+        if k == 1 || self.words.is_empty() {
+            return self;
+        }
+        let (width, height) = (width as usize, height as usize);
+        let mut words = Vec::with_capacity(width * height);
+        for y in 0..height {
+            let row = &self.words[(y / k).min(self.height - 1) * self.width..][..self.width];
+            words.extend((0..width).map(|x| row[(x / k).min(self.width - 1)]));
+        }
+        Framebuffer {
+            width,
+            height,
+            words,
+        }
+    }
+
     /// Draws `text` at the bottom-left, wrapped at the width, on a darkened
     /// strip; `scale` enlarges each font pixel.
     pub fn draw_overlay(&mut self, text: &str, scale: usize) {
@@ -128,6 +148,19 @@ mod tests {
         two.draw_overlay(&"8".repeat(20), 1);
         let first_changed = two.words.iter().position(|w| *w != 0x0080_8080).unwrap();
         assert_eq!(first_changed / 100, 60 - (2 * (GLYPH_HEIGHT + 2) + 2 * MARGIN));
+    }
+
+    #[test]
+    fn a_scaled_image_repeats_each_pixel_and_is_cut_to_the_view() {
+        let small = Framebuffer {
+            width: 2,
+            height: 2,
+            words: vec![1, 2, 3, 4],
+        };
+        let big = small.clone().enlarged(2, 3, 4);
+        assert_eq!((big.width, big.height), (3, 4));
+        assert_eq!(big.words, [1, 1, 2, 1, 1, 2, 3, 3, 4, 3, 3, 4]);
+        assert_eq!(small.clone().enlarged(1, 9, 9), small);
     }
 
     #[test]

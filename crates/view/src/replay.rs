@@ -5,7 +5,7 @@ use crate::error::ViewError;
 use crate::event::Event;
 use crate::overlay::Framebuffer;
 use crate::settings::Quality;
-use crate::viewer::Viewer;
+use crate::viewer::{Frame, Viewer};
 
 /// The end of a replay: the flags of the last frame and its framebuffer.
 #[derive(Debug, Clone)]
@@ -26,17 +26,18 @@ pub fn replay_offscreen(
     events.iter().for_each(|e| viewer.apply(*e));
     let frame = viewer.frame(Quality::Still)?;
     Ok(Replayed {
-        screenshot: framebuffer(&frame.image, overlay.then_some(&frame.overlay)),
+        screenshot: framebuffer(&frame, overlay),
         render_flags: frame.render_flags,
     })
 }
 
-/// The framebuffer of an image with an optional overlay line (the font
-/// doubles from 1600 px wide).
-pub(crate) fn framebuffer(image: &spatch_render::RenderedImage, overlay: Option<&String>) -> Framebuffer {
-    let mut fb = Framebuffer::of_image(image);
-    if let Some(text) = overlay {
-        fb.draw_overlay(text, 1 + fb.width / 1600);
+/// The framebuffer of a frame at the view's size, with its overlay line
+/// when `overlay` (the font doubles from 1600 px wide).
+pub(crate) fn framebuffer(frame: &Frame, overlay: bool) -> Framebuffer {
+    let (width, height) = frame.view;
+    let mut fb = Framebuffer::of_image(&frame.image).enlarged(frame.scale, width, height);
+    if overlay {
+        fb.draw_overlay(&frame.overlay, 1 + fb.width / 1600);
     }
     fb
 }

@@ -57,7 +57,13 @@ pub struct Settings {
     pub mip: bool,
     /// Supersampling of still frames (key a).
     pub ssaa: bool,
+    /// Moving frames are rendered this many times smaller per side,
+    /// 1..=[`MAX_MOVING_SCALE`], and enlarged to the window (1: full size).
+    pub moving_scale: u32,
 }
+
+/// The largest [`Settings::moving_scale`].
+pub const MAX_MOVING_SCALE: u32 = 4;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -66,6 +72,7 @@ impl Default for Settings {
             triangles: false,
             mip: true,
             ssaa: true,
+            moving_scale: 1,
         }
     }
 }
@@ -86,6 +93,20 @@ impl Settings {
             Quality::Still if self.ssaa => STILL_SSAA,
             _ => 1,
         }
+    }
+
+    /// How many times smaller per side a frame of `quality` is rendered.
+    pub fn scale(&self, quality: Quality) -> u32 {
+        match quality {
+            Quality::Moving => self.moving_scale.clamp(1, MAX_MOVING_SCALE),
+            Quality::Still => 1,
+        }
+    }
+
+    /// The rendered size of a `width × height` view at `quality`.
+    pub fn render_size(&self, quality: Quality, width: u32, height: u32) -> (u32, u32) {
+        let k = self.scale(quality);
+        (width.div_ceil(k), height.div_ceil(k))
     }
 
     /// `base` with these toggles at `quality`.
@@ -127,8 +148,12 @@ impl Settings {
         let shading = self.shading.name();
         let mode = if self.triangles { "triangles" } else { "patches" };
         let mip = if self.mip { "mip" } else { "no mip" };
+        let scale = match self.scale(quality) {
+            1 => String::new(),
+            k => format!(" 1/{k} size"),
+        };
         format!(
-            "{mode} {shading} {mip} ssaa {}",
+            "{mode} {shading} {mip} ssaa {}{scale}",
             self.ssaa_factor(quality)
         )
     }

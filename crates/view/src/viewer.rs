@@ -8,7 +8,7 @@ use crate::camera_line::{position_decimals, CameraLine};
 use crate::error::ViewError;
 use crate::event::Event;
 use crate::orbit::Orbit;
-use crate::settings::{Quality, Settings};
+use crate::settings::{Quality, Settings, MAX_MOVING_SCALE};
 
 /// Background of the viewer (opaque, so the window shows what a PNG of the
 /// printed flags shows).
@@ -17,7 +17,8 @@ pub const BACKGROUND: [u8; 4] = [40, 44, 52, 255];
 /// One rendered frame.
 #[derive(Debug)]
 pub struct Frame {
-    /// The image, as `spatch render` with [`Frame::render_flags`] draws it.
+    /// The image, as `spatch render` with [`Frame::render_flags`] draws it
+    /// (`scale` times smaller than the view per side).
     pub image: RenderedImage,
     /// The on-screen line: frame time, patches drawn, settings, camera.
     pub overlay: String,
@@ -27,6 +28,10 @@ pub struct Frame {
     pub camera: Camera,
     /// The renderer's statistics.
     pub stats: RenderStats,
+    /// The image is this many times smaller per side than the view.
+    pub scale: u32,
+    /// The view's size in pixels (the window's).
+    pub view: (u32, u32),
 }
 
 impl Frame {
@@ -133,15 +138,27 @@ impl Viewer {
         }
     }
 
-    /// The camera the next frame uses, with its flags.
+    /// Renders moving frames `k` times smaller per side (1..=4, clamped),
+    /// enlarged to the view: fewer pixels while the camera moves.
+    pub fn set_moving_scale(&mut self, k: u32) {
+        self.settings.moving_scale = k.clamp(1, MAX_MOVING_SCALE);
+    }
+
+    /// The camera of a still frame, with its flags.
     pub fn camera_line(&self) -> Result<CameraLine, ViewError> {
-        CameraLine::new(&self.orbit, self.decimals, self.width, self.height)
+        self.camera_line_at(self.width, self.height)
+    }
+
+    /// The camera at `width × height`, with its flags.
+    fn camera_line_at(&self, width: u32, height: u32) -> Result<CameraLine, ViewError> {
+        CameraLine::new(&self.orbit, self.decimals, width, height)
             .map_err(|p| ViewError::Render(spatch_render::RenderError::InvalidCamera(p)))
     }
 
     /// Renders the current view at `quality`.
     pub fn frame(&mut self, quality: Quality) -> Result<Frame, ViewError> {
-        let line = self.camera_line()?;
+        let (width, height) = self.settings.render_size(quality, self.width, self.height);
+        let line = self.camera_line_at(width, height)?;
         let options = self.settings.options(&self.base, quality);
         let renderer = renderer_for(&mut self.renderers[quality as usize], options)?;
         let out = renderer.render(&self.scene, &line.camera)?;
@@ -157,8 +174,8 @@ impl Viewer {
         let render_flags = format!(
             "{} --width {} --height {} --background {},{},{}{}",
             line.flags,
-            self.width,
-            self.height,
+            width,
+            height,
             BACKGROUND[0],
             BACKGROUND[1],
             BACKGROUND[2],
@@ -170,6 +187,8 @@ impl Viewer {
             render_flags,
             camera: line.camera,
             stats: out.stats,
+            scale: self.settings.scale(quality),
+            view: (self.width, self.height),
         })
     }
 

@@ -52,7 +52,7 @@ struct Screen {
 impl Screen {
     /// Shows `frame` (with its overlay unless left out).
     fn show(&mut self, viewer: &mut Viewer, frame: Frame, quality: Quality) -> Result<(), ViewError> {
-        let fb = framebuffer(&frame.image, (!self.no_overlay).then_some(&frame.overlay));
+        let fb = framebuffer(&frame, !self.no_overlay);
         self.window
             .update_with_buffer(&fb.words, fb.width, fb.height)
             .map_err(|e| ViewError::Window(e.to_string()))?;

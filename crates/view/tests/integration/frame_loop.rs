@@ -240,3 +240,22 @@ fn an_orbit_benchmark_times_every_frame() {
     // A whole turn: the camera is back where it started.
     assert!(close(viewer.orbit().eye, start.eye, 1e-9 * start.distance()));
 }
+
+#[test]
+fn moving_frames_at_a_smaller_scale_print_their_own_size() {
+    let mut viewer = Viewer::new(&sphere(), 201, 150, 2).unwrap();
+    viewer.set_moving_scale(2);
+    let moving = viewer.frame(Quality::Moving).unwrap();
+    assert_eq!((moving.image.width(), moving.image.height()), (101, 75));
+    assert_eq!((moving.scale, moving.view), (2, (201, 150)));
+    assert!(moving.render_flags.contains("--width 101 --height 75"), "{}", moving.render_flags);
+    assert!(moving.overlay.contains("1/2 size"), "{}", moving.overlay);
+    let still = viewer.frame(Quality::Still).unwrap();
+    assert_eq!((still.image.width(), still.scale), (201, 1));
+    let (options, camera) = render_from_flags(&moving.render_flags);
+    let mut renderer = Renderer::new(options).unwrap();
+    let reference = renderer.render(&renderer.prepare(&sphere()), &camera).unwrap();
+    assert!(reference.image.pixels() == moving.image.pixels());
+    viewer.set_moving_scale(9);
+    assert_eq!(viewer.settings().moving_scale, 4);
+}
