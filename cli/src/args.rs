@@ -77,13 +77,11 @@ pub(crate) enum Command {
     /// Look around scenes in a window on the CPU: drag to orbit, right/middle drag to pan,
     /// wheel to zoom; keys r reset, 1-6 axis views, s shading, t patches/triangles, m mip,
     /// a supersampling, p print the `spatch render` command, q/Esc quit.
-    #[command(
-        after_help = "Example:
+    #[command(after_help = "Example:
   spatch view bunny.spatch
   spatch view a.spatch b.spatch --width 1280 --height 720
   spatch view bunny.spatch --bench-orbit 100 --threads 2
-  spatch view bunny.spatch --script events.txt --screenshot out.png --no-overlay"
-    )]
+  spatch view bunny.spatch --script events.txt --screenshot out.png --no-overlay")]
     View(commands::view::ViewArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     #[command(

@@ -153,7 +153,9 @@ fn finish(args: &ViewArgs, outcome: &Replayed) -> anyhow::Result<()> {
 fn bench(viewer: &mut Viewer, frames: usize, file: &Path) -> anyhow::Result<()> {
     let b = bench_orbit(viewer, frames).map_err(|e| classify(e, file))?;
     let (w, h) = viewer.size();
-    let (rw, rh) = viewer.settings().render_size(spatch_view::Quality::Moving, w, h);
+    let (rw, rh) = viewer
+        .settings()
+        .render_size(spatch_view::Quality::Moving, w, h);
     let rendered = if (rw, rh) == (w, h) {
         String::new()
     } else {

@@ -31,7 +31,13 @@ fn printed_render(stdout: &str, out: &str) -> Vec<String> {
         .strip_prefix("spatch ")
         .expect("a spatch command")
         .split_whitespace()
-        .map(|w| if w == "view.png" { out.to_owned() } else { w.to_owned() })
+        .map(|w| {
+            if w == "view.png" {
+                out.to_owned()
+            } else {
+                w.to_owned()
+            }
+        })
         .collect();
     assert_eq!(words[0], "render", "{line}");
     words
@@ -52,7 +58,14 @@ fn without_a_display_the_viewer_says_so_in_one_line() {
     assert!(run.stdout.is_empty());
     // A window replay needs one too, and writes no screenshot.
     std::fs::write(t.path("ev.txt"), "orbit 5 5\n").unwrap();
-    let args = ["view", "s.spatch", "--script", "ev.txt", "--screenshot", "x.png"];
+    let args = [
+        "view",
+        "s.spatch",
+        "--script",
+        "ev.txt",
+        "--screenshot",
+        "x.png",
+    ];
     assert_eq!(run_without_display(&t, &args).code, 2);
     assert!(!t.path("x.png").exists());
 }
@@ -72,8 +85,20 @@ fn a_scripted_screenshot_equals_the_render_of_the_printed_command() {
         let run = run_without_display(
             &t,
             &[
-                "view", "s.spatch", "--width", "400", "--height", "300", "--script", "ev.txt",
-                "--no-window", "--no-overlay", "--screenshot", &shot, "--threads", "2",
+                "view",
+                "s.spatch",
+                "--width",
+                "400",
+                "--height",
+                "300",
+                "--script",
+                "ev.txt",
+                "--no-window",
+                "--no-overlay",
+                "--screenshot",
+                &shot,
+                "--threads",
+                "2",
             ],
         )
         .success();
@@ -99,8 +124,17 @@ fn the_overlay_line_is_drawn_only_in_the_bottom_strip() {
     std::fs::write(t.path("ev.txt"), "zoom 1\n").unwrap();
     for (name, extra) in [("plain.png", Some("--no-overlay")), ("text.png", None)] {
         let mut args = vec![
-            "view", "s.spatch", "--width", "300", "--height", "200", "--script", "ev.txt",
-            "--no-window", "--screenshot", name,
+            "view",
+            "s.spatch",
+            "--width",
+            "300",
+            "--height",
+            "200",
+            "--script",
+            "ev.txt",
+            "--no-window",
+            "--screenshot",
+            name,
         ];
         args.extend(extra);
         run_without_display(&t, &args).success();
@@ -120,11 +154,25 @@ fn the_orbit_benchmark_prints_median_and_worst_frame_times() {
     t.small_sphere("s.spatch");
     let run = run_without_display(
         &t,
-        &["view", "s.spatch", "--bench-orbit", "6", "--threads", "2", "--width", "200", "--height", "160"],
+        &[
+            "view",
+            "s.spatch",
+            "--bench-orbit",
+            "6",
+            "--threads",
+            "2",
+            "--width",
+            "200",
+            "--height",
+            "160",
+        ],
     )
     .success();
     let line = run.stdout.trim();
-    assert!(line.starts_with("orbit of 6 frames at 200x160, 2 threads: median "), "{line}");
+    assert!(
+        line.starts_with("orbit of 6 frames at 200x160, 2 threads: median "),
+        "{line}"
+    );
     let number_after = |key: &str| -> f64 {
         let rest = line.split(key).nth(1).unwrap().trim_start();
         rest.split(' ').next().unwrap().parse().unwrap()
@@ -132,9 +180,23 @@ fn the_orbit_benchmark_prints_median_and_worst_frame_times() {
     let (median, worst) = (number_after("median"), number_after("worst"));
     assert!(median > 0.0 && median <= worst, "{line}");
     assert!(line.ends_with("of 200 patches drawn (median)"), "{line}");
-    let args = ["view", "s.spatch", "--bench-orbit", "2", "--width", "200", "--height", "160"];
+    let args = [
+        "view",
+        "s.spatch",
+        "--bench-orbit",
+        "2",
+        "--width",
+        "200",
+        "--height",
+        "160",
+    ];
     let run = run_without_display(&t, &[&args[..], &["--moving-scale", "2"]].concat()).success();
-    assert!(run.stdout.starts_with("orbit of 2 frames at 200x160 (rendered at 100x80), "), "{}", run.stdout);
+    assert!(
+        run.stdout
+            .starts_with("orbit of 2 frames at 200x160 (rendered at 100x80), "),
+        "{}",
+        run.stdout
+    );
 }
 
 #[test]
@@ -142,7 +204,15 @@ fn a_bad_script_is_one_clear_line_and_writes_nothing() {
     let t = TestCommand::new();
     t.small_sphere("s.spatch");
     std::fs::write(t.path("ev.txt"), "orbit 1 2\nspin 3\n").unwrap();
-    let args = ["view", "s.spatch", "--script", "ev.txt", "--no-window", "--screenshot", "x.png"];
+    let args = [
+        "view",
+        "s.spatch",
+        "--script",
+        "ev.txt",
+        "--no-window",
+        "--screenshot",
+        "x.png",
+    ];
     let run = run_without_display(&t, &args);
     run.assert_one_clear_line("ev.txt: line 2: unknown event \"spin\"");
     assert!(!t.path("x.png").exists());
@@ -159,8 +229,19 @@ fn several_scenes_are_shown_together_and_printed_as_a_merge() {
     t.small_sphere("b.spatch");
     std::fs::write(t.path("ev.txt"), "orbit 10 0\n").unwrap();
     let args = [
-        "view", "a.spatch", "b.spatch", "--script", "ev.txt", "--no-window", "--no-overlay",
-        "--screenshot", "ab.png", "--width", "200", "--height", "150",
+        "view",
+        "a.spatch",
+        "b.spatch",
+        "--script",
+        "ev.txt",
+        "--no-window",
+        "--no-overlay",
+        "--screenshot",
+        "ab.png",
+        "--width",
+        "200",
+        "--height",
+        "150",
     ];
     let run = run_without_display(&t, &args).success();
     let line = run.stdout.trim();
@@ -180,7 +261,9 @@ fn several_scenes_are_shown_together_and_printed_as_a_merge() {
 fn under_xvfb_the_window_screenshot_equals_the_render() {
     let found = Command::new("xvfb-run").arg("--help").output().is_ok();
     if !found {
-        eprintln!("skipped: xvfb-run is not installed (Debian package xvfb; .ci/view_test installs it)");
+        eprintln!(
+            "skipped: xvfb-run is not installed (Debian package xvfb; .ci/view_test installs it)"
+        );
         return;
     }
     let t = TestCommand::new();
@@ -190,14 +273,27 @@ fn under_xvfb_the_window_screenshot_equals_the_render() {
         .args(["-a", "-s", "-screen 0 1280x1024x24"])
         .arg(env!("CARGO_BIN_EXE_spatch"))
         .args([
-            "view", "s.spatch", "--width", "320", "--height", "240", "--script", "ev.txt",
-            "--no-overlay", "--screenshot", "win.png",
+            "view",
+            "s.spatch",
+            "--width",
+            "320",
+            "--height",
+            "240",
+            "--script",
+            "ev.txt",
+            "--no-overlay",
+            "--screenshot",
+            "win.png",
         ])
         .current_dir(t.dir())
         .output()
         .expect("xvfb-run runs");
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let args = printed_render(&stdout, "ref.png");
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     t.run(&args).success();

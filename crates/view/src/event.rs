@@ -48,7 +48,11 @@ impl Event {
     pub fn moves_camera(&self) -> bool {
         matches!(
             self,
-            Event::Orbit { .. } | Event::Pan { .. } | Event::Zoom(_) | Event::Reset | Event::View(_)
+            Event::Orbit { .. }
+                | Event::Pan { .. }
+                | Event::Zoom(_)
+                | Event::Reset
+                | Event::View(_)
         )
     }
 }

@@ -142,12 +142,15 @@ mod tests {
         let strip = GLYPH_HEIGHT + 2 + 2 * MARGIN;
         let top = 60 - strip;
         assert!(fb.words[..top * 100].iter().all(|w| *w == 0x0080_8080));
-        assert!(fb.words[top * 100..].iter().any(|w| *w == TEXT));
+        assert!(fb.words[top * 100..].contains(&TEXT));
         // 16 characters fit a line of 100 px; 20 need two lines.
         let mut two = grey(100, 60);
         two.draw_overlay(&"8".repeat(20), 1);
         let first_changed = two.words.iter().position(|w| *w != 0x0080_8080).unwrap();
-        assert_eq!(first_changed / 100, 60 - (2 * (GLYPH_HEIGHT + 2) + 2 * MARGIN));
+        assert_eq!(
+            first_changed / 100,
+            60 - (2 * (GLYPH_HEIGHT + 2) + 2 * MARGIN)
+        );
     }
 
     #[test]
@@ -167,7 +170,10 @@ mod tests {
     fn a_glyph_lands_where_its_bits_say() {
         let mut fb = grey(40, 20);
         fb.draw_glyph('-', 0, 0, 1);
-        let row3: Vec<bool> = fb.words[3 * 40..3 * 40 + 6].iter().map(|w| *w == TEXT).collect();
+        let row3: Vec<bool> = fb.words[3 * 40..3 * 40 + 6]
+            .iter()
+            .map(|w| *w == TEXT)
+            .collect();
         assert_eq!(row3, [true, true, true, true, true, false]);
         assert!(fb.words[..3 * 40].iter().all(|w| *w != TEXT));
     }

@@ -146,7 +146,11 @@ impl Settings {
     /// A few words for the overlay.
     pub fn describe(&self, quality: Quality) -> String {
         let shading = self.shading.name();
-        let mode = if self.triangles { "triangles" } else { "patches" };
+        let mode = if self.triangles {
+            "triangles"
+        } else {
+            "patches"
+        };
         let mip = if self.mip { "mip" } else { "no mip" };
         let scale = match self.scale(quality) {
             1 => String::new(),

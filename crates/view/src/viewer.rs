@@ -209,5 +209,7 @@ fn renderer_for(
         *slot = Some(Renderer::new(options)?);
     }
     slot.as_mut()
-        .ok_or(ViewError::Render(spatch_render::RenderError::Bug("renderer slot")))
+        .ok_or(ViewError::Render(spatch_render::RenderError::Bug(
+            "renderer slot",
+        )))
 }

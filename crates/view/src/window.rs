@@ -51,7 +51,12 @@ struct Screen {
 
 impl Screen {
     /// Shows `frame` (with its overlay unless left out).
-    fn show(&mut self, viewer: &mut Viewer, frame: Frame, quality: Quality) -> Result<(), ViewError> {
+    fn show(
+        &mut self,
+        viewer: &mut Viewer,
+        frame: Frame,
+        quality: Quality,
+    ) -> Result<(), ViewError> {
         let fb = framebuffer(&frame, !self.no_overlay);
         self.window
             .update_with_buffer(&fb.words, fb.width, fb.height)
@@ -185,10 +190,22 @@ fn key_event(key: Key) -> Option<Event> {
         Key::Key4 | Key::NumPad4 => number(4),
         Key::Key5 | Key::NumPad5 => number(5),
         Key::Key6 | Key::NumPad6 => number(6),
-        Key::Left => Some(Event::Orbit { dx: -ARROW_PIXELS, dy: 0.0 }),
-        Key::Right => Some(Event::Orbit { dx: ARROW_PIXELS, dy: 0.0 }),
-        Key::Up => Some(Event::Orbit { dx: 0.0, dy: -ARROW_PIXELS }),
-        Key::Down => Some(Event::Orbit { dx: 0.0, dy: ARROW_PIXELS }),
+        Key::Left => Some(Event::Orbit {
+            dx: -ARROW_PIXELS,
+            dy: 0.0,
+        }),
+        Key::Right => Some(Event::Orbit {
+            dx: ARROW_PIXELS,
+            dy: 0.0,
+        }),
+        Key::Up => Some(Event::Orbit {
+            dx: 0.0,
+            dy: -ARROW_PIXELS,
+        }),
+        Key::Down => Some(Event::Orbit {
+            dx: 0.0,
+            dy: ARROW_PIXELS,
+        }),
         Key::Equal | Key::NumPadPlus => Some(Event::Zoom(1.0)),
         Key::Minus | Key::NumPadMinus => Some(Event::Zoom(-1.0)),
         _ => None,

@@ -46,7 +46,11 @@ fn ten_orbit_steps_of_a_tenth_turn_come_back_to_the_start() {
     // Each step turns by 36° about the up axis; after ten, back home.
     let turned = (eyes[0] - start.target).angle_between(start.eye - start.target);
     assert!((turned.to_degrees() - 36.0).abs() < 1e-9, "{turned}");
-    assert!(close(viewer.orbit().eye, start.eye, 1e-9 * start.distance()));
+    assert!(close(
+        viewer.orbit().eye,
+        start.eye,
+        1e-9 * start.distance()
+    ));
     assert!(close(viewer.orbit().up, start.up, 1e-9));
     // Dragging right moves the eye to the left of where it looked from.
     assert!((eyes[0] - start.eye).dot(start.right()) < 0.0);
@@ -58,12 +62,18 @@ fn orbit_over_the_pole_keeps_a_valid_frame() {
     let quarter = std::f64::consts::FRAC_PI_2 / ORBIT_RADIANS_PER_PIXEL;
     viewer.apply(Event::View(Axis::PosZ));
     for _ in 0..3 {
-        viewer.apply(Event::Orbit { dx: 0.0, dy: quarter });
+        viewer.apply(Event::Orbit {
+            dx: 0.0,
+            dy: quarter,
+        });
         assert_orthonormal(viewer.orbit());
     }
     // Three quarter turns down from +z: the eye went over -y... to +y.
     let dir = (viewer.orbit().eye - viewer.orbit().target).normalize();
-    assert!(close(dir, DVec3::NEG_Y, 1e-9) || close(dir, DVec3::Y, 1e-9), "{dir}");
+    assert!(
+        close(dir, DVec3::NEG_Y, 1e-9) || close(dir, DVec3::Y, 1e-9),
+        "{dir}"
+    );
     assert!(viewer.frame(Quality::Moving).unwrap().image.covered_count() > 0);
 }
 
@@ -82,7 +92,10 @@ fn axis_views_look_down_their_axis_with_a_sensible_up() {
         (6, DVec3::Z, DVec3::Y),
     ];
     for (key, looking, up) in cases {
-        viewer.apply(Event::Orbit { dx: 37.0, dy: -11.0 });
+        viewer.apply(Event::Orbit {
+            dx: 37.0,
+            dy: -11.0,
+        });
         viewer.apply(Event::View(Axis::of_key(key).unwrap()));
         let o = *viewer.orbit();
         assert!(close(o.forward(), looking, 1e-12), "key {key}: {o:?}");
@@ -191,16 +204,30 @@ fn scripted_frames_equal_a_render_of_their_printed_flags() {
     let cases = [
         ("", Quality::Still, "--ssaa 2"),
         ("shading\n", Quality::Moving, "--shading flat"),
-        ("mode\nmip\n", Quality::Still, "--mode triangles --no-mip --ssaa 2"),
-        ("ssaa\n", Quality::Still, "--shading flat --mode triangles --no-mip"),
+        (
+            "mode\nmip\n",
+            Quality::Still,
+            "--mode triangles --no-mip --ssaa 2",
+        ),
+        (
+            "ssaa\n",
+            Quality::Still,
+            "--shading flat --mode triangles --no-mip",
+        ),
     ];
     for (toggles, quality, expected_flags) in cases {
         for event in parse_script(toggles).unwrap() {
             viewer.apply(event);
         }
         let frame = viewer.frame(quality).unwrap();
-        assert!(frame.render_flags.ends_with(expected_flags), "{}", frame.render_flags);
-        assert!(frame.overlay.contains(frame.render_flags.split(" --width").next().unwrap()));
+        assert!(
+            frame.render_flags.ends_with(expected_flags),
+            "{}",
+            frame.render_flags
+        );
+        assert!(frame
+            .overlay
+            .contains(frame.render_flags.split(" --width").next().unwrap()));
         assert!(frame.overlay.contains(" ms "), "{}", frame.overlay);
         let (options, camera) = render_from_flags(&frame.render_flags);
         assert_eq!(camera, frame.camera);
@@ -238,7 +265,11 @@ fn an_orbit_benchmark_times_every_frame() {
     assert!(bench.median_patches_drawn > 0);
     assert!(bench.median_patches_drawn <= viewer.patch_count() as u64);
     // A whole turn: the camera is back where it started.
-    assert!(close(viewer.orbit().eye, start.eye, 1e-9 * start.distance()));
+    assert!(close(
+        viewer.orbit().eye,
+        start.eye,
+        1e-9 * start.distance()
+    ));
 }
 
 #[test]
@@ -248,13 +279,19 @@ fn moving_frames_at_a_smaller_scale_print_their_own_size() {
     let moving = viewer.frame(Quality::Moving).unwrap();
     assert_eq!((moving.image.width(), moving.image.height()), (101, 75));
     assert_eq!((moving.scale, moving.view), (2, (201, 150)));
-    assert!(moving.render_flags.contains("--width 101 --height 75"), "{}", moving.render_flags);
+    assert!(
+        moving.render_flags.contains("--width 101 --height 75"),
+        "{}",
+        moving.render_flags
+    );
     assert!(moving.overlay.contains("1/2 size"), "{}", moving.overlay);
     let still = viewer.frame(Quality::Still).unwrap();
     assert_eq!((still.image.width(), still.scale), (201, 1));
     let (options, camera) = render_from_flags(&moving.render_flags);
     let mut renderer = Renderer::new(options).unwrap();
-    let reference = renderer.render(&renderer.prepare(&sphere()), &camera).unwrap();
+    let reference = renderer
+        .render(&renderer.prepare(&sphere()), &camera)
+        .unwrap();
     assert!(reference.image.pixels() == moving.image.pixels());
     viewer.set_moving_scale(9);
     assert_eq!(viewer.settings().moving_scale, 4);
