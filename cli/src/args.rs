@@ -86,6 +86,15 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch eval bunny.spatch --source bun_zipper.ply\n  spatch eval bunny.spatch --source bun_zipper.ply --views 6 --json --per-patch patches.csv\n  spatch eval scan.spatch --source bun000.ply        # a point cloud: cloud error, no image error\n  spatch eval --sweep bun_zipper.ply --out sweep --threads 2"
     )]
     Eval(commands::eval::EvalArgs),
+    /// Look around scenes in a window on the CPU: drag to orbit, right/middle drag to pan,
+    /// wheel to zoom; keys r reset, 1-6 axis views, s shading, t patches/triangles, m mip,
+    /// a supersampling, p print the `spatch render` command, q/Esc quit.
+    #[command(after_help = "Example:
+  spatch view bunny.spatch
+  spatch view a.spatch b.spatch --width 1280 --height 720
+  spatch view bunny.spatch --bench-orbit 100 --threads 2
+  spatch view bunny.spatch --script events.txt --screenshot out.png --no-overlay")]
+    View(commands::view::ViewArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     #[command(
         after_help = "Example:\n  spatch completions bash > /etc/bash_completion.d/spatch\n  spatch completions zsh > ~/.zfunc/_spatch"
@@ -112,6 +121,7 @@ impl Command {
             Command::Merge(args) => args.files(),
             Command::Render(args) => args.files(),
             Command::Eval(args) => args.files(),
+            Command::View(args) => args.files(),
             Command::Man(args) => args.files(),
             // demo writes its own fresh names into a folder; completions
             // only prints.

@@ -34,6 +34,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Merge(args) => commands::merge::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Eval(args) => commands::eval::run(&args),
+        Command::View(args) => commands::view::run(&args),
         Command::Completions(args) => commands::completions::run(&args),
         Command::Man(args) => commands::man::run(&args),
     }

@@ -19,6 +19,7 @@ pub(crate) mod sphere;
 pub(crate) mod stats;
 pub(crate) mod tiled;
 pub(crate) mod tiled_scene;
+pub(crate) mod view;
 
 use spatch_format::Compression;
 

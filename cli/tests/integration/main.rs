@@ -29,6 +29,9 @@
 //! - `tiled`: issue 18 — `spatch plan`, `from-cloud --plan` one tile and every tile (the
 //!   same bytes), `spatch index`, `spatch render INDEX` reading only the tiles in view.
 //! - `readme_tour`: every command of the README's tour, as written.
+//! - `view`: issue 17 — `spatch view` without a display, scripted screenshots equal to
+//!   `spatch render` of the printed command, the overlay strip, `--bench-orbit`, bad
+//!   scripts, several scenes, and the window under Xvfb (skipped without `xvfb-run`).
 //! - `bad_input`: missing, truncated and corrupt files give one error line,
 //!   exit code 2 and no output file.
 
@@ -53,3 +56,4 @@ mod stability;
 mod stats;
 mod test_command;
 mod tiled;
+mod view;

@@ -1,0 +1,3 @@
+//! The viewer's frame loop driven by scripted events.
+
+mod frame_loop;
