@@ -10,7 +10,8 @@
 //! carried along the patch axis onto the hit face's plane, kept inside the face so that no
 //! sample reaches into another part of a texture atlas). The bilinear cells the renderer
 //! draws between nodes then show the texture's local mean instead of aliasing it when the
-//! spacing is coarser than a texel. Untextured colour is sampled at the hit alone.
+//! spacing is coarser than a texel. Untextured colour is sampled at the hit alone, and so is
+//! every colour when texture-aware fitting is off (`texels_per_node` 0).
 //!
 //! The scene's channel is RGBA8 when some node is not fully opaque, RGB8 otherwise.
 
@@ -39,18 +40,19 @@ pub(crate) struct Footprint {
     pub(crate) axis: Vec3,
 }
 
-/// The colour of a node hitting `face` at `bary`: [`sample_colour`] for untextured faces,
-/// the mean over the node's footprint on textured ones (module docs).
+/// The colour of a node hitting `face` at `bary`: [`sample_colour`] for untextured faces or
+/// without a footprint, the mean over the node's footprint on textured ones (module docs).
 pub(crate) fn node_colour(
     mesh: &TriangleMesh,
     face: FaceId,
     bary: [f32; 3],
-    footprint: &Footprint,
+    footprint: Option<&Footprint>,
 ) -> [u8; 4] {
-    let textured = mesh.face_uvs.is_some()
-        && mesh
-            .material_of(face)
-            .is_some_and(|m| m.texture.is_some());
+    let Some(footprint) = footprint else {
+        return sample_colour(mesh, face, bary);
+    };
+    let textured =
+        mesh.face_uvs.is_some() && mesh.material_of(face).is_some_and(|m| m.texture.is_some());
     if !textured {
         return sample_colour(mesh, face, bary);
     }

@@ -138,6 +138,7 @@ pub fn fit_regions_counted(
                     spacing: region_spacings.as_ref().map_or(spacing, |s| s[index]),
                     step_scale: region_spacings.as_ref().map_or(1.0, |s| spacing / s[index]),
                     with_colour,
+                    footprint_colour: options.texels_per_node > 0.0,
                 },
                 index,
                 region,
@@ -189,6 +190,8 @@ struct RegionJob<'a> {
     /// displacement steps follow the geometry's spacing, not the texture's.
     step_scale: f32,
     with_colour: bool,
+    /// Textured nodes take their footprint's mean (on with [`FitOptions::texels_per_node`]).
+    footprint_colour: bool,
 }
 
 /// Fits one region (steps 1-6 of the module docs), refining the spacing up to
@@ -444,6 +447,7 @@ fn make_patch(
         ay: b.y * lattice.spacing[1],
         axis: b.z,
     };
+    let job_footprint = job.footprint_colour.then_some(&footprint);
     let mut displacements = Vec::with_capacity(cols * rows);
     let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
     for j in 0..rows {
@@ -455,7 +459,7 @@ fn make_patch(
                 colours.push(if c == EMPTY {
                     [0; 4]
                 } else {
-                    node_colour(job.mesh, hits[k].face, hits[k].bary, &footprint)
+                    node_colour(job.mesh, hits[k].face, hits[k].bary, job_footprint)
                 });
             }
         }

@@ -109,7 +109,14 @@ pub(crate) fn texture_spacings(
     };
     let floor = spacing_floor(&measured, &wanted, s, budget_nodes);
     let spacings: Vec<f64> = wanted.iter().map(|&w| w.max(floor)).collect();
-    let mut detail = summarize(&measured, &spacings, &wanted, texels_per_node, blind, budget_nodes);
+    let mut detail = summarize(
+        &measured,
+        &spacings,
+        &wanted,
+        texels_per_node,
+        blind,
+        budget_nodes,
+    );
     let out: Vec<f32> = spacings
         .iter()
         .zip(&wanted)
