@@ -94,6 +94,8 @@ pub(crate) struct ConversionDetails {
     pub(crate) colour: &'static str,
     /// What welding and cleaning changed.
     pub(crate) prepare: PrepareCounts,
+    /// How much texture detail the fit kept (`null` when no region is textured).
+    pub(crate) texture: Option<spatch_fit::TextureDetail>,
     /// What the sharp-edge stage found and made (`null` when it was off).
     pub(crate) edges: Option<EdgeStats>,
     /// Bytes the edge patches add to the file.
@@ -119,6 +121,7 @@ impl ConversionDetails {
             spacing: r.spacing,
             colour: r.colour,
             prepare: r.prepare,
+            texture: r.texture,
             edges: r.edges,
             edge_bytes: r.edge_bytes,
             sides: r.sides,

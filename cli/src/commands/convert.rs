@@ -11,7 +11,7 @@ use spatch_convert::{
 use spatch_eval::{
     geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport, Report, Stages,
 };
-use spatch_fit::FitOptions;
+use spatch_fit::{FitOptions, TextureBudget};
 use spatch_format::WriteOptions;
 
 use super::ThreadsArg;
@@ -88,6 +88,16 @@ pub(crate) struct PipelineArgs {
     /// the crease (by default only the gaps get one).
     #[arg(long)]
     pub(crate) all_creases: bool,
+    /// Node spacing of textured regions in texels of their texture (0 = off: textures are
+    /// sampled at the mesh's spacing). Smaller keeps finer texture detail for more nodes,
+    /// within --texture-budget.
+    #[arg(long, value_name = "TEXELS", default_value_t = FitOptions::DEFAULT_TEXELS_PER_NODE, value_parser = non_negative_f32)]
+    pub(crate) texels_per_node: f32,
+    /// How much textured regions may grow the file: `Nx` (N >= 1) times the nodes of the
+    /// texture-blind conversion, or a size in bytes (`2000000`, `500k`, `2M`; estimated at
+    /// 4 bytes per node) for all surface nodes. The finest textures give up detail first.
+    #[arg(long, value_name = "Nx|BYTES", default_value = "3x", value_parser = texture_budget)]
+    pub(crate) texture_budget: TextureBudget,
     /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
     /// patches (28 renders per scene).
     #[arg(long)]
@@ -120,6 +130,45 @@ fn in_range(s: &str, low: f32, high: f32) -> Result<f32, String> {
     }
 }
 
+fn non_negative_f32(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err("must be a number >= 0".to_owned())
+    }
+}
+
+/// Bytes per surface node the byte form of `--texture-budget` assumes: an 8-bit
+/// displacement and RGB8 colour.
+const BUDGET_BYTES_PER_NODE: u64 = 4;
+
+fn texture_budget(s: &str) -> Result<TextureBudget, String> {
+    let t = s.trim();
+    if let Some(k) = t.strip_suffix(['x', 'X']) {
+        let k: f32 = k.parse().map_err(|e| format!("{e}"))?;
+        return if k.is_finite() && k >= 1.0 {
+            Ok(TextureBudget::Scale(k))
+        } else {
+            Err("the scale Nx must have N >= 1".to_owned())
+        };
+    }
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, 'k' | 'K')) => (&t[..i], 1_000.0),
+        Some((i, 'm' | 'M')) => (&t[..i], 1_000_000.0),
+        Some((i, 'g' | 'G')) => (&t[..i], 1_000_000_000.0),
+        _ => (t, 1.0),
+    };
+    let v: f64 = digits
+        .parse()
+        .map_err(|_| "expected Nx (a scale) or a size in bytes such as 500k or 2M".to_owned())?;
+    let bytes = v * unit;
+    if !(bytes.is_finite() && bytes > 0.0) {
+        return Err("the byte budget must be positive".to_owned());
+    }
+    Ok(TextureBudget::Nodes(bytes as u64 / BUDGET_BYTES_PER_NODE))
+}
+
 fn positive_f32(s: &str) -> Result<f32, String> {
     let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
     if v.is_finite() && v > 0.0 {
@@ -137,6 +186,8 @@ impl PipelineArgs {
         options.fit.grid = self.grid;
         options.fit.overlap = self.overlap;
         options.fit.colour = !self.no_colour;
+        options.fit.texels_per_node = self.texels_per_node;
+        options.fit.texture_budget = self.texture_budget;
         options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options.sharp_edges = (!self.no_sharp_edges).then(|| {
@@ -447,6 +498,19 @@ pub(crate) fn summary(
         text.push_str(&format!(
             "  sharp edges: {} creases in {} chains, {} corners; {} edge + {} corner patches, {} bytes\n",
             e.creases, e.chains, e.corners, e.edge_patches, e.corner_patches, r.edge_bytes
+        ));
+    }
+    if let Some(t) = &r.texture {
+        text.push_str(&format!(
+            "  texture: {} textured regions, {:.2} texels per node (asked {:.2}{}), {:.0} texels; nodes {:.0} against {:.0} texture-blind (budget {:.0})\n",
+            t.textured_regions,
+            t.texels_per_node,
+            t.texels_per_node_wanted,
+            if t.budget_limited { ", held by the budget" } else { "" },
+            t.texels,
+            t.nodes,
+            t.blind_nodes,
+            t.budget_nodes,
         ));
     }
     for w in &r.warnings {

@@ -128,6 +128,9 @@ impl EarthArgs {
             Level::High => Density::High,
         };
         options.convert.fit.spacing = self.spacing;
+        // The globe's density levels give the original work's patch counts: its colour map
+        // is sampled at the level's spacing, not refined by texels.
+        options.convert.fit.texels_per_node = 0.0;
         options.convert.write = WriteOptions::with_compression(super::compression(self.compress));
         options
     }

@@ -14,7 +14,7 @@ use spatch_eval::{
 };
 use spatch_render::{CellScheme, Projection, RenderOptions};
 
-use super::render::{CellsArg, ProjectionArg};
+use super::render::{CellsArg, ProjectionArg, ShadingArg};
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, read_spatch, write_json_report, write_output};
@@ -65,6 +65,10 @@ pub(crate) struct EvalArgs {
     /// Cell filling of the patch renders (not with --sweep, which tries both).
     #[arg(long, value_enum, default_value_t = CellsArg::Bilinear, conflicts_with = "sweep")]
     cells: CellsArg,
+    /// Shading of both the source and the patch renders (not with --sweep); `unlit` compares
+    /// the albedo alone (colour and texture, no light), as `spatch render --shading unlit`.
+    #[arg(long, value_enum, default_value_t = ShadingArg::Phong, conflicts_with = "sweep")]
+    shading: ShadingArg,
     /// Splat limit of the patch renders in pixels (see `spatch render
     /// --splat-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
@@ -140,6 +144,7 @@ impl EvalArgs {
             CellsArg::Bilinear => CellScheme::Bilinear,
             CellsArg::Smooth => CellScheme::Smooth,
         };
+        self.shading.apply(&mut render);
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render
@@ -312,6 +317,7 @@ fn fill_details(
             "projection": render.projection,
             "cells": render.cells,
             "shading": render.shading,
+            "lighting": render.lighting,
             "culling": render.culling,
             "prepare_seconds": e.prepare_render_seconds,
         }),
@@ -398,13 +404,17 @@ fn summary(
         let psnr = image
             .psnr_db
             .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
+        let covered = image
+            .psnr_covered_db
+            .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
         text.push_str(&format!(
-            "  image over {} views ({}x{}, {:?} projection, {:?} cells): PSNR {psnr}, holes {}, mean depth error {}\n",
+            "  image over {} views ({}x{}, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {}, mean depth error {}\n",
             image.views.len(),
             image.size[0],
             image.size[1],
             args.render_options().projection,
             args.render_options().cells,
+            args.shading,
             pct(image.hole_fraction),
             pct(image.mean_depth_error_rel),
         ));

@@ -59,6 +59,25 @@ pub(crate) enum ShadingArg {
     Gouraud,
     /// Normals interpolated, shaded per pixel.
     Phong,
+    /// The albedo alone (no light: ambient 1, diffuse 0, specular 0), colours at nodes
+    /// interpolated: what the colour channel holds, to compare with a texture.
+    Unlit,
+}
+
+impl ShadingArg {
+    /// The library's shading model and lighting for this choice.
+    pub(crate) fn apply(self, o: &mut RenderOptions) {
+        o.shading = match self {
+            ShadingArg::Flat => Shading::Flat,
+            ShadingArg::Gouraud | ShadingArg::Unlit => Shading::Gouraud,
+            ShadingArg::Phong => Shading::Phong,
+        };
+        if self == ShadingArg::Unlit {
+            o.lighting.ambient = 1.0;
+            o.lighting.diffuse = 0.0;
+            o.lighting.specular = 0.0;
+        }
+    }
 }
 
 /// Back-face culling.
@@ -278,11 +297,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
         CellsArg::Bilinear => CellScheme::Bilinear,
         CellsArg::Smooth => CellScheme::Smooth,
     };
-    o.shading = match args.shading {
-        ShadingArg::Flat => Shading::Flat,
-        ShadingArg::Gouraud => Shading::Gouraud,
-        ShadingArg::Phong => Shading::Phong,
-    };
+    args.shading.apply(&mut o);
     o.culling = match args.cull {
         CullArg::Auto => Culling::Auto,
         CullArg::Back => Culling::Back,

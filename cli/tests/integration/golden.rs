@@ -147,8 +147,18 @@ fn the_sphere_in_every_shading_and_both_modes() {
 #[test]
 fn spot_with_its_texture() {
     let t = TestCommand::new();
-    t.run(&["demo", "-o", "demo", "--size", "128", "--no-error"])
-        .success();
+    // The golden image is the texture-blind conversion (texture spacing off).
+    t.run(&[
+        "demo",
+        "-o",
+        "demo",
+        "--size",
+        "128",
+        "--no-error",
+        "--texels-per-node",
+        "0",
+    ])
+    .success();
     check_golden("spot_textured", &t.path("demo/spot.png"));
 }
 

@@ -171,14 +171,18 @@ pub fn convert_with_progress(
         })
     })?;
     let stats = fitted.stats;
+    let texture = fitted.texture;
     let mut channel = fitted.channel;
     let mut patches = fitted.patches;
 
+    // Textured regions may be finer than `spacing`: the edge patches then follow the finest
+    // surface spacing, so that their strips match the patches they close.
+    let edge_spacing = texture.map_or(spacing, |t| t.finest_spacing.min(spacing));
     let mut edges = match options.sharp_edges {
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
             let (edge_patches, edge_stats) = clock.run(Stage::Edges, || {
-                generate_edge_patches(&mesh, &adjacency, &patches, spacing, &edge_options)
+                generate_edge_patches(&mesh, &adjacency, &patches, edge_spacing, &edge_options)
             })?;
             Some((edge_patches, edge_stats))
         }
@@ -233,6 +237,7 @@ pub fn convert_with_progress(
         split_regions: stats.split_regions,
         refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,
+        texture,
         colour: channel.name(),
         diagonal: f64::from(mesh.diagonal()),
         prepare: PrepareCounts {

@@ -49,6 +49,9 @@ pub struct ConvertReport {
     pub refined_regions: usize,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
+    /// How much texture detail the fit kept (texels per node, texels, estimated nodes
+    /// against the budget), or `None` when no region is textured.
+    pub texture: Option<spatch_fit::TextureDetail>,
     /// Colour channel of the scene: `none`, `rgb8` or `rgba8`.
     pub colour: &'static str,
     /// Length of the source's bounding-box diagonal (model units).

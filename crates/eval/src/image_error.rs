@@ -190,6 +190,16 @@ impl SourceViews {
     pub fn drawing(&self) -> SourceDrawing {
         self.drawing
     }
+
+    /// The source's image of each view, in view order (to look at what the error compares).
+    pub fn images(&self) -> &[RenderedImage] {
+        &self.images
+    }
+
+    /// The camera of each view, in view order.
+    pub fn cameras(&self) -> &[Camera] {
+        &self.cameras
+    }
 }
 
 /// The image error seen from one view.
@@ -225,6 +235,10 @@ pub struct ImageError {
     /// PSNR (dB) pooled over all views (total squared error over all compared pixels);
     /// `None` when every compared pixel is identical.
     pub psnr_db: Option<f64>,
+    /// PSNR (dB) pooled over the pixels both images cover: the colour error alone, without
+    /// the silhouette pixels one image covers and the other does not (those count in
+    /// `psnr_db`, against the background). `None` when those pixels are identical.
+    pub psnr_covered_db: Option<f64>,
     /// Hole pixels over source pixels, summed over the views.
     pub hole_fraction: f64,
     /// Mean |depth difference| over pixels both cover in all views (model units).
@@ -251,6 +265,8 @@ struct PixelSums {
     holes: usize,
     compared: usize,
     squared: u64,
+    /// Squared error over the pixels both cover (`depth_pixels` of them).
+    covered_squared: u64,
     depth_pixels: usize,
     depth_sum: f64,
 }
@@ -278,6 +294,10 @@ fn compare_images(source: &RenderedImage, patch: &RenderedImage, tolerance: f32)
             }
         }
         if s_in && p_in {
+            for c in 0..3 {
+                let d = i64::from(sc[c]) - i64::from(pc[c]);
+                sums.covered_squared += (d * d) as u64;
+            }
             sums.depth_pixels += 1;
             sums.depth_sum += f64::from((pd - sd).abs());
         }
@@ -348,6 +368,7 @@ pub fn compare_views(
         total.holes += sums.holes;
         total.compared += sums.compared;
         total.squared += sums.squared;
+        total.covered_squared += sums.covered_squared;
         total.depth_pixels += sums.depth_pixels;
         total.depth_sum += sums.depth_sum;
     }
@@ -357,6 +378,7 @@ pub fn compare_views(
     Ok(ImageError {
         size,
         psnr_db: psnr(total.squared, total.compared),
+        psnr_covered_db: psnr(total.covered_squared, total.depth_pixels),
         hole_fraction: ratio(total.holes as f64, total.source as f64),
         mean_depth_error,
         mean_depth_error_rel: ratio(mean_depth_error, source.diagonal),

@@ -23,13 +23,14 @@ use rayon::prelude::*;
 use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
 use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
 
-use crate::colour::{choose_channel, sample_colour};
+use crate::colour::{choose_channel, node_colour, Footprint};
 use crate::frame_fit::{basis_from_axis, min_area_rect};
 use crate::lattice::Lattice;
 use crate::node_cast::{cast_nodes, Hit};
 use crate::overlap::{needed_nodes, neighbourhood};
 use crate::quantize::{choose_quantizer, quantize_height};
-use crate::{default_spacing, FitError, FitOptions};
+use crate::texture_spacing::texture_spacings;
+use crate::{default_spacing, FitError, FitOptions, TextureDetail};
 
 /// One region to fit: its faces and the axis of its normal cone.
 #[derive(Debug, Clone, Copy)]
@@ -74,6 +75,9 @@ pub struct FitOutput {
     pub spacing: f32,
     /// Counts.
     pub stats: FitStats,
+    /// How much texture detail the fit kept, or `None` when no region is textured (or
+    /// [`FitOptions::texels_per_node`] is 0).
+    pub texture: Option<TextureDetail>,
 }
 
 /// Fits every region of `mesh` with patches (see the module docs).
@@ -107,6 +111,21 @@ pub fn fit_regions_counted(
         None => default_spacing(mesh).ok_or(FitError::NoSurface)?,
     };
     let with_colour = options.colour && mesh.has_colour();
+    let textured = with_colour
+        .then(|| {
+            texture_spacings(
+                mesh,
+                regions,
+                spacing,
+                options.texels_per_node,
+                options.texture_budget,
+            )
+        })
+        .flatten();
+    let (region_spacings, texture) = match textured {
+        Some((s, detail)) => (Some(s), Some(detail)),
+        None => (None, None),
+    };
     let fitted: Vec<RegionPatches> = regions
         .par_iter()
         .enumerate()
@@ -116,8 +135,10 @@ pub fn fit_regions_counted(
                     mesh,
                     adjacency,
                     options,
-                    spacing,
+                    spacing: region_spacings.as_ref().map_or(spacing, |s| s[index]),
+                    step_scale: region_spacings.as_ref().map_or(1.0, |s| spacing / s[index]),
                     with_colour,
+                    footprint_colour: options.texels_per_node > 0.0,
                 },
                 index,
                 region,
@@ -155,6 +176,7 @@ pub fn fit_regions_counted(
         channel,
         spacing,
         stats,
+        texture,
     })
 }
 
@@ -164,7 +186,12 @@ struct RegionJob<'a> {
     adjacency: &'a FaceAdjacency,
     options: &'a FitOptions,
     spacing: f32,
+    /// The mesh's spacing over this region's spacing (1 unless the texture made it finer):
+    /// displacement steps follow the geometry's spacing, not the texture's.
+    step_scale: f32,
     with_colour: bool,
+    /// Textured nodes take their footprint's mean (on with [`FitOptions::texels_per_node`]).
+    footprint_colour: bool,
 }
 
 /// Fits one region (steps 1-6 of the module docs), refining the spacing up to
@@ -305,7 +332,12 @@ fn fit_lattice(
     if h_min > h_max {
         return Ok(Vec::new());
     }
-    let quantizer = choose_quantizer(h_max - h_min, spacing, job.options.max_step_error * spacing)?;
+    let step_spacing = spacing * job.step_scale;
+    let quantizer = choose_quantizer(
+        h_max - h_min,
+        step_spacing,
+        job.options.max_step_error * step_spacing,
+    )?;
     let codes: Vec<u16> = hits
         .iter()
         .map(|h| {
@@ -409,6 +441,13 @@ fn make_patch(
             }
         }
     }
+    let b = &lattice.basis;
+    let footprint = Footprint {
+        ax: b.x * lattice.spacing[0],
+        ay: b.y * lattice.spacing[1],
+        axis: b.z,
+    };
+    let job_footprint = job.footprint_colour.then_some(&footprint);
     let mut displacements = Vec::with_capacity(cols * rows);
     let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
     for j in 0..rows {
@@ -420,14 +459,13 @@ fn make_patch(
                 colours.push(if c == EMPTY {
                     [0; 4]
                 } else {
-                    sample_colour(job.mesh, hits[k].face, hits[k].bary)
+                    node_colour(job.mesh, hits[k].face, hits[k].bary, job_footprint)
                 });
             }
         }
     }
     let step = quantizer.step();
     let origin = lattice.position(i0, j0, f64::from(h_min) + f64::from(base) * f64::from(step));
-    let b = &lattice.basis;
     let frame = Frame::new(
         origin,
         b.x * lattice.spacing[0],

@@ -19,7 +19,10 @@
 //! - displacements get 8-bit codes with the step from the region's height range, 16-bit only
 //!   where half that step would exceed [`FitOptions::max_step_error`];
 //! - colour comes from the source (texture, vertex colours, material), and a source without
-//!   colour gets no colour channel.
+//!   colour gets no colour channel;
+//! - a region whose faces carry a texture gets a node spacing from the texture's own
+//!   resolution ([`FitOptions::texels_per_node`]), within a node budget
+//!   ([`FitOptions::texture_budget`]); [`FitOutput::texture`] says how much detail was kept.
 //!
 //! ```
 //! use glam::Vec3;
@@ -51,6 +54,7 @@ mod node_cast;
 mod options;
 mod overlap;
 mod quantize;
+mod texture_spacing;
 
 pub use colour::{choose_channel, sample_colour};
 pub use error::FitError;
@@ -60,3 +64,4 @@ pub use fit::{
 };
 pub use options::{default_spacing, FitOptions, SPACING_PER_TRIANGLE_SIZE};
 pub use quantize::{choose_quantizer, quantize_height};
+pub use texture_spacing::{TextureBudget, TextureDetail};

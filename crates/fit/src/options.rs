@@ -2,7 +2,7 @@
 
 use spatch_mesh::TriangleMesh;
 
-use crate::FitError;
+use crate::{FitError, TextureBudget};
 
 /// How regions become patches.
 ///
@@ -42,6 +42,17 @@ pub struct FitOptions {
     /// against a spacing far too fine for the model). Default
     /// [`FitOptions::DEFAULT_MAX_REGION_NODES`].
     pub max_region_nodes: usize,
+    /// Node spacing of textured regions in texels of their texture (the texel size in model
+    /// space from each triangle's UV Jacobian), so colour keeps the texture's detail; the
+    /// mesh's spacing still applies where it is finer. `0` turns it off (textures are sampled
+    /// at the mesh's spacing, as untextured colour is). Default
+    /// [`FitOptions::DEFAULT_TEXELS_PER_NODE`]. Smaller: sharper texture, more nodes (about
+    /// `1 / texels_per_node²` of them), within [`FitOptions::texture_budget`].
+    pub texels_per_node: f32,
+    /// How many nodes [`FitOptions::texels_per_node`] may add; default
+    /// [`TextureBudget::DEFAULT_SCALE`] × the texture-blind fit. The finest textures give up
+    /// detail first when it binds.
+    pub texture_budget: TextureBudget,
 }
 
 impl FitOptions {
@@ -56,6 +67,8 @@ impl FitOptions {
     pub const DEFAULT_NEIGHBOURHOOD_RINGS: u32 = 64;
     /// Default [`FitOptions::max_region_nodes`]: 16 Mi nodes.
     pub const DEFAULT_MAX_REGION_NODES: usize = 1 << 24;
+    /// Default [`FitOptions::texels_per_node`]: one node per texel.
+    pub const DEFAULT_TEXELS_PER_NODE: f32 = 1.0;
 
     /// Checks the ranges documented on each field.
     pub fn validate(&self) -> Result<(), FitError> {
@@ -74,6 +87,20 @@ impl FitOptions {
         if !(self.max_step_error.is_finite() && self.max_step_error > 0.0) {
             return Err(FitError::InvalidOptions {
                 reason: "max_step_error must be a positive finite fraction of the spacing",
+            });
+        }
+        if !(self.texels_per_node.is_finite() && self.texels_per_node >= 0.0) {
+            return Err(FitError::InvalidOptions {
+                reason: "texels_per_node must be a finite number >= 0 (0 = off)",
+            });
+        }
+        let budget_ok = match self.texture_budget {
+            TextureBudget::Scale(k) => k.is_finite() && k >= 1.0,
+            TextureBudget::Nodes(_) => true,
+        };
+        if !budget_ok {
+            return Err(FitError::InvalidOptions {
+                reason: "the texture budget's scale must be a finite number >= 1",
             });
         }
         if self.overlap > 64 {
@@ -95,6 +122,8 @@ impl Default for FitOptions {
             neighbourhood_rings: Self::DEFAULT_NEIGHBOURHOOD_RINGS,
             colour: true,
             max_region_nodes: Self::DEFAULT_MAX_REGION_NODES,
+            texels_per_node: Self::DEFAULT_TEXELS_PER_NODE,
+            texture_budget: TextureBudget::default(),
         }
     }
 }
