@@ -1,7 +1,0 @@
-"""``python -m spatch_dask``: the ``spatch-dask`` command."""
-
-import sys
-
-from .cli import main
-
-sys.exit(main())
