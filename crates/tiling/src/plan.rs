@@ -257,7 +257,7 @@ fn sample_spacing(
 }
 
 impl Plan {
-    /// Reads a plan written by [`Plan::write`].
+    /// Reads a plan written by [`Plan::to_json`].
     ///
     /// Errors: [`TilingError::Io`], [`TilingError::BadJson`] (not JSON of this shape, another
     /// version, a grid out of range).

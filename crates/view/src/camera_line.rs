@@ -18,7 +18,7 @@ const FOV_DECIMALS: usize = 4;
 const POSITION_STEP: f64 = 1e-6;
 
 /// The decimals of positions in a scene of bounding radius `radius`: a
-/// step of at most [`POSITION_STEP`] · radius.
+/// step of at most 1e-6 · radius.
 pub fn position_decimals(radius: f64) -> usize {
     if !(radius.is_finite() && radius > 0.0) {
         return 6;
