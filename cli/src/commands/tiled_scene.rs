@@ -51,6 +51,23 @@ pub(crate) fn read_visible_tiles(
         far,
     )
     .context("the camera looks nowhere (eye at the target, or up along the view)")?;
+    read_tiles(path, index, &|bounds| view.may_see(bounds))
+}
+
+/// Reads every tile of the index at `path` that holds patches, joined into one scene
+/// (`spatch view INDEX.json`: an orbit sees every side, so every tile is read).
+pub(crate) fn read_all_tiles(path: &Path) -> anyhow::Result<Scene> {
+    let index = SceneIndex::read(path).map_err(anyhow::Error::msg)?;
+    Ok(read_tiles(path, &index, &|_| true)?.scene)
+}
+
+/// Reads the tiles of `index` (read from `path`) that hold patches and whose scene bounds
+/// `wanted` accepts, joined into one scene.
+fn read_tiles(
+    path: &Path,
+    index: &SceneIndex,
+    wanted: &dyn Fn(&WorldBox) -> bool,
+) -> anyhow::Result<VisibleTiles> {
     let mut scenes = Vec::new();
     let mut info: Option<ContainerInfo> = None;
     let mut bytes = 0;
@@ -58,7 +75,7 @@ pub(crate) fn read_visible_tiles(
         let Some(bounds) = tile.scene_bounds else {
             continue;
         };
-        if tile.patches == 0 || !view.may_see(&bounds) {
+        if tile.patches == 0 || !wanted(&bounds) {
             continue;
         }
         let (scene, tile_info) = read_spatch(&SceneIndex::tile_path(path, tile))?;

@@ -18,7 +18,8 @@ use crate::output::{print_summary, read_spatch, write_output};
 #[derive(Debug, clap::Args)]
 pub(crate) struct ViewArgs {
     /// Input .spatch files; several are shown together (as `spatch merge`
-    /// would join them).
+    /// would join them). A tiled scene index (`index.json` of `from-cloud
+    /// --plan`) is shown whole, on its own.
     #[arg(required = true, value_name = "FILE")]
     inputs: Vec<PathBuf>,
     /// Window width in pixels.
@@ -56,8 +57,18 @@ pub(crate) struct ViewArgs {
     no_window: bool,
 }
 
-/// Reads and merges the inputs.
+/// Reads and merges the inputs; a tiled scene index (docs/scale.md) is read whole and
+/// viewed on its own.
 fn read_scenes(inputs: &[PathBuf]) -> anyhow::Result<Scene> {
+    if let Some(index) = inputs.iter().find(|p| super::tiled_scene::is_index(p)) {
+        if inputs.len() > 1 {
+            anyhow::bail!(
+                "{}: a tiled scene index is viewed on its own",
+                index.display()
+            );
+        }
+        return super::tiled_scene::read_all_tiles(index);
+    }
     let mut scenes = Vec::with_capacity(inputs.len());
     for path in inputs {
         scenes.push(read_spatch(path)?.0);

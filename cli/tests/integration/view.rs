@@ -299,3 +299,59 @@ fn under_xvfb_the_window_screenshot_equals_the_render() {
     t.run(&args).success();
     assert!(std::fs::read(t.path("win.png")).unwrap() == std::fs::read(t.path("ref.png")).unwrap());
 }
+
+#[test]
+fn a_tiled_scene_index_is_viewed_whole_and_its_printed_render_matches() {
+    let t = TestCommand::new();
+    crate::tiled::write_city(&t, "city.ply", 8000);
+    t.run(&[
+        "from-cloud",
+        "city.ply",
+        "--plan-tile",
+        "3.5",
+        "--spacing",
+        "0.1",
+        "--pixel-factor",
+        "1",
+        "-o",
+        "out",
+    ])
+    .success();
+    std::fs::write(t.path("ev.txt"), "orbit 30 -20\nzoom 1\n").unwrap();
+    let view = |inputs: &[&str]| {
+        let mut args = vec!["view"];
+        args.extend_from_slice(inputs);
+        args.extend_from_slice(&[
+            "--width",
+            "200",
+            "--height",
+            "150",
+            "--script",
+            "ev.txt",
+            "--no-window",
+            "--no-overlay",
+            "--screenshot",
+            "shot.png",
+        ]);
+        run_without_display(&t, &args)
+    };
+    let run = view(&["out/index.json"]).success();
+    let args = printed_render(&run.stdout, "ref.png");
+    assert_eq!(args[1], "out/index.json", "{args:?}");
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    t.run(&args).success();
+    let shot = image::open(t.path("shot.png")).unwrap().to_rgba8();
+    assert_eq!(
+        shot.as_raw(),
+        image::open(t.path("ref.png")).unwrap().to_rgba8().as_raw()
+    );
+    let background = *shot.get_pixel(0, 0);
+    assert!(shot.pixels().filter(|p| **p != background).count() > 1000);
+    // An index with other scenes: one line, exit 2, no screenshot.
+    std::fs::remove_file(t.path("shot.png")).unwrap();
+    let run = view(&["out/index.json", "out/index.json"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.contains("viewed on its own"), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(!t.path("shot.png").exists());
+}
