@@ -137,7 +137,9 @@ pub(crate) fn run(args: &ViewArgs) -> anyhow::Result<()> {
             };
             let inputs = &args.inputs;
             run_window(&mut viewer, &config, &mut |flags| {
-                println!("{}", render_command(inputs, flags));
+                // A closed standard output must not end the session: the line is a convenience.
+                let _ =
+                    crate::output::print_stdout(&format!("{}\n", render_command(inputs, flags)));
             })
         }
     }
