@@ -165,3 +165,35 @@ pub(crate) fn write_json_report(path: &Path, report: &impl serde::Serialize) -> 
     text.push('\n');
     write_output(path, text.as_bytes())
 }
+
+/// A scene written by [`encode_and_write`]: its size and the time of each step.
+pub(crate) struct SceneWritten {
+    /// Bytes of the container.
+    pub(crate) bytes: usize,
+    /// Seconds spent encoding.
+    pub(crate) encode_seconds: f64,
+    /// Seconds spent writing.
+    pub(crate) write_seconds: f64,
+}
+
+/// Encodes `scene` with `options` and writes it to `path` (`-`: standard
+/// output), as the progress steps "encode" and "write".
+pub(crate) fn encode_and_write(
+    progress: &crate::progress::Progress,
+    scene: &Scene,
+    options: &spatch_format::WriteOptions,
+    path: &Path,
+) -> anyhow::Result<SceneWritten> {
+    progress.step("encode");
+    let started = std::time::Instant::now();
+    let bytes = spatch_format::encode_scene(scene, options)?;
+    let encode_seconds = started.elapsed().as_secs_f64();
+    progress.step("write");
+    let started = std::time::Instant::now();
+    write_output(path, &bytes)?;
+    Ok(SceneWritten {
+        bytes: bytes.len(),
+        encode_seconds,
+        write_seconds: started.elapsed().as_secs_f64(),
+    })
+}

@@ -7,9 +7,9 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 use spatch_eval::{Counts, Report};
-use spatch_format::{encode_scene, Scene, WriteOptions};
+use spatch_format::{Scene, WriteOptions};
 
-use crate::output::{print_json, print_summary, read_spatch, write_output};
+use crate::output::{encode_and_write, print_json, print_summary, read_spatch};
 use crate::progress::Progress;
 use crate::report::{scene_diagonal, tool};
 
@@ -93,17 +93,12 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
         _ => anyhow::Error::new(e),
     })?;
     let merge_seconds = merge_started.elapsed().as_secs_f64();
-    progress.step("encode");
-    let encode_started = Instant::now();
-    let bytes = encode_scene(
+    let written = encode_and_write(
+        &progress,
         &merged,
         &WriteOptions::with_compression(super::compression(args.compress)),
+        &args.output,
     )?;
-    let encode_seconds = encode_started.elapsed().as_secs_f64();
-    progress.step("write");
-    let write_started = Instant::now();
-    write_output(&args.output, &bytes)?;
-    let write_seconds = write_started.elapsed().as_secs_f64();
     drop(progress);
     let parts: Vec<String> = inputs.iter().map(|i| i.patches.to_string()).collect();
     let text = format!(
@@ -111,7 +106,7 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
         args.output.display(),
         merged.patches().len(),
         parts.join(" + "),
-        bytes.len()
+        written.bytes
     );
     if args.json {
         let label = inputs
@@ -121,12 +116,12 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
             .join(" + ");
         let mut report = Report::new(&tool(), "merge", &label, MergeDetails { inputs });
         report.output = Some(args.output.display().to_string());
-        report.counts = Counts::of(&merged, bytes.len());
+        report.counts = Counts::of(&merged, written.bytes);
         report.diagonal = scene_diagonal(&merged);
         report.stages.push("read", read_seconds);
         report.stages.push("merge", merge_seconds);
-        report.stages.push("encode", encode_seconds);
-        report.stages.push("write", write_seconds);
+        report.stages.push("encode", written.encode_seconds);
+        report.stages.push("write", written.write_seconds);
         report.seconds = started.elapsed().as_secs_f64();
         report.threads = 1;
         print_json(&report)?;

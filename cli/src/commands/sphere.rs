@@ -5,12 +5,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 use spatch_eval::{Counts, Report};
-use spatch_format::{encode_scene, WriteOptions};
+use spatch_format::WriteOptions;
 
 use spatch_sphere::{build_sphere, SphereOptions};
 
 use super::ThreadsArg;
-use crate::output::{print_json, print_summary, write_output};
+use crate::output::{encode_and_write, print_json, print_summary};
 use crate::progress::Progress;
 use crate::report::{scene_diagonal, tool};
 
@@ -96,17 +96,12 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
                 .map(|(_, _, q)| (q.as_dvec3().length() - options.radius).abs())
         })
         .fold(0.0f64, f64::max);
-    progress.step("encode");
-    let encode_started = Instant::now();
-    let bytes = encode_scene(
+    let written = encode_and_write(
+        &progress,
         scene,
         &WriteOptions::with_compression(super::compression(args.compress)),
+        &args.output,
     )?;
-    let encode_seconds = encode_started.elapsed().as_secs_f64();
-    progress.step("write");
-    let write_started = Instant::now();
-    write_output(&args.output, &bytes)?;
-    let write_seconds = write_started.elapsed().as_secs_f64();
     drop(progress);
     if args.json {
         let mut report = Report::new(
@@ -124,11 +119,11 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
             },
         );
         report.output = Some(args.output.display().to_string());
-        report.counts = Counts::of(scene, bytes.len());
+        report.counts = Counts::of(scene, written.bytes);
         report.diagonal = scene_diagonal(scene);
         report.stages.push("build", build_seconds);
-        report.stages.push("encode", encode_seconds);
-        report.stages.push("write", write_seconds);
+        report.stages.push("encode", written.encode_seconds);
+        report.stages.push("write", written.write_seconds);
         report.seconds = started.elapsed().as_secs_f64();
         report.threads = rayon::current_num_threads();
         print_json(&report)?;
@@ -138,7 +133,7 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
         args.output.display(),
         scene.patches().len(),
         scene.filled_node_count(),
-        bytes.len(),
+        written.bytes,
         worst,
         options.step / 2.0,
     );
@@ -156,7 +151,7 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
     text.push_str(&format!(
         "  time: build {:.1} ms, encode+write {:.1} ms\n",
         build_seconds * 1e3,
-        (encode_seconds + write_seconds) * 1e3
+        (written.encode_seconds + written.write_seconds) * 1e3
     ));
     print_summary(&text, args.json)
 }
