@@ -103,13 +103,9 @@ fn triangle_splits(mesh: &TriangleMesh) -> Vec<u32> {
 /// The split that brings `face`'s longest edge to [`TEXELS_PER_EDGE`]
 /// texels of its material's texture (1 without a texture or UVs).
 fn wanted_split(mesh: &TriangleMesh, face: FaceId) -> u32 {
-    let (Some(texture), Some(uvs)) = (
-        mesh.material_of(face).and_then(|m| m.texture.as_ref()),
-        mesh.face_uvs.as_ref(),
-    ) else {
+    let Some((texture, [a, b, c])) = mesh.face_texture(face) else {
         return 1;
     };
-    let [a, b, c] = uvs[face.index()];
     let size = Vec2::new(texture.width as f32, texture.height as f32);
     let longest = [(a, b), (b, c), (c, a)]
         .iter()

@@ -147,13 +147,10 @@ fn region_texels(mesh: &TriangleMesh, region: &FitRegion<'_>) -> RegionTexels {
 
 /// The face's area in texels of its material's texture (0 without one).
 fn face_texels(mesh: &TriangleMesh, face: FaceId) -> f64 {
-    let (Some(texture), Some(uvs)) = (
-        mesh.material_of(face).and_then(|m| m.texture.as_ref()),
-        mesh.face_uvs.as_ref(),
-    ) else {
+    let Some((texture, uvs)) = mesh.face_texture(face) else {
         return 0.0;
     };
-    let [a, b, c] = uvs[face.index()].map(|p| p.as_dvec2());
+    let [a, b, c] = uvs.map(|p| p.as_dvec2());
     let uv_area = 0.5 * (b - a).perp_dot(c - a).abs();
     let texels = uv_area * f64::from(texture.width) * f64::from(texture.height);
     if texels.is_finite() {

@@ -8,7 +8,7 @@ use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::{Element, MeshArray, MeshProblem};
 use crate::material::{linear_to_srgb, srgb_to_linear, srgb_unit_to_linear};
-use crate::{FaceId, Material, MaterialId, MeshError, VertexId};
+use crate::{FaceId, Material, MaterialId, MeshError, Texture, VertexId};
 
 /// An axis-aligned bounding box in mesh coordinates (relative to the mesh origin).
 ///
@@ -335,6 +335,15 @@ impl TriangleMesh {
         self.materials.get(id.index())
     }
 
+    /// The texture of a face's material and the face's corner UVs, when the material has a
+    /// texture and the mesh has UVs.
+    #[inline]
+    pub fn face_texture(&self, face: FaceId) -> Option<(&Texture, [Vec2; 3])> {
+        let texture = self.material_of(face)?.texture.as_ref()?;
+        let uvs = self.face_uvs.as_ref()?;
+        Some((texture, uvs[face.index()]))
+    }
+
     /// Whether the surface has colour worth storing.
     ///
     /// The rule: true when the mesh has vertex colours, or when any material has a texture or
@@ -358,11 +367,7 @@ impl TriangleMesh {
         let w = barycentric;
         let material = self.material_of(face);
         let mut linear = material.map_or([1.0; 4], |m| m.base_colour);
-        if let (Some(texture), Some(uvs)) = (
-            material.and_then(|m| m.texture.as_ref()),
-            self.face_uvs.as_ref(),
-        ) {
-            let [a, b, c] = uvs[face.index()];
+        if let Some((texture, [a, b, c])) = self.face_texture(face) {
             let s = texture.sample_bilinear(a * w.x + b * w.y + c * w.z);
             for k in 0..3 {
                 linear[k] *= srgb_unit_to_linear(s[k]);
