@@ -8,21 +8,9 @@ use crate::test_command::TestCommand;
 
 /// Writes a cityscape of `points` points as binary PLY (float xyz, uchar rgb).
 pub(crate) fn write_city(t: &TestCommand, name: &str, points: u64) {
-    let city = Cityscape::new(points, 4);
-    let mut bytes = format!(
-        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
-        city.len()
-    )
-    .into_bytes();
-    city.for_each_chunk(4096, &mut |p, c| {
-        for (p, c) in p.iter().zip(c) {
-            for v in p {
-                bytes.extend_from_slice(&(*v as f32).to_le_bytes());
-            }
-            bytes.extend_from_slice(c);
-        }
-    });
-    std::fs::write(t.path(name), bytes).unwrap();
+    Cityscape::new(points, 4)
+        .write_binary_ply(&t.path(name), false)
+        .unwrap();
 }
 
 #[test]
