@@ -76,6 +76,32 @@ fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index()
     t.run(&["index", "plan.json", "out"]).success();
     assert_eq!(std::fs::read(t.path("out/index.json")).unwrap(), first);
 
+    // No spill file is left; the coarse level holds every tile's patches at 1/4 the nodes
+    // per axis and draws the whole scene from one file.
+    assert!(!t.path("out/.spill").exists());
+    let coarse = read_scene(&t.path("out/coarse.spatch")).unwrap();
+    assert_eq!(
+        index["coarse"]["nodes"].as_u64().unwrap() as usize,
+        coarse.node_count()
+    );
+    let nodes: u64 = index["tiles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["nodes"].as_u64().unwrap())
+        .sum();
+    let ratio = nodes as f64 / coarse.node_count() as f64;
+    assert!(
+        ratio > 4.0 && coarse.patches().len() as f64 > 0.8 * patches as f64,
+        "{ratio}"
+    );
+    let far = t
+        .run(&["render", "out/index.json", "--coarse", "-o", "coarse.png"])
+        .success();
+    assert!(!far.stderr.contains("tiles"), "{}", far.stderr);
+    t.run(&["render", "0.spatch", "--coarse", "-o", "x.png"])
+        .assert_one_clear_line("--coarse");
+
     let all = t
         .run(&["render", "out/index.json", "-o", "all.png"])
         .success();
