@@ -100,7 +100,8 @@ pub(crate) struct RenderArgs {
     #[arg(value_name = "FILE")]
     input: PathBuf,
     /// With a tiled scene's index: draw its coarse level (one file holding every tile with
-    /// one node in 4 kept along each axis, for far views) instead of reading the tiles.
+    /// one node in 4 kept along each axis) instead of reading the tiles. Without it, the
+    /// level is drawn only when its cells are under a pixel from the eye everywhere.
     #[arg(long)]
     coarse: bool,
     /// Output PNG (RGBA, transparent background unless --background); may be
@@ -357,7 +358,20 @@ fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option
     }
     let index = spatch_tiling::SceneIndex::read(&args.input).map_err(anyhow::Error::msg)?;
     let sphere = index_sphere(&index);
-    if args.coarse {
+    let view = camera(args, sphere).map_err(classify)?;
+    let far_enough = match (&index.coarse, &index.bounds) {
+        (Some(level), Some(bounds)) => level.fine_enough(
+            bounds,
+            view.eye(),
+            view.fov_y_degrees(),
+            view.height().saturating_mul(args.ssaa.max(1)),
+        ),
+        _ => false,
+    };
+    if args.coarse || far_enough {
+        if far_enough && !crate::progress::is_quiet() {
+            eprintln!("drew the coarse level (its cells are under a pixel from this eye)");
+        }
         let path = index.coarse_path(&args.input).with_context(|| {
             format!(
                 "{}: no coarse level (run `spatch index PLAN DIR` to write one)",
@@ -367,7 +381,6 @@ fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option
         let (scene, info) = read_spatch(&path)?;
         return Ok((scene, info, sphere));
     }
-    let view = camera(args, sphere).map_err(classify)?;
     let tiles = read_visible_tiles(&args.input, &index, &view, args.far)?;
     let info = tiles
         .info

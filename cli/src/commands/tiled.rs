@@ -196,8 +196,10 @@ fn convert_spilled(
     std::fs::create_dir_all(&spill_dir)
         .with_context(|| format!("{}: cannot create", spill_dir.display()))?;
     let keys: Vec<[i64; 3]> = plan.tiles.iter().map(|t| t.key).collect();
-    let spill =
-        spill_tiles(input, &grid, &keys, &spill_dir, SPILL_BUDGET).map_err(anyhow::Error::msg)?;
+    let spill = spill_tiles(input, &grid, &keys, &spill_dir, SPILL_BUDGET).map_err(|e| {
+        let _ = std::fs::remove_dir_all(&spill_dir);
+        anyhow::Error::msg(e)
+    })?;
     let spill_seconds = started.elapsed().as_secs_f64();
     let mut order: Vec<usize> = (0..plan.tiles.len()).collect();
     order.sort_by_key(|&i| std::cmp::Reverse(spill.tiles[i].points));
@@ -223,7 +225,7 @@ fn convert_spilled(
         Ok(done)
     };
     let workers = rayon::current_num_threads().clamp(1, plan.tiles.len().max(1));
-    let mut results = std::thread::scope(|scope| {
+    let results = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..workers).map(|_| scope.spawn(worker)).collect();
         let mut all = Vec::new();
         for handle in handles {
@@ -233,6 +235,10 @@ fn convert_spilled(
             all.extend(done);
         }
         anyhow::Ok(all)
+    });
+    let mut results = results.inspect_err(|_| {
+        // A failed run leaves no spill behind (its error is what is reported).
+        let _ = std::fs::remove_dir_all(&spill_dir);
     })?;
     std::fs::remove_dir(&spill_dir)
         .with_context(|| format!("{}: cannot remove", spill_dir.display()))?;

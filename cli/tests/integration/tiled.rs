@@ -101,6 +101,20 @@ fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index()
     assert!(!far.stderr.contains("tiles"), "{}", far.stderr);
     t.run(&["render", "0.spatch", "--coarse", "-o", "x.png"])
         .assert_one_clear_line("--coarse");
+    // From far enough for its cells to be under a pixel, the level is drawn unasked.
+    let cell = index["coarse"]["cell"].as_f64().unwrap();
+    assert!(cell > 0.0);
+    let far = t
+        .run(&[
+            "render",
+            "out/index.json",
+            "--eye",
+            "3000,3000,3000",
+            "-o",
+            "far.png",
+        ])
+        .success();
+    assert!(far.stderr.contains("coarse level"), "{}", far.stderr);
 
     let all = t
         .run(&["render", "out/index.json", "-o", "all.png"])
@@ -221,4 +235,10 @@ fn bad_plans_and_tiles_are_one_clear_line() {
     ])
     .assert_one_clear_line("p.json");
     assert!(!t.path("a.spatch").exists());
+    // An input cut short after planning: the local run fails in one line, no spill left.
+    let bytes = std::fs::read(t.path("city.ply")).unwrap();
+    std::fs::write(t.path("city.ply"), &bytes[..bytes.len() / 2]).unwrap();
+    t.run(&["from-cloud", "city.ply", "--plan", "p.json", "-o", "out"])
+        .assert_one_clear_line("city.ply");
+    assert!(!t.path("out/.spill").exists());
 }

@@ -7,6 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use spatch_format::{read_scene, write_scene, Scene, WriteOptions};
 
@@ -79,6 +80,29 @@ pub struct CoarseLevel {
     pub nodes: usize,
     /// Its file's size in bytes.
     pub bytes: u64,
+    /// The largest node spacing of its patches (model units): its cells are at most this
+    /// wide (0 when unknown: never picked automatically).
+    #[serde(default)]
+    pub cell: f64,
+}
+
+impl CoarseLevel {
+    /// Whether the level looks the same as the tiles from `eye` for a view of
+    /// `fov_y_degrees` over `pixels` rows, the scene within `bounds`: its cells, at the
+    /// scene's nearest point, project to less than one pixel.
+    pub fn fine_enough(
+        &self,
+        bounds: &WorldBox,
+        eye: DVec3,
+        fov_y_degrees: f64,
+        pixels: u32,
+    ) -> bool {
+        let (lo, hi) = (DVec3::from_array(bounds.min), DVec3::from_array(bounds.max));
+        let distance = (eye.clamp(lo, hi) - eye).length();
+        let pixel =
+            distance * 2.0 * (fov_y_degrees.to_radians() / 2.0).tan() / f64::from(pixels.max(1));
+        self.cell > 0.0 && self.cell < pixel
+    }
 }
 
 /// The index of `plan`'s tiles written in `dir` (as [`tile_file_name`]); writes its coarse
@@ -157,12 +181,21 @@ fn write_coarse(scenes: Vec<Scene>, dir: &Path) -> Result<Option<CoarseLevel>, T
     let bytes = std::fs::metadata(&path)
         .map_err(|e| TilingError::io(&path, e))?
         .len();
+    let cell = scene
+        .patches()
+        .iter()
+        .map(|p| {
+            let [x, y, _] = p.frame().lengths();
+            f64::from(x.max(y))
+        })
+        .fold(0.0, f64::max);
     Ok(Some(CoarseLevel {
         file: COARSE_FILE.to_string(),
         step: COARSE_STEP,
         patches: scene.patches().len(),
         nodes: scene.node_count(),
         bytes,
+        cell,
     }))
 }
 
