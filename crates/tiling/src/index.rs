@@ -261,3 +261,29 @@ pub fn is_index_file(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_coarse_level_is_fine_enough_only_where_its_cells_are_under_a_pixel() {
+        let level = |cell| CoarseLevel {
+            file: COARSE_FILE.to_string(),
+            step: COARSE_STEP,
+            patches: 1,
+            nodes: 4,
+            bytes: 0,
+            cell,
+        };
+        let bounds = WorldBox::new(DVec3::ZERO, DVec3::splat(100.0));
+        // 90° over 1000 rows: a pixel is 2·distance/1000; the nearest point is 900 away.
+        let eye = DVec3::new(50.0, 50.0, 1000.0);
+        assert!(level(1.7).fine_enough(&bounds, eye, 90.0, 1000));
+        assert!(!level(1.9).fine_enough(&bounds, eye, 90.0, 1000));
+        // More pixels, or an eye inside the bounds: too coarse; unknown cells: never.
+        assert!(!level(1.7).fine_enough(&bounds, eye, 90.0, 2000));
+        assert!(!level(1e-9).fine_enough(&bounds, DVec3::splat(50.0), 90.0, 1000));
+        assert!(!level(0.0).fine_enough(&bounds, eye, 90.0, 1000));
+    }
+}
