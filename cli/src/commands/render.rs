@@ -99,6 +99,11 @@ pub(crate) struct RenderArgs {
     /// which only the tiles in view are read.
     #[arg(value_name = "FILE")]
     input: PathBuf,
+    /// With a tiled scene's index: draw its coarse level (one file holding every tile with
+    /// one node in 4 kept along each axis) instead of reading the tiles. Without it, the
+    /// level is drawn only when its cells are under a pixel from the eye everywhere.
+    #[arg(long)]
+    coarse: bool,
     /// Output PNG (RGBA, transparent background unless --background); may be
     /// left out with --bench or --stats.
     #[arg(short, long, value_name = "FILE", required_unless_present_any = ["bench", "stats"])]
@@ -345,12 +350,37 @@ type Sphere = (DVec3, f64);
 fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option<Sphere>)> {
     use super::tiled_scene::{index_sphere, is_index, read_visible_tiles};
     if !is_index(&args.input) {
+        if args.coarse {
+            anyhow::bail!("--coarse needs a tiled scene's index.json");
+        }
         let (scene, info) = read_spatch(&args.input)?;
         return Ok((scene, info, None));
     }
     let index = spatch_tiling::SceneIndex::read(&args.input).map_err(anyhow::Error::msg)?;
     let sphere = index_sphere(&index);
     let view = camera(args, sphere).map_err(classify)?;
+    let far_enough = match (&index.coarse, &index.bounds) {
+        (Some(level), Some(bounds)) => level.fine_enough(
+            bounds,
+            view.eye(),
+            view.fov_y_degrees(),
+            view.height().saturating_mul(args.ssaa.max(1)),
+        ),
+        _ => false,
+    };
+    if args.coarse || far_enough {
+        if far_enough && !crate::progress::is_quiet() {
+            eprintln!("drew the coarse level (its cells are under a pixel from this eye)");
+        }
+        let path = index.coarse_path(&args.input).with_context(|| {
+            format!(
+                "{}: no coarse level (run `spatch index PLAN DIR` to write one)",
+                args.input.display()
+            )
+        })?;
+        let (scene, info) = read_spatch(&path)?;
+        return Ok((scene, info, sphere));
+    }
     let tiles = read_visible_tiles(&args.input, &index, &view, args.far)?;
     let info = tiles
         .info

@@ -1,17 +1,20 @@
 //! `spatch from-cloud --plan`: one tile of a plan (`--tile K`), or every tile on this
 //! machine with rayon plus the tiled scene's index (`-o DIR`, or `--plan-tile SIZE`, which
 //! makes the plan first). Every tile converts with the plan's spacing, pixel factor and
-//! grid, reading only its own and its buffer's points (docs/scale.md).
+//! grid, reading only its own and its buffer's points (docs/scale.md); a local run reads
+//! the input once, spilling every tile's points to a file of its own first.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use rayon::prelude::*;
 use spatch_cloud::{cloud_to_scene, CloudError, CloudOptions};
 use spatch_format::{encode_scene, ColourChannel, Scene};
+use spatch_mesh::PointCloud;
 use spatch_tiling::{
-    build_index, make_plan, read_tile_points, tile_file_name, Plan, PlanOptions, PlanTile,
+    build_index, make_plan, read_spilled_tile, read_tile_points, spill_tiles, tile_file_name, Plan,
+    PlanOptions, PlanTile, SPILL_BUDGET,
 };
 
 use crate::failure::InternalFailure;
@@ -45,20 +48,33 @@ fn plan_options(plan: &Plan, base: &CloudOptions) -> anyhow::Result<CloudOptions
     Ok(options)
 }
 
-/// Converts one tile of `plan` from `input`; a tile whose points hold no surface (too few,
-/// no extent) gives a scene with no patch, so every tile has a file.
+/// Converts one tile of `plan` from `input`, reading only its points and its buffer's.
 pub(crate) fn convert_plan_tile(
     input: &Path,
     plan: &Plan,
     tile: &PlanTile,
     base: &CloudOptions,
 ) -> anyhow::Result<TileResult> {
+    let grid = plan_options(plan, base)?.tile_grid.context("no grid")?;
+    let (cloud, own) = read_tile_points(input, &grid, tile.key).map_err(anyhow::Error::msg)?;
+    convert_tile_cloud(input, plan, tile, &cloud, own, base)
+}
+
+/// Converts tile `tile` of `plan` given its points and its buffer's (`cloud`, placed at the
+/// tile's lowest corner, `own` of them its own); a tile whose points hold no surface (too
+/// few, no extent) gives a scene with no patch, so every tile has a file.
+fn convert_tile_cloud(
+    input: &Path,
+    plan: &Plan,
+    tile: &PlanTile,
+    cloud: &PointCloud,
+    own: u64,
+    base: &CloudOptions,
+) -> anyhow::Result<TileResult> {
     let label = || format!("{} (tile {})", input.display(), tile.index);
     let mut options = plan_options(plan, base)?;
     options.only_tile = Some(tile.key);
-    let grid = options.tile_grid.context("no grid")?;
-    let (cloud, own) = read_tile_points(input, &grid, tile.key).map_err(anyhow::Error::msg)?;
-    let scene = match cloud_to_scene(&cloud, &options) {
+    let scene = match cloud_to_scene(cloud, &options) {
         Ok(conversion) => conversion.scene,
         Err(
             CloudError::NoSurface { .. }
@@ -132,15 +148,7 @@ pub(crate) fn run_all(
             plan
         }
     };
-    let results: Vec<(usize, usize, u64)> = plan
-        .tiles
-        .par_iter()
-        .map(|tile| {
-            let result = convert_plan_tile(input, &plan, tile, base)?;
-            write_output(&dir.join(tile_file_name(tile.index)), &result.bytes)?;
-            Ok((result.patches, result.nodes, result.own))
-        })
-        .collect::<anyhow::Result<_>>()?;
+    let (results, spill_seconds) = convert_spilled(input, &plan, dir, base)?;
     let index = build_index(&plan, dir).map_err(anyhow::Error::msg)?;
     let index_path = dir.join("index.json");
     write_output(&index_path, index.to_json().as_bytes())?;
@@ -149,7 +157,7 @@ pub(crate) fn run_all(
     let seconds = started.elapsed().as_secs_f64();
     print_summary(
         &format!(
-            "{}: {} tiles, {} patches, {} nodes from {} points in {:.2} s ({:.0} points/s, {} threads)\n",
+            "{}: {} tiles, {} patches, {} nodes from {} points in {:.2} s ({:.0} points/s, {} threads; spill {:.2} s)\n",
             index_path.display(),
             plan.tiles.len(),
             patches,
@@ -158,9 +166,94 @@ pub(crate) fn run_all(
             seconds,
             plan.points as f64 / seconds.max(1e-9),
             rayon::current_num_threads(),
+            spill_seconds,
         ),
         false,
     )
+}
+
+/// A converted tile's patches, nodes and own points.
+type TileCounts = (usize, usize, u64);
+
+/// Every tile of `plan` from `input`: one streamed pass spills each tile's points into
+/// `DIR/.spill/`, then as many workers as rayon has threads take the tiles, largest first,
+/// one at a time each (so at most that many tiles are in memory: a nested rayon loop could
+/// steal another whole tile while it waits), each conversion using the rayon pool, each
+/// spill file removed once its tile is written. Returns each tile's patches, nodes and own
+/// points, and the spill's seconds.
+fn convert_spilled(
+    input: &Path,
+    plan: &Plan,
+    dir: &Path,
+    base: &CloudOptions,
+) -> anyhow::Result<(Vec<TileCounts>, f64)> {
+    let started = Instant::now();
+    let grid = plan
+        .grid
+        .tile_grid()
+        .context("the plan's grid is out of range")?;
+    let spill_dir = dir.join(".spill");
+    std::fs::create_dir_all(&spill_dir)
+        .with_context(|| format!("{}: cannot create", spill_dir.display()))?;
+    let keys: Vec<[i64; 3]> = plan.tiles.iter().map(|t| t.key).collect();
+    let spill = spill_tiles(input, &grid, &keys, &spill_dir, SPILL_BUDGET).map_err(|e| {
+        let _ = std::fs::remove_dir_all(&spill_dir);
+        anyhow::Error::msg(e)
+    })?;
+    let spill_seconds = started.elapsed().as_secs_f64();
+    let mut order: Vec<usize> = (0..plan.tiles.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(spill.tiles[i].points));
+    let (next, failed) = (AtomicUsize::new(0), AtomicBool::new(false));
+    let convert = |i: usize| -> anyhow::Result<TileCounts> {
+        let tile = &plan.tiles[i];
+        let (cloud, own) = read_spilled_tile(&spill, i).map_err(anyhow::Error::msg)?;
+        let result = convert_tile_cloud(input, plan, tile, &cloud, own, base)?;
+        drop(cloud);
+        write_output(&dir.join(tile_file_name(tile.index)), &result.bytes)?;
+        remove_spill(&spill.tiles[i].path)?;
+        Ok((result.patches, result.nodes, result.own))
+    };
+    let worker = || -> anyhow::Result<Vec<(usize, TileCounts)>> {
+        let mut done = Vec::new();
+        while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+            if failed.load(Ordering::Relaxed) {
+                break;
+            }
+            let result = convert(i).inspect_err(|_| failed.store(true, Ordering::Relaxed))?;
+            done.push((i, result));
+        }
+        Ok(done)
+    };
+    let workers = rayon::current_num_threads().clamp(1, plan.tiles.len().max(1));
+    let results = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers).map(|_| scope.spawn(worker)).collect();
+        let mut all = Vec::new();
+        for handle in handles {
+            let done = handle
+                .join()
+                .map_err(|_| InternalFailure("a tile worker panicked".to_string()))??;
+            all.extend(done);
+        }
+        anyhow::Ok(all)
+    });
+    let mut results = results.inspect_err(|_| {
+        // A failed run leaves no spill behind (its error is what is reported).
+        let _ = std::fs::remove_dir_all(&spill_dir);
+    })?;
+    std::fs::remove_dir(&spill_dir)
+        .with_context(|| format!("{}: cannot remove", spill_dir.display()))?;
+    results.sort_by_key(|r| r.0);
+    Ok((results.into_iter().map(|r| r.1).collect(), spill_seconds))
+}
+
+/// Removes a tile's spill file (absent when the tile received no point).
+fn remove_spill(path: &Path) -> anyhow::Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(anyhow::Error::new(e).context(format!("{}: cannot remove", path.display())))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Where a local run's plan comes from.

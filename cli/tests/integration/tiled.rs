@@ -8,21 +8,9 @@ use crate::test_command::TestCommand;
 
 /// Writes a cityscape of `points` points as binary PLY (float xyz, uchar rgb).
 pub(crate) fn write_city(t: &TestCommand, name: &str, points: u64) {
-    let city = Cityscape::new(points, 4);
-    let mut bytes = format!(
-        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
-        city.len()
-    )
-    .into_bytes();
-    city.for_each_chunk(4096, &mut |p, c| {
-        for (p, c) in p.iter().zip(c) {
-            for v in p {
-                bytes.extend_from_slice(&(*v as f32).to_le_bytes());
-            }
-            bytes.extend_from_slice(c);
-        }
-    });
-    std::fs::write(t.path(name), bytes).unwrap();
+    Cityscape::new(points, 4)
+        .write_binary_ply(&t.path(name), false)
+        .unwrap();
 }
 
 #[test]
@@ -87,6 +75,46 @@ fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index()
     let first = std::fs::read(t.path("out/index.json")).unwrap();
     t.run(&["index", "plan.json", "out"]).success();
     assert_eq!(std::fs::read(t.path("out/index.json")).unwrap(), first);
+
+    // No spill file is left; the coarse level holds every tile's patches at 1/4 the nodes
+    // per axis and draws the whole scene from one file.
+    assert!(!t.path("out/.spill").exists());
+    let coarse = read_scene(&t.path("out/coarse.spatch")).unwrap();
+    assert_eq!(
+        index["coarse"]["nodes"].as_u64().unwrap() as usize,
+        coarse.node_count()
+    );
+    let nodes: u64 = index["tiles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["nodes"].as_u64().unwrap())
+        .sum();
+    let ratio = nodes as f64 / coarse.node_count() as f64;
+    assert!(
+        ratio > 4.0 && coarse.patches().len() as f64 > 0.8 * patches as f64,
+        "{ratio}"
+    );
+    let far = t
+        .run(&["render", "out/index.json", "--coarse", "-o", "coarse.png"])
+        .success();
+    assert!(!far.stderr.contains("tiles"), "{}", far.stderr);
+    t.run(&["render", "0.spatch", "--coarse", "-o", "x.png"])
+        .assert_one_clear_line("--coarse");
+    // From far enough for its cells to be under a pixel, the level is drawn unasked.
+    let cell = index["coarse"]["cell"].as_f64().unwrap();
+    assert!(cell > 0.0);
+    let far = t
+        .run(&[
+            "render",
+            "out/index.json",
+            "--eye",
+            "3000,3000,3000",
+            "-o",
+            "far.png",
+        ])
+        .success();
+    assert!(far.stderr.contains("coarse level"), "{}", far.stderr);
 
     let all = t
         .run(&["render", "out/index.json", "-o", "all.png"])
@@ -207,4 +235,10 @@ fn bad_plans_and_tiles_are_one_clear_line() {
     ])
     .assert_one_clear_line("p.json");
     assert!(!t.path("a.spatch").exists());
+    // An input cut short after planning: the local run fails in one line, no spill left.
+    let bytes = std::fs::read(t.path("city.ply")).unwrap();
+    std::fs::write(t.path("city.ply"), &bytes[..bytes.len() / 2]).unwrap();
+    t.run(&["from-cloud", "city.ply", "--plan", "p.json", "-o", "out"])
+        .assert_one_clear_line("city.ply");
+    assert!(!t.path("out/.spill").exists());
 }

@@ -6,9 +6,9 @@
 //! `OUT.las` and `OUT.ply` (`bench/cityscape.sh` wraps it). The two hold the same points
 //! in the same order (positions rounded to the millimetre in both).
 
-use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
+use spatch_fixtures::cityscape::millimetre;
 use spatch_fixtures::Cityscape;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -21,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let city = Cityscape::new(points, seed);
     let base = PathBuf::from(out);
     write_las(&city, &base.with_extension("las"))?;
-    write_ply(&city, &base.with_extension("ply"))?;
+    city.write_binary_ply(&base.with_extension("ply"), true)?;
     eprintln!(
         "cityscape: {} points over {:.0} m x {:.0} m -> {}.las, {}.ply",
         city.len(),
@@ -31,10 +31,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         base.display()
     );
     Ok(())
-}
-
-fn millimetre(v: f64) -> f64 {
-    (v * 1000.0).round() / 1000.0
 }
 
 fn write_las(city: &Cityscape, path: &std::path::Path) -> Result<(), Box<dyn std::error::Error>> {
@@ -70,34 +66,5 @@ fn write_las(city: &Cityscape, path: &std::path::Path) -> Result<(), Box<dyn std
         return Err(e.into());
     }
     writer.close()?;
-    Ok(())
-}
-
-fn write_ply(city: &Cityscape, path: &std::path::Path) -> Result<(), Box<dyn std::error::Error>> {
-    let mut out = BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
-    write!(
-        out,
-        "ply\nformat binary_little_endian 1.0\ncomment spatch synthetic cityscape\nelement vertex {}\n\
-         property float x\nproperty float y\nproperty float z\n\
-         property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
-        city.len()
-    )?;
-    let mut failure = None;
-    city.for_each_chunk(1 << 16, &mut |positions, colours| {
-        let mut bytes = Vec::with_capacity(positions.len() * 15);
-        for (p, c) in positions.iter().zip(colours) {
-            for v in p {
-                bytes.extend_from_slice(&(millimetre(*v) as f32).to_le_bytes());
-            }
-            bytes.extend_from_slice(c);
-        }
-        if let Err(e) = out.write_all(&bytes) {
-            failure.get_or_insert(e);
-        }
-    });
-    if let Some(e) = failure {
-        return Err(e.into());
-    }
-    out.flush()?;
     Ok(())
 }

@@ -4,26 +4,34 @@
 //! A plan ([`make_plan`], `spatch plan`) fixes a grid and the options every tile shares;
 //! each tile is then converted on its own ([`read_tile_points`] gives its points and its
 //! buffer's, the cloud pipeline with `tile_grid` and `only_tile` keeps the patches it
-//! owns), on one machine or many; [`build_index`] lists the tile files as a tiled scene
-//! that a viewer opens tile by tile ([`ViewPyramid`] decides which). Nothing here loads a
+//! owns), on one machine or many (a local run spills every tile's points in one pass:
+//! [`spill_tiles`]); [`build_index`] lists the tile files as a tiled scene that a viewer
+//! opens tile by tile ([`ViewPyramid`] decides which), with a coarse level of the whole
+//! scene in one file ([`coarse_scene`]). Nothing here loads a
 //! whole input: the readers ([`stream_points`]) hand out chunks.
 //!
 //! Running at scale, the JSON schemas and measured figures: `docs/scale.md`.
 #![forbid(unsafe_code)]
 
+mod coarse;
 mod error;
 mod index;
 mod las_stream;
 mod plan;
 mod ply_stream;
 mod select;
+mod spill;
 mod stream;
 mod view;
 mod xyz_stream;
 
+pub use coarse::{coarse_patch, coarse_scene, COARSE_FILE, COARSE_STEP};
 pub use error::TilingError;
-pub use index::{build_index, is_index_file, tile_file_name, IndexTile, SceneIndex, INDEX_VERSION};
+pub use index::{
+    build_index, is_index_file, tile_file_name, CoarseLevel, IndexTile, SceneIndex, INDEX_VERSION,
+};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
 pub use select::{is_member, read_tile_points};
+pub use spill::{read_spilled_tile, spill_tiles, Spill, SpillLayout, SpilledTile, SPILL_BUDGET};
 pub use stream::{stream_points, PointChunk, Visit, CHUNK_POINTS};
 pub use view::ViewPyramid;

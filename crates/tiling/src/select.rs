@@ -20,16 +20,19 @@ use crate::TilingError;
 /// Whether world point `w` is a member of tile `key` (its own point or its buffer's).
 pub fn is_member(grid: &TileGrid, key: [i64; 3], w: DVec3) -> bool {
     let own = grid.key_of(w);
-    let near = grid.buffer / grid.size;
     (0..3).all(|k| {
-        let f = (w[k] - grid.anchor[k]) / grid.size - own[k] as f64;
-        match own[k] - key[k] {
-            0 => true,
-            1 => f < near,
-            -1 => f > 1.0 - near,
-            _ => false,
-        }
+        let (lo, hi) = member_offsets(grid, own, w, k);
+        (lo..=hi).contains(&(key[k] - own[k]))
     })
+}
+
+/// Along axis `k`, the offsets `lo..=hi` (each -1, 0 or 1) from `w`'s own tile `own` of the
+/// tiles `w` is a member of: -1 when it lies within the buffer of its tile's lower face,
+/// +1 within that of its upper face (never both: the buffer is under half a tile).
+pub(crate) fn member_offsets(grid: &TileGrid, own: [i64; 3], w: DVec3, k: usize) -> (i64, i64) {
+    let near = grid.buffer / grid.size;
+    let f = (w[k] - grid.anchor[k]) / grid.size - own[k] as f64;
+    (-i64::from(f < near), i64::from(f > 1.0 - near))
 }
 
 /// The points of tile `key` and its buffer from `input`, relative to the tile's lowest

@@ -56,6 +56,8 @@ def test_four_tiles_on_two_workers_match_the_local_run(tmp_path):
         name = tile_file_name(r.index)
         assert (out / name).read_bytes() == (local / name).read_bytes(), name
     assert (out / "index.json").read_bytes() == (local / "index.json").read_bytes()
+    assert (out / "coarse.spatch").read_bytes() == (local / "coarse.spatch").read_bytes()
+    assert not (local / ".spill").exists()
 
 
 def test_a_failing_tile_is_reported(tmp_path):
