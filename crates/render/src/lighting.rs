@@ -7,8 +7,13 @@
 //! displacement differences are then shaded without ever being rotated to
 //! world space. Meshes use one world-space frame.
 //!
-//! Two-sided lighting: a frame whose surface faces away from the eye gets
-//! `-L` and `-H`, which is the same as flipping the normal.
+//! Two-sided lighting, per shaded sample: a frame of a surface whose back
+//! may show carries `V`, the unit direction from its patch's centre to the
+//! eye in the same space; a sample whose normal has `n·V < 0` is shaded
+//! with `-L` and `-H`, which is the same as flipping its normal. A frame
+//! whose back is culled has `V = 0` and never flips. Deciding per sample,
+//! not per patch, keeps the front cells of a patch whose cone axis faces
+//! away (a bent or overlapping patch of a scan) lit from the front.
 //!
 //! Colour: `albedo · (ambient + diffuse · max(0, n·L)) + 255 · specular ·
 //! max(0, n·H)^shininess` (the specular term only where `n·L > 0`), clamped
@@ -30,6 +35,20 @@ use crate::options::Lighting;
 pub(crate) struct ShadeFrame {
     pub(crate) light: Vec3,
     pub(crate) half: Vec3,
+    /// Unit direction to the eye for a two-sided frame, zero for a frame
+    /// that is never flipped.
+    pub(crate) view: Vec3,
+}
+
+impl ShadeFrame {
+    /// A one-sided frame (never flipped) with `light` and `half`.
+    pub(crate) fn one_sided(light: Vec3, half: Vec3) -> Self {
+        Self {
+            light,
+            half,
+            view: Vec3::ZERO,
+        }
+    }
 }
 
 /// World-space light and half vector of one frame.
@@ -49,13 +68,16 @@ impl WorldLight {
     }
 
     /// The frame for normals in a space whose unit axes (in world space)
-    /// are the columns of `rotation`; `facing_away` flips it.
-    pub(crate) fn frame_in(&self, rotation: &DMat3, facing_away: bool) -> ShadeFrame {
-        let s = if facing_away { -1.0 } else { 1.0 };
+    /// are the columns of `rotation`; `to_eye` (world space, any length)
+    /// makes it two-sided: samples whose normal faces away from it are
+    /// shaded as if flipped.
+    pub(crate) fn frame_in(&self, rotation: &DMat3, to_eye: Option<DVec3>) -> ShadeFrame {
         let inv = rotation.transpose();
+        let view = to_eye.map_or(DVec3::ZERO, |v| inv * v.normalize_or_zero());
         ShadeFrame {
-            light: (inv * self.light * s).as_vec3(),
-            half: (inv * self.half * s).as_vec3(),
+            light: (inv * self.light).as_vec3(),
+            half: (inv * self.half).as_vec3(),
+            view: view.as_vec3(),
         }
     }
 }
@@ -98,8 +120,11 @@ impl Material {
         } else {
             Vec3::ZERO
         };
-        let nl = n.dot(frame.light).max(0.0);
-        let nh = n.dot(frame.half).max(0.0);
+        // Two-sided: multiplying by 1 is exact, so one-sided frames shade
+        // bit for bit as without the test.
+        let side = if n.dot(frame.view) < 0.0 { -1.0 } else { 1.0 };
+        let nl = (side * n.dot(frame.light)).max(0.0);
+        let nh = (side * n.dot(frame.half)).max(0.0);
         let spec = if nl > 0.0 {
             self.specular * self.power(nh)
         } else {
@@ -119,6 +144,8 @@ pub(crate) struct Lanes {
     pub(crate) normal: [Vec4; 3],
     pub(crate) light: [Vec4; 3],
     pub(crate) half: [Vec4; 3],
+    /// The frames' directions to the eye (zero: one-sided).
+    pub(crate) view: [Vec4; 3],
     pub(crate) albedo: [Vec4; 3],
 }
 
@@ -147,8 +174,9 @@ impl Material {
         let rcp = Vec4::ONE / (x * x + y * y + z * z).sqrt();
         let valid = rcp.cmpgt(Vec4::ZERO) & rcp.cmplt(Vec4::INFINITY);
         let n = [x, y, z].map(|c| Vec4::select(valid, c * rcp, Vec4::ZERO));
-        let nl = dot(n, l.light).max(Vec4::ZERO);
-        let nh = dot(n, l.half).max(Vec4::ZERO);
+        let side = Vec4::select(dot(n, l.view).cmplt(Vec4::ZERO), -Vec4::ONE, Vec4::ONE);
+        let nl = (side * dot(n, l.light)).max(Vec4::ZERO);
+        let nh = (side * dot(n, l.half)).max(Vec4::ZERO);
         let p = if SQUARINGS == ANY_POWER {
             self.power4(nh)
         } else {
@@ -308,9 +336,11 @@ mod tests {
                 let samples: [(Vec3, ShadeFrame, Vec3); 4] = std::array::from_fn(|k| {
                     // Lane 3 gets a zero normal (the degenerate branch).
                     let n = if k == 3 { Vec3::ZERO } else { v() };
+                    // Lanes 0 and 2 two-sided, lane 1 one-sided.
                     let frame = ShadeFrame {
                         light: v().normalize(),
                         half: v().normalize(),
+                        view: if k == 1 { Vec3::ZERO } else { v().normalize() },
                     };
                     (n, frame, (v() + Vec3::ONE) * 127.0)
                 });
@@ -322,6 +352,7 @@ mod tests {
                     normal: lane(&|k| samples[k].0),
                     light: lane(&|k| samples[k].1.light),
                     half: lane(&|k| samples[k].1.half),
+                    view: lane(&|k| samples[k].1.view),
                     albedo: lane(&|k| samples[k].2),
                 };
                 let out = m.shade4_with::<ANY_POWER>(&lanes);
@@ -358,6 +389,7 @@ mod tests {
     fn facing_light_is_brighter_than_grazing_and_clamped() {
         let m = Material::new(&Lighting::default());
         let frame = ShadeFrame {
+            view: Vec3::ZERO,
             light: Vec3::Z,
             half: Vec3::Z,
         };

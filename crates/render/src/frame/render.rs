@@ -155,13 +155,8 @@ impl Renderer {
         let count = scene.patches.len();
         let chunk_count = count.div_ceil(PATCH_CHUNK);
         self.chunks.resize_with(chunk_count, ChunkWork::default);
-        self.frames.resize(
-            count.max(1),
-            ShadeFrame {
-                light: Vec3::Z,
-                half: Vec3::Z,
-            },
-        );
+        self.frames
+            .resize(count.max(1), ShadeFrame::one_sided(Vec3::Z, Vec3::Z));
         let chunks = &mut self.chunks;
         let frames = &mut self.frames;
         self.pool.install(|| {
@@ -190,7 +185,7 @@ impl Renderer {
         let view = View::new(camera, options.ssaa, mesh.bounds())?;
         let setup = self.setup(&view, &options);
         let normals = mesh.vertex_normals();
-        let world = setup.light.frame_in(&glam::DMat3::IDENTITY, false);
+        let world = setup.light.frame_in(&glam::DMat3::IDENTITY, None);
         self.frames.clear();
         self.frames.push(world);
         let count = mesh.triangle_count();

@@ -52,16 +52,15 @@ pub(crate) fn plan_chunk(
             work.counters.cull_ns += nanos_since(start);
             continue;
         }
-        // Lit two-sided (the frame flipped) only where the patch's back may
-        // show. A patch whose back is culled shows its front even where its
-        // cone's axis faces away: an edge patch bent over a crease, or a
-        // patch whose margin overlaps the next face, whose front cells the
-        // flip lit from behind (dark specks along fandisk's creases, issue
-        // 21 item 3).
-        let facing_away = !culled && p.cone.axis.dot(eye - p.centre) < 0.0;
+        // Lit two-sided (each sample facing away flipped) only where the
+        // patch's back may show. A patch whose back is culled shows its
+        // front even where its cone's axis faces away: an edge patch bent
+        // over a crease, or a patch whose margin overlaps the next face
+        // (dark specks along fandisk's creases, issue 21 item 3).
+        let to_eye = (!culled).then(|| eye - p.centre);
         // No cell of a patch facing the eye entirely can face away.
         let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
-        frames[local] = setup.light.frame_in(&p.rotation, facing_away);
+        frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
         let level0 = &p.base;
         let root = NodeRange::whole(level0);

@@ -43,11 +43,12 @@ pub(crate) struct PhongItems<'a> {
     pub(crate) colours: Vec<&'a [Vec4]>,
     /// True when no item has colours (all take the base albedo).
     pub(crate) uncoloured: bool,
-    /// The shade frames' light and half vectors (`w` = 0), by frame index.
+    /// The shade frames' light and half vectors and directions to the eye
+    /// (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
     /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
     /// four mix frames where patches overlap).
-    pub(crate) frames: Vec<[Vec4; 2]>,
+    pub(crate) frames: Vec<[Vec4; 3]>,
     /// Per subdivision `nu × nv`, the weights of sub-node `(a, b)` at
     /// `a * (nv + 1) + b`, each splat over four lanes.
     pub(crate) weights: Vec<[Vec4; 4]>,
@@ -70,7 +71,7 @@ impl<'a> PhongItems<'a> {
         }
         table.frames = frames
             .iter()
-            .map(|f| [f.light.extend(0.0), f.half.extend(0.0)])
+            .map(|f| [f.light.extend(0.0), f.half.extend(0.0), f.view.extend(0.0)])
             .collect();
         let mut built: Vec<(u16, u16, u32)> = Vec::new();
         table.items.reserve(items.len());
@@ -110,6 +111,9 @@ pub(crate) struct PhongItem<'a> {
     pub(crate) light: Vec4,
     /// The half vector of the item's shade frame (`w` = 0).
     pub(crate) half: Vec4,
+    /// The direction to the eye of the item's shade frame (`w` = 0; zero
+    /// when one-sided).
+    pub(crate) view: Vec4,
     pub(crate) normals: &'a [Vec4],
     /// Nodes per row of the level (`u16`: index sums cannot overflow, no
     /// checks).
@@ -130,7 +134,7 @@ impl<'a> PhongItem<'a> {
     fn new(
         item: &Item,
         patches: &'a [PreparedPatch],
-        frames: &[[Vec4; 2]],
+        frames: &[[Vec4; 3]],
         weights: u32,
     ) -> (Self, &'a [Vec4]) {
         let patch = &patches[item.frame as usize];
@@ -139,10 +143,11 @@ impl<'a> PhongItem<'a> {
         let shading = patch.shading(m);
         let start = item.j0 as usize * cols + item.i0 as usize;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
-        let [light, half] = frames[item.frame as usize];
+        let [light, half, view] = frames[item.frame as usize];
         let entry = Self {
             light,
             half,
+            view,
             normals: &shading.normals[start..],
             cols: cols as u16,
             stride: item.nv + 1,

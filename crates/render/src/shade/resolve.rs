@@ -191,9 +191,10 @@ fn resolve_group<const SQUARINGS: u32>(
             };
             let light = rows([it[0].light, it[1].light, it[2].light, it[3].light]);
             let half = rows([it[0].half, it[1].half, it[2].half, it[3].half]);
+            let view = rows([it[0].view, it[1].view, it[2].view, it[3].view]);
             let albedo = r.base_albedo.extend(0.0);
             let albedo = [albedo.x, albedo.y, albedo.z].map(Vec4::splat);
-            let words = shade_lanes::<SQUARINGS>(r, normals, light, half, |_| albedo);
+            let words = shade_lanes::<SQUARINGS>(r, normals, [light, half, view], |_| albedo);
             *rgba = words.map(u32::to_le_bytes);
             return;
         }
@@ -277,9 +278,8 @@ fn shade_normals(
 ) -> [u32; 4] {
     let frames = &r.phong.frames;
     let splat = |v: Vec4| [v.x, v.y, v.z].map(Vec4::splat);
-    let (light, half) = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
-        let [light, half] = frames[f[0]];
-        (splat(light), splat(half))
+    let vectors = if f[1] == f[0] && f[2] == f[0] && f[3] == f[0] {
+        frames[f[0]].map(splat)
     } else {
         // Where patches overlap (60 % of the sphere's groups): transposes.
         let e = f.map(|i| frames[i]);
@@ -287,20 +287,19 @@ fn shade_normals(
             let t = Mat4::from_cols(e[0][k], e[1][k], e[2][k], e[3][k]).transpose();
             [t.x_axis, t.y_axis, t.z_axis]
         };
-        (rows(0), rows(1))
+        [rows(0), rows(1), rows(2)]
     };
-    shade_lanes::<ANY_POWER>(r, normals, light, half, albedo)
+    shade_lanes::<ANY_POWER>(r, normals, vectors, albedo)
 }
 
 /// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
-/// `w` passed to `albedo`), the lanes of their light and half vectors,
-/// and their albedo lanes.
+/// `w` passed to `albedo`), the lanes of their light and half vectors
+/// and directions to the eye, and their albedo lanes.
 #[inline(always)]
 fn shade_lanes<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     normals: [Vec4; 4],
-    light: [Vec4; 3],
-    half: [Vec4; 3],
+    [light, half, view]: [[Vec4; 3]; 3],
     albedo: impl FnOnce(Vec4) -> [Vec4; 3],
 ) -> [u32; 4] {
     let t = Mat4::from_cols(normals[0], normals[1], normals[2], normals[3]).transpose();
@@ -308,6 +307,7 @@ fn shade_lanes<const SQUARINGS: u32>(
         normal: [t.x_axis, t.y_axis, t.z_axis],
         light,
         half,
+        view,
         albedo: albedo(t.w_axis),
     };
     pack_rgba(r.material.shade4_with::<SQUARINGS>(&lanes))

@@ -121,7 +121,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
     let frames: Vec<ShadeFrame> = patches
         .iter()
         .enumerate()
-        .map(|(k, p)| light.frame_in(&p.rotation, k == 1))
+        .map(|(k, p)| light.frame_in(&p.rotation, (k == 1).then(|| -p.rotation.z_axis)))
         .collect();
     let phong = PhongItems::new(Shading::Phong, &items, &chunks, patches, &frames);
     assert_eq!(phong.uncoloured, matches!(mix, Mix::NoColours));
