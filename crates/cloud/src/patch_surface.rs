@@ -9,48 +9,36 @@
 //! nodes, the surface the renderer draws (`quad_distance` gives the distance to one quad and
 //! its accuracy).
 //!
-//! The index: a bounding volume hierarchy over the quads, complete and implicit (node `k` has
-//! children `2k + 1` and `2k + 2`; the leaf count is a power of two and the leaves share the
-//! cells evenly, [`LEAF_QUADS`] / 2 to [`LEAF_QUADS`] each), so the nodes are 24-byte boxes
-//! with no child pointers. The cells are ordered by recursive median splits: the cells of a
-//! node are split at the median of the longest axis of their centres into its two halves
-//! (a kd-tree order), so every subtree is a compact group of cells. Morton order was tried
-//! first and dropped: a run of consecutive Morton codes can jump across the model, and on a
-//! converted sphere some 8-cell nodes spanned the whole of it, so most queries entered them
-//! (29.6 s instead of 1.9 s for 1 M points). The build is the splits (parallel over halves)
-//! and one bottom-up pass of box unions. A query descends nearer child first and prunes
-//! every box farther than the best distance so far (with a relative slack of
-//! [`PRUNE_SLACK`] for rounding), and every quad whose own box is: the result is exactly the
-//! minimum of the quad distance over all quads (ties go to the lower patch index), which the
-//! tests check against a linear scan.
-//! A point far from every patch (a source that does not overlap the scene) costs a few more
-//! boxes, not a scan of empty space.
-//!
-//! In front of the tree, a flat grid of the cells by centre (`cell_grid.rs`) answers most
-//! queries: the grid cells within reach of the point, then those within the best distance
-//! found; the tree is descended only when that neighbourhood would pass
-//! `MAX_GRID_CELLS` grid cells (points far from the surface). The result is the same
-//! either way.
+//! The index: a flat grid of the cells by box centre (`cell_grid.rs`), the cells stored in
+//! its order (a grid cell's cells are one run of `cells` and `boxes`), answers the queries:
+//! the grid cells within reach of the point, then those within the best distance found. A
+//! query whose neighbourhood would pass `MAX_GRID_CELLS` grid cells (a point far from the
+//! surface, e.g. of a source that does not overlap the scene) descends a bounding volume
+//! hierarchy instead (`patch_surface/tree.rs`, built on the first such query), which costs
+//! a few more boxes, not a scan of empty space. Every path prunes a cell whose box is
+//! farther than the best distance so far (with a relative slack of [`PRUNE_SLACK`] for
+//! rounding) and no other: the result is exactly the minimum of the quad distance over all
+//! quads (ties go to the lower patch index), which the tests check against a linear scan.
 //!
 //! [`PatchSurface::nearest_all`] answers many points at once, grouped by grid cell
-//! (`patch_surface/batch.rs`): the cells near a grid cell are gathered once for all its
-//! points, each point takes the quad distance of the nearest box first, and only points
-//! farther from the surface than the gathered margin are searched one by one. Without a
-//! grid it queries in Morton order of the points, each search starting from the distance to
-//! the previous query's nearest cell. Either way the results come in the caller's order and
-//! do not depend on the order, the hint or the thread count.
+//! (`patch_surface/batch.rs`): the cells near a run of points of one grid cell are
+//! gathered once for all of them, each point takes the quad distance of the nearest box
+//! first, and only points farther from the surface than the gathered margin are searched
+//! one by one. Without a grid it queries in Morton order of the points, each search
+//! starting from the distance to the previous query's nearest cell. Either way the results
+//! come in the caller's order and do not depend on the order, the hint or the thread count.
 //!
 //! Memory: the node positions of every patch (12 bytes per node; a cell's corners are read
-//! from there, not copied), 8 bytes per drawable cell (its patch and corner) and at most
-//! 12 bytes per cell of tree nodes (24 bytes per node, two nodes per leaf of four cells,
-//! padded to a power of two): about 32 bytes per cell, where copying each quad would take 52.
+//! from there, not copied), 8 bytes per drawable cell (its patch and corner) and 24 for its
+//! box; the grid's block table (a few bytes per cell); the tree, when built, 16 bytes per
+//! cell. The build holds 16 bytes of sort key per cell beside the cells (the grid reads the
+//! boxes from the corners until the cells are in its order).
 //!
-//! Cost: build O(C log C) for C cells (a linear selection per level); a query about O(log C) box tests and a few
-//! quad distances for points near the surface.
+//! Cost: build O(C log C) for C cells (a sort by grid cell); a query on the surface a few
+//! hash look-ups, a few dozen box tests and usually one quad distance.
 //!
-//! Based on: Bentley, *Multidimensional binary search trees used for associative searching*
-//! (CACM 1975) for the median splits; Ericson, *Real-Time Collision Detection* (2005), §6.2
-//! and §6.6 (hierarchies in arrays, closest-point traversal).
+//! Based on: Ericson, *Real-Time Collision Detection* (2005), §7.1 (uniform grids) and
+//! §6.2, §6.6 (hierarchies in arrays, closest-point traversal).
 
 use std::sync::OnceLock;
 

@@ -9,7 +9,7 @@
 //! - **surface → patch**: points spread uniformly by area over the source
 //!   (`spatch_mesh::sample_surface`) to the nearest point of the patch surface, every drawable
 //!   cell taken as the bilinear quad through its four nodes (`spatch_cloud::PatchSurface`: an
-//!   exact search through a hierarchy of cell boxes; `spatch_cloud::distance_to_quad` states
+//!   exact search through a flat grid of cell boxes; `spatch_cloud::distance_to_quad` states
 //!   the accuracy of the distance to one quad). It reveals what the nodes cannot: holes,
 //!   cracks between patches, missed pieces of surface.
 //!
@@ -18,7 +18,7 @@
 //!
 //! The samples are drawn [`SAMPLE_CHUNK`] at a time in parallel (`SurfaceSampler` jumps to
 //! any range of the seeded sequence), each chunk in face order, and measured
-//! [`QUERY_BATCH`] at a time (in Morton order, through `PatchSurface::nearest_all`), so the
+//! [`QUERY_BATCH`] at a time (grouped by grid cell, through `PatchSurface::nearest_all`), so the
 //! `max(100_000, 10 × F)` samples are never held at once: memory is four bytes per sample for its distance (and
 //! four for its patch where per-patch figures need it), not the 28 of a stored sample plus 12
 //! of its point. The figures are those of the whole sequence, whatever the chunking.
@@ -39,7 +39,7 @@ pub const MIN_SAMPLES: usize = 100_000;
 pub const SAMPLES_PER_FACE: usize = 10;
 /// Source samples drawn together (one parallel work item).
 pub const SAMPLE_CHUNK: usize = 1 << 16;
-/// Source samples measured together: enough that, in Morton order, neighbouring queries
+/// Source samples measured together: enough that, sorted by grid cell, neighbouring queries
 /// share the nodes and cells they read (a 1 M-triangle source has about 4 M cells).
 pub const QUERY_BATCH: usize = 1 << 20;
 
