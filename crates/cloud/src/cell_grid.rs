@@ -2,10 +2,12 @@
 //! boxes have their centre near a point, in a few hash look-ups instead of a tree descent.
 //!
 //! Input: one axis-aligned box per item (item `k` is `boxes[k]`). Output: a [`CellGrid`]
-//! that lists, for any query point `p` and radius `r`, the grid cells holding every item
-//! whose box could hold a point within `r` of `p` on each axis ([`CellGrid::cells_within`]),
-//! and visits the items of such a range of cells, less a range already visited
-//! ([`CellGrid::visit`]).
+//! and an order of the items, grouped by grid cell with the extras last, which the caller
+//! stores its items in (so the items of a grid cell are one run of its arrays). The grid
+//! lists, for any query point `p` and radius `r`, the grid cells holding every item whose
+//! box could hold a point within `r` of `p` on each axis ([`CellGrid::cells_within`]), and
+//! visits the runs of items (positions in that order) of such a range of cells, less a
+//! range already visited ([`CellGrid::visit`]).
 //!
 //! Each item sits in exactly one grid cell, the one holding its box centre. Its box then
 //! lies within `reach` (the largest half-extent of any gridded box, per axis) of that cell,
@@ -17,8 +19,8 @@
 //! [`MAX_EXTRAS`] are left). Coordinates are reduced to grid cells in f64 with a margin, so
 //! rounding never drops a box that qualifies.
 //!
-//! Storage: the item indices grouped by grid cell (4 bytes an item); the grid cells in
-//! blocks of 4³, each non-empty block a run of 65 item offsets (260 bytes); an
+//! Storage: none per item (the caller keeps its items in the grid's order); the grid cells
+//! in blocks of 4³, each non-empty block a run of 65 item offsets (260 bytes); an
 //! open-addressing hash table (linear probing) from a block's packed coordinates to its
 //! run, 16 bytes a slot, at most half full. Blocks keep the cells a query reads in one or
 //! two cache lines: hashing every cell alone cost a cache miss per cell read.
@@ -79,16 +81,15 @@ pub(crate) struct CellGrid {
     dims: [i64; 3],
     /// Largest half-extent of a gridded box, per axis.
     reach: DVec3,
-    /// Item indices grouped by grid cell, the cells of a block together.
-    members: Vec<u32>,
-    /// Per non-empty block, where each of its cells' items start in `members` (and where
-    /// the block's end): cell `l` of the block at `base` holds `starts[base + l]..starts[base
-    /// + l + 1]`.
+    /// Per non-empty block, where each of its cells' items start in the grid's order of
+    /// the items (and where the block's end): cell `l` of the block at `base` holds
+    /// `starts[base + l]..starts[base + l + 1]`.
     starts: Vec<u32>,
     /// Open-addressing table of the non-empty blocks.
     slots: Vec<Slot>,
-    /// Items kept out of the grid, visited by every query.
-    extras: Vec<u32>,
+    /// Positions of the items kept out of the grid (the end of the order), visited by
+    /// every query.
+    extras: std::ops::Range<usize>,
 }
 
 /// Half-extent and centre of a box, in f64 (exact for f32 corners).
@@ -98,15 +99,23 @@ fn centre_and_half(lo: Vec3, hi: Vec3) -> (DVec3, DVec3) {
 }
 
 impl CellGrid {
-    /// Grids `boxes` (`(lo, hi)` per item); `None` when there are none or all are points
-    /// or not finite (the caller then searches otherwise).
-    pub(crate) fn build(boxes: &[(Vec3, Vec3)]) -> Option<CellGrid> {
-        if boxes.is_empty() || boxes.len() >= u32::MAX as usize {
+    /// Grids `boxes` (`(lo, hi)` per item) and gives the order to store the items in: the
+    /// item at each position, grouped by grid cell, the extras last. `None` when there are
+    /// none or all are points or not finite (the caller then searches otherwise).
+    pub(crate) fn build(
+        len: usize,
+        box_of: impl Fn(usize) -> (Vec3, Vec3) + Sync,
+    ) -> Option<(CellGrid, Vec<u32>)> {
+        if len == 0 || len >= u32::MAX as usize {
             return None;
         }
-        let mut halves: Vec<f64> = boxes
-            .par_iter()
-            .map(|&(lo, hi)| centre_and_half(lo, hi).1.max_element())
+        let half_of = |k: usize| {
+            let (lo, hi) = box_of(k);
+            centre_and_half(lo, hi)
+        };
+        let mut halves: Vec<f64> = (0..len)
+            .into_par_iter()
+            .map(|k| half_of(k).1.max_element())
             .collect();
         let mid = halves.len() / 2;
         let median = *halves.select_nth_unstable_by(mid, f64::total_cmp).1;
@@ -114,17 +123,17 @@ impl CellGrid {
         if !(median > 0.0 && median.is_finite()) {
             return None;
         }
-        let (extras, limit) = Self::split_extras(boxes, median);
+        let (extras, limit) = Self::split_extras(len, &half_of, median);
         // Exactly the boxes `split_extras` did not set aside (a NaN extent among them).
         let in_grid = |k: usize| {
-            let half = centre_and_half(boxes[k].0, boxes[k].1).1.max_element();
+            let half = half_of(k).1.max_element();
             half.partial_cmp(&limit) != Some(std::cmp::Ordering::Greater)
         };
-        let (lo, hi, reach) = (0..boxes.len())
+        let (lo, hi, reach) = (0..len)
             .into_par_iter()
             .filter(|&k| in_grid(k))
             .map(|k| {
-                let (c, h) = centre_and_half(boxes[k].0, boxes[k].1);
+                let (c, h) = half_of(k);
                 (c, c, h)
             })
             .reduce(
@@ -143,36 +152,41 @@ impl CellGrid {
             side,
             dims,
             reach,
-            members: Vec::new(),
             starts: Vec::new(),
             slots: Vec::new(),
-            extras,
+            extras: 0..0,
         };
-        let mut keyed: Vec<(u64, u32)> = (0..boxes.len())
+        let mut keyed: Vec<(u64, u32)> = (0..len)
             .into_par_iter()
             .filter(|&k| in_grid(k))
             .map(|k| {
-                let c = centre_and_half(boxes[k].0, boxes[k].1).0;
+                let c = half_of(k).0;
                 (grid.key_of(grid.cell_of(c)), k as u32)
             })
             .collect();
         keyed.par_sort_unstable();
         grid.fill(&keyed);
-        Some(grid)
+        grid.extras = keyed.len()..keyed.len() + extras.len();
+        let mut order: Vec<u32> = Vec::with_capacity(len);
+        order.par_extend(keyed.par_iter().map(|&(_, k)| k));
+        drop(keyed);
+        order.extend(extras);
+        Some((grid, order))
     }
 
     /// The boxes kept out of the grid and the half-extent limit of the rest: the limit
     /// starts at [`BIG_BOX`] medians and doubles while more than [`MAX_EXTRAS`] exceed it.
-    fn split_extras(boxes: &[(Vec3, Vec3)], median: f64) -> (Vec<u32>, f64) {
+    fn split_extras(
+        len: usize,
+        half_of: &(impl Fn(usize) -> (DVec3, DVec3) + Sync),
+        median: f64,
+    ) -> (Vec<u32>, f64) {
         let mut limit = BIG_BOX * median;
         loop {
-            let extras: Vec<u32> = (0..boxes.len() as u32)
+            let extras: Vec<u32> = (0..len as u32)
                 .into_par_iter()
-                .filter(|&k| {
-                    let (lo, hi) = boxes[k as usize];
-                    // A non-finite box compares false and stays in the grid's bounds check.
-                    centre_and_half(lo, hi).1.max_element() > limit
-                })
+                // A non-finite box compares false and stays in the grid's bounds check.
+                .filter(|&k| half_of(k as usize).1.max_element() > limit)
                 .collect();
             if extras.len() <= MAX_EXTRAS {
                 return (extras, limit);
@@ -184,7 +198,6 @@ impl CellGrid {
     /// Groups the sorted `(key, item)` pairs by block and cell and builds the hash table of
     /// the blocks.
     fn fill(&mut self, keyed: &[(u64, u32)]) {
-        self.members = keyed.par_iter().map(|&(_, k)| k).collect();
         let block_of = |key: u64| key >> (3 * BLOCK_BITS);
         let blocks = keyed
             .windows(2)
@@ -256,44 +269,51 @@ impl CellGrid {
         x as usize & (self.slots.len() - 1)
     }
 
-    /// The items of grid cell `c` (empty outside the grid or when none is there).
-    #[inline]
-    fn items(&self, c: [i64; 3]) -> &[u32] {
+    /// The positions of the items of grid cell `c` (empty outside the grid or when none is
+    /// there).
+    #[cfg(test)]
+    fn items(&self, c: [i64; 3]) -> std::ops::Range<usize> {
         if (0..3).any(|a| c[a] < 0 || c[a] >= self.dims[a]) {
-            return &[];
+            return 0..0;
         }
-        let key = self.key_of(c);
-        let (block, local) = (
-            key >> (3 * BLOCK_BITS),
-            (key & (BLOCK_CELLS as u64 - 1)) as usize,
-        );
-        let mask = self.slots.len() - 1;
-        let mut at = self.hash(block);
-        loop {
-            let slot = self.slots[at];
-            if slot.key == block {
-                let at = slot.base as usize + local;
-                return &self.members[self.starts[at] as usize..self.starts[at + 1] as usize];
-            }
-            if slot.key == EMPTY_KEY {
-                return &[];
-            }
-            at = (at + 1) & mask;
-        }
+        let local = (self.key_of(c) & (BLOCK_CELLS as u64 - 1)) as usize;
+        let corner = c.map(|v| v & !((1i64 << BLOCK_BITS) - 1));
+        self.block_base(corner).map_or(0..0, |base| {
+            self.starts[base + local] as usize..self.starts[base + local + 1] as usize
+        })
     }
 
-    /// The items kept out of the grid (every query must visit them itself).
-    pub(crate) fn extras(&self) -> &[u32] {
-        &self.extras
+    /// The sort key of the grid cell holding `p` (block by block, as the items are stored),
+    /// or `None` when `p` lies outside the grid (or is not finite).
+    pub(crate) fn key_at(&self, p: Vec3) -> Option<u64> {
+        let c = self.cell_of(p.as_dvec3());
+        (p.is_finite() && (0..3).all(|a| (0..self.dims[a]).contains(&c[a]))).then(|| self.key_of(c))
+    }
+
+    /// The grid cell side.
+    pub(crate) fn side(&self) -> f64 {
+        self.side
+    }
+
+    /// The positions of the items kept out of the grid (every query must visit them
+    /// itself).
+    pub(crate) fn extras(&self) -> std::ops::Range<usize> {
+        self.extras.clone()
     }
 
     /// The grid cells that may hold a gridded box reaching within `r` of `p` on every axis
     /// (those whose centre lies within `r + reach`), clipped to the grid.
     pub(crate) fn cells_within(&self, p: Vec3, r: f64) -> CellRange {
         let p = p.as_dvec3();
+        self.cells_near(p, p, r)
+    }
+
+    /// The grid cells that may hold a gridded box reaching within `r` of the box
+    /// `lo..=hi` on every axis, clipped to the grid.
+    pub(crate) fn cells_near(&self, lo: DVec3, hi: DVec3, r: f64) -> CellRange {
         let widen = self.reach + DVec3::splat(r);
-        let lo = (p - widen - self.origin) / self.side - DVec3::splat(ROUNDING_MARGIN);
-        let hi = (p + widen - self.origin) / self.side + DVec3::splat(ROUNDING_MARGIN);
+        let lo = (lo - widen - self.origin) / self.side - DVec3::splat(ROUNDING_MARGIN);
+        let hi = (hi + widen - self.origin) / self.side + DVec3::splat(ROUNDING_MARGIN);
         // `max`/`min` also take a NaN bound to the whole grid.
         let axis = |a: usize| {
             let from = (lo[a].floor().max(-1.0) as i64).max(0);
@@ -306,16 +326,64 @@ impl CellGrid {
         }
     }
 
-    /// Calls `visit` with the items of every grid cell of `range` outside `skip`.
-    pub(crate) fn visit(&self, range: &CellRange, skip: &CellRange, mut visit: impl FnMut(&[u32])) {
-        for z in range.lo[2]..=range.hi[2] {
-            for y in range.lo[1]..=range.hi[1] {
-                for x in range.lo[0]..=range.hi[0] {
-                    if !skip.contains([x, y, z]) {
-                        visit(self.items([x, y, z]));
+    /// Calls `visit` with the item positions of every grid cell of `range` outside `skip`
+    /// (one hash look-up per block of the range).
+    pub(crate) fn visit(
+        &self,
+        range: &CellRange,
+        skip: &CellRange,
+        mut visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        let side = 1i64 << BLOCK_BITS;
+        let blocks = |a: usize| (range.lo[a] >> BLOCK_BITS)..=(range.hi[a] >> BLOCK_BITS);
+        for bz in blocks(2) {
+            for by in blocks(1) {
+                for bx in blocks(0) {
+                    let corner = [bx * side, by * side, bz * side];
+                    let Some(base) = self.block_base(corner) else {
+                        continue;
+                    };
+                    let axis = |a: usize| {
+                        range.lo[a].max(corner[a])..=range.hi[a].min(corner[a] + side - 1)
+                    };
+                    for z in axis(2) {
+                        for y in axis(1) {
+                            for x in axis(0) {
+                                if skip.contains([x, y, z]) {
+                                    continue;
+                                }
+                                let l = (x - corner[0])
+                                    | ((y - corner[1]) << BLOCK_BITS)
+                                    | ((z - corner[2]) << (2 * BLOCK_BITS));
+                                let at = base + l as usize;
+                                let items = self.starts[at] as usize..self.starts[at + 1] as usize;
+                                if !items.is_empty() {
+                                    visit(items);
+                                }
+                            }
+                        }
                     }
                 }
             }
+        }
+    }
+
+    /// Where the run starts of the block whose first grid cell is `corner` begin in
+    /// `starts`, or `None` when the block is empty.
+    #[inline]
+    fn block_base(&self, corner: [i64; 3]) -> Option<usize> {
+        let block = self.key_of(corner) >> (3 * BLOCK_BITS);
+        let mask = self.slots.len() - 1;
+        let mut at = self.hash(block);
+        loop {
+            let slot = self.slots[at];
+            if slot.key == block {
+                return Some(slot.base as usize);
+            }
+            if slot.key == EMPTY_KEY {
+                return None;
+            }
+            at = (at + 1) & mask;
         }
     }
 }
@@ -351,6 +419,10 @@ mod tests {
     use super::*;
     use spatch_mesh::SplitMix64;
 
+    fn build_slice(boxes: &[(Vec3, Vec3)]) -> Option<(CellGrid, Vec<u32>)> {
+        CellGrid::build(boxes.len(), |k| boxes[k])
+    }
+
     /// Random small boxes with a few long ones.
     fn boxes(n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
         let mut rng = SplitMix64::new(seed);
@@ -371,7 +443,7 @@ mod tests {
     #[test]
     fn every_box_within_the_radius_is_visited() {
         let boxes = boxes(5000, 4);
-        let grid = CellGrid::build(&boxes).unwrap();
+        let (grid, order) = build_slice(&boxes).unwrap();
         assert!(!grid.extras().is_empty() && grid.extras().len() <= MAX_EXTRAS);
         let mut rng = SplitMix64::new(8);
         for _ in 0..500 {
@@ -382,14 +454,16 @@ mod tests {
             );
             let r = rng.next_f64() * 0.02;
             let mut seen = vec![false; boxes.len()];
-            for &k in grid.extras() {
-                seen[k as usize] = true;
+            for k in grid.extras() {
+                seen[order[k] as usize] = true;
             }
             // In two steps as the search does: the cells within reach, then the rest.
             let first = grid.cells_within(p, 0.0);
-            let mark = |items: &[u32]| items.iter().for_each(|&k| seen[k as usize] = true);
+            let mark =
+                |items: std::ops::Range<usize>| items.for_each(|k| seen[order[k] as usize] = true);
             grid.visit(&first, &CellRange::EMPTY, mark);
-            let mark = |items: &[u32]| items.iter().for_each(|&k| seen[k as usize] = true);
+            let mark =
+                |items: std::ops::Range<usize>| items.for_each(|k| seen[order[k] as usize] = true);
             grid.visit(&grid.cells_within(p, r), &first, mark);
             for (k, &b) in boxes.iter().enumerate() {
                 if f64::from(box_axis_gap(p, b)) <= r {
@@ -402,15 +476,22 @@ mod tests {
     #[test]
     fn every_item_is_listed_once() {
         let boxes = boxes(3000, 2);
-        let grid = CellGrid::build(&boxes).unwrap();
-        let mut all: Vec<u32> = grid.members.iter().chain(&grid.extras).copied().collect();
+        let (grid, order) = build_slice(&boxes).unwrap();
+        let mut all = order.clone();
         all.sort_unstable();
         assert_eq!(all, (0..3000).collect::<Vec<u32>>());
+        assert_eq!(grid.extras().end, order.len());
+        // Every gridded item is in the run of the grid cell holding its box centre.
+        for (at, &k) in order[..grid.extras().start].iter().enumerate() {
+            let (lo, hi) = boxes[k as usize];
+            let c = grid.cell_of(centre_and_half(lo, hi).0);
+            assert!(grid.items(c).contains(&at), "item {k}");
+        }
     }
 
     #[test]
     fn ranges_are_clipped_to_the_grid() {
-        let grid = CellGrid::build(&boxes(2000, 5)).unwrap();
+        let (grid, _) = build_slice(&boxes(2000, 5)).unwrap();
         let whole = grid.cells_within(Vec3::splat(0.5), 10.0);
         assert_eq!(
             whole.count(),
@@ -432,7 +513,7 @@ mod tests {
                 (lo, lo + Vec3::new(1e-3, 1e-3, 0.0))
             })
             .collect();
-        let grid = CellGrid::build(&b).unwrap();
+        let (grid, _) = build_slice(&b).unwrap();
         let mask = grid.slots.len() - 1;
         assert_eq!(grid.starts.len() % (BLOCK_CELLS + 1), 0);
         let (mut probes, mut keys) = (0usize, 0usize);
@@ -456,7 +537,7 @@ mod tests {
     #[test]
     fn point_boxes_are_not_gridded() {
         let b = vec![(Vec3::ONE, Vec3::ONE); 10];
-        assert!(CellGrid::build(&b).is_none());
-        assert!(CellGrid::build(&[]).is_none());
+        assert!(build_slice(&b).is_none());
+        assert!(build_slice(&[]).is_none());
     }
 }

@@ -9,16 +9,22 @@
 //! - **surface → patch**: points spread uniformly by area over the source
 //!   (`spatch_mesh::sample_surface`) to the nearest point of the patch surface, every drawable
 //!   cell taken as the bilinear quad through its four nodes (`spatch_cloud::PatchSurface`: an
-//!   exact search through a hierarchy of cell boxes; `spatch_cloud::distance_to_quad` states
+//!   exact search through a flat grid of cell boxes; `spatch_cloud::distance_to_quad` states
 //!   the accuracy of the distance to one quad). It reveals what the nodes cannot: holes,
 //!   cracks between patches, missed pieces of surface.
 //!
 //! Scene positions are moved into the mesh's coordinates by the difference of the two f64
 //! offsets, so a model far from the world origin is measured without f32 loss.
 //!
-//! The samples are drawn [`SAMPLE_CHUNK`] at a time in parallel (`SurfaceSampler` jumps to
-//! any range of the seeded sequence), each chunk in face order, and measured
-//! [`QUERY_BATCH`] at a time (in Morton order, through `PatchSurface::nearest_all`), so the
+//! The samples are measured band by band, about [`QUERY_BATCH`] at a time: band `k` of `B`
+//! holds the samples whose face-picking draw lies in `[k / B, (k + 1) / B)`, so the samples of
+//! one run of consecutive faces (`SurfaceSampler::samples_by_face_in_band`; each band scans
+//! the whole seeded sequence [`SAMPLE_CHUNK`] draws at a time in parallel and computes only
+//! its own samples). Faces that follow each other in the file are usually near each other,
+//! so a band covers a part of the model and its queries share the cells they read: on the 1
+//! M-triangle plane about ten samples a grid cell instead of one when each batch was a
+//! range of the sequence spread over the whole model. They are queried grouped by grid cell
+//! (`PatchSurface::nearest_all`), so the
 //! `max(100_000, 10 × F)` samples are never held at once: memory is four bytes per sample for its distance (and
 //! four for its patch where per-patch figures need it), not the 28 of a stored sample plus 12
 //! of its point. The figures are those of the whole sequence, whatever the chunking.
@@ -39,7 +45,7 @@ pub const MIN_SAMPLES: usize = 100_000;
 pub const SAMPLES_PER_FACE: usize = 10;
 /// Source samples drawn together (one parallel work item).
 pub const SAMPLE_CHUNK: usize = 1 << 16;
-/// Source samples measured together: enough that, in Morton order, neighbouring queries
+/// Source samples measured together: enough that, sorted by grid cell, neighbouring queries
 /// share the nodes and cells they read (a 1 M-triangle source has about 4 M cells).
 pub const QUERY_BATCH: usize = 1 << 20;
 
@@ -218,7 +224,8 @@ pub fn nearest_patch_cells(
 
 /// The first `count` samples of `mesh` drawn from `seed` (the points of
 /// `sample_surface(mesh, count, seed)`) to the patch surface of `scene`: `keep(distance,
-/// patch)` of each, ordered by chunk, then by face within a chunk (see the module docs).
+/// patch)` of each, ordered by band of faces, then by chunk, then by face within a chunk
+/// (see the module docs).
 /// Empty when the mesh has no area; infinite distances and [`NO_PATCH`] when the scene has
 /// no drawable cell.
 pub fn sampled_surface_to_patch<T: Send>(
@@ -236,16 +243,15 @@ pub fn sampled_surface_to_patch<T: Send>(
         return (0..count).map(|_| keep(f32::INFINITY, NO_PATCH)).collect();
     };
     let mut kept = Vec::with_capacity(count);
-    for start in (0..count).step_by(QUERY_BATCH) {
-        let end = (start + QUERY_BATCH).min(count);
-        let points: Vec<Vec3> = (start..end)
-            .step_by(SAMPLE_CHUNK)
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .flat_map_iter(|from| {
-                let range = from..(from + SAMPLE_CHUNK).min(end);
+    let bands = count.div_ceil(QUERY_BATCH);
+    let chunks: Vec<usize> = (0..count).step_by(SAMPLE_CHUNK).collect();
+    for band in 0..bands {
+        let points: Vec<Vec3> = chunks
+            .par_iter()
+            .flat_map_iter(|&from| {
+                let range = from..(from + SAMPLE_CHUNK).min(count);
                 sampler
-                    .samples_by_face(seed, range)
+                    .samples_by_face_in_band(seed, range, (band, bands))
                     .into_iter()
                     .map(|s| s.point)
             })

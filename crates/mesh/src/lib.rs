@@ -60,5 +60,5 @@ pub use point_cloud::PointCloud;
 pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};
 pub use robust_centre::{robust_centre, CENTRE_SAMPLES};
-pub use sample::{sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};
+pub use sample::{band_of, sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};
 pub use triangulate::{triangulate_polygon, PolygonSplit};

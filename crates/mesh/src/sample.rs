@@ -84,6 +84,12 @@ pub fn sample_surface(mesh: &TriangleMesh, count: usize, seed: u64) -> Vec<Surfa
         .collect()
 }
 
+/// The band (of `bands` equal bands of `[0, 1)`) of a sample's first draw, the one that
+/// picks its face.
+pub fn band_of(first_draw: f64, bands: usize) -> usize {
+    ((first_draw * bands as f64) as usize).min(bands.max(1) - 1)
+}
+
 /// The area table of a mesh, to draw the samples of [`sample_surface`] by ranges.
 #[derive(Clone, Debug)]
 pub struct SurfaceSampler<'a> {
@@ -116,9 +122,39 @@ impl<'a> SurfaceSampler<'a> {
     pub fn samples_by_face(&self, seed: u64, range: std::ops::Range<usize>) -> Vec<SurfaceSample> {
         let mut rng = SplitMix64::new(seed);
         rng.skip(3 * range.start as u64);
-        let mut draws: Vec<[f64; 3]> = range
+        let draws: Vec<[f64; 3]> = range
             .map(|_| [rng.next_f64(), rng.next_f64(), rng.next_f64()])
             .collect();
+        self.samples_of_draws(draws)
+    }
+
+    /// The samples of `range` of the sequence whose first draw (the one that picks the face)
+    /// falls in band `k` of `bands` equal bands of `[0, 1)` (see [`band_of`]), ordered by
+    /// face as [`SurfaceSampler::samples_by_face`] orders them. The area table is
+    /// cumulative, so a band's samples lie on one run of consecutive faces; every sample is
+    /// in exactly one band. Draws outside the band are skipped, not computed.
+    pub fn samples_by_face_in_band(
+        &self,
+        seed: u64,
+        range: std::ops::Range<usize>,
+        (k, bands): (usize, usize),
+    ) -> Vec<SurfaceSample> {
+        let mut rng = SplitMix64::new(seed);
+        rng.skip(3 * range.start as u64);
+        let mut draws = Vec::new();
+        for _ in range {
+            let first = rng.next_f64();
+            if band_of(first, bands) == k {
+                draws.push([first, rng.next_f64(), rng.next_f64()]);
+            } else {
+                rng.skip(2);
+            }
+        }
+        self.samples_of_draws(draws)
+    }
+
+    /// The samples of `draws`, ordered by face (then by draw).
+    fn samples_of_draws(&self, mut draws: Vec<[f64; 3]>) -> Vec<SurfaceSample> {
         draws.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
         let mut face = 0;
         draws
@@ -161,6 +197,48 @@ impl<'a> SurfaceSampler<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bands_hold_every_sample_once_on_runs_of_faces() {
+        let mesh = TriangleMesh::new(
+            (0..40)
+                .flat_map(|k| {
+                    let x = k as f32;
+                    [
+                        Vec3::new(x, 0.0, 0.0),
+                        Vec3::new(x + 1.0, 0.0, 0.0),
+                        Vec3::new(x, 1.0 + x, 0.0),
+                    ]
+                })
+                .collect(),
+            (0..40).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect(),
+        )
+        .unwrap();
+        let sampler = SurfaceSampler::new(&mesh).unwrap();
+        let key = |s: &SurfaceSample| (s.face, s.point.x.to_bits(), s.point.y.to_bits());
+        let mut all: Vec<_> = sampler
+            .samples_by_face(5, 100..3100)
+            .iter()
+            .map(key)
+            .collect();
+        let mut banded = Vec::new();
+        let mut last_face = None;
+        for k in 0..7 {
+            let band = sampler.samples_by_face_in_band(5, 100..3100, (k, 7));
+            // Bands follow each other along the faces.
+            if let (Some(last), Some(first)) = (last_face, band.first().map(|s| s.face)) {
+                assert!(
+                    last <= first,
+                    "band {k} starts before the previous one ends"
+                );
+            }
+            last_face = band.last().map(|s| s.face).or(last_face);
+            banded.extend(band.iter().map(key));
+        }
+        all.sort_unstable();
+        banded.sort_unstable();
+        assert_eq!(all, banded);
+    }
 
     #[test]
     fn samples_follow_area_and_are_reproducible() {

@@ -1,0 +1,229 @@
+//! Many nearest-cell queries at once, grouped by the cells of the flat grid.
+//!
+//! Input: a [`PatchSurface`] with its grid and the query points. Output: for every point the
+//! distance to the patch surface and the nearest patch, exactly as [`PatchSurface::nearest`]
+//! gives them, in the caller's order ([`PatchSurface::nearest_all`]).
+//!
+//! Method: the points are sorted by the grid cell holding them (block by block, the order in
+//! which the grid stores its cells), and each run of points of one grid cell `G` is answered
+//! together:
+//! 1. Once per run, every drawable cell whose box lies within `m` = [`COVER`] grid sides of
+//!    `G` on every axis is gathered from the grid cells around `G` (and the grid's extras):
+//!    its corners, its box as columns, its patch. On a surface that is a few dozen cells,
+//!    read once for the ten or so points of the run instead of once a point through the
+//!    hash table and three indirections.
+//! 2. Per point `p`: the squared distance from `p` to every gathered box in one pass (the
+//!    compiler vectorizes it), the quad distance of the nearest box, then of every other box
+//!    as near as the best distance so far (with [`PRUNE_SLACK`], as the search prunes). A
+//!    point on the surface lies in its own cell's box, so it usually costs one quad
+//!    distance.
+//! 3. Exactness: a cell at most `b` from `p` has its box within `b` of `p` on every axis,
+//!    so within `b` of `G`. When the best distance found is at most `m`, every cell that
+//!    could be as near was gathered, and the result is that of the search (the minimum
+//!    over all cells, ties to the lower patch). Otherwise (a point more than `m` off the
+//!    surface, over a hole, outside the grid) the point goes through
+//!    [`PatchSurface::search`], which starts from the best cell found here.
+//!
+//! Cost: a sort of the points; per run, the grid cells around `G` (a hash look-up each)
+//! and the gathered cells; per point, one box per gathered cell and the quad distances of
+//! the boxes that reach the best distance.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::{near_enough, Best, Node, PatchSurface, MAX_GRID_CELLS, NO_PATCH, QUERY_CHUNK};
+use crate::cell_grid::{CellGrid, CellRange};
+use crate::quad_distance::distance_to_quad;
+use crate::PRUNE_SLACK;
+
+/// Margin around a run's points, in grid sides, within which its cells are gathered: a
+/// point whose best distance is within it needs no further search.
+const COVER: f64 = 0.25;
+
+/// Relative widening of the gather radius, far above the f32 rounding of a gap.
+const GATHER_SLACK: f64 = 1e-4;
+
+/// Sort key of points outside the grid (answered one by one).
+const OUTSIDE: u64 = u64::MAX;
+
+/// The cells gathered for one run, as columns (reused from run to run).
+#[derive(Default)]
+struct Gathered {
+    lo: [Vec<f32>; 3],
+    hi: [Vec<f32>; 3],
+    /// Positions of the cells in the surface's order.
+    cells: Vec<usize>,
+    /// Squared distances from the current point to each box.
+    d2: Vec<f32>,
+}
+
+impl Gathered {
+    fn clear(&mut self) {
+        for a in 0..3 {
+            self.lo[a].clear();
+            self.hi[a].clear();
+        }
+        self.cells.clear();
+    }
+
+    fn push(&mut self, b: &Node, k: usize) {
+        for a in 0..3 {
+            self.lo[a].push(b.lo[a]);
+            self.hi[a].push(b.hi[a]);
+        }
+        self.cells.push(k);
+    }
+
+    /// Fills `d2` with the squared distance from `p` to every box.
+    fn box_distances(&mut self, p: Vec3) {
+        let n = self.cells.len();
+        self.d2.clear();
+        self.d2.resize(n, 0.0);
+        for a in 0..3 {
+            let (lo, hi, x) = (&self.lo[a][..n], &self.hi[a][..n], p[a]);
+            for ((d2, &l), &h) in self.d2.iter_mut().zip(lo).zip(hi) {
+                // Written with comparisons so that it compiles to packed max instructions.
+                let below = l - x;
+                let above = x - h;
+                let gap = if below > above { below } else { above };
+                let gap = if gap > 0.0 { gap } else { 0.0 };
+                *d2 += gap * gap;
+            }
+        }
+    }
+
+    /// The nearest gathered cell to `p` (nearest box first, then every box as near as the
+    /// best), or `None` when nothing was gathered.
+    fn nearest(&mut self, surface: &PatchSurface, p: Vec3) -> Option<Best> {
+        if self.cells.is_empty() {
+            return None;
+        }
+        self.box_distances(p);
+        let first = self
+            .d2
+            .iter()
+            .enumerate()
+            .fold(0, |m, (k, &d)| if d < self.d2[m] { k } else { m });
+        let at = self.cells[first];
+        let mut best = Best {
+            distance: distance_to_quad(p, &surface.quad(surface.cells[at])),
+            owner: surface.owner(at),
+            cell: at,
+        };
+        for (k, &d2) in self.d2.iter().enumerate() {
+            if k == first || !near_enough(d2, best.distance) {
+                continue;
+            }
+            let at = self.cells[k];
+            let d = distance_to_quad(p, &surface.quad(surface.cells[at]));
+            let o = surface.owner(at);
+            if d < best.distance || (d == best.distance && o < best.owner) {
+                best = Best {
+                    distance: d,
+                    owner: o,
+                    cell: at,
+                };
+            }
+        }
+        Some(best)
+    }
+}
+
+/// Largest per-axis gap between box `b` and the box `lo..=hi` (0 when they overlap), in f32:
+/// each difference is within half an ulp of the exact one (callers allow for it).
+#[inline]
+fn axis_gap(b: &Node, lo: Vec3, hi: Vec3) -> f32 {
+    (lo - b.hi).max(b.lo - hi).max(Vec3::ZERO).max_element()
+}
+
+impl PatchSurface {
+    /// [`PatchSurface::nearest`] for every point, in parallel, in the order given (see the
+    /// module docs of `batch.rs`); the results do not depend on the thread count.
+    pub fn nearest_all(&self, points: &[Vec3]) -> (Vec<f32>, Vec<u32>) {
+        let Some(grid) = &self.grid else {
+            return self.nearest_all_in_morton_order(points);
+        };
+        let mut order: Vec<(u64, u32)> = points
+            .par_iter()
+            .enumerate()
+            .map(|(k, &p)| (grid.key_at(p).unwrap_or(OUTSIDE), k as u32))
+            .collect();
+        order.par_sort_unstable();
+        // A run cut between two work items is gathered twice: the results are the same.
+        let found: Vec<(f32, u32)> = order
+            .par_chunks(QUERY_CHUNK)
+            .flat_map_iter(|chunk| {
+                let mut out = Vec::with_capacity(chunk.len());
+                let mut gathered = Gathered::default();
+                for run in chunk.chunk_by(|a, b| a.0 == b.0) {
+                    self.answer_run(grid, run, points, &mut gathered, &mut out);
+                }
+                out
+            })
+            .collect();
+        let mut distances = vec![0.0f32; points.len()];
+        let mut owners = vec![NO_PATCH; points.len()];
+        for (&(_, k), &(d, o)) in order.iter().zip(&found) {
+            distances[k as usize] = d;
+            owners[k as usize] = o;
+        }
+        (distances, owners)
+    }
+
+    /// Answers the points of `run` (one grid cell's key and the points' indices), pushing
+    /// `(distance, patch)` per point onto `out`.
+    fn answer_run(
+        &self,
+        grid: &CellGrid,
+        run: &[(u64, u32)],
+        points: &[Vec3],
+        gathered: &mut Gathered,
+        out: &mut Vec<(f32, u32)>,
+    ) {
+        let cover = COVER * grid.side();
+        let (lo, hi) =
+            run.iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &(_, k)| {
+                    let p = points[k as usize];
+                    (lo.min(p), hi.max(p))
+                });
+        let range = grid.cells_near(lo.as_dvec3(), hi.as_dvec3(), cover);
+        // The gather tests gaps in f32 against a radius widened by more than their rounding.
+        let gather = (cover * (1.0 + GATHER_SLACK)) as f32;
+        if run[0].0 == OUTSIDE || range.count() > MAX_GRID_CELLS {
+            let mut hint = None;
+            for &(_, k) in run {
+                let (d, owner, cell) = self.search(points[k as usize], hint);
+                hint = Some(cell);
+                out.push((d, owner));
+            }
+            return;
+        }
+        gathered.clear();
+        let mut take = |items: std::ops::Range<usize>| {
+            for k in items {
+                let b = &self.boxes[k];
+                if axis_gap(b, lo, hi) <= gather {
+                    gathered.push(b, k);
+                }
+            }
+        };
+        take(grid.extras());
+        grid.visit(&range, &CellRange::EMPTY, take);
+        for &(_, k) in run {
+            let p = points[k as usize];
+            let best = gathered.nearest(self, p);
+            match best {
+                Some(b)
+                    if f64::from(b.distance) * (1.0 + 2.0 * f64::from(PRUNE_SLACK)) <= cover =>
+                {
+                    out.push((b.distance, b.owner))
+                }
+                _ => {
+                    let (d, owner, _) = self.search(p, best.map(|b| b.cell));
+                    out.push((d, owner));
+                }
+            }
+        }
+    }
+}
