@@ -172,7 +172,7 @@ fn convert_cloud(
     let bounds = check_extent(&cloud, dropped)?;
     clock.lap(Stage::Filter);
 
-    let cloud = sort_spatially(cloud, &bounds);
+    let mut cloud = sort_spatially(cloud, &bounds);
     clock.lap(Stage::Sort);
 
     let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
@@ -181,9 +181,8 @@ fn convert_cloud(
     let surface = estimate_surface(&cloud, options, spacing)?;
     clock.lap(Stage::Normals);
 
-    let (moved, consensus_points) =
-        apply_consensus(&cloud.positions, surface.planes, options, spacing);
-    let positions: &[Vec3] = moved.as_deref().unwrap_or(&cloud.positions);
+    let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
+    let positions: &[Vec3] = &cloud.positions;
     clock.lap(Stage::Consensus);
 
     let pixel = spacing * options.pixel_factor;
@@ -334,23 +333,23 @@ fn estimate_surface(
     })
 }
 
-/// The `consensus` stage: the moved positions (when on) and how many points moved.
+/// The `consensus` stage: moves the (sorted) positions onto their block planes when it is on,
+/// and gives how many moved.
 fn apply_consensus(
-    positions: &[Vec3],
+    positions: &mut [Vec3],
     planes: Option<VoxelPlanes>,
     options: &CloudOptions,
     spacing: f32,
-) -> (Option<Vec<Vec3>>, usize) {
+) -> usize {
     match (&planes, options.consensus) {
         (Some(planes), true) => {
             let limits = ConsensusLimits {
                 max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
                 max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
             };
-            let (moved, count) = project_to_consensus(positions, planes, limits);
-            (Some(moved), count)
+            project_to_consensus(positions, planes, limits)
         }
-        _ => (None, 0),
+        _ => 0,
     }
 }
 
