@@ -7,8 +7,8 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
-    cloud_to_scene_with_progress, measure_cloud_error, CloudError, CloudOptions, CloudReport,
-    SmoothOptions, StageTime,
+    cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error, CloudError,
+    CloudOptions, CloudReport, SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
@@ -200,28 +200,42 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let label = args.input_label();
     let steps = CloudSteps::new(&progress);
     let on_progress = |p| steps.report(p);
-    let conversion = cloud_to_scene_with_progress(&loaded.cloud, &options, &on_progress).map_err(
-        |e| match e {
-            CloudError::Bug(_) | CloudError::Internal { .. } => {
-                anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
-            }
-            e @ CloudError::PixelBudgetExceeded { .. } => {
-                anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
-            }
-            e => anyhow::Error::new(e).context(label.clone()),
-        },
-    )?;
+    let points = loaded.cloud.len();
+    let LoadedScans {
+        cloud,
+        scans,
+        dropped_non_finite,
+        warnings: load_warnings,
+        ..
+    } = loaded;
+    // Without an error to measure, the loaded cloud is not needed after its sorted copy.
+    let (converted, kept) = if measure {
+        (
+            cloud_to_scene_with_progress(&cloud, &options, &on_progress),
+            Some(cloud),
+        )
+    } else {
+        (cloud_to_scene_owned(cloud, &options, &on_progress), None)
+    };
+    let conversion = converted.map_err(|e| match e {
+        CloudError::Bug(_) | CloudError::Internal { .. } => {
+            anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
+        }
+        e @ CloudError::PixelBudgetExceeded { .. } => {
+            anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
+        }
+        e => anyhow::Error::new(e).context(label.clone()),
+    })?;
     progress.step("write");
     let write_started = Instant::now();
     write_output(&args.output, &conversion.bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
 
     let mut report = conversion.report;
-    report.input_points += loaded.dropped_non_finite as usize;
-    report.dropped_non_finite += loaded.dropped_non_finite;
+    report.input_points += dropped_non_finite as usize;
+    report.dropped_non_finite += dropped_non_finite;
     // The readers' warnings first, then the pipeline's, as sentences.
-    let warnings: Vec<String> = loaded
-        .warnings
+    let warnings: Vec<String> = load_warnings
         .iter()
         .map(ToString::to_string)
         .chain(report.warnings.iter().map(ToString::to_string))
@@ -238,21 +252,21 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         seconds: write_seconds,
     });
     report.seconds = report.stages.iter().map(|s| s.seconds).sum();
-    if measure {
+    if let Some(cloud) = &kept {
         progress.step("measuring error");
-        let error = measure_cloud_error(&loaded.cloud, &conversion.scene, report.spacing)
+        let error = measure_cloud_error(cloud, &conversion.scene, report.spacing)
             .with_context(|| format!("{label}: measuring the error"))?;
         report.error = Some(error);
     }
     drop(progress);
 
     let mut text = String::new();
-    if loaded.scans.len() > 1 {
+    if scans.len() > 1 {
         text.push_str(&format!(
             "read {} scans from {} inputs ({} points)\n",
-            loaded.scans.len(),
+            scans.len(),
             args.inputs.len(),
-            loaded.cloud.len()
+            points
         ));
     }
     text.push_str(&format!(

@@ -84,8 +84,8 @@ pub use normals::{estimate_normals, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
 pub use patch_surface::{PatchSurface, LEAF_QUADS, NO_PATCH, PRUNE_SLACK};
 pub use pipeline::{
-    cloud_to_scene, cloud_to_scene_with_progress, CloudConversion, BORDER_TOLERANCE, FRONT_BAND,
-    MIN_REGION_CELLS, PIXEL_BUDGET,
+    cloud_to_scene, cloud_to_scene_owned, cloud_to_scene_with_progress, CloudConversion,
+    BORDER_TOLERANCE, FRONT_BAND, MIN_REGION_CELLS, PIXEL_BUDGET,
 };
 pub use progress::{Progress, ProgressFn, Stage};
 pub use quad_distance::{bilinear, distance_to_quad, Quad};

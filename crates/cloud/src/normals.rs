@@ -292,27 +292,24 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     }
     grid.starts.push(grid.keys.len() as u32);
     runs.push(order.len());
-    // Each voxel's moments (in parallel, points in sorted order within a voxel), relative to
-    // the grid corner to keep them small.
-    let origin = lo.as_dvec3();
-    grid.moments = runs
-        .par_windows(2)
-        .with_min_len(COLUMNS_PER_TASK)
-        .map(|run| {
-            let mut m = Moments::default();
-            for &(_, i) in &order[run[0]..run[1]] {
-                m.add_point(positions[i as usize].as_dvec3() - origin);
-            }
-            m
-        })
-        .collect();
     let mut point_voxel = vec![0u32; positions.len()];
     for (v, run) in runs.windows(2).enumerate() {
         for &(_, i) in &order[run[0]..run[1]] {
             point_voxel[i as usize] = v as u32;
         }
     }
+    // The sorted pairs (16 bytes a point) go before the moments are allocated: this stage is
+    // the peak of the pipeline's memory.
     drop((order, runs));
+    // Each voxel's moments, relative to the grid corner to keep them small. The points are
+    // added in index order, which is their order within a voxel of the sorted pairs, so the
+    // sums are those of a pass over the pairs; the points are in Morton order, so the
+    // scattered updates stay in the cache.
+    let origin = lo.as_dvec3();
+    grid.moments = vec![Moments::default(); grid.keys.len()];
+    for (p, &v) in positions.iter().zip(&point_voxel) {
+        grid.moments[v as usize].add_point(p.as_dvec3() - origin);
+    }
     let tasks: Vec<std::ops::Range<usize>> = (0..grid.columns.len())
         .step_by(COLUMNS_PER_TASK)
         .map(|c| c..(c + COLUMNS_PER_TASK).min(grid.columns.len()))

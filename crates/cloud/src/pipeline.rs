@@ -144,6 +144,27 @@ pub fn cloud_to_scene_with_progress(
     options: &CloudOptions,
     progress: ProgressFn<'_>,
 ) -> Result<CloudConversion, CloudError> {
+    convert_cloud(Cow::Borrowed(cloud), options, progress)
+}
+
+/// [`cloud_to_scene_with_progress`] for a cloud the caller no longer needs: its arrays are
+/// freed as soon as their spatially sorted copies exist, instead of living beside them for
+/// the whole conversion (12 bytes a point for the positions, more with colours or normals).
+/// Gives the same result.
+pub fn cloud_to_scene_owned(
+    cloud: PointCloud,
+    options: &CloudOptions,
+    progress: ProgressFn<'_>,
+) -> Result<CloudConversion, CloudError> {
+    convert_cloud(Cow::Owned(cloud), options, progress)
+}
+
+/// The pipeline of the module documentation over a borrowed or owned cloud.
+fn convert_cloud(
+    cloud: Cow<'_, PointCloud>,
+    options: &CloudOptions,
+    progress: ProgressFn<'_>,
+) -> Result<CloudConversion, CloudError> {
     options.validate()?;
     let mut clock = StageClock::new(progress);
     let input_points = cloud.len();
@@ -151,7 +172,7 @@ pub fn cloud_to_scene_with_progress(
     let bounds = check_extent(&cloud, dropped)?;
     clock.lap(Stage::Filter);
 
-    let cloud = sort_spatially(&cloud, &bounds);
+    let mut cloud = sort_spatially(cloud, &bounds);
     clock.lap(Stage::Sort);
 
     let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
@@ -160,9 +181,8 @@ pub fn cloud_to_scene_with_progress(
     let surface = estimate_surface(&cloud, options, spacing)?;
     clock.lap(Stage::Normals);
 
-    let (moved, consensus_points) =
-        apply_consensus(&cloud.positions, surface.planes, options, spacing);
-    let positions: &[Vec3] = moved.as_deref().unwrap_or(&cloud.positions);
+    let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
+    let positions: &[Vec3] = &cloud.positions;
     clock.lap(Stage::Consensus);
 
     let pixel = spacing * options.pixel_factor;
@@ -313,23 +333,23 @@ fn estimate_surface(
     })
 }
 
-/// The `consensus` stage: the moved positions (when on) and how many points moved.
+/// The `consensus` stage: moves the (sorted) positions onto their block planes when it is on,
+/// and gives how many moved.
 fn apply_consensus(
-    positions: &[Vec3],
+    positions: &mut [Vec3],
     planes: Option<VoxelPlanes>,
     options: &CloudOptions,
     spacing: f32,
-) -> (Option<Vec<Vec3>>, usize) {
+) -> usize {
     match (&planes, options.consensus) {
         (Some(planes), true) => {
             let limits = ConsensusLimits {
                 max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
                 max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
             };
-            let (moved, count) = project_to_consensus(positions, planes, limits);
-            (Some(moved), count)
+            project_to_consensus(positions, planes, limits)
         }
-        _ => (None, 0),
+        _ => 0,
     }
 }
 
@@ -515,7 +535,7 @@ fn build_scene(
 /// The cloud with its points in Morton (Z-order) order of their position in `bounds`, so
 /// that consecutive points are near each other: every later pass over the points (one per
 /// view) then touches the images and grids in a cache-friendly order.
-fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
+fn sort_spatially(cloud: Cow<'_, PointCloud>, bounds: &Aabb) -> PointCloud {
     let scale =
         Vec3::splat(f32::from(u16::MAX)) / bounds.size().max(Vec3::splat(f32::MIN_POSITIVE));
     let spread = |v: u64| {
@@ -540,24 +560,36 @@ fn sort_spatially(cloud: &PointCloud, bounds: &Aabb) -> PointCloud {
     // than one sort of the whole list (rayon's parallel sort and a radix sort were slower
     // than `sort_unstable` on the shared machine).
     let order = sort_pairs(order, 30);
-    let pick = |i: &(u64, u32)| i.1 as usize;
-    PointCloud {
-        origin: cloud.origin,
-        positions: order.par_iter().map(|i| cloud.positions[pick(i)]).collect(),
-        colours: cloud
-            .colours
-            .as_ref()
-            .map(|c| order.par_iter().map(|i| c[pick(i)]).collect()),
-        normals: cloud
-            .normals
-            .as_ref()
-            .map(|v| order.par_iter().map(|i| v[pick(i)]).collect()),
+    match cloud {
+        Cow::Borrowed(cloud) => PointCloud {
+            origin: cloud.origin,
+            positions: reorder(&cloud.positions, &order),
+            colours: cloud.colours.as_deref().map(|c| reorder(c, &order)),
+            normals: cloud.normals.as_deref().map(|v| reorder(v, &order)),
+        },
+        // Each array is dropped once its sorted copy exists.
+        Cow::Owned(PointCloud {
+            origin,
+            positions,
+            colours,
+            normals,
+        }) => PointCloud {
+            origin,
+            positions: reorder(&positions, &order),
+            colours: colours.map(|c| reorder(&c, &order)),
+            normals: normals.map(|v| reorder(&v, &order)),
+        },
     }
+}
+
+/// `values` in the order of the indices of `order`.
+fn reorder<T: Copy + Send + Sync>(values: &[T], order: &[(u64, u32)]) -> Vec<T> {
+    order.par_iter().map(|i| values[i.1 as usize]).collect()
 }
 
 /// The cloud without its non-finite points (borrowed when there are none), and how many were
 /// dropped.
-fn keep_finite(cloud: &PointCloud) -> Result<(Cow<'_, PointCloud>, u64), CloudError> {
+fn keep_finite(cloud: Cow<'_, PointCloud>) -> Result<(Cow<'_, PointCloud>, u64), CloudError> {
     let n = cloud.len();
     if let Some(c) = &cloud.colours {
         if c.len() != n {
@@ -585,7 +617,7 @@ fn keep_finite(cloud: &PointCloud) -> Result<(Cow<'_, PointCloud>, u64), CloudEr
                 .is_none_or(|normals| normals[i].is_finite())
     };
     if (0..n).all(is_finite) {
-        return Ok((Cow::Borrowed(cloud), 0));
+        return Ok((cloud, 0));
     }
     let keep: Vec<usize> = (0..n).filter(|&i| is_finite(i)).collect();
     let filtered = PointCloud {

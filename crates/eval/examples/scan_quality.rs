@@ -23,7 +23,9 @@
 //!   the reference (as `spatch_eval::hole_fraction`). Fraction = holes / eroded reference
 //!   pixels.
 //!
-//! With `PNG_DIR`, each view's render is written there as `view_NN.png`. Prints one line per
+//! With `PNG_DIR`, each view's render is written there as `view_NN.png`, and its specks as
+//! `specks_NN.png` (the render in grey, every speck pixel red, so where they gather shows at a
+//! glance). Prints one line per
 //! view and a total line; the totals are what docs/algorithms/cloud.md quotes.
 
 use std::path::PathBuf;
@@ -167,8 +169,9 @@ fn run(
             .zip(uncull.depth())
             .map(|(s, p)| p.is_finite() && *p <= s + tolerance)
             .collect();
+        let mut speck_pixels = Vec::new();
         let view = Tally {
-            specks: count_specks(image.pixels(), &covered, width, height),
+            specks: count_specks(image.pixels(), &covered, width, height, &mut speck_pixels),
             holes: count_holes(&reference_covered, &reached, width, height),
         };
         println!(
@@ -186,6 +189,8 @@ fn run(
             let png = image.encode_png().map_err(|e| e.to_string())?;
             let path = dir.join(format!("view_{index:02}.png"));
             std::fs::write(&path, png).map_err(|e| format!("{}: {e}", path.display()))?;
+            let path = dir.join(format!("specks_{index:02}.png"));
+            write_speck_mask(&path, image.pixels(), &speck_pixels, width, height)?;
         }
     }
     println!(
@@ -245,7 +250,14 @@ fn grey(pixel: [u8; 4]) -> i32 {
     (i32::from(pixel[0]) + i32::from(pixel[1]) + i32::from(pixel[2])) / 3
 }
 
-fn count_specks(pixels: &[[u8; 4]], covered: &[bool], width: usize, height: usize) -> Share {
+/// The specks of an image (see the header); the index of every speck pixel goes to `specks`.
+fn count_specks(
+    pixels: &[[u8; 4]],
+    covered: &[bool],
+    width: usize,
+    height: usize,
+    specks: &mut Vec<usize>,
+) -> Share {
     let mut share = Share::default();
     let mut window = Vec::with_capacity((2 * RADIUS + 1) * (2 * RADIUS + 1));
     for y in 0..height {
@@ -264,10 +276,36 @@ fn count_specks(pixels: &[[u8; 4]], covered: &[bool], width: usize, height: usiz
             let median = *window.select_nth_unstable(middle).1;
             if grey(pixels[y * width + x]) < median - SPECK_DARKER_BY {
                 share.part += 1;
+                specks.push(y * width + x);
             }
         }
     }
     share
+}
+
+/// Writes the render in grey (light, so the marks stand out; background white) with every
+/// pixel of `specks` red, as a PNG at `path`.
+fn write_speck_mask(
+    path: &std::path::Path,
+    pixels: &[[u8; 4]],
+    specks: &[usize],
+    width: usize,
+    height: usize,
+) -> Result<(), String> {
+    let mut rgb: Vec<u8> = pixels
+        .iter()
+        .flat_map(|&p| {
+            let level = if p[3] == 0 { 255 } else { 128 + grey(p) / 2 } as u8;
+            [level; 3]
+        })
+        .collect();
+    for &k in specks {
+        rgb[3 * k..3 * k + 3].copy_from_slice(&[255, 0, 0]);
+    }
+    image::RgbImage::from_raw(width as u32, height as u32, rgb)
+        .ok_or("speck mask: wrong buffer size")?
+        .save(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn count_holes(reference: &[bool], covered: &[bool], width: usize, height: usize) -> Share {

@@ -7,8 +7,8 @@ use std::sync::Mutex;
 
 use glam::{DVec3, Vec3};
 use spatch_cloud::{
-    cloud_to_scene, cloud_to_scene_with_progress, CloudError, CloudOptions, CloudWarning, Progress,
-    Stage,
+    cloud_to_scene, cloud_to_scene_owned, cloud_to_scene_with_progress, CloudError, CloudOptions,
+    CloudWarning, Progress, Stage,
 };
 use spatch_mesh::SplitMix64;
 
@@ -147,6 +147,25 @@ fn tiled_output_does_not_depend_on_the_thread_count() {
         pool.install(|| cloud_to_scene(&c, &options).unwrap().bytes)
     };
     assert_eq!(run(1), run(2));
+}
+
+#[test]
+fn an_owned_cloud_converts_to_the_same_file_as_a_borrowed_one() {
+    // Colours, file normals and a non-finite point: every array the owned path frees early
+    // and the filter that copies the cloud.
+    let mut c = cloud(DVec3::new(1.0, 2.0, 3.0), sphere(30_000, 1.0));
+    c.positions.push(Vec3::new(f32::NAN, 0.0, 0.0));
+    c.normals = Some(c.positions.iter().map(|p| p.normalize_or_zero()).collect());
+    c.colours = Some(
+        (0..c.positions.len())
+            .map(|k| [(k % 256) as u8, (k / 256 % 256) as u8, 7, 255])
+            .collect(),
+    );
+    let options = CloudOptions::default();
+    let borrowed = cloud_to_scene(&c, &options).unwrap();
+    let owned = cloud_to_scene_owned(c, &options, &|_| {}).unwrap();
+    assert_eq!(owned.report.dropped_non_finite, 1);
+    assert_eq!(owned.bytes, borrowed.bytes);
 }
 
 #[test]
