@@ -41,6 +41,8 @@ pub(crate) enum Written {
     Glb,
     /// A TIFF image.
     Tiff,
+    /// An OpenEXR image.
+    Exr,
     /// A JSON report.
     Json,
     /// CSV rows.
@@ -57,6 +59,7 @@ impl Written {
             Written::Gltf => "a glTF file",
             Written::Glb => "a binary glTF file",
             Written::Tiff => "a TIFF image",
+            Written::Exr => "an OpenEXR image",
             Written::Json => "JSON",
             Written::Csv => "CSV",
         }
@@ -71,6 +74,7 @@ impl Written {
             Written::Gltf => &["gltf"],
             Written::Glb => &["glb"],
             Written::Tiff => &["tiff", "tif"],
+            Written::Exr => &["exr"],
             Written::Json => &["json"],
             Written::Csv => &["csv"],
         }

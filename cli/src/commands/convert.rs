@@ -84,6 +84,17 @@ pub(crate) struct PipelineArgs {
     /// (0.5-16).
     #[arg(long, value_name = "SPACINGS", default_value_t = EdgeOptions::default().strip_width, value_parser = edge_strip)]
     pub(crate) edge_strip: f32,
+    /// How far a crease may stray from an edge patch's straight row of nodes, in edge node
+    /// spacings (0-4). Smaller: more, shorter patches on curved creases, whose tips they
+    /// follow closely; larger: fewer, longer patches that cut a curved crease's tip by up
+    /// to the stray.
+    #[arg(long, value_name = "SPACINGS", default_value_t = EdgeOptions::default().max_stray, value_parser = edge_max_stray)]
+    pub(crate) edge_max_stray: f32,
+    /// Largest turn of the two faces' bisector within one edge patch, in degrees (above 0,
+    /// at most 90). Smaller: more, shorter patches, each seeing its faces squarely; larger:
+    /// fewer patches, but faces seen obliquely may leave holes along steep rims.
+    #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().max_turn_deg, value_parser = edge_max_turn)]
+    pub(crate) edge_max_turn: f32,
     /// Put an edge patch on every sharp edge, also where the surface patches already close
     /// the crease (by default only the gaps get one).
     #[arg(long)]
@@ -119,6 +130,19 @@ fn edge_resolution(s: &str) -> Result<f32, String> {
 
 fn edge_strip(s: &str) -> Result<f32, String> {
     in_range(s, 0.5, 16.0)
+}
+
+fn edge_max_stray(s: &str) -> Result<f32, String> {
+    in_range(s, 0.0, 4.0)
+}
+
+fn edge_max_turn(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v > 0.0 && v <= 90.0 {
+        Ok(v)
+    } else {
+        Err("must be above 0 and at most 90 degrees".to_owned())
+    }
 }
 
 fn in_range(s: &str, low: f32, high: f32) -> Result<f32, String> {
@@ -195,6 +219,8 @@ impl PipelineArgs {
             edges.crease_angle_deg = self.crease_angle;
             edges.resolution = self.edge_resolution;
             edges.strip_width = self.edge_strip;
+            edges.max_stray = self.edge_max_stray;
+            edges.max_turn_deg = self.edge_max_turn;
             edges.only_gaps = !self.all_creases;
             edges
         });

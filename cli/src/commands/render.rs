@@ -189,12 +189,14 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "R,G,B[,A]", value_parser = parse_colour)]
     background: Option<[u8; 4]>,
     /// Also write the depth: as 16-bit greyscale PNG (0 = no surface, else
-    /// linear between near and far), or with --depth-format tiff as a
-    /// 32-bit float TIFF of eye depth in model units (NaN = no surface) with
-    /// the camera in FILE's name with extension `camera.json`.
+    /// linear between near and far), or with --depth-format tiff|exr as a
+    /// 32-bit float TIFF, or OpenEXR with one float channel `Z`, of eye
+    /// depth in model units (NaN = no surface) with the camera in FILE's
+    /// name with extension `camera.json`.
     #[arg(long, value_name = "FILE")]
     depth: Option<PathBuf>,
-    /// Depth file format [default: tiff for a .tif/.tiff name, else png].
+    /// Depth file format [default: tiff for a .tif/.tiff name, exr for a
+    /// .exr name, else png].
     #[arg(long, value_enum, requires = "depth")]
     depth_format: Option<DepthFormatArg>,
     /// Also write statistics as JSON, with the cost of the shortcuts
@@ -220,6 +222,9 @@ pub(crate) enum DepthFormatArg {
     Png,
     /// 32-bit float TIFF of eye depth in model units, with a camera JSON.
     Tiff,
+    /// OpenEXR, one 32-bit float channel `Z` of eye depth in model units
+    /// (the TIFF's values, bit for bit), with a camera JSON.
+    Exr,
 }
 
 /// `chosen`, or the format `path`'s extension names.
@@ -228,6 +233,8 @@ fn depth_format(chosen: Option<DepthFormatArg>, path: &std::path::Path) -> Depth
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         if ext.eq_ignore_ascii_case("tif") || ext.eq_ignore_ascii_case("tiff") {
             DepthFormatArg::Tiff
+        } else if ext.eq_ignore_ascii_case("exr") {
+            DepthFormatArg::Exr
         } else {
             DepthFormatArg::Png
         }
@@ -497,17 +504,28 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let camera_path = args.depth.as_ref().map(|p| p.with_extension("camera.json"));
     if let Some(path) = &args.depth {
-        if depth_format(args.depth_format, path) == DepthFormatArg::Tiff {
-            let image = &out.image;
-            let bytes =
-                spatch_export::encode_depth_tiff(image.width(), image.height(), image.depth())
-                    .map_err(|e| InternalFailure(e.to_string()))?;
-            files.push((path, bytes));
+        let image = &out.image;
+        let (width, height) = (image.width(), image.height());
+        let float = match depth_format(args.depth_format, path) {
+            DepthFormatArg::Png => None,
+            DepthFormatArg::Tiff => Some(spatch_export::encode_depth_tiff(
+                width,
+                height,
+                image.depth(),
+            )),
+            DepthFormatArg::Exr => Some(spatch_export::encode_depth_exr(
+                width,
+                height,
+                image.depth(),
+            )),
+        };
+        if let Some(bytes) = float {
+            files.push((path, bytes.map_err(|e| InternalFailure(e.to_string()))?));
             if let Some(camera_path) = &camera_path {
                 files.push((camera_path, depth_camera_json(&camera, image)?));
             }
         } else {
-            files.push((path, out.image.encode_depth_png().map_err(classify)?));
+            files.push((path, image.encode_depth_png().map_err(classify)?));
         }
     }
     stages.push("encode", clock.elapsed().as_secs_f64());
@@ -592,6 +610,7 @@ impl RenderArgs {
         let path = self.depth.as_deref().unwrap_or(std::path::Path::new(""));
         match depth_format(self.depth_format, path) {
             DepthFormatArg::Tiff => Written::Tiff,
+            DepthFormatArg::Exr => Written::Exr,
             DepthFormatArg::Png => Written::Png,
         }
     }

@@ -24,11 +24,11 @@ fn write_cube_obj(t: &TestCommand, name: &str) -> String {
     name.to_owned()
 }
 
-/// Converts the cube with `extra` options and returns the report's edge statistics.
-fn edge_stats(t: &TestCommand, cube: &str, extra: &[&str]) -> serde_json::Value {
+/// Converts `mesh` with `extra` options and returns the report's edge statistics.
+fn edge_stats(t: &TestCommand, mesh: &str, extra: &[&str]) -> serde_json::Value {
     let mut args = vec![
         "convert",
-        cube,
+        mesh,
         "-o",
         "cube.spatch",
         "--report",
@@ -68,6 +68,36 @@ fn edge_patches_go_only_where_the_surface_leaves_a_gap_unless_asked() {
     assert!(none.is_null(), "{none}");
 }
 
+/// `--edge-max-turn` and `--edge-max-stray` decide how long an edge patch runs along a
+/// curved crease: a 64-sided cylinder's two round rims (90° creases), every crease patched.
+#[test]
+fn turn_and_stray_limits_set_how_many_pieces_a_curved_crease_takes() {
+    let t = TestCommand::new();
+    let obj = spatch_fixtures::shapes::cylinder(1.0, 2.0, 64).to_obj([0.0; 3]);
+    std::fs::write(t.path("cylinder.obj"), obj).unwrap();
+    let patches = |extra: &[&str]| {
+        let mut args = vec!["--all-creases"];
+        args.extend_from_slice(extra);
+        let stats = edge_stats(&t, "cylinder.obj", &args);
+        stats["edge_patches"].as_u64().unwrap()
+    };
+    let default = patches(&[]);
+    assert!(default >= 2, "{default}");
+    // The bisector turns 5.6° per side facet: the tighter the limit, the more pieces.
+    let tight = patches(&["--edge-max-turn", "5"]);
+    let loose = patches(&["--edge-max-turn", "40"]);
+    assert!(
+        tight > default && default > loose,
+        "{tight} {default} {loose}"
+    );
+    // With the turn unlimited, the stray decides: 0 allows no bend at all, so each rim
+    // edge is a piece of its own.
+    let straight = patches(&["--edge-max-turn", "90", "--edge-max-stray", "0"]);
+    let bent = patches(&["--edge-max-turn", "90", "--edge-max-stray", "4"]);
+    assert_eq!(straight, 2 * 64, "one piece per rim edge");
+    assert!(bent < straight / 4, "{bent} vs {straight}");
+}
+
 #[test]
 fn out_of_range_edge_options_are_refused() {
     let t = TestCommand::new();
@@ -76,10 +106,24 @@ fn out_of_range_edge_options_are_refused() {
         ("--edge-resolution", "0.5"),
         ("--edge-strip", "0.1"),
         ("--crease-angle", "180"),
+        ("--edge-max-stray", "-0.5"),
+        ("--edge-max-stray", "4.5"),
+        ("--edge-max-stray", "NaN"),
+        ("--edge-max-turn", "0"),
+        ("--edge-max-turn", "91"),
+        ("--edge-max-turn", "inf"),
     ] {
-        let run = t.run(&["convert", &cube, "-o", "out.spatch", flag, value]);
+        // `--flag=value`, so a negative value is not taken for a flag.
+        let run = t.run(&[
+            "convert",
+            &cube,
+            "-o",
+            "out.spatch",
+            &format!("{flag}={value}"),
+        ]);
         assert_eq!(run.code, 2, "{flag} {value}: {}", run.stderr);
         assert!(run.stderr.contains(flag), "{}", run.stderr);
+        assert!(run.stderr.starts_with("spatch: error:"), "{}", run.stderr);
         assert!(!t.path("out.spatch").exists());
     }
 }

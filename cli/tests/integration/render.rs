@@ -301,3 +301,70 @@ fn issue_22_depth_as_float_tiff_with_its_camera() {
     depth_png("e.png").success();
     assert_eq!(&std::fs::read(t.path("e.png")).unwrap()[1..4], b"PNG");
 }
+
+/// The `Z` channel of an EXR file: width, height and values.
+fn read_exr_depth(bytes: Vec<u8>) -> (usize, usize, Vec<f32>) {
+    use exr::prelude::{read, FlatSamples, ReadChannels, ReadLayers};
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .expect("a readable EXR file");
+    let layer = image.layer_data;
+    let channels = &layer.channel_data.list;
+    assert_eq!(channels.len(), 1, "one channel");
+    assert_eq!(channels[0].name.to_string(), "Z");
+    let FlatSamples::F32(values) = &channels[0].sample_data else {
+        panic!("not a 32-bit float channel");
+    };
+    (layer.size.0, layer.size.1, values.clone())
+}
+
+/// Issue 22, item 6: float depth as OpenEXR holds the TIFF's values bit for
+/// bit, with the same camera beside it; a wrong name is refused in one line.
+#[test]
+fn issue_22_depth_as_exr_matches_the_tiff_bit_for_bit() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    let size = ["--width", "64", "--height", "48", "--eye", "30,12,9"];
+    let render = |depth: &str, format: Option<&str>| {
+        let mut args = vec!["render", &name, "-o", "s.png", "--depth", depth];
+        args.extend(size);
+        if let Some(format) = format {
+            args.extend(["--depth-format", format]);
+        }
+        t.run(&args)
+    };
+    render("d.tiff", None).success();
+    // A .exr name selects EXR; so does --depth-format exr with another name.
+    render("d.exr", None).success();
+    render("plain", Some("exr")).success();
+    let tiff_bytes = std::fs::read(t.path("d.tiff")).unwrap();
+    let mut decoder = tiff::decoder::Decoder::new(std::io::Cursor::new(tiff_bytes)).unwrap();
+    let tiff::decoder::DecodingResult::F32(from_tiff) = decoder.read_image().unwrap() else {
+        panic!("not a float TIFF");
+    };
+    let (width, height, from_exr) = read_exr_depth(std::fs::read(t.path("d.exr")).unwrap());
+    assert_eq!((width, height), (64, 48));
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
+    assert_eq!(bits(&from_exr), bits(&from_tiff));
+    let (_, _, from_plain) = read_exr_depth(std::fs::read(t.path("plain")).unwrap());
+    assert_eq!(bits(&from_plain), bits(&from_tiff));
+    // Both surface and no-surface pixels are there to compare.
+    assert!(from_exr.iter().any(|d| d.is_nan()) && from_exr.iter().any(|d| d.is_finite()));
+    assert_eq!(
+        std::fs::read(t.path("d.camera.json")).unwrap(),
+        std::fs::read(t.path("plain.camera.json")).unwrap()
+    );
+    // An EXR is never written into a file named for another format, nor a
+    // TIFF into a .exr.
+    render("e.tiff", Some("exr"))
+        .assert_one_clear_line("e.tiff: this output is written as an OpenEXR image");
+    render("e.exr", Some("tiff"))
+        .assert_one_clear_line("e.exr: this output is written as a TIFF image");
+    assert!(!t.path("e.tiff").exists() && !t.path("e.exr").exists());
+    assert!(!t.path("e.camera.json").exists());
+}

@@ -14,6 +14,8 @@
 //!   patch by an f64 node translation.
 //! - [`encode_depth_tiff`]: a rendered depth image as a float TIFF
 //!   (`spatch render --depth-format tiff`).
+//! - [`encode_depth_exr`]: the same depth as an OpenEXR file with one float
+//!   channel `Z` (`spatch render --depth-format exr`).
 //!
 //! ```
 //! use spatch_export::{export_scene, Content, ExportOptions, Format};
@@ -27,6 +29,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod depth_exr;
 mod depth_tiff;
 mod gltf_writer;
 mod obj;
@@ -39,6 +42,7 @@ use std::path::Path;
 use glam::DVec3;
 use spatch_format::{ColourChannel, Scene};
 
+pub use depth_exr::{encode_depth_exr, DEPTH_EXR_CHANNEL};
 pub use depth_tiff::encode_depth_tiff;
 pub use gltf_writer::{write_glb, write_gltf};
 pub use obj::write_obj;
@@ -150,6 +154,9 @@ pub enum ExportError {
     /// The TIFF encoder failed (a bug: it writes to memory).
     #[error("TIFF encoding failed (this is a bug): {0}")]
     Tiff(String),
+    /// The EXR encoder failed (a bug: it writes to memory).
+    #[error("EXR encoding failed (this is a bug): {0}")]
+    Exr(String),
     /// The output would exceed a limit of the format.
     #[error("the {format} output would exceed the format's limit of {limit}")]
     TooLarge {
