@@ -394,14 +394,24 @@ impl PatchSurface {
                 })
             })
             .collect();
-        let mut distances = vec![0.0f32; points.len()];
-        let mut owners = vec![NO_PATCH; points.len()];
-        for (&(_, k), &(d, o)) in order.iter().zip(&found) {
-            distances[k as usize] = d;
-            owners[k as usize] = o;
-        }
-        (distances, owners)
+        scatter_to_input_order(&order, &found, points.len())
     }
+}
+
+/// The answers `found` (one `(distance, patch)` per entry of `order`, whose second field is
+/// the point's index) put back in the points' own order, as `(distances, patches)`.
+fn scatter_to_input_order(
+    order: &[(u64, u32)],
+    found: &[(f32, u32)],
+    count: usize,
+) -> (Vec<f32>, Vec<u32>) {
+    let mut distances = vec![0.0f32; count];
+    let mut owners = vec![NO_PATCH; count];
+    for (&(_, k), &(d, o)) in order.iter().zip(found) {
+        distances[k as usize] = d;
+        owners[k as usize] = o;
+    }
+    (distances, owners)
 }
 
 /// The nearest cell found so far (its position in `cells`), its distance and patch.

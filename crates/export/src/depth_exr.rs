@@ -18,6 +18,7 @@ use std::io::Cursor;
 use exr::prelude::{AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, WritableImage};
 use exr::prelude::{LayerAttributes, SmallVec};
 
+use crate::float_depth::float_depth_values;
 use crate::ExportError;
 
 /// The channel name the depth is stored under.
@@ -26,17 +27,7 @@ pub const DEPTH_EXR_CHANNEL: &str = "Z";
 /// `depth` (`width × height` values) as EXR bytes with one float channel
 /// named [`DEPTH_EXR_CHANNEL`].
 pub fn encode_depth_exr(width: u32, height: u32, depth: &[f32]) -> Result<Vec<u8>, ExportError> {
-    if depth.len() as u64 != u64::from(width) * u64::from(height) || width == 0 || height == 0 {
-        return Err(ExportError::DepthSize {
-            width,
-            height,
-            values: depth.len(),
-        });
-    }
-    let values: Vec<f32> = depth
-        .iter()
-        .map(|&d| if d.is_finite() { d } else { f32::NAN })
-        .collect();
+    let values = float_depth_values(width, height, depth)?;
     let channel = AnyChannel::new(DEPTH_EXR_CHANNEL, FlatSamples::F32(values));
     let size = (width as usize, height as usize);
     let layer = Layer::new(

@@ -12,21 +12,12 @@ use std::io::Cursor;
 
 use tiff::encoder::{colortype::Gray32Float, TiffEncoder};
 
+use crate::float_depth::float_depth_values;
 use crate::ExportError;
 
 /// `depth` (`width × height` values) as float TIFF bytes.
 pub fn encode_depth_tiff(width: u32, height: u32, depth: &[f32]) -> Result<Vec<u8>, ExportError> {
-    if depth.len() as u64 != u64::from(width) * u64::from(height) || width == 0 || height == 0 {
-        return Err(ExportError::DepthSize {
-            width,
-            height,
-            values: depth.len(),
-        });
-    }
-    let values: Vec<f32> = depth
-        .iter()
-        .map(|&d| if d.is_finite() { d } else { f32::NAN })
-        .collect();
+    let values = float_depth_values(width, height, depth)?;
     let mut out = Cursor::new(Vec::new());
     TiffEncoder::new(&mut out)
         .and_then(|mut encoder| encoder.write_image::<Gray32Float>(width, height, &values))

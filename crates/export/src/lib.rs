@@ -31,6 +31,7 @@
 
 mod depth_exr;
 mod depth_tiff;
+mod float_depth;
 mod gltf_writer;
 mod obj;
 mod patch_mesh;

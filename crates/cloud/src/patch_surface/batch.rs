@@ -31,7 +31,9 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{near_enough, Best, Node, PatchSurface, MAX_GRID_CELLS, NO_PATCH, QUERY_CHUNK};
+use super::{
+    near_enough, scatter_to_input_order, Best, Node, PatchSurface, MAX_GRID_CELLS, QUERY_CHUNK,
+};
 use crate::cell_grid::{CellGrid, CellRange};
 use crate::quad_distance::distance_to_quad;
 use crate::PRUNE_SLACK;
@@ -161,13 +163,7 @@ impl PatchSurface {
                 out
             })
             .collect();
-        let mut distances = vec![0.0f32; points.len()];
-        let mut owners = vec![NO_PATCH; points.len()];
-        for (&(_, k), &(d, o)) in order.iter().zip(&found) {
-            distances[k as usize] = d;
-            owners[k as usize] = o;
-        }
-        (distances, owners)
+        scatter_to_input_order(&order, &found, points.len())
     }
 
     /// Answers the points of `run` (one grid cell's key and the points' indices), pushing
