@@ -13,6 +13,25 @@ pub(crate) fn write_city(t: &TestCommand, name: &str, points: u64) {
         .unwrap();
 }
 
+/// Writes `city.ply` (8,000 points) and converts it with `--plan-tile 3.5` (spacing 0.1,
+/// pixel factor 1) into `out/`: tiles, `plan.json` and `index.json`.
+pub(crate) fn convert_city_in_tiles(t: &TestCommand) {
+    write_city(t, "city.ply", 8000);
+    t.run(&[
+        "from-cloud",
+        "city.ply",
+        "--plan-tile",
+        "3.5",
+        "--spacing",
+        "0.1",
+        "--pixel-factor",
+        "1",
+        "-o",
+        "out",
+    ])
+    .success();
+}
+
 #[test]
 fn tiles_run_alone_match_the_local_run_byte_for_byte_and_render_from_the_index() {
     let t = TestCommand::new();
@@ -173,20 +192,7 @@ fn empty(index: &serde_json::Value) -> usize {
 #[test]
 fn plan_tile_runs_plan_and_tiles_in_one_go() {
     let t = TestCommand::new();
-    write_city(&t, "city.ply", 8000);
-    t.run(&[
-        "from-cloud",
-        "city.ply",
-        "--plan-tile",
-        "3.5",
-        "--spacing",
-        "0.1",
-        "--pixel-factor",
-        "1",
-        "-o",
-        "out",
-    ])
-    .success();
+    convert_city_in_tiles(&t);
     let plan: serde_json::Value = t.json("out/plan.json");
     assert_eq!(plan["spacing"].as_f64().unwrap() as f32, 0.1);
     let index: serde_json::Value = t.json("out/index.json");

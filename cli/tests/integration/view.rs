@@ -303,20 +303,7 @@ fn under_xvfb_the_window_screenshot_equals_the_render() {
 #[test]
 fn a_tiled_scene_index_is_viewed_whole_and_its_printed_render_matches() {
     let t = TestCommand::new();
-    crate::tiled::write_city(&t, "city.ply", 8000);
-    t.run(&[
-        "from-cloud",
-        "city.ply",
-        "--plan-tile",
-        "3.5",
-        "--spacing",
-        "0.1",
-        "--pixel-factor",
-        "1",
-        "-o",
-        "out",
-    ])
-    .success();
+    crate::tiled::convert_city_in_tiles(&t);
     std::fs::write(t.path("ev.txt"), "orbit 30 -20\nzoom 1\n").unwrap();
     let view = |inputs: &[&str]| {
         let mut args = vec!["view"];
