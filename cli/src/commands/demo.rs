@@ -14,8 +14,9 @@ use crate::failure::InternalFailure;
 use crate::output::{print_summary, write_output};
 
 /// The embedded source files: name in the output folder, bytes.
-const SOURCE_FILES: [(&str, &[u8]); 3] = [
+const SOURCE_FILES: [(&str, &[u8]); 4] = [
     ("spot.obj", include_bytes!("../../assets/spot/spot.obj")),
+    ("spot.mtl", include_bytes!("../../assets/spot/spot.mtl")),
     (
         "spot_texture.png",
         include_bytes!("../../assets/spot/spot_texture.png"),
@@ -106,10 +107,10 @@ pub(crate) fn run(args: &DemoArgs) -> anyhow::Result<()> {
     let text = format!(
         "spatch demo: Keenan Crane's Spot (public domain), {} triangles, textured\n\
          {}\
-         written to {}:\n  source/spot.obj, source/spot_texture.png   the source model\n  \
-         spot.spatch                                the patches\n  \
-         spot.png                                   the patches rendered by spatch render\n  {report}\n\
-         next: spatch stats {} | spatch export {} -o nodes.ply\n",
+         written to {}:\n  source/spot.obj, spot.mtl, spot_texture.png   the source model\n  \
+         spot.spatch                                   the patches\n  \
+         spot.png                                      the patches rendered by spatch render\n  {report}\n\
+         next: spatch stats {}\n      spatch export {} -o nodes.ply\n",
         outcome.conversion.report.triangles,
         outcome.text,
         args.output.display(),

@@ -147,6 +147,10 @@ fn demo_needs_no_input_and_fills_its_folder() {
     assert_ne!(scene.channel(), ColourChannel::None, "the cow is textured");
     assert!(t.path("demo/report.json").is_file());
     assert!(t.path("demo/source/spot.obj").is_file());
+    // The OBJ names its material library, so its texture is found without the fallback.
+    assert!(t.path("demo/source/spot.mtl").is_file());
+    assert!(!run.stdout.contains("warning"), "{}", run.stdout);
+    assert!(!run.stderr.contains("warning"), "{}", run.stderr);
     let png = std::fs::read(t.path("demo/spot.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
 }
