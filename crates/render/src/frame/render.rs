@@ -29,7 +29,6 @@ use crate::prepare::scene::PreparedScene;
 use crate::raster::band::Band;
 use crate::shade::phong_items::PhongItems;
 use crate::shade::resolve::Resolve;
-use crate::shade::splat_centre::SplatLattices;
 
 /// Triangles per unit of parallel set-up work for meshes.
 const TRIANGLE_CHUNK: usize = 4096;
@@ -230,9 +229,7 @@ impl Renderer {
             patches,
             &self.frames,
         );
-        let splats = SplatLattices::new(&self.bins.all_items, &self.chunks);
         let job = BandJob {
-            splats: &splats,
             chunks: &self.chunks,
             bins: &self.bins,
             shading: options.shading,

@@ -23,7 +23,6 @@ use crate::raster::cell_smooth::draw_cells_smooth;
 use crate::raster::splat::{draw_splats, SplatPiece};
 use crate::raster::triangle_raster::{draw_triangle, ScreenTriangle};
 use crate::shade::resolve::{resolve_band, Resolve};
-use crate::shade::splat_centre::{place_splatted_samples, SplatLattices};
 
 /// Work per band in CSR form: `(chunk, index)` references.
 #[derive(Debug, Default)]
@@ -144,9 +143,6 @@ pub(crate) struct BandJob<'a> {
     pub(crate) cells: CellScheme,
     pub(crate) depth_map: (f32, f32),
     pub(crate) resolve: Resolve<'a>,
-    /// The frame's splatted pieces, whose visible samples are placed at
-    /// their pixel centres before the resolve.
-    pub(crate) splats: &'a SplatLattices<'a>,
 }
 
 fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, cells: CellScheme) {
@@ -229,8 +225,6 @@ pub(crate) fn render_band(
         }
     }
     let tris_done = Instant::now();
-    let (y0, width) = (band.y0, band.width as usize);
-    place_splatted_samples(job.splats, y0, width, band.samples_mut());
     resolve_band(&job.resolve, band.samples(), rgba, eye_depth);
     band.times.cells = (cells_done - start).as_nanos() as u64;
     band.times.triangles = (tris_done - cells_done).as_nanos() as u64;

@@ -30,7 +30,7 @@ use crate::plan::project::{level_map, project_nodes_exact, project_nodes_triline
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
-use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths, SPLAT_STEPS};
+use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
 /// traversal and cell measurement, its subdivision (or the splat or
@@ -127,12 +127,8 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         split = choose_subdivision(edges, SMOOTH_MARGIN);
     }
     let splat = splat_footprint(opts, smooth, split, edges);
-    let mut lattice = [0.0; 4];
     if splat[0] > 0 {
-        // The resolve's sub-node grid, onto which each visible splatted
-        // pixel's centre is placed ([`crate::shade::splat_centre`]).
-        split = Some((SPLAT_STEPS, SPLAT_STEPS));
-        lattice = inverse_lattice(&proj, range, d, SPLAT_STEPS as f32);
+        split = Some((1, 1));
     }
     work.counters.traverse_ns += nanos_since(start);
     let height = setup.view.height as i32;
@@ -197,28 +193,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         y1: y1 + pad,
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
         splat,
-        lattice,
     });
-}
-
-/// The inverse of the screen lattice of `range` (nodes `d` deep) at its
-/// centre: the Jacobian of the projection `proj` there (pixels per node
-/// step), inverted and scaled so that it takes an offset in position
-/// units to steps of `1 / steps` of a cell; zero where the lattice is
-/// degenerate (seen edge-on).
-fn inverse_lattice(proj: &Projector, range: NodeRange, d: (u16, u16), steps: f32) -> [f32; 4] {
-    let (lo, hi) = range.local_box(d);
-    let c = proj.map * ((lo + hi) * 0.5) + proj.t0;
-    let (x, y) = (c.x / c.z, c.y / c.z);
-    let (u, v) = (proj.map.x_axis, proj.map.y_axis);
-    let (ux, uy) = ((u.x - x * u.z) / c.z, (u.y - y * u.z) / c.z);
-    let (vx, vy) = ((v.x - x * v.z) / c.z, (v.y - y * v.z) / c.z);
-    let det = ux * vy - vx * uy;
-    if !(det.abs() > 1e-6) {
-        return [0.0; 4];
-    }
-    let k = steps / (det * XY_ONE);
-    [vy * k, -vx * k, -uy * k, ux * k]
 }
 
 /// Estimated level-0 cell extent in pixels from the projected box corners.

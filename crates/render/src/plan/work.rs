@@ -56,10 +56,6 @@ pub(crate) struct Item {
     /// Footprint half-widths in x and y (position units) of a splatted
     /// piece ([`crate::raster::splat`]); 0 for every other piece.
     pub(crate) splat: [i32; 2],
-    /// Of a splatted piece: the inverse of its screen lattice at its centre,
-    /// row-major, from position units to steps of a cell cut `nu × nv`
-    /// ([`crate::shade::splat_centre`]); zero for every other piece.
-    pub(crate) lattice: [f32; 4],
 }
 
 /// Everything about the frame that planning needs.

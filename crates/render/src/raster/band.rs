@@ -200,9 +200,4 @@ impl Band {
     pub(crate) fn samples(&self) -> &[Sample] {
         &self.px
     }
-
-    /// The samples, for passes that rewrite them after drawing.
-    pub(crate) fn samples_mut(&mut self) -> &mut [Sample] {
-        &mut self.px
-    }
 }

@@ -33,11 +33,6 @@ use crate::grid::CELL_DRAW;
 use crate::raster::band::BandTarget;
 use crate::raster::cell_bilinear::sub_word;
 
-/// Sub-node steps per cell side with which a splatted sample is recorded:
-/// the resolve pass interpolates at the pixel centre to within `1 / 16`
-/// of a cell ([`crate::shade::splat_centre`] places it).
-pub(crate) const SPLAT_STEPS: u32 = 8;
-
 /// Half a pixel in position units.
 const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
 
@@ -138,7 +133,7 @@ pub(crate) fn draw_splats(t: &mut BandTarget<'_>, piece: &SplatPiece<'_>, item: 
                 continue;
             }
             let (ci, a) = if i + 1 < cols { (i, 0) } else { (i - 1, 1) };
-            let sub = sub_word(ci, cj, a * SPLAT_STEPS, b * SPLAT_STEPS);
+            let sub = sub_word(ci, cj, a, b);
             let z = node[2];
             let (c0, c1) = (c0 as usize, c1 as usize + 1);
             for py in r0..=r1 {

@@ -106,7 +106,6 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             y1: 0,
             inside_columns: false,
             splat: [0, 0],
-            lattice: [0.0; 4],
         });
     }
     let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
