@@ -442,4 +442,64 @@ mod tests {
         }
         assert!(rows_taken > 200, "the row path ran for {rows_taken} rows");
     }
+
+    #[test]
+    fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
+        // Random jittered pieces with varied depths and undrawn cells, each
+        // fixed cut against the generic copy (cuts at run time): the same
+        // samples, payloads and depth-test winners.
+        let mut rng = crate::test_rng::XorShift(0x0c07_5eed);
+        let w = 40usize;
+        let cuts = [(1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+        let mut drawn = 0;
+        for round in 0..600 {
+            let (nu, nv) = cuts[round % cuts.len()];
+            let (cols, rows) = (2 + rng.below(5) as usize, 2 + rng.below(5) as usize);
+            let step = 0.5 + 2.5 * rng.unit();
+            let (ox, oy) = (-2.0 + 30.0 * rng.unit(), -2.0 + 30.0 * rng.unit());
+            let nodes: Vec<Node> = (0..cols * rows)
+                .map(|k| {
+                    let (i, j) = ((k % cols) as f32, (k / cols) as f32);
+                    let jitter = 0.5 * (rng.unit() - 0.5);
+                    let mut n = node(ox + step * (i + 0.3 * j) + jitter, oy + step * j);
+                    n[2] = rng.below(1 << 20) as i32;
+                    n
+                })
+                .collect();
+            let (ccols, crows) = (cols - 1, rows - 1);
+            let mut flags: Vec<u8> = (0..ccols * crows)
+                .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
+                .collect();
+            crate::grid::close_cells(&mut flags, ccols, crows);
+            let spans = vec![[-10, 60]; crows];
+            let piece = BilinearPiece {
+                nodes: &nodes,
+                flags: &flags,
+                spans: &spans,
+                cols,
+                rows,
+                inside_columns: false,
+            };
+            let (y0, band_rows) = (rng.below(20) as i32, 10 + rng.below(20) as i32);
+            let draw = |fixed: bool| {
+                let mut px = vec![Sample::EMPTY; w * band_rows as usize];
+                let mut t = BandTarget {
+                    width: w as i32,
+                    y0,
+                    rows: band_rows,
+                    px: &mut px,
+                };
+                if fixed {
+                    draw_cells_bilinear(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+                } else {
+                    draw_cells::<0, 0>(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+                }
+                px
+            };
+            let (fixed, generic) = (draw(true), draw(false));
+            drawn += fixed.iter().filter(|s| s.depth < Z_FAR).count();
+            assert_eq!(fixed, generic, "cut {nu} x {nv}, round {round}");
+        }
+        assert!(drawn > 5_000, "{drawn} samples compared");
+    }
 }
