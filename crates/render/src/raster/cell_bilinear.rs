@@ -115,6 +115,33 @@ pub(crate) fn draw_cells_bilinear(
     nv: u32,
     item: u32,
 ) {
+    // Why copies for the common small cuts: with `nu` and `nv` known to the
+    // compiler the sub-node loops unroll and the reciprocals fold (the
+    // bunny's pixel-sized cells are cut 1-3 per side); the samples and
+    // their order are the same, so the images are identical.
+    match (nu, nv) {
+        (1, 2) => draw_cells::<1, 2>(t, piece, nu, nv, item),
+        (2, 1) => draw_cells::<2, 1>(t, piece, nu, nv, item),
+        (2, 2) => draw_cells::<2, 2>(t, piece, nu, nv, item),
+        (2, 3) => draw_cells::<2, 3>(t, piece, nu, nv, item),
+        (3, 2) => draw_cells::<3, 2>(t, piece, nu, nv, item),
+        (3, 3) => draw_cells::<3, 3>(t, piece, nu, nv, item),
+        _ => draw_cells::<0, 0>(t, piece, nu, nv, item),
+    }
+}
+
+/// [`draw_cells_bilinear`] for cuts `NU × NV` known at compile time (0:
+/// `nu × nv` at run time).
+#[inline(always)]
+fn draw_cells<const NU: u32, const NV: u32>(
+    t: &mut BandTarget<'_>,
+    piece: &BilinearPiece<'_>,
+    nu: u32,
+    nv: u32,
+    item: u32,
+) {
+    let nu = if NU == 0 { nu } else { NU };
+    let nv = if NV == 0 { nv } else { NV };
     let r = Reciprocals {
         u: (1i64 << RECIP_BITS) / nu as i64,
         v: (1i64 << RECIP_BITS) / nv as i64,
@@ -149,9 +176,9 @@ pub(crate) fn draw_cells_bilinear(
             let c = [&b[0], &b[1], &a[0], &a[1]];
             let right = (f & CELL_RIGHT != 0) as u32;
             let top = (f & CELL_TOP != 0) as u32;
-            let (a_end, b_end, sub0) = (nu + right, nv + top, sub_word(i, j, 0, 0));
+            let (cut, sub0) = ([nu, right, nv + top], sub_word(i, j, 0, 0));
             if row_inside {
-                draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
+                draw_cell::<false>(t, c, r, cut, sub0, item);
                 continue;
             }
             // Why min/max rather than per-corner tests: one pass of
@@ -174,9 +201,9 @@ pub(crate) fn draw_cells_bilinear(
             };
             let inside = y_min > y_lo && y_max < y_hi - 1 && inside_columns;
             if inside {
-                draw_cell::<false>(t, c, r, a_end, b_end, sub0, item);
+                draw_cell::<false>(t, c, r, cut, sub0, item);
             } else {
-                draw_cell::<true>(t, c, r, a_end, b_end, sub0, item);
+                draw_cell::<true>(t, c, r, cut, sub0, item);
             }
         }
     }
@@ -196,7 +223,9 @@ fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
     ]
 }
 
-/// Places the sub-nodes of one cell; `CLIP = false` when the caller has
+/// Places the sub-nodes of one cell, `[nu, right, b_end]` of `cut`: `nu`
+/// (plus one when `right` is 1) per row, `b_end` rows; `CLIP = false` when
+/// the caller has
 /// checked that the cell lies inside the band and the image. Why: the
 /// unclipped variant drops the per-row band test and the per-sample bounds
 /// compares (callgrind, `profile_sphere 500 1`: see docs/performance-log.md).
@@ -205,15 +234,14 @@ fn draw_cell<const CLIP: bool>(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     r: Reciprocals,
-    a_end: u32,
-    b_end: u32,
+    [nu, right, b_end]: [u32; 3],
     sub0: u32,
     item: u32,
 ) {
+    let a_end = nu + right;
     let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
     let (sx, sy, sz) = (s(0), s(1), s(2));
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
-    let width = t.width as usize;
     let xy_shift = 16 + EXT;
     // Unclipped, y is kept relative to the band's first row (an exact
     // shift of whole pixels), so a sample's row needs no subtraction.
@@ -240,23 +268,17 @@ fn draw_cell<const CLIP: bool>(
                 }
             }
         } else {
-            for _ in 0..a_end {
-                let row = (v[1] >> xy_shift) as usize;
-                let idx = row * width + (v[0] >> xy_shift) as usize;
-                debug_assert!((v[0] >> xy_shift) < width as i64 && row < t.rows as usize);
-                let z = (v[2] >> EXT) as i32;
-                // The slice index still checks: a broken caller panics,
-                // never writes elsewhere.
-                let s = &mut t.px[idx];
-                if z < s.depth {
-                    s.depth = z;
-                    s.w0 = word;
-                    s.w2 = item;
-                }
+            // `nu` samples, then the closing one: a loop of a constant
+            // count when `nu` is (see `draw_cells_bilinear`).
+            for _ in 0..nu {
+                place_inside(t, v, word, item);
                 word += 1 << 8;
                 v[0] += step[0];
                 v[1] += step[1];
                 v[2] += step[2];
+            }
+            if right != 0 {
+                place_inside(t, v, word, item);
             }
         }
         start[0] += sx[1];
@@ -265,6 +287,25 @@ fn draw_cell<const CLIP: bool>(
         step[0] += sx[3];
         step[1] += sy[3];
         step[2] += sz[3];
+    }
+}
+
+/// Writes the sample at `v` (forward-difference units, `y` relative to
+/// the band) known to lie inside the band and the image.
+#[inline(always)]
+fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
+    let xy_shift = 16 + EXT;
+    let row = (v[1] >> xy_shift) as usize;
+    let idx = row * t.width as usize + (v[0] >> xy_shift) as usize;
+    debug_assert!((v[0] >> xy_shift) < t.width as i64 && row < t.rows as usize);
+    let z = (v[2] >> EXT) as i32;
+    // The slice index still checks: a broken caller panics, never writes
+    // elsewhere.
+    let s = &mut t.px[idx];
+    if z < s.depth {
+        s.depth = z;
+        s.w0 = word;
+        s.w2 = item;
     }
 }
 
@@ -400,5 +441,65 @@ mod tests {
             assert_eq!(draw(inside_columns), draw(false));
         }
         assert!(rows_taken > 200, "the row path ran for {rows_taken} rows");
+    }
+
+    #[test]
+    fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
+        // Random jittered pieces with varied depths and undrawn cells, each
+        // fixed cut against the generic copy (cuts at run time): the same
+        // samples, payloads and depth-test winners.
+        let mut rng = crate::test_rng::XorShift(0x0c07_5eed);
+        let w = 40usize;
+        let cuts = [(1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+        let mut drawn = 0;
+        for round in 0..600 {
+            let (nu, nv) = cuts[round % cuts.len()];
+            let (cols, rows) = (2 + rng.below(5) as usize, 2 + rng.below(5) as usize);
+            let step = 0.5 + 2.5 * rng.unit();
+            let (ox, oy) = (-2.0 + 30.0 * rng.unit(), -2.0 + 30.0 * rng.unit());
+            let nodes: Vec<Node> = (0..cols * rows)
+                .map(|k| {
+                    let (i, j) = ((k % cols) as f32, (k / cols) as f32);
+                    let jitter = 0.5 * (rng.unit() - 0.5);
+                    let mut n = node(ox + step * (i + 0.3 * j) + jitter, oy + step * j);
+                    n[2] = rng.below(1 << 20) as i32;
+                    n
+                })
+                .collect();
+            let (ccols, crows) = (cols - 1, rows - 1);
+            let mut flags: Vec<u8> = (0..ccols * crows)
+                .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
+                .collect();
+            crate::grid::close_cells(&mut flags, ccols, crows);
+            let spans = vec![[-10, 60]; crows];
+            let piece = BilinearPiece {
+                nodes: &nodes,
+                flags: &flags,
+                spans: &spans,
+                cols,
+                rows,
+                inside_columns: false,
+            };
+            let (y0, band_rows) = (rng.below(20) as i32, 10 + rng.below(20) as i32);
+            let draw = |fixed: bool| {
+                let mut px = vec![Sample::EMPTY; w * band_rows as usize];
+                let mut t = BandTarget {
+                    width: w as i32,
+                    y0,
+                    rows: band_rows,
+                    px: &mut px,
+                };
+                if fixed {
+                    draw_cells_bilinear(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+                } else {
+                    draw_cells::<0, 0>(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+                }
+                px
+            };
+            let (fixed, generic) = (draw(true), draw(false));
+            drawn += fixed.iter().filter(|s| s.depth < Z_FAR).count();
+            assert_eq!(fixed, generic, "cut {nu} x {nv}, round {round}");
+        }
+        assert!(drawn > 5_000, "{drawn} samples compared");
     }
 }
