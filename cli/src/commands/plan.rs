@@ -61,16 +61,18 @@ impl PlanArgs {
 /// Plans, writes the plan, prints a summary.
 pub(crate) fn run(args: &PlanArgs) -> anyhow::Result<()> {
     let started = Instant::now();
-    let plan = if super::convert_plan::is_mesh(&args.input) {
+    let mesh = super::convert_plan::is_mesh(&args.input);
+    let plan = if mesh {
         super::convert_plan::plan_mesh(&args.input, args.tile, args.buffer, args.spacing)?
     } else {
         make_plan(&args.input, &args.plan_options()).map_err(anyhow::Error::msg)?
     };
     write_output(&args.output, plan.to_json().as_bytes())?;
     let most = plan.tiles.iter().map(|t| t.points).max().unwrap_or(0);
+    let items = if mesh { "faces" } else { "points" };
     print_summary(
         &format!(
-            "{}: {} tiles of {} (buffer {:.4}) over {} points, at most {} a tile; spacing {:.4e}, pixel {:.4e}; {:.2} s\n",
+            "{}: {} tiles of {} (buffer {:.4}) over {} {items}, at most {} a tile; spacing {:.4e}, pixel {:.4e}; {:.2} s\n",
             args.output.display(),
             plan.tiles.len(),
             plan.grid.size,
