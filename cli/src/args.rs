@@ -36,10 +36,10 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch from-cloud bun000.ply -o bun000.spatch\n  spatch from-cloud bun.conf -o bunny.spatch        # a registered scan set (poses)\n  spatch from-cloud a.ply b.ply c.xyz -o abc.spatch  # several clouds, one frame\n  spatch from-cloud site.laz -o site.spatch\n  spatch from-cloud scan.txt --columns x,y,z,nx,ny,nz,r,g,b -o scan.spatch\n  spatch from-cloud scan.ply -o scan.spatch --smooth --report report.json"
     )]
     FromCloud(commands::from_cloud::FromCloudArgs),
-    /// Stream a point cloud and write a tile plan (JSON): the grid, the occupied tiles with
-    /// their bounds and counts, and the spacing every tile converts with.
+    /// Stream a point cloud (or tile a mesh by face) and write a tile plan (JSON): the grid,
+    /// the occupied tiles with their bounds and counts, and the spacing every tile converts with.
     #[command(
-        after_help = "Example:\n  spatch plan city.las --tile 50 -o plan.json\n  spatch from-cloud city.las --plan plan.json --tile 3 -o 3.spatch   # one tile\n  spatch from-cloud city.las --plan plan.json -o out/                # every tile + out/index.json"
+        after_help = "Example:\n  spatch plan city.las --tile 50 -o plan.json\n  spatch from-cloud city.las --plan plan.json --tile 3 -o 3.spatch   # one tile\n  spatch from-cloud city.las --plan plan.json -o out/                # every tile + out/index.json\n  spatch plan city.obj --tile 50 -o mplan.json\n  spatch convert city.obj --plan mplan.json --tile 3 -o 3.spatch     # one tile of a mesh"
     )]
     Plan(commands::plan::PlanArgs),
     /// Write the tiled scene index (DIR/index.json) of a plan's tile files converted
@@ -70,9 +70,9 @@ pub(crate) enum Command {
     )]
     Export(commands::export::ExportArgs),
     /// Concatenate scenes into one file, each kept at full precision however
-    /// far apart.
+    /// far apart, reading one input at a time.
     #[command(
-        after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch\n  spatch merge a.spatch a.spatch --translate 0,0,0 --translate 1e7,0,0 -o aa.spatch"
+        after_help = "Example:\n  spatch merge a.spatch b.spatch -o ab.spatch\n  spatch merge a.spatch a.spatch --translate 0,0,0 --translate 1e7,0,0 -o aa.spatch\n  spatch merge out/index.json -o city.spatch   # every tile of a tiled scene"
     )]
     Merge(commands::merge::MergeArgs),
     /// Render a .spatch file to a PNG on the CPU (patches or triangles).

@@ -60,28 +60,33 @@ pub(crate) fn write_output(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
         }
         None => {}
     }
-    write_file_atomically(path, bytes).map_err(|e| {
-        use std::io::ErrorKind as K;
-        let user_fixable = matches!(
-            &e,
-            FormatError::Io { source, .. }
-                if matches!(
-                    source.kind(),
-                    K::NotFound
-                        | K::PermissionDenied
-                        | K::IsADirectory
-                        | K::NotADirectory
-                        | K::InvalidInput
-                        | K::ReadOnlyFilesystem
-                        | K::InvalidFilename
-                )
-        );
-        if user_fixable {
-            anyhow::anyhow!("cannot write output {e}")
-        } else {
-            anyhow::Error::new(InternalFailure(format!("cannot write output {e}")))
-        }
-    })
+    write_file_atomically(path, bytes).map_err(write_error)
+}
+
+/// The error of a failed output write: what the user can fix (a missing folder, a
+/// refused permission, a folder or a device named as the output) exits 2; anything
+/// else, such as a full disk, is the system's (exit 1).
+pub(crate) fn write_error(e: FormatError) -> anyhow::Error {
+    use std::io::ErrorKind as K;
+    let user_fixable = matches!(
+        &e,
+        FormatError::Io { source, .. }
+            if matches!(
+                source.kind(),
+                K::NotFound
+                    | K::PermissionDenied
+                    | K::IsADirectory
+                    | K::NotADirectory
+                    | K::InvalidInput
+                    | K::ReadOnlyFilesystem
+                    | K::InvalidFilename
+            )
+    );
+    if user_fixable {
+        anyhow::anyhow!("cannot write output {e}")
+    } else {
+        anyhow::Error::new(InternalFailure(format!("cannot write output {e}")))
+    }
 }
 
 /// Set when an output file is standard output: the human summary then goes

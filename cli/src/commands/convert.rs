@@ -35,6 +35,14 @@ pub(crate) struct ConvertArgs {
     /// standard output instead of the summary; refused with `-o -`.
     #[arg(long)]
     json: bool,
+    /// A tile plan of this mesh (`spatch plan MESH --tile SIZE`): convert only tile
+    /// `--tile K`'s faces (and its buffer's) at the plan's spacing, keeping the patches whose
+    /// anchor lies in the tile (docs/scale.md, "Meshes").
+    #[arg(long, value_name = "PLAN", requires = "tile", conflicts_with = "json")]
+    plan: Option<PathBuf>,
+    /// With `--plan`: the tile to convert (its index in the plan).
+    #[arg(long, value_name = "K", requires = "plan")]
+    tile: Option<usize>,
     #[command(flatten)]
     pipeline: PipelineArgs,
 }
@@ -555,6 +563,10 @@ pub(crate) fn run(args: &ConvertArgs) -> anyhow::Result<()> {
         return Err(anyhow::anyhow!("{}: no such file", args.input.display()))
             .context("cannot read the input mesh");
     }
+    if let (Some(plan), Some(tile)) = (&args.plan, args.tile) {
+        let (input, output) = (&args.input, &args.output);
+        return super::convert_plan::run_tile(input, plan, tile, output, &args.pipeline);
+    }
     let outcome = convert_and_write(&args.input, &args.output, &args.pipeline)?;
     if args.json {
         print_json(&outcome.report)?;
@@ -568,6 +580,7 @@ impl ConvertArgs {
         use crate::overwrite_guard::Written;
         crate::overwrite_guard::Files::default()
             .input(Some(&self.input))
+            .input(self.plan.as_deref())
             .output_as(Some(&self.output), Written::Spatch)
             .output_as(self.pipeline.report.as_deref(), Written::Json)
             .json_on_stdout(self.json)

@@ -1,23 +1,28 @@
 //! `spatch merge`: concatenation of scenes, each kept at full precision
-//! however far apart they are (see `Scene::merge`).
+//! however far apart they are (see `Scene::merge`), streamed: one input in memory at a
+//! time (`spatch_format::MergeWriter`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use glam::DVec3;
 use serde::Serialize;
 use spatch_eval::{Counts, Report};
-use spatch_format::{Scene, WriteOptions};
+use spatch_format::{MergeError, MergeWriter, Scene, WriteOptions};
+use spatch_tiling::SceneIndex;
 
-use crate::output::{encode_and_write, print_json, print_summary, read_spatch};
+use crate::output::{is_stdout, print_json, print_summary, read_spatch, write_error};
 use crate::progress::Progress;
-use crate::report::{scene_diagonal, tool};
+use crate::report::tool;
+
+use super::tiled_scene::is_index;
 
 /// Arguments of `spatch merge`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct MergeArgs {
-    /// Input .spatch files (two or more).
-    #[arg(required = true, num_args = 2.., value_name = "FILE")]
+    /// Input .spatch files (two or more), or one tiled-scene index (INDEX.json: its
+    /// tiles with patches, in index order). Read one at a time: memory holds one input.
+    #[arg(required = true, num_args = 1.., value_name = "FILE")]
     inputs: Vec<PathBuf>,
     /// Output .spatch file (`-`: standard output).
     #[arg(short, long, value_name = "FILE")]
@@ -54,59 +59,53 @@ struct MergeDetails {
     inputs: Vec<MergedInput>,
 }
 
-/// Reads every input, merges, writes.
+/// Reads the inputs one at a time into a streaming merge writer, then writes the output:
+/// memory holds one input scene, whatever the number of inputs.
 pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
-    if !args.translate.is_empty() && args.translate.len() != args.inputs.len() {
-        anyhow::bail!(
-            "--translate is given {} times for {} inputs: give it once per input or not at all",
-            args.translate.len(),
-            args.inputs.len()
-        );
-    }
-    let progress = Progress::new("merge", 4);
+    let paths = input_paths(args)?;
+    let progress = Progress::new("merge", 2);
     let started = Instant::now();
     progress.step("read");
-    let mut scenes = Vec::with_capacity(args.inputs.len());
-    let mut inputs = Vec::with_capacity(args.inputs.len());
-    for (k, path) in args.inputs.iter().enumerate() {
-        let scene = read_spatch(path)?.0;
+    let options = WriteOptions::with_compression(super::compression(args.compress));
+    let mut writer =
+        MergeWriter::new(&scratch_folder(&args.output), options).map_err(write_error)?;
+    let mut inputs = Vec::with_capacity(paths.len());
+    let mut totals = Totals::default();
+    for (k, path) in paths.iter().enumerate() {
         let shift = args.translate.get(k).copied().unwrap_or(DVec3::ZERO);
+        let scene = read_spatch(path)?
+            .0
+            .translated(shift)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         inputs.push(MergedInput {
             input: path.display().to_string(),
             patches: scene.patches().len(),
             translate: shift.to_array(),
         });
-        scenes.push(
-            scene
-                .translated(shift)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
-        );
-        progress.count(k + 1, args.inputs.len());
+        totals.add(&scene);
+        writer.push(scene).map_err(|e| match &e {
+            MergeError::ChannelMismatch { .. } => anyhow::anyhow!("{}: {e}", path.display()),
+            _ => anyhow::Error::new(e),
+        })?;
+        progress.count(k + 1, paths.len());
     }
     let read_seconds = started.elapsed().as_secs_f64();
-    progress.step("merge");
-    let merge_started = Instant::now();
-    let merged = Scene::merge(scenes).map_err(|e| match &e {
-        spatch_format::MergeError::ChannelMismatch { index, .. } => {
-            anyhow::anyhow!("{}: {e}", args.inputs[*index].display())
-        }
-        _ => anyhow::Error::new(e),
-    })?;
-    let merge_seconds = merge_started.elapsed().as_secs_f64();
-    let written = encode_and_write(
-        &progress,
-        &merged,
-        &WriteOptions::with_compression(super::compression(args.compress)),
-        &args.output,
-    )?;
+    progress.step("write");
+    let write_started = Instant::now();
+    let bytes = if is_stdout(&args.output) {
+        writer.write_to(&mut std::io::stdout().lock())
+    } else {
+        writer.write_to_file(&args.output)
+    }
+    .map_err(write_error)? as usize;
     drop(progress);
     let parts: Vec<String> = inputs.iter().map(|i| i.patches.to_string()).collect();
     let text = format!(
         "{}: {} patches ({}), {} bytes\n",
         args.output.display(),
-        merged.patches().len(),
+        totals.counts.patches,
         parts.join(" + "),
-        written.bytes
+        bytes
     );
     if args.json {
         let label = inputs
@@ -116,17 +115,93 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
             .join(" + ");
         let mut report = Report::new(&tool(), "merge", &label, MergeDetails { inputs });
         report.output = Some(args.output.display().to_string());
-        report.counts = Counts::of(&merged, written.bytes);
-        report.diagonal = scene_diagonal(&merged);
+        report.counts = Counts {
+            bytes,
+            ..totals.counts
+        };
+        report.diagonal = totals.bounds.map(|(lo, hi)| (hi - lo).length());
         report.stages.push("read", read_seconds);
-        report.stages.push("merge", merge_seconds);
-        report.stages.push("encode", written.encode_seconds);
-        report.stages.push("write", written.write_seconds);
+        report
+            .stages
+            .push("write", write_started.elapsed().as_secs_f64());
         report.seconds = started.elapsed().as_secs_f64();
         report.threads = 1;
         print_json(&report)?;
     }
     print_summary(&text, args.json)
+}
+
+/// The counts and bounds of the merged scene, gathered input by input.
+#[derive(Default)]
+struct Totals {
+    counts: Counts,
+    bounds: Option<(DVec3, DVec3)>,
+}
+
+impl Totals {
+    fn add(&mut self, scene: &Scene) {
+        let counts = Counts::of(scene, 0);
+        self.counts.patches += counts.patches;
+        self.counts.nodes += counts.nodes;
+        self.counts.filled_nodes += counts.filled_nodes;
+        if let Some((lo, hi)) = scene.bounds() {
+            self.bounds = Some(match self.bounds {
+                Some((a, b)) => (a.min(lo), b.max(hi)),
+                None => (lo, hi),
+            });
+        }
+    }
+}
+
+/// The files to merge: the inputs, or the tiles with patches of one tiled-scene index
+/// (in index order).
+fn input_paths(args: &MergeArgs) -> anyhow::Result<Vec<PathBuf>> {
+    let index = match args.inputs.as_slice() {
+        [one] if is_index(one) => one,
+        [one] => anyhow::bail!(
+            "{}: merge needs two or more .spatch files, or one tiled-scene index (index.json)",
+            one.display()
+        ),
+        _ => {
+            if !args.translate.is_empty() && args.translate.len() != args.inputs.len() {
+                anyhow::bail!(
+                    "--translate is given {} times for {} inputs: give it once per input or not at all",
+                    args.translate.len(),
+                    args.inputs.len()
+                );
+            }
+            return Ok(args.inputs.clone());
+        }
+    };
+    if !args.translate.is_empty() {
+        anyhow::bail!(
+            "{}: --translate moves separate inputs; a tiled scene is merged as it lies",
+            index.display()
+        );
+    }
+    let scene_index = SceneIndex::read(index).map_err(anyhow::Error::msg)?;
+    let tiles: Vec<PathBuf> = scene_index
+        .tiles
+        .iter()
+        .filter(|t| t.patches > 0)
+        .map(|t| SceneIndex::tile_path(index, t))
+        .collect();
+    if tiles.is_empty() {
+        anyhow::bail!("{}: no tile of this index holds a patch", index.display());
+    }
+    Ok(tiles)
+}
+
+/// Where the merge writer keeps its scratch files: the output's folder (`-`: the
+/// system's temporary folder).
+fn scratch_folder(output: &Path) -> PathBuf {
+    if is_stdout(output) {
+        return std::env::temp_dir();
+    }
+    match output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
 }
 
 impl MergeArgs {

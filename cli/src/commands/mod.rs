@@ -4,6 +4,7 @@
 pub(crate) mod cloud_progress;
 pub(crate) mod completions;
 pub(crate) mod convert;
+pub(crate) mod convert_plan;
 pub(crate) mod demo;
 pub(crate) mod earth;
 pub(crate) mod eval;

@@ -1,4 +1,5 @@
-//! `spatch plan`: streams a point cloud and writes a tile plan (docs/scale.md).
+//! `spatch plan`: streams a point cloud (or loads a mesh, tiled by face) and writes a tile
+//! plan (docs/scale.md).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,19 +13,21 @@ use crate::output::{print_summary, write_output};
 #[derive(Debug, clap::Args)]
 pub(crate) struct PlanArgs {
     /// Input point cloud, read as a stream: .ply (ASCII or binary), .las/.laz,
-    /// .xyz/.txt/.pts.
-    #[arg(value_name = "CLOUD")]
+    /// .xyz/.txt/.pts; or a mesh (.obj, .gltf/.glb, .off, .stl, or a .ply with faces),
+    /// tiled by face for `spatch convert --plan`.
+    #[arg(value_name = "INPUT")]
     input: PathBuf,
     /// Side of a tile, in model units. Each tile's range images (with its buffer) must fit
     /// the pixel budget of 16 M pixels over the views: about 90 m at 0.1 m spacing.
     #[arg(long, value_name = "SIZE")]
     tile: f64,
     /// Buffer around a tile whose points its conversion reads, in model units (default:
-    /// 16 pixels, the gap filling and smoothing reach with room to spare).
+    /// 16 pixels, the gap filling and smoothing reach with room to spare; for a mesh, 8
+    /// node spacings).
     #[arg(long, value_name = "B")]
     buffer: Option<f64>,
     /// Point spacing every tile converts with (default: estimated on the most populous
-    /// tile).
+    /// tile; for a mesh, the node spacing `spatch convert` derives for the whole mesh).
     #[arg(long)]
     spacing: Option<f32>,
     /// Pixel (node) spacing in multiples of the point spacing, shared by every tile.
@@ -58,12 +61,18 @@ impl PlanArgs {
 /// Plans, writes the plan, prints a summary.
 pub(crate) fn run(args: &PlanArgs) -> anyhow::Result<()> {
     let started = Instant::now();
-    let plan = make_plan(&args.input, &args.plan_options()).map_err(anyhow::Error::msg)?;
+    let mesh = super::convert_plan::is_mesh(&args.input);
+    let plan = if mesh {
+        super::convert_plan::plan_mesh(&args.input, args.tile, args.buffer, args.spacing)?
+    } else {
+        make_plan(&args.input, &args.plan_options()).map_err(anyhow::Error::msg)?
+    };
     write_output(&args.output, plan.to_json().as_bytes())?;
     let most = plan.tiles.iter().map(|t| t.points).max().unwrap_or(0);
+    let items = if mesh { "faces" } else { "points" };
     print_summary(
         &format!(
-            "{}: {} tiles of {} (buffer {:.4}) over {} points, at most {} a tile; spacing {:.4e}, pixel {:.4e}; {:.2} s\n",
+            "{}: {} tiles of {} (buffer {:.4}) over {} {items}, at most {} a tile; spacing {:.4e}, pixel {:.4e}; {:.2} s\n",
             args.output.display(),
             plan.tiles.len(),
             plan.grid.size,

@@ -4,7 +4,9 @@
 //! - `stats`: the human table and the JSON keys.
 //! - `export`: standard PLY headers and counts.
 //! - `earth`: the three levels, the shared maps, bad maps.
-//! - `merge`: patch counts add up; incompatible scenes refused.
+//! - `merge`: patch counts add up; incompatible scenes refused; the streamed merge writes
+//!   the in-memory merge's bytes; a tiled-scene index merges into one file.
+//! - `mesh_tiles`: a mesh tiled by face joins with no duplicate and covers the surface.
 //! - `render`: PNG, depth and stats outputs, camera flags, `--bench`, bad input.
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
 //! - `from_cloud`: `spatch from-cloud` scene, report keys and error targets, determinism,
@@ -46,6 +48,7 @@ mod from_cloud;
 mod golden;
 mod issue_22_thin;
 mod merge;
+mod mesh_tiles;
 mod output_safety;
 mod readme_tour;
 mod render;

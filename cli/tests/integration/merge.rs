@@ -35,6 +35,122 @@ fn merged_patch_counts_add_up() {
     assert_eq!(grids.into_iter().collect::<Vec<_>>(), vec![5, 9]);
 }
 
+/// The streamed merge writes the bytes of the in-memory one (`Scene::merge`, then
+/// `encode_scene`), compressed or not, with a part moved 1e7 away.
+#[test]
+fn streamed_merge_matches_the_in_memory_merge_byte_for_byte() {
+    use spatch_format::{encode_scene, Compression, Scene, WriteOptions};
+    let t = TestCommand::new();
+    t.small_sphere("a.spatch");
+    t.run(&[
+        "sphere",
+        "--radius",
+        "3",
+        "--patches",
+        "50",
+        "-o",
+        "b.spatch",
+    ])
+    .success();
+    let (a, b) = (
+        read_scene(&t.path("a.spatch")).unwrap(),
+        read_scene(&t.path("b.spatch")).unwrap(),
+    );
+    let far = glam::DVec3::new(1e7, 2.5, -3.0);
+    for (flag, compression) in [
+        (None, Compression::None),
+        (Some("--compress"), Compression::Predictive),
+    ] {
+        let mut args = vec![
+            "merge",
+            "a.spatch",
+            "b.spatch",
+            "a.spatch",
+            "--translate",
+            "0,0,0",
+        ];
+        args.extend([
+            "--translate",
+            "0,0,0",
+            "--translate",
+            "1e7,2.5,-3",
+            "-o",
+            "m.spatch",
+        ]);
+        args.extend(flag);
+        t.run(&args).success();
+        let parts = vec![a.clone(), b.clone(), a.clone().translated(far).unwrap()];
+        let merged = Scene::merge(parts).unwrap();
+        let expected = encode_scene(&merged, &WriteOptions::with_compression(compression)).unwrap();
+        assert!(
+            std::fs::read(t.path("m.spatch")).unwrap() == expected,
+            "{flag:?}"
+        );
+        let names: Vec<_> = std::fs::read_dir(t.path(".")).unwrap().flatten().collect();
+        assert!(
+            names
+                .iter()
+                .all(|e| !e.file_name().to_string_lossy().ends_with(".tmp")),
+            "scratch files left: {names:?}"
+        );
+    }
+    let piped = std::process::Command::new(env!("CARGO_BIN_EXE_spatch"))
+        .args(["merge", "a.spatch", "b.spatch", "-o", "-"])
+        .current_dir(t.dir())
+        .output()
+        .unwrap();
+    let expected = encode_scene(&Scene::merge(vec![a, b]).unwrap(), &WriteOptions::default());
+    assert!(piped.status.success() && piped.stdout == expected.unwrap());
+}
+
+/// `spatch merge INDEX.json` joins the tiles with patches of a tiled scene, in index
+/// order, as `spatch render INDEX.json` joins them.
+#[test]
+fn a_tiled_scene_index_merges_into_one_file() {
+    use spatch_format::{encode_scene, Scene, WriteOptions};
+    let t = TestCommand::new();
+    crate::tiled::convert_city_in_tiles(&t);
+    let run = t
+        .run(&["merge", "out/index.json", "-o", "all.spatch", "--json"])
+        .success();
+    let report: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let index: serde_json::Value = t.json("out/index.json");
+    let tiles: Vec<&serde_json::Value> = index["tiles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|tile| tile["patches"].as_u64().unwrap() > 0)
+        .collect();
+    assert!(tiles.len() >= 4, "{}", tiles.len());
+    let scenes: Vec<Scene> = tiles
+        .iter()
+        .map(|tile| {
+            read_scene(&t.path(&format!("out/{}", tile["file"].as_str().unwrap()))).unwrap()
+        })
+        .collect();
+    let patches: usize = scenes.iter().map(|s| s.patches().len()).sum();
+    assert_eq!(
+        report["counts"]["patches"].as_u64().unwrap() as usize,
+        patches
+    );
+    assert_eq!(
+        report["details"]["inputs"].as_array().unwrap().len(),
+        tiles.len()
+    );
+    let expected = encode_scene(&Scene::merge(scenes).unwrap(), &WriteOptions::default()).unwrap();
+    assert!(std::fs::read(t.path("all.spatch")).unwrap() == expected);
+    let moved = t.run(&[
+        "merge",
+        "out/index.json",
+        "--translate",
+        "1,0,0",
+        "-o",
+        "x.spatch",
+    ]);
+    assert_eq!(moved.code, 2);
+    assert!(moved.stderr.contains("index.json"), "{}", moved.stderr);
+}
+
 #[test]
 fn merge_needs_two_inputs_and_names_a_bad_one() {
     let t = TestCommand::new();

@@ -128,6 +128,23 @@ pub enum FormatError {
         /// The largest number of bytes accepted.
         limit: u64,
     },
+    /// A section would pass the container's u32 length field (4 GiB − 1 bytes): split
+    /// the scene into several files (tiles).
+    #[error("the {tag} section would hold {bytes} bytes, past the 4 GiB limit of a .spatch section: split the scene into tiles")]
+    SectionTooLong {
+        /// Section tag.
+        tag: String,
+        /// Bytes it would hold.
+        bytes: u64,
+    },
+    /// A scene would pass the container's u32 patch count.
+    #[error(
+        "{count} patches pass the 2^32 - 1 limit of a .spatch file: split the scene into tiles"
+    )]
+    TooManyPatches {
+        /// Patches it would hold.
+        count: u64,
+    },
     /// An internal invariant failed; this is a bug in spatch.
     #[error("internal error (this is a bug in spatch): {0}")]
     Bug(&'static str),

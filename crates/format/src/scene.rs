@@ -203,22 +203,10 @@ impl Scene {
             }
             let shift = scene.offset - offset;
             for o in &scene.openings {
-                let centre = (o.centre().as_dvec3() + shift).as_vec3();
-                let moved = Opening::new(centre, o.radius(), o.normal(), o.half_thickness());
-                openings.push(moved.map_err(MergeError::Format)?);
+                openings.push(rebase_opening(o, shift).map_err(MergeError::Format)?);
             }
-            for mut patch in scene.patches {
-                if shift == DVec3::ZERO {
-                    patches.push(patch);
-                    continue;
-                }
-                let origin = patch.frame().precise_origin() + shift;
-                let frame = patch
-                    .frame()
-                    .with_precise_origin(origin)
-                    .map_err(MergeError::Format)?;
-                patch.set_frame(frame);
-                patches.push(patch);
+            for patch in scene.patches {
+                patches.push(rebase_patch(patch, shift).map_err(MergeError::Format)?);
             }
         }
         Ok(Scene::new(offset, channel, patches)
@@ -236,6 +224,29 @@ impl Scene {
         self.offset = offset;
         Ok(self)
     }
+}
+
+/// A patch of a scene whose offset is `shift` from the merged scene's, moved into the
+/// merged scene: its origin in f64, stored as an f32 origin and its residual.
+pub(crate) fn rebase_patch(mut patch: Patch, shift: DVec3) -> Result<Patch, FormatError> {
+    if shift == DVec3::ZERO {
+        return Ok(patch);
+    }
+    let origin = patch.frame().precise_origin() + shift;
+    let frame = patch.frame().with_precise_origin(origin)?;
+    patch.set_frame(frame);
+    Ok(patch)
+}
+
+/// An opening of a scene whose offset is `shift` from the merged scene's, moved into it.
+pub(crate) fn rebase_opening(opening: &Opening, shift: DVec3) -> Result<Opening, FormatError> {
+    let centre = (opening.centre().as_dvec3() + shift).as_vec3();
+    Opening::new(
+        centre,
+        opening.radius(),
+        opening.normal(),
+        opening.half_thickness(),
+    )
 }
 
 /// Why scenes could not be merged.

@@ -13,7 +13,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(
         prog="spatch-dask",
         description="Convert every tile of a spatch plan as dask.distributed tasks, then "
-        "write OUT/index.json (paths must be reachable by every worker).",
+        "write OUT/index.json (paths must be reachable by every worker, or fsspec URLs).",
     )
     parser.add_argument("cloud", help="the input point cloud (as given to spatch plan)")
     parser.add_argument("plan", help="the plan (spatch plan ... -o plan.json)")

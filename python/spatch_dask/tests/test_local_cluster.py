@@ -9,6 +9,7 @@ import random
 import pytest
 
 from spatch_dask import run_plan, tile_file_name
+from spatch_dask.staging import is_url
 
 
 def spatch_binary():
@@ -58,6 +59,29 @@ def test_four_tiles_on_two_workers_match_the_local_run(tmp_path):
     assert (out / "index.json").read_bytes() == (local / "index.json").read_bytes()
     assert (out / "coarse.spatch").read_bytes() == (local / "coarse.spatch").read_bytes()
     assert not (local / ".spill").exists()
+
+
+def test_file_urls_are_staged_through_fsspec_to_the_same_bytes(tmp_path):
+    spatch = spatch_binary()
+    remote = tmp_path / "remote"
+    remote.mkdir()
+    cloud, plan = remote / "city.ply", remote / "plan.json"
+    write_scene(str(cloud), points=3000, seed=5)
+    run = lambda *a: subprocess.run([spatch, "-q", *a], check=True)
+    run("plan", str(cloud), "--tile", "4.01", "--spacing", "0.08", "--buffer", "0.6", "-o", str(plan))
+    local = tmp_path / "local"
+    run("from-cloud", str(cloud), "--plan", str(plan), "-o", str(local))
+    url = lambda p: "file://" + str(p)
+    out = remote / "out"
+    results = run_plan(url(cloud), url(plan), url(out), spatch=spatch, workers=2)
+    assert len(results) == 4
+    assert all(r.path == url(out) + "/" + tile_file_name(r.index) for r in results)
+    names = sorted(p.name for p in local.iterdir())
+    assert sorted(p.name for p in out.iterdir()) == names
+    for name in names:
+        assert (out / name).read_bytes() == (local / name).read_bytes(), name
+    assert is_url("s3://bucket/a.las") and is_url(url(cloud))
+    assert not is_url(str(cloud)) and not is_url("C:/data/a.las")
 
 
 def test_a_failing_tile_is_reported(tmp_path):

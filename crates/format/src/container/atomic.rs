@@ -38,6 +38,15 @@ const MAX_LINKS: usize = 40;
 /// place. On failure nothing under `path` has changed and the temporary file
 /// is gone.
 pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), FormatError> {
+    write_file_atomically_with(path, |out| out.write_all(bytes))
+}
+
+/// Like [`write_file_atomically`], with the bytes written by `fill` as it makes them,
+/// so a file larger than memory can be written safely.
+pub fn write_file_atomically_with(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), FormatError> {
     let io_error = |source| FormatError::Io {
         path: path.to_path_buf(),
         source,
@@ -45,15 +54,44 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), FormatErro
     match std::fs::metadata(path) {
         Ok(meta) if meta.is_dir() => Err(io_error(io::Error::from(ErrorKind::IsADirectory))),
         Ok(meta) if meta.is_file() => {
-            replace_regular(&resolve_links(path).map_err(io_error)?, bytes, Some(&meta))
+            replace_regular(&resolve_links(path).map_err(io_error)?, fill, Some(&meta))
                 .map_err(io_error)
         }
-        Ok(meta) => write_special(path, &meta, bytes).map_err(io_error),
+        Ok(meta) => write_special(path, &meta, fill).map_err(io_error),
         Err(e) if e.kind() == ErrorKind::NotFound => {
-            replace_regular(&resolve_links(path).map_err(io_error)?, bytes, None).map_err(io_error)
+            replace_regular(&resolve_links(path).map_err(io_error)?, fill, None).map_err(io_error)
         }
         Err(e) => Err(io_error(e)),
     }
+}
+
+/// A scratch file of this process in `folder` (named like the atomic writes'
+/// temporaries, so [`abandon_pending_writes`] and a later write remove it if the process
+/// dies), open for reading and writing. Remove it with [`remove_temporary`].
+pub(crate) fn create_temporary(folder: &Path) -> io::Result<(PathBuf, File)> {
+    let path = temporary_name(folder);
+    let mut pending = lock_pending();
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create_new(true)
+        .open(&path)?;
+    pending.push(path.clone());
+    Ok((path, file))
+}
+
+/// Removes a scratch file made by [`create_temporary`].
+pub(crate) fn remove_temporary(path: &Path) {
+    let _ = std::fs::remove_file(path);
+    lock_pending().retain(|p| p != path);
+}
+
+fn temporary_name(folder: &Path) -> PathBuf {
+    folder.join(format!(
+        ".spatch.{}.{}.tmp",
+        std::process::id(),
+        NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed)
+    ))
 }
 
 /// Removes every temporary file this process is writing and blocks any
@@ -97,7 +135,11 @@ fn resolve_links(path: &Path) -> io::Result<PathBuf> {
 
 /// Writes into an existing FIFO or character device; refuses other special
 /// files.
-fn write_special(path: &Path, meta: &Metadata, bytes: &[u8]) -> io::Result<()> {
+fn write_special(
+    path: &Path,
+    meta: &Metadata,
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
     use std::os::unix::fs::FileTypeExt;
     let kind = meta.file_type();
     if !(kind.is_fifo() || kind.is_char_device()) {
@@ -113,25 +155,25 @@ fn write_special(path: &Path, meta: &Metadata, bytes: &[u8]) -> io::Result<()> {
             format!("is {what}; spatch writes regular files, FIFOs and character devices only"),
         ));
     }
-    let mut file = OpenOptions::new().write(true).open(path)?;
-    file.write_all(bytes)?;
+    let mut file = io::BufWriter::new(OpenOptions::new().write(true).open(path)?);
+    fill(&mut file)?;
     file.flush()
 }
 
 /// Replaces (or creates) the regular file `target` through a temporary file
 /// in its folder, giving it the permissions of `existing`.
-fn replace_regular(target: &Path, bytes: &[u8], existing: Option<&Metadata>) -> io::Result<()> {
+fn replace_regular(
+    target: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+    existing: Option<&Metadata>,
+) -> io::Result<()> {
     let folder = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
     remove_stale_temporaries(&folder, target);
-    let temporary = folder.join(format!(
-        ".spatch.{}.{}.tmp",
-        std::process::id(),
-        NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = fill_and_rename(&temporary, target, bytes, existing);
+    let temporary = temporary_name(&folder);
+    let result = fill_and_rename(&temporary, target, fill, existing);
     if result.is_err() {
         let _ = std::fs::remove_file(&temporary);
         lock_pending().retain(|p| p != &temporary);
@@ -142,10 +184,10 @@ fn replace_regular(target: &Path, bytes: &[u8], existing: Option<&Metadata>) -> 
 fn fill_and_rename(
     temporary: &Path,
     target: &Path,
-    bytes: &[u8],
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
     existing: Option<&Metadata>,
 ) -> io::Result<()> {
-    let mut file = {
+    let file = {
         // Created under the lock, so abandon_pending_writes sees every file.
         let mut pending = lock_pending();
         let file = OpenOptions::new()
@@ -155,7 +197,11 @@ fn fill_and_rename(
         pending.push(temporary.to_path_buf());
         file
     };
-    file.write_all(bytes)?;
+    let mut buffered = io::BufWriter::new(file);
+    fill(&mut buffered)?;
+    let file = buffered
+        .into_inner()
+        .map_err(io::IntoInnerError::into_error)?;
     if let Some(meta) = existing {
         keep_owner_and_mode(&file, meta)?;
     }

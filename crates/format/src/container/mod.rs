@@ -11,17 +11,22 @@
 mod atomic;
 mod bounded;
 mod layout;
+mod merge_writer;
 mod predictive;
 mod range_coder;
 mod read;
 mod read_frames;
 mod read_nodes;
 mod read_sides;
+mod records;
+mod scratch;
 mod sections;
+mod shape;
 mod stream;
 mod write;
 
-pub use atomic::{abandon_pending_writes, write_file_atomically};
+pub use atomic::{abandon_pending_writes, write_file_atomically, write_file_atomically_with};
+pub use merge_writer::MergeWriter;
 pub use read::{decode_scene, inspect, read_scene, ContainerInfo, SectionInfo};
 pub use stream::read_container_bytes;
 pub use write::{encode_scene, write_scene, Compression, WriteOptions};

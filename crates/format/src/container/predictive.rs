@@ -58,32 +58,69 @@ fn read_code(raw: &[u8], at: usize, bytes: usize) -> u32 {
 
 /// Codes a raw DISP payload (the layouts must describe it exactly).
 pub(crate) fn encode_displacements(raw: &[u8], layouts: &[DisplacementLayout]) -> Vec<u8> {
-    let mut encoder = Encoder::new();
-    let (mut model8, mut model_low, mut model_high) =
-        (ByteModel::new(), ByteModel::new(), ByteModel::new());
-    let mut values = Vec::new();
+    let mut encoder = DisplacementEncoder::new();
     let mut at = 0;
     for layout in layouts {
+        let next = at + layout.raw_len();
+        encoder.push_patch(&raw[at..next], layout);
+        at = next;
+    }
+    encoder.finish()
+}
+
+/// Codes a DISP section patch by patch, handing out the coded bytes as they come, so a
+/// section larger than memory can be coded (the merge writer).
+pub(crate) struct DisplacementEncoder {
+    encoder: Encoder,
+    model8: ByteModel,
+    model_low: ByteModel,
+    model_high: ByteModel,
+    values: Vec<u32>,
+}
+
+impl DisplacementEncoder {
+    pub(crate) fn new() -> Self {
+        Self {
+            encoder: Encoder::new(),
+            model8: ByteModel::new(),
+            model_low: ByteModel::new(),
+            model_high: ByteModel::new(),
+            values: Vec::new(),
+        }
+    }
+
+    /// Codes one patch's raw codes (`layout.raw_len()` bytes).
+    pub(crate) fn push_patch(&mut self, raw: &[u8], layout: &DisplacementLayout) {
         let mask = if layout.bytes_per_code == 1 {
             0xFF
         } else {
             0xFFFF
         };
-        values.clear();
+        self.values.clear();
         for k in 0..layout.cols * layout.rows {
-            let v = read_code(raw, at, layout.bytes_per_code);
-            at += layout.bytes_per_code;
-            values.push(v);
-            let residual = v.wrapping_sub(predict(&values, layout.cols, k, mask)) & mask;
+            let v = read_code(raw, k * layout.bytes_per_code, layout.bytes_per_code);
+            self.values.push(v);
+            let residual = v.wrapping_sub(predict(&self.values, layout.cols, k, mask)) & mask;
             if layout.bytes_per_code == 1 {
-                encoder.encode_byte(&mut model8, residual as u8);
+                self.encoder.encode_byte(&mut self.model8, residual as u8);
             } else {
-                encoder.encode_byte(&mut model_low, (residual & 0xFF) as u8);
-                encoder.encode_byte(&mut model_high, (residual >> 8) as u8);
+                self.encoder
+                    .encode_byte(&mut self.model_low, (residual & 0xFF) as u8);
+                self.encoder
+                    .encode_byte(&mut self.model_high, (residual >> 8) as u8);
             }
         }
     }
-    encoder.finish()
+
+    /// The coded bytes final so far (see [`Encoder::take_output`]).
+    pub(crate) fn take_output(&mut self) -> Vec<u8> {
+        self.encoder.take_output()
+    }
+
+    /// Flushes the coder: the rest of the coded bytes.
+    pub(crate) fn finish(self) -> Vec<u8> {
+        self.encoder.finish()
+    }
 }
 
 /// Decodes a DISP payload back to its raw bytes.
@@ -128,16 +165,47 @@ pub(crate) fn decode_displacements(
 
 /// Codes a raw COLR payload of `bytes_per_node`-byte colours.
 pub(crate) fn encode_colours(raw: &[u8], bytes_per_node: usize) -> Vec<u8> {
-    let mut encoder = Encoder::new();
-    let mut models = vec![ByteModel::new(); bytes_per_node];
-    let mut previous = [0u8; 4];
-    for colour in raw.chunks_exact(bytes_per_node) {
-        for (ch, &value) in colour.iter().enumerate() {
-            encoder.encode_byte(&mut models[ch], value.wrapping_sub(previous[ch]));
-            previous[ch] = value;
+    let mut encoder = ColourEncoder::new(bytes_per_node);
+    encoder.push(raw);
+    encoder.finish()
+}
+
+/// Codes a COLR section in pieces, handing out the coded bytes as they come.
+pub(crate) struct ColourEncoder {
+    encoder: Encoder,
+    models: Vec<ByteModel>,
+    previous: [u8; 4],
+}
+
+impl ColourEncoder {
+    pub(crate) fn new(bytes_per_node: usize) -> Self {
+        Self {
+            encoder: Encoder::new(),
+            models: vec![ByteModel::new(); bytes_per_node],
+            previous: [0; 4],
         }
     }
-    encoder.finish()
+
+    /// Codes whole colours (`raw.len()` a multiple of the bytes per node).
+    pub(crate) fn push(&mut self, raw: &[u8]) {
+        for colour in raw.chunks_exact(self.models.len()) {
+            for (ch, &value) in colour.iter().enumerate() {
+                let residual = value.wrapping_sub(self.previous[ch]);
+                self.encoder.encode_byte(&mut self.models[ch], residual);
+                self.previous[ch] = value;
+            }
+        }
+    }
+
+    /// The coded bytes final so far (see [`Encoder::take_output`]).
+    pub(crate) fn take_output(&mut self) -> Vec<u8> {
+        self.encoder.take_output()
+    }
+
+    /// Flushes the coder: the rest of the coded bytes.
+    pub(crate) fn finish(self) -> Vec<u8> {
+        self.encoder.finish()
+    }
 }
 
 /// Decodes a COLR payload back to `raw_len` raw bytes.

@@ -94,6 +94,12 @@ impl Encoder {
         }
     }
 
+    /// Hands out the bytes written so far and forgets them: they are final (a carry
+    /// only ever reaches the byte held back in `cache` and the pending `0xFF`s).
+    pub(crate) fn take_output(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.out)
+    }
+
     /// Flushes the coder and returns the coded bytes.
     pub(crate) fn finish(mut self) -> Vec<u8> {
         for _ in 0..5 {

@@ -10,6 +10,7 @@
 //! - `container_spec`: docs/format.md against the reader: the raw-length rule of every
 //!   section (§3.2) and the exact f32 evaluation of node positions (§1.1).
 //! - `atomic`: a failed write leaves nothing under the output name.
+//! - `merge_writer`: the streaming merge writes the in-memory merge's bytes.
 //! - `far_merge`: merged scenes far apart keep each part's node positions
 //!   (issue 22), through the ORGR section.
 
@@ -18,6 +19,7 @@ mod container_spec;
 mod corruption;
 mod far_merge;
 mod golden;
+mod merge_writer;
 mod round_trip;
 mod scenes;
 mod section_bytes;

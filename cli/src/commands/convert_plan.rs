@@ -1,0 +1,117 @@
+//! Meshes at scale: `spatch plan MESH --tile SIZE` (tiles by face) and `spatch convert MESH
+//! --plan plan.json --tile K` (one tile at the plan's spacing, keeping the patches whose
+//! anchor it owns). See docs/scale.md, "Meshes".
+
+use std::io::Read;
+use std::path::Path;
+use std::time::Instant;
+
+use spatch_convert::{convert, ConvertInput};
+use spatch_format::encode_scene;
+use spatch_mesh::{load_mesh, prepare_mesh, FileFormat, PrepareOptions};
+use spatch_tiling::{keep_owned_patches, make_mesh_plan, mesh_tile, Plan};
+
+use super::convert::PipelineArgs;
+use crate::failure::InternalFailure;
+use crate::output::{print_summary, write_output};
+
+/// Whether `path` is a mesh to tile by face rather than a cloud to stream: an OBJ, glTF,
+/// OFF or STL file, or a PLY whose header declares faces.
+pub(crate) fn is_mesh(path: &Path) -> bool {
+    match FileFormat::from_path(path) {
+        Some(FileFormat::Obj | FileFormat::Gltf | FileFormat::Off | FileFormat::Stl) => true,
+        Some(FileFormat::Ply) => ply_declares_faces(path),
+        _ => false,
+    }
+}
+
+/// Whether a PLY header (its first 4 KiB) declares `element face N` with N > 0.
+fn ply_declares_faces(path: &Path) -> bool {
+    let mut head = Vec::new();
+    let read = std::fs::File::open(path).and_then(|f| f.take(4096).read_to_end(&mut head));
+    if read.is_err() {
+        return false;
+    }
+    let text = String::from_utf8_lossy(&head);
+    let header = text.split("end_header").next().unwrap_or("");
+    header.lines().any(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        matches!(words.as_slice(), ["element", "face", n] if n.parse::<u64>().is_ok_and(|n| n > 0))
+    })
+}
+
+/// The mesh at `path`, loaded and prepared as `spatch convert` prepares it.
+fn load_prepared(path: &Path) -> anyhow::Result<spatch_mesh::TriangleMesh> {
+    let loaded = load_mesh(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    Ok(prepare_mesh(&loaded.mesh, &PrepareOptions::default()).0)
+}
+
+/// `spatch plan MESH`: the plan of a mesh's tiles (the spacing given, or the one `spatch
+/// convert` would derive for the whole mesh; the buffer given, or 0: a tile already reads
+/// every face its box touches, and a wider buffer lets segmentation pull the border's
+/// surface into regions anchored in the neighbour, which holes the join: docs/scale.md).
+pub(crate) fn plan_mesh(
+    input: &Path,
+    tile: f64,
+    buffer: Option<f64>,
+    spacing: Option<f32>,
+) -> anyhow::Result<Plan> {
+    let mesh = load_prepared(input)?;
+    let spacing = match spacing {
+        Some(s) => s,
+        None => spatch_fit::default_spacing(&mesh)
+            .ok_or_else(|| anyhow::anyhow!("{}: the mesh has no surface", input.display()))?,
+    };
+    let buffer = buffer.unwrap_or(0.0);
+    make_mesh_plan(&mesh, input, tile, buffer, spacing).map_err(anyhow::Error::msg)
+}
+
+/// `spatch convert MESH --plan P --tile K -o FILE`: tile K's faces (with its buffer's)
+/// converted at the plan's spacing; only the patches whose anchor lies in K's own box are
+/// written (a tile with none is written as a scene with no patch).
+pub(crate) fn run_tile(
+    input: &Path,
+    plan_path: &Path,
+    tile: usize,
+    output: &Path,
+    pipeline: &PipelineArgs,
+) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let plan = Plan::read(plan_path).map_err(anyhow::Error::msg)?;
+    let entry = plan
+        .tile(tile)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", plan_path.display()))?;
+    let mut options = pipeline.options();
+    options.fit.spacing = Some(plan.spacing);
+    let mesh = load_prepared(input)?;
+    let part = mesh_tile(&mesh, &entry.buffered);
+    drop(mesh);
+    let faces = part.triangles.len();
+    let label = || format!("{} (tile {tile})", input.display());
+    let scene = match convert(ConvertInput::Mesh(part), &options) {
+        Ok(conversion) => conversion.scene,
+        Err(spatch_convert::ConvertError::NoSurface { .. }) => {
+            let offset = glam::DVec3::from_array(entry.bounds.min);
+            spatch_format::Scene::new(offset, spatch_format::ColourChannel::None, Vec::new())?
+        }
+        Err(e) => return Err(anyhow::anyhow!("{}: {e}", label())),
+    };
+    let converted = scene.patches().len();
+    let kept = keep_owned_patches(scene, &entry.bounds)
+        .map_err(|e| InternalFailure(format!("{}: {e}", label())))?;
+    let bytes = encode_scene(&kept, &options.write)
+        .map_err(|e| InternalFailure(format!("{}: encoding: {e}", label())))?;
+    write_output(output, &bytes)?;
+    print_summary(
+        &format!(
+            "{}: tile {tile} of {}: {} of {} patches kept from {faces} faces, {} bytes, {:.2} s\n",
+            output.display(),
+            plan.tiles.len(),
+            kept.patches().len(),
+            converted,
+            bytes.len(),
+            started.elapsed().as_secs_f64()
+        ),
+        false,
+    )
+}

@@ -1,0 +1,200 @@
+//! Tiling a mesh by face: plans, one tile's faces, and the patches a tile owns.
+//!
+//! A face belongs to every tile its bounding box touches; a tile's conversion reads the
+//! faces whose box touches its buffered box (its own box grown by the buffer), so the
+//! surface near its border is fitted with the context a whole-mesh conversion would see.
+//! A converted tile keeps exactly the patches whose **anchor** — the filled node nearest
+//! its grid's centre, a point on the surface — lies in its own box (`[min, max)` per
+//! axis), so each patch is kept by one tile at most and tiles join with no duplicate.
+//! The mesh is loaded whole (meshes are not streamed); memory per tile task is the mesh
+//! plus one tile's conversion.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::DVec3;
+use spatch_cloud::TileGrid;
+use spatch_format::{FormatError, Patch, Scene};
+use spatch_mesh::TriangleMesh;
+
+use crate::plan::{Plan, PlanGrid, PlanTile, WorldBox, PLAN_VERSION};
+use crate::TilingError;
+
+/// World bounds of face `f` of `mesh`.
+fn face_box(mesh: &TriangleMesh, f: usize) -> (DVec3, DVec3) {
+    let [a, b, c] = mesh.triangles[f].map(|v| mesh.origin + mesh.positions[v as usize].as_dvec3());
+    (a.min(b).min(c), a.max(b).max(c))
+}
+
+/// Whether the closed boxes `(lo, hi)` and `(min, max)` overlap.
+fn touches((lo, hi): (DVec3, DVec3), min: DVec3, max: DVec3) -> bool {
+    lo.cmple(max).all() && hi.cmpge(min).all()
+}
+
+/// Plans the tiles of `mesh` (read from `input`): the grid anchored at the lowest corner
+/// of its faces, tiles of side `tile` with a buffer `buffer`, every tile some face's box
+/// touches (its `points` field counts those faces), and the node spacing `spacing` every
+/// tile converts with (`pixel_factor` is 1: meshes have no pixels).
+///
+/// Errors: [`TilingError::NoPoints`] (no face), [`TilingError::InvalidOption`].
+pub fn make_mesh_plan(
+    mesh: &TriangleMesh,
+    input: &Path,
+    tile: f64,
+    buffer: f64,
+    spacing: f32,
+) -> Result<Plan, TilingError> {
+    let invalid = |option, reason: &str| TilingError::InvalidOption {
+        option,
+        reason: reason.to_string(),
+    };
+    if !(tile.is_finite() && tile > 0.0) {
+        return Err(invalid("tile size", "must be a positive number"));
+    }
+    if !(buffer.is_finite() && buffer >= 0.0 && buffer < 0.49 * tile) {
+        return Err(invalid(
+            "buffer",
+            "must be 0 or more and under half the tile size",
+        ));
+    }
+    let boxes: Vec<(DVec3, DVec3)> = (0..mesh.triangles.len())
+        .map(|f| face_box(mesh, f))
+        .collect();
+    let Some((lo, hi)) = boxes
+        .iter()
+        .copied()
+        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+    else {
+        return Err(TilingError::NoPoints {
+            path: input.to_path_buf(),
+        });
+    };
+    let grid =
+        TileGrid::new(lo, tile, buffer).ok_or_else(|| invalid("tile size", "out of range"))?;
+    let mut counts: BTreeMap<(i64, i64, i64), u64> = BTreeMap::new();
+    for &(a, b) in &boxes {
+        let (ka, kb) = (grid.key_of(a), grid.key_of(b));
+        for z in ka[2]..=kb[2] {
+            for y in ka[1]..=kb[1] {
+                for x in ka[0]..=kb[0] {
+                    *counts.entry((z, y, x)).or_insert(0) += 1;
+                }
+            }
+        }
+    }
+    let tiles = counts
+        .iter()
+        .enumerate()
+        .map(|(index, (&(z, y, x), &faces))| {
+            let key = [x, y, z];
+            let (min, max) = grid.bounds_of(key);
+            let bounds = WorldBox::new(min, max);
+            PlanTile {
+                index,
+                key,
+                bounds,
+                buffered: bounds.grown(buffer),
+                points: faces,
+            }
+        })
+        .collect();
+    Ok(Plan {
+        version: PLAN_VERSION,
+        input: input.display().to_string(),
+        points: mesh.triangles.len() as u64,
+        skipped_non_finite: 0,
+        bounds: WorldBox::new(lo, hi),
+        spacing,
+        pixel_factor: 1.0,
+        grid: PlanGrid {
+            anchor: lo.to_array(),
+            size: tile,
+            buffer,
+        },
+        tiles,
+    })
+}
+
+/// The faces of `mesh` whose box touches `area`, as a mesh of their own (the same origin;
+/// UVs, colours, normals and materials kept).
+pub fn mesh_tile(mesh: &TriangleMesh, area: &WorldBox) -> TriangleMesh {
+    let (min, max) = (DVec3::from_array(area.min), DVec3::from_array(area.max));
+    let faces: Vec<usize> = (0..mesh.triangles.len())
+        .filter(|&f| touches(face_box(mesh, f), min, max))
+        .collect();
+    sub_mesh(mesh, &faces)
+}
+
+/// The faces `faces` of `mesh` as a mesh of their own.
+fn sub_mesh(mesh: &TriangleMesh, faces: &[usize]) -> TriangleMesh {
+    let mut remap = vec![u32::MAX; mesh.positions.len()];
+    let mut kept: Vec<u32> = Vec::new();
+    let triangles = faces
+        .iter()
+        .map(|&f| {
+            mesh.triangles[f].map(|v| {
+                let slot = &mut remap[v as usize];
+                if *slot == u32::MAX {
+                    *slot = kept.len() as u32;
+                    kept.push(v);
+                }
+                *slot
+            })
+        })
+        .collect();
+    TriangleMesh {
+        origin: mesh.origin,
+        positions: pick(&mesh.positions, &kept),
+        triangles,
+        face_uvs: mesh
+            .face_uvs
+            .as_ref()
+            .map(|uv| faces.iter().map(|&f| uv[f]).collect()),
+        vertex_colours: mesh.vertex_colours.as_ref().map(|c| pick(c, &kept)),
+        vertex_normals: mesh.vertex_normals.as_ref().map(|n| pick(n, &kept)),
+        face_materials: if mesh.face_materials.is_empty() {
+            Vec::new()
+        } else {
+            faces.iter().map(|&f| mesh.face_materials[f]).collect()
+        },
+        materials: mesh.materials.clone(),
+    }
+}
+
+/// The values of the vertices `kept`, in that order.
+fn pick<T: Copy>(values: &[T], kept: &[u32]) -> Vec<T> {
+    kept.iter().map(|&v| values[v as usize]).collect()
+}
+
+/// The anchor of `patch` in a scene at `offset`: the world position of its filled node
+/// nearest its grid's centre (ties: the first in node order), or `None` when it has no
+/// filled node.
+pub fn patch_anchor(patch: &Patch, offset: DVec3) -> Option<DVec3> {
+    let (cols, rows) = (
+        usize::from(patch.grid().cols()),
+        usize::from(patch.grid().rows()),
+    );
+    let centre =
+        |i: usize, j: usize| (2 * i).abs_diff(cols - 1).pow(2) + (2 * j).abs_diff(rows - 1).pow(2);
+    let (i, j, _) = patch.filled_nodes().min_by_key(|&(i, j, _)| centre(i, j))?;
+    patch.model_position(offset, i, j)
+}
+
+/// Whether `w` lies in `bounds`, `[min, max)` per axis.
+pub fn owns(bounds: &WorldBox, w: DVec3) -> bool {
+    (0..3).all(|k| w[k] >= bounds.min[k] && w[k] < bounds.max[k])
+}
+
+/// `scene` with only the patches whose anchor lies in `bounds` (its openings kept).
+///
+/// Errors: those of [`Scene::new`], which the patches of a valid scene never raise.
+pub fn keep_owned_patches(scene: Scene, bounds: &WorldBox) -> Result<Scene, FormatError> {
+    let (offset, channel) = (scene.offset(), scene.channel());
+    let openings = scene.openings().to_vec();
+    let kept = scene
+        .into_patches()
+        .into_iter()
+        .filter(|p| patch_anchor(p, offset).is_some_and(|w| owns(bounds, w)))
+        .collect();
+    Ok(Scene::new(offset, channel, kept)?.with_openings(openings))
+}
