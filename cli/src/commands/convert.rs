@@ -103,6 +103,11 @@ pub(crate) struct PipelineArgs {
     /// fewer patches, but faces seen obliquely may leave holes along steep rims.
     #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().max_turn_deg, value_parser = edge_max_turn)]
     pub(crate) edge_max_turn: f32,
+    /// Creases under this angle in degrees are soft (0-180, 0 = none): a surface patch that
+    /// reaches over one covers it within the corner cut of its cells, so it gets no edge
+    /// patch. Lower: more edge patches on coarse tessellations' shallow creases.
+    #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().soft_crease_deg, value_parser = soft_crease)]
+    pub(crate) soft_crease: f32,
     /// Put an edge patch on every sharp edge, also where the surface patches already close
     /// the crease (by default only the gaps get one).
     #[arg(long)]
@@ -129,6 +134,15 @@ fn crease_angle(s: &str) -> Result<f32, String> {
         Ok(v)
     } else {
         Err("must be between 0 and 180 degrees (exclusive)".to_owned())
+    }
+}
+
+fn soft_crease(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && (0.0..180.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err("must be at least 0 and below 180 degrees".to_owned())
     }
 }
 
@@ -229,6 +243,7 @@ impl PipelineArgs {
             edges.strip_width = self.edge_strip;
             edges.max_stray = self.edge_max_stray;
             edges.max_turn_deg = self.edge_max_turn;
+            edges.soft_crease_deg = self.soft_crease;
             edges.only_gaps = !self.all_creases;
             edges
         });

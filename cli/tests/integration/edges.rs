@@ -112,6 +112,9 @@ fn out_of_range_edge_options_are_refused() {
         ("--edge-max-turn", "0"),
         ("--edge-max-turn", "91"),
         ("--edge-max-turn", "inf"),
+        ("--soft-crease", "-1"),
+        ("--soft-crease", "180"),
+        ("--soft-crease", "NaN"),
     ] {
         // `--flag=value`, so a negative value is not taken for a flag.
         let run = t.run(&[

@@ -18,8 +18,21 @@
 //! Probes: along the edge every half surface spacing (at least one, at most
 //! [`MAX_PROBES_ALONG`]), across it at [`PROBE_OFFSETS`] surface spacings on each face (never
 //! beyond 90 % of the face's height over the edge, so a probe stays on a sliver face).
-//! Tolerance: [`COVER_TOLERANCE`] surface spacings, well above the distance from a bilinear
-//! cell to the source inside a region and well below the width of a gap.
+//! Tolerance: [`COVER_TOLERANCE`] node spacings of the covering patch (or of the edge
+//! spacing, if larger), well above the distance from a bilinear cell to the source inside a
+//! region and well below the width of a gap. A patch coarser than the edge spacing (a
+//! textured model's untextured or less detailed regions) cuts a fold's corner in proportion
+//! to its own cells, so its tolerance scales with them.
+//!
+//! **Soft creases** (angle under [`EdgeOptions::soft_crease_deg`](crate::EdgeOptions)): a
+//! surface patch that reaches over the crease with drawable cells (the fitter fills nodes
+//! beyond its region wherever the neighbouring face still faces it, so its height field
+//! holds there) covers it within [`SOFT_COVER_TOLERANCE`] of its cells. A bilinear cell
+//! straddling a fold of angle φ passes up to `a (1 − a) tan φ ≤ tan(φ) / 4` cells inside it
+//! (`a` where the fold splits the cell), 0.30 at 50°: the corner cut of sampling a shallow
+//! fold at that spacing, which the same patches make across every facet edge just below the
+//! crease angle. Only a crease whose faces the patches do not reach (no drawable cell) or
+//! a sharper fold needs an edge patch.
 //!
 //! Cost: building the index is O(patches × cells each box meets); a probe tests the patches
 //! whose boxes contain it, O(1) each.
@@ -48,6 +61,11 @@ pub const COVER_TOLERANCE: f32 = 0.2;
 /// cover points of that face (either orientation, so a face wound the other way still counts).
 pub const MAX_FACING_ANGLE_DEG: f32 = 70.0;
 
+/// How far (in node spacings of the covering patch, along its z axis) a patch surface may
+/// pass from a probe on a soft crease and still cover it: above the `tan(φ) / 4` corner cut
+/// of a cell straddling a fold of φ up to 50°.
+pub const SOFT_COVER_TOLERANCE: f32 = 0.35;
+
 /// One surface patch, with what the point test needs precomputed.
 struct Indexed<'a> {
     patch: &'a Patch,
@@ -56,6 +74,8 @@ struct Indexed<'a> {
     lengths: [f32; 3],
     lo: Vec3,
     hi: Vec3,
+    /// Its node spacing (the larger of x and y), or the edge spacing if larger.
+    cell: f32,
 }
 
 /// The surface patches in a uniform grid of boxes, for point coverage queries.
@@ -63,27 +83,31 @@ pub(crate) struct SurfaceCoverage<'a> {
     patches: Vec<Indexed<'a>>,
     cell: f32,
     buckets: HashMap<IVec3, Vec<u32>>,
-    tolerance: f32,
     min_facing: f32,
 }
 
 impl<'a> SurfaceCoverage<'a> {
-    /// Indexes `surface` (in the mesh's coordinates); `tolerance` is the largest distance
-    /// along a patch's z axis at which its surface covers a point.
-    pub(crate) fn new(surface: impl IntoIterator<Item = &'a Patch>, tolerance: f32) -> Self {
+    /// Indexes `surface` (in the mesh's coordinates); `spacing` is the edge spacing, the
+    /// smallest cell a tolerance is measured in (see [`SurfaceCoverage::covers`]).
+    pub(crate) fn new(surface: impl IntoIterator<Item = &'a Patch>, spacing: f32) -> Self {
         let mut patches = Vec::new();
         for patch in surface {
             let Some((lo, hi)) = patch.bounds() else {
                 continue;
             };
             let frame = patch.frame();
+            let lengths = frame.lengths();
+            let cell = spacing.max(lengths[0]).max(lengths[1]);
+            // Boxes padded by the largest tolerance a query may use.
+            let pad = Vec3::splat(cell * COVER_TOLERANCE.max(SOFT_COVER_TOLERANCE));
             patches.push(Indexed {
                 patch,
                 origin: frame.origin(),
                 axes: frame.unit_axes(),
-                lengths: frame.lengths(),
-                lo: lo - Vec3::splat(tolerance),
-                hi: hi + Vec3::splat(tolerance),
+                lengths,
+                lo: lo - pad,
+                hi: hi + pad,
+                cell,
             });
         }
         // Cells about as large as a typical patch: each patch lands in a few cells and each
@@ -117,14 +141,13 @@ impl<'a> SurfaceCoverage<'a> {
             patches,
             cell,
             buckets,
-            tolerance,
             min_facing: MAX_FACING_ANGLE_DEG.to_radians().cos(),
         }
     }
 
     /// Whether some patch facing `normal` (a unit face normal) has a drawable surface within
-    /// the tolerance of `p`.
-    pub(crate) fn covers(&self, p: Vec3, normal: Vec3) -> bool {
+    /// `tolerance` of its cells (at least the edge spacing) of `p` along its z axis.
+    pub(crate) fn covers(&self, p: Vec3, normal: Vec3, tolerance: f32) -> bool {
         let Some(candidates) = self.buckets.get(&key(p, self.cell)) else {
             return false;
         };
@@ -133,11 +156,11 @@ impl<'a> SurfaceCoverage<'a> {
             p.cmpge(q.lo).all()
                 && p.cmple(q.hi).all()
                 && q.axes[2].dot(normal).abs() >= self.min_facing
-                && self.patch_covers(q, p)
+                && Self::patch_covers(q, p, tolerance * q.cell)
         })
     }
 
-    fn patch_covers(&self, q: &Indexed<'_>, p: Vec3) -> bool {
+    fn patch_covers(q: &Indexed<'_>, p: Vec3, tolerance: f32) -> bool {
         let local = p - q.origin;
         let u = local.dot(q.axes[0]) / q.lengths[0];
         let v = local.dot(q.axes[1]) / q.lengths[1];
@@ -161,7 +184,7 @@ impl<'a> SurfaceCoverage<'a> {
         let bottom = code(i, j) * (1.0 - fu) + code(i + 1, j) * fu;
         let top = code(i, j + 1) * (1.0 - fu) + code(i + 1, j + 1) * fu;
         let height = (bottom * (1.0 - fv) + top * fv) * q.lengths[2];
-        (local.dot(q.axes[2]) - height).abs() <= self.tolerance
+        (local.dot(q.axes[2]) - height).abs() <= tolerance
     }
 }
 
@@ -174,17 +197,26 @@ fn key(p: Vec3, cell: f32) -> IVec3 {
 }
 
 /// For each crease of `sharp` (in order), whether the surface patches cover it (see the
-/// module docs). `spacing` is the surface node spacing.
+/// module docs). `spacing` is the surface node spacing; creases under `soft_crease_deg` are
+/// soft.
 pub(crate) fn covered_creases(
     mesh: &TriangleMesh,
     sharp: &SharpEdges,
     coverage: &SurfaceCoverage<'_>,
     spacing: f32,
+    soft_crease_deg: f32,
 ) -> Vec<bool> {
     sharp
         .creases
         .iter()
-        .map(|c| crease_probes(mesh, c, spacing).all(|(p, n)| coverage.covers(p, n)))
+        .map(|c| {
+            let tolerance = if c.angle_deg < soft_crease_deg {
+                SOFT_COVER_TOLERANCE
+            } else {
+                COVER_TOLERANCE
+            };
+            crease_probes(mesh, c, spacing).all(|(p, n)| coverage.covers(p, n, tolerance))
+        })
         .collect()
 }
 
@@ -211,9 +243,10 @@ pub(crate) fn covered_corner(
         let reach = 0.45 * a.length().min(b.length());
         let inward = (a.normalize_or_zero() + b.normalize_or_zero()).normalize_or_zero();
         let normal = mesh.face_normal(f);
-        PROBE_OFFSETS
-            .into_iter()
-            .all(|o| coverage.covers(p + inward * (o * spacing).min(reach), normal))
+        PROBE_OFFSETS.into_iter().all(|o| {
+            let probe = p + inward * (o * spacing).min(reach);
+            coverage.covers(probe, normal, COVER_TOLERANCE)
+        })
     })
 }
 
@@ -276,26 +309,26 @@ mod tests {
         let patches = [flat_patch(|_, _| true)];
         let coverage = SurfaceCoverage::new(&patches, 0.1);
         let up = Vec3::Z;
-        assert!(coverage.covers(Vec3::new(2.3, 3.7, 0.05), up));
+        assert!(coverage.covers(Vec3::new(2.3, 3.7, 0.05), up, 0.1));
         assert!(
-            coverage.covers(Vec3::new(2.3, 3.7, 0.05), -up),
+            coverage.covers(Vec3::new(2.3, 3.7, 0.05), -up, 0.1),
             "either orientation"
         );
         assert!(
-            coverage.covers(Vec3::new(4.0, 4.0, 0.0), up),
+            coverage.covers(Vec3::new(4.0, 4.0, 0.0), up, 0.1),
             "the far corner counts"
         );
         assert!(
-            !coverage.covers(Vec3::new(2.3, 3.7, 0.2), up),
+            !coverage.covers(Vec3::new(2.3, 3.7, 0.2), up, 0.1),
             "too far above"
         );
         assert!(
-            !coverage.covers(Vec3::new(4.2, 1.0, 0.0), up),
+            !coverage.covers(Vec3::new(4.2, 1.0, 0.0), up, 0.1),
             "beyond the last node"
         );
         let steep = Vec3::new(0.0, 80f32.to_radians().sin(), 80f32.to_radians().cos());
         assert!(
-            !coverage.covers(Vec3::new(2.3, 3.7, 0.0), steep),
+            !coverage.covers(Vec3::new(2.3, 3.7, 0.0), steep, 0.1),
             "a face seen edge-on"
         );
     }
@@ -305,8 +338,22 @@ mod tests {
         let patches = [flat_patch(|i, j| !(i == 3 && j == 3))];
         let coverage = SurfaceCoverage::new(&patches, 0.1);
         // Node (3, 3) is a corner of cells (2..=3, 2..=3): all four are holes.
-        assert!(!coverage.covers(Vec3::new(3.5, 3.5, 0.0), Vec3::Z));
-        assert!(!coverage.covers(Vec3::new(2.5, 2.5, 0.0), Vec3::Z));
-        assert!(coverage.covers(Vec3::new(1.5, 1.5, 0.0), Vec3::Z));
+        assert!(!coverage.covers(Vec3::new(3.5, 3.5, 0.0), Vec3::Z, 0.1));
+        assert!(!coverage.covers(Vec3::new(2.5, 2.5, 0.0), Vec3::Z, 0.1));
+        assert!(coverage.covers(Vec3::new(1.5, 1.5, 0.0), Vec3::Z, 0.1));
+    }
+
+    #[test]
+    fn tolerances_are_in_cells_of_the_covering_patch() {
+        // Unit cells, edge spacing a tenth of them: the patch's own cells set the scale.
+        let patches = [flat_patch(|_, _| true)];
+        let coverage = SurfaceCoverage::new(&patches, 0.1);
+        let p = Vec3::new(2.3, 1.7, 0.3);
+        assert!(!coverage.covers(p, Vec3::Z, COVER_TOLERANCE));
+        assert!(coverage.covers(p, Vec3::Z, SOFT_COVER_TOLERANCE));
+        assert!(coverage.covers(Vec3::new(2.3, 1.7, 0.15), Vec3::Z, COVER_TOLERANCE));
+        // An edge spacing coarser than the patch's cells sets the scale instead.
+        let coarse = SurfaceCoverage::new(&patches, 2.0);
+        assert!(coarse.covers(p, Vec3::Z, COVER_TOLERANCE));
     }
 }

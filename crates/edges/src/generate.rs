@@ -2,7 +2,8 @@
 //!
 //! 1. sharp edges and their chains (`sharp_edges`);
 //! 2. with [`EdgeOptions::only_gaps`], the creases the surface patches already cover
-//!    (`coverage`);
+//!    (`coverage`; soft creases, under [`EdgeOptions::soft_crease_deg`], within a looser
+//!    tolerance);
 //! 3. the chains joined through corners where they run on straight (`chain_runs`) and cut
 //!    into pieces around the covered creases, one lattice per piece (`edge_patch`);
 //! 4. every piece's lattice cast against the source and quantized into a patch
@@ -24,7 +25,7 @@ use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh, VertexId};
 
 use crate::chain_runs::chain_runs;
 use crate::corner_patch::corner_lattice;
-use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage, COVER_TOLERANCE};
+use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage};
 use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
@@ -111,8 +112,9 @@ pub fn generate_edge_patches(
     let overlap = edge_spacing + 0.5 * strip;
     let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
     let covered = if options.only_gaps {
-        let coverage = SurfaceCoverage::new(surface, COVER_TOLERANCE * surface_spacing);
-        covered_creases(mesh, &sharp, &coverage, surface_spacing)
+        let coverage = SurfaceCoverage::new(surface, surface_spacing);
+        let soft = options.soft_crease_deg;
+        covered_creases(mesh, &sharp, &coverage, surface_spacing, soft)
     } else {
         vec![false; sharp.creases.len()]
     };
@@ -143,10 +145,7 @@ pub fn generate_edge_patches(
         let mut open = corners_with_gaps(&sharp, &covered);
         if options.only_gaps {
             // The surface and edge patches often close a corner between them already.
-            let seen = SurfaceCoverage::new(
-                surface.iter().chain(&patches),
-                COVER_TOLERANCE * surface_spacing,
-            );
+            let seen = SurfaceCoverage::new(surface.iter().chain(&patches), surface_spacing);
             open.par_iter_mut()
                 .zip(sharp.corners.par_iter().zip(around.par_iter()))
                 .filter(|(open, _)| **open)

@@ -53,11 +53,13 @@ mod lattice_raster;
 mod options;
 mod sharp_edges;
 
-pub use coverage::{COVER_TOLERANCE, MAX_FACING_ANGLE_DEG, MAX_PROBES_ALONG, PROBE_OFFSETS};
+pub use coverage::{
+    COVER_TOLERANCE, MAX_FACING_ANGLE_DEG, MAX_PROBES_ALONG, PROBE_OFFSETS, SOFT_COVER_TOLERANCE,
+};
 pub use error::EdgeError;
 pub use generate::{generate_edge_patches, EdgeStats};
 pub use options::{
     EdgeOptions, DEFAULT_CREASE_ANGLE_DEG, DEFAULT_MAX_COLS, DEFAULT_MAX_STRAY,
-    DEFAULT_MAX_TURN_DEG, DEFAULT_RESOLUTION, DEFAULT_STRIP_WIDTH,
+    DEFAULT_MAX_TURN_DEG, DEFAULT_RESOLUTION, DEFAULT_SOFT_CREASE_DEG, DEFAULT_STRIP_WIDTH,
 };
 pub use sharp_edges::{detect_sharp_edges, Crease, CreaseChain, SharpEdges, KNIFE_ANGLE_DEG};
