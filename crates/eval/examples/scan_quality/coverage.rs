@@ -19,10 +19,10 @@ use spatch_mesh::PointCloud;
 use spatch_render::Camera;
 
 /// A surface point is seen when a cloud point lies within this many spacings of it.
-pub const SEEN_WITHIN: f32 = 2.0;
+pub(crate) const SEEN_WITHIN: f32 = 2.0;
 
 /// The cloud as a kd-tree in its own frame, with the frame's origin and the spacing.
-pub struct Coverage {
+pub(crate) struct Coverage {
     tree: PointTree,
     origin: DVec3,
     spacing: f32,
@@ -30,7 +30,7 @@ pub struct Coverage {
 
 impl Coverage {
     /// Indexes `cloud` (spacing estimated as `from-cloud` does).
-    pub fn new(cloud: &PointCloud) -> Result<Coverage, String> {
+    pub(crate) fn new(cloud: &PointCloud) -> Result<Coverage, String> {
         let spacing = spatch_cloud::estimate_spacing(&cloud.positions)
             .map_err(|e| e.to_string())?
             .spacing;
@@ -43,14 +43,14 @@ impl Coverage {
     }
 
     /// The spacing of the cloud (model units).
-    pub fn spacing(&self) -> f32 {
+    pub(crate) fn spacing(&self) -> f32 {
         self.spacing
     }
 
     /// For every pixel of `pixels` (indices into a `camera`-sized image whose linear eye
     /// depths are `depth`), whether no cloud point lies within [`SEEN_WITHIN`] spacings of
     /// the surface point it shows.
-    pub fn unseen(&self, camera: &Camera, depth: &[f32], pixels: &[usize]) -> Vec<bool> {
+    pub(crate) fn unseen(&self, camera: &Camera, depth: &[f32], pixels: &[usize]) -> Vec<bool> {
         let limit = (SEEN_WITHIN * self.spacing).powi(2);
         pixels
             .par_iter()
