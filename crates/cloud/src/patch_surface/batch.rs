@@ -32,7 +32,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::{
-    near_enough, scatter_to_input_order, Best, Node, PatchSurface, MAX_GRID_CELLS, QUERY_CHUNK,
+    near_enough, scatter_to_input_order, Best, Node, PatchSurface, MAX_GRID_CELLS, NO_PATCH,
+    QUERY_CHUNK,
 };
 use crate::cell_grid::{CellGrid, CellRange};
 use crate::quad_distance::distance_to_quad;
@@ -44,6 +45,9 @@ const COVER: f64 = 0.25;
 
 /// Relative widening of the gather radius, far above the f32 rounding of a gap.
 const GATHER_SLACK: f64 = 1e-4;
+
+/// Most grid cells any run's gather reads (see [`gather_budget`]).
+const MAX_GATHER_CELLS: f64 = 1024.0;
 
 /// Sort key of points outside the grid (answered one by one).
 const OUTSIDE: u64 = u64::MAX;
@@ -131,6 +135,22 @@ impl Gathered {
     }
 }
 
+/// Most grid cells the gather of a run of `points` points may read: what their searches one
+/// by one could read ([`MAX_GRID_CELLS`] each), up to [`MAX_GATHER_CELLS`]. A grid whose
+/// largest boxes are long (steep cells of a scan set: `reach` over a grid side) needs more
+/// than [`MAX_GRID_CELLS`] cells around a run; searching its points one by one instead
+/// made the error measurement 3 times slower per point there than on a clean cloud.
+fn gather_budget(points: usize) -> f64 {
+    (MAX_GRID_CELLS * points as f64).min(MAX_GATHER_CELLS)
+}
+
+/// Whether a best distance `d` is within a gather margin `cover`: every cell as near as `d`
+/// (with the pruning slack) was then gathered.
+#[inline]
+fn within(d: f32, cover: f64) -> bool {
+    f64::from(d) * (1.0 + 2.0 * f64::from(PRUNE_SLACK)) <= cover
+}
+
 /// Largest per-axis gap between box `b` and the box `lo..=hi` (0 when they overlap), in f32:
 /// each difference is within half an ulp of the exact one (callers allow for it).
 #[inline]
@@ -176,50 +196,128 @@ impl PatchSurface {
         gathered: &mut Gathered,
         out: &mut Vec<(f32, u32)>,
     ) {
-        let cover = COVER * grid.side();
         let (lo, hi) =
             run.iter()
                 .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &(_, k)| {
                     let p = points[k as usize];
                     (lo.min(p), hi.max(p))
                 });
-        let range = grid.cells_near(lo.as_dvec3(), hi.as_dvec3(), cover);
-        // The gather tests gaps in f32 against a radius widened by more than their rounding.
-        let gather = (cover * (1.0 + GATHER_SLACK)) as f32;
-        if run[0].0 == OUTSIDE || range.count() > MAX_GRID_CELLS {
-            let mut hint = None;
-            for &(_, k) in run {
-                let (d, owner, cell) = self.search(points[k as usize], hint);
-                hint = Some(cell);
-                out.push((d, owner));
+        let cover = COVER * grid.side();
+        let budget = gather_budget(run.len());
+        if run[0].0 == OUTSIDE || !self.gather(grid, (lo, hi), cover, budget, gathered) {
+            self.search_each(run.iter().map(|&(_, k)| k), points, out);
+            return;
+        }
+        let first = out.len();
+        let mut far = Vec::new();
+        for (at, &(_, k)) in run.iter().enumerate() {
+            let best = gathered.nearest(self, points[k as usize]);
+            match best {
+                Some(b) if within(b.distance, cover) => out.push((b.distance, b.owner)),
+                _ => {
+                    far.push((at, best));
+                    out.push((f32::INFINITY, NO_PATCH));
+                }
+            }
+        }
+        if !far.is_empty() {
+            self.answer_far(
+                grid,
+                run,
+                points,
+                (lo, hi),
+                &far,
+                gathered,
+                &mut out[first..],
+            );
+        }
+    }
+
+    /// Answers the points of `run` at positions `far` (each with the best cell the first
+    /// gather found, if any) into `answers` (the run's slice of the output): from a second
+    /// gather wide enough for the farthest of them when one is (points off a noisy or
+    /// misregistered scan set, a fraction of a grid side from the surface), one search each
+    /// otherwise.
+    #[allow(clippy::too_many_arguments)]
+    fn answer_far(
+        &self,
+        grid: &CellGrid,
+        run: &[(u64, u32)],
+        points: &[Vec3],
+        (lo, hi): (Vec3, Vec3),
+        far: &[(usize, Option<Best>)],
+        gathered: &mut Gathered,
+        answers: &mut [(f32, u32)],
+    ) {
+        let reach = far
+            .iter()
+            .map(|(_, b)| b.map_or(f32::INFINITY, |b| b.distance))
+            .fold(0.0f32, f32::max);
+        let cover = f64::from(reach) * (1.0 + 4.0 * f64::from(PRUNE_SLACK));
+        let budget = gather_budget(run.len());
+        if reach.is_finite() && self.gather(grid, (lo, hi), cover, budget, gathered) {
+            for &(at, _) in far {
+                let p = points[run[at].1 as usize];
+                let b = gathered.nearest(self, p);
+                answers[at] = match b {
+                    Some(b) if within(b.distance, cover) => (b.distance, b.owner),
+                    _ => {
+                        let (d, owner, _) = self.search(p, b.map(|b| b.cell));
+                        (d, owner)
+                    }
+                };
             }
             return;
         }
+        for &(at, best) in far {
+            let (d, owner, _) = self.search(points[run[at].1 as usize], best.map(|b| b.cell));
+            answers[at] = (d, owner);
+        }
+    }
+
+    /// Gathers every cell whose box lies within `cover` of the box `lo..=hi` on every axis
+    /// into `gathered`; `false` (nothing gathered) when that reads more than `budget` grid
+    /// cells.
+    fn gather(
+        &self,
+        grid: &CellGrid,
+        (lo, hi): (Vec3, Vec3),
+        cover: f64,
+        budget: f64,
+        gathered: &mut Gathered,
+    ) -> bool {
+        let range = grid.cells_near(lo.as_dvec3(), hi.as_dvec3(), cover);
+        if range.count() > budget {
+            return false;
+        }
+        // The gather tests gaps in f32 against a radius widened by more than their rounding.
+        let gap = (cover * (1.0 + GATHER_SLACK)) as f32;
         gathered.clear();
         let mut take = |items: std::ops::Range<usize>| {
             for k in items {
                 let b = &self.boxes[k];
-                if axis_gap(b, lo, hi) <= gather {
+                if axis_gap(b, lo, hi) <= gap {
                     gathered.push(b, k);
                 }
             }
         };
         take(grid.extras());
         grid.visit(&range, &CellRange::EMPTY, take);
-        for &(_, k) in run {
-            let p = points[k as usize];
-            let best = gathered.nearest(self, p);
-            match best {
-                Some(b)
-                    if f64::from(b.distance) * (1.0 + 2.0 * f64::from(PRUNE_SLACK)) <= cover =>
-                {
-                    out.push((b.distance, b.owner))
-                }
-                _ => {
-                    let (d, owner, _) = self.search(p, best.map(|b| b.cell));
-                    out.push((d, owner));
-                }
-            }
+        true
+    }
+
+    /// Searches the points `indices` one by one, each from the previous one's cell.
+    fn search_each(
+        &self,
+        indices: impl Iterator<Item = u32>,
+        points: &[Vec3],
+        out: &mut Vec<(f32, u32)>,
+    ) {
+        let mut hint = None;
+        for k in indices {
+            let (d, owner, cell) = self.search(points[k as usize], hint);
+            hint = Some(cell);
+            out.push((d, owner));
         }
     }
 }

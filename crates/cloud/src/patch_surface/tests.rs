@@ -234,3 +234,41 @@ fn point_cells_are_searched_without_a_grid() {
         assert_eq!((all_d[k], all_o[k]), linear_scan(p, &quads, &owners), "{p}");
     }
 }
+
+/// A sheet whose every fourth row of cells is stretched 12 times across it (steep cells of a
+/// scan set: the grid's reach exceeds its side, so runs gather more than `MAX_GRID_CELLS`
+/// grid cells), queried by points off it by up to a few cell sizes (noisy, misregistered
+/// scans: beyond the first gather's margin, answered by the second).
+#[test]
+fn long_cells_and_points_off_the_surface_match_a_linear_scan() {
+    let n = 30;
+    let step = 1.0 / n as f32;
+    let (mut quads, mut owners) = (Vec::new(), Vec::new());
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (i as f32 * step, j as f32 * step);
+            let long = if j % 4 == 0 { 12.0 * step } else { step };
+            let z = |x: f32| (x * 5.0).sin() * 0.05;
+            quads.push([
+                Vec3::new(x, y, z(x)),
+                Vec3::new(x + long, y, z(x + long)),
+                Vec3::new(x, y + step, z(x)),
+                Vec3::new(x + long, y + step, z(x + long)),
+            ]);
+            owners.push((j / 4) as u32);
+        }
+    }
+    let surface = PatchSurface::from_quads(&quads, &owners).unwrap();
+    let mut rng = SplitMix64::new(7);
+    let mut r = move || rng.next_f64() as f32;
+    let points: Vec<Vec3> = (0..6000)
+        .map(|k| {
+            let off = [0.1, 1.0, 3.0][k % 3] * step;
+            Vec3::new(r(), r(), (r() - 0.5) * 2.0 * off)
+        })
+        .collect();
+    let (all_d, all_o) = surface.nearest_all(&points);
+    for (k, &p) in points.iter().enumerate() {
+        assert_eq!((all_d[k], all_o[k]), linear_scan(p, &quads, &owners), "{p}");
+    }
+}

@@ -4,7 +4,12 @@
 //! cargo run --release -p spatch-eval --example scan_quality -- SCENE.spatch REFERENCE_MESH [PNG_DIR] [OPTION...]
 //! ```
 //!
-//! Options change how the scene is drawn for the specks (as `spatch render` takes them):
+//! `--cloud INPUT` (a cloud file or a `.conf` scan set, read as `spatch from-cloud` reads it)
+//! also says which holes are surface the scans never saw (`coverage.rs`): per view and in
+//! total, the reference pixels and the hole pixels with no point of the cloud within two
+//! spacings of the surface they show.
+//!
+//! The other options change how the scene is drawn for the specks (as `spatch render` takes them):
 //! `--mode triangles` (its cells as two triangles each), `--projection exact`,
 //! `--shading gouraud|flat`, `--no-mip`, `--cull none|back`. Crease artefacts of patch mode
 //! show as the ratio of its speck fraction to that of `--mode triangles` (docs/algorithms/render.md).
@@ -31,11 +36,15 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use coverage::Coverage;
+
 use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use spatch_render::{
     Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
     TriangleMesh as RasterMesh,
 };
+
+mod coverage;
 
 /// Grey levels below the neighbourhood median by more than this make a speck.
 const SPECK_DARKER_BY: i32 = 40;
@@ -49,12 +58,19 @@ fn main() -> ExitCode {
         .filter(|a| !a.starts_with("--"))
         .map(PathBuf::from);
     let flags = &args[(2 + png_dir.is_some() as usize).min(args.len())..];
-    let options = match scene_options(flags) {
-        Ok(options) if args.len() >= 2 => options,
+    let (options, cloud) = match scene_options(flags) {
+        Ok(parsed) if args.len() >= 2 => parsed,
         Ok(_) => usage("two arguments needed"),
         Err(message) => usage(&message),
     };
-    match run(&args[0], &args[1], png_dir, options) {
+    let coverage = match cloud.map(|path| load_coverage(&path)).transpose() {
+        Ok(coverage) => coverage,
+        Err(message) => {
+            eprintln!("scan_quality: error: {message}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(&args[0], &args[1], png_dir, options, coverage.as_ref()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("scan_quality: error: {message}");
@@ -70,9 +86,25 @@ fn usage(message: &str) -> ! {
     std::process::exit(2)
 }
 
-/// The render options of the scene's speck images from `flags` (see the header).
-fn scene_options(flags: &[String]) -> Result<RenderOptions, String> {
+/// The merged cloud of `path` (a cloud file or a scan set) indexed for coverage.
+fn load_coverage(path: &std::path::Path) -> Result<Coverage, String> {
+    let loaded = spatch_scan::load_scans(&[path.to_path_buf()], &Default::default())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let coverage = Coverage::new(&loaded.cloud).map_err(|e| format!("{}: {e}", path.display()))?;
+    println!(
+        "cloud {}: {} points, spacing {:.4e}",
+        path.display(),
+        loaded.cloud.len(),
+        coverage.spacing()
+    );
+    Ok(coverage)
+}
+
+/// The render options of the scene's speck images and the `--cloud` input from `flags`
+/// (see the header).
+fn scene_options(flags: &[String]) -> Result<(RenderOptions, Option<PathBuf>), String> {
     let mut options = RenderOptions::default();
+    let mut cloud = None;
     let mut it = flags.iter();
     while let Some(flag) = it.next() {
         let mut value = || {
@@ -104,10 +136,11 @@ fn scene_options(flags: &[String]) -> Result<RenderOptions, String> {
                 v => return Err(format!("--cull {v}: auto, back or none")),
             },
             "--no-mip" => options.mip = false,
+            "--cloud" => cloud = Some(PathBuf::from(value()?)),
             other => return Err(format!("unknown option {other}")),
         }
     }
-    Ok(options)
+    Ok((options, cloud))
 }
 
 fn run(
@@ -115,6 +148,7 @@ fn run(
     mesh_path: &str,
     png_dir: Option<PathBuf>,
     options: RenderOptions,
+    coverage: Option<&Coverage>,
 ) -> Result<(), String> {
     let scene =
         spatch_format::read_scene(scene_path.as_ref()).map_err(|e| format!("{scene_path}: {e}"))?;
@@ -170,10 +204,27 @@ fn run(
             .map(|(s, p)| p.is_finite() && *p <= s + tolerance)
             .collect();
         let mut speck_pixels = Vec::new();
-        let view = Tally {
+        let mut hole_pixels = Vec::new();
+        let mut counted = Vec::new();
+        let mut view = Tally {
             specks: count_specks(image.pixels(), &covered, width, height, &mut speck_pixels),
-            holes: count_holes(&reference_covered, &reached, width, height),
+            holes: count_holes(&reference_covered, &reached, width, height, &mut counted),
+            ..Tally::default()
         };
+        hole_pixels.extend(counted.iter().copied().filter(|&k| !reached[k]));
+        if let Some(coverage) = coverage {
+            let depth = reference.depth();
+            let unseen = |pixels: &[usize]| Share {
+                part: coverage
+                    .unseen(&camera, depth, pixels)
+                    .into_iter()
+                    .filter(|&u| u)
+                    .count(),
+                whole: pixels.len(),
+            };
+            view.unseen = unseen(&counted);
+            view.unseen_holes = unseen(&hole_pixels);
+        }
         println!(
             "view {index:2} ({:+.2},{:+.2},{:+.2}): specks {:.3} % of {}, holes {:.3} % of {}",
             direction.x,
@@ -184,6 +235,15 @@ fn run(
             view.holes.percent(),
             view.holes.whole
         );
+        if coverage.is_some() {
+            println!(
+                "  unseen by the cloud: {} of {} reference pixels, {} of {} hole pixels",
+                view.unseen.part,
+                view.unseen.whole,
+                view.unseen_holes.part,
+                view.unseen_holes.whole
+            );
+        }
         total.add(&view);
         if let Some(dir) = &png_dir {
             let png = image.encode_png().map_err(|e| e.to_string())?;
@@ -202,6 +262,16 @@ fn run(
         total.holes.part,
         total.holes.whole
     );
+    if coverage.is_some() {
+        println!(
+            "unseen by the cloud: {:.3} % of reference pixels ({} of {}), {} of {} hole pixels",
+            total.unseen.percent(),
+            total.unseen.part,
+            total.unseen.whole,
+            total.unseen_holes.part,
+            total.unseen_holes.whole
+        );
+    }
     Ok(())
 }
 
@@ -222,19 +292,29 @@ impl Share {
     }
 }
 
-/// Specks and holes of one view or of all.
+/// Specks and holes of one view or of all, and with `--cloud` the reference and hole pixels
+/// the cloud did not see.
 #[derive(Default)]
 struct Tally {
     specks: Share,
     holes: Share,
+    unseen: Share,
+    unseen_holes: Share,
+}
+
+impl Share {
+    fn add(&mut self, other: Share) {
+        self.part += other.part;
+        self.whole += other.whole;
+    }
 }
 
 impl Tally {
     fn add(&mut self, other: &Tally) {
-        self.specks.part += other.specks.part;
-        self.specks.whole += other.specks.whole;
-        self.holes.part += other.holes.part;
-        self.holes.whole += other.holes.whole;
+        self.specks.add(other.specks);
+        self.holes.add(other.holes);
+        self.unseen.add(other.unseen);
+        self.unseen_holes.add(other.unseen_holes);
     }
 }
 
@@ -308,12 +388,21 @@ fn write_speck_mask(
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn count_holes(reference: &[bool], covered: &[bool], width: usize, height: usize) -> Share {
+/// The holes of one view: the eroded reference pixels (their indices go to `counted`) that
+/// `covered` leaves out.
+fn count_holes(
+    reference: &[bool],
+    covered: &[bool],
+    width: usize,
+    height: usize,
+    counted: &mut Vec<usize>,
+) -> Share {
     let mut share = Share::default();
     for y in 0..height {
         for x in 0..width {
             if eroded(reference, width, height, x, y) {
                 share.whole += 1;
+                counted.push(y * width + x);
                 if !covered[y * width + x] {
                     share.part += 1;
                 }
