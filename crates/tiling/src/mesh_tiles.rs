@@ -17,7 +17,7 @@ use spatch_cloud::TileGrid;
 use spatch_format::{FormatError, Patch, Scene};
 use spatch_mesh::TriangleMesh;
 
-use crate::plan::{Plan, PlanGrid, PlanTile, WorldBox, PLAN_VERSION};
+use crate::plan::{tiles_of_counts, Plan, PlanGrid, WorldBox, PLAN_VERSION};
 use crate::TilingError;
 
 /// World bounds of face `f` of `mesh`.
@@ -82,22 +82,7 @@ pub fn make_mesh_plan(
             }
         }
     }
-    let tiles = counts
-        .iter()
-        .enumerate()
-        .map(|(index, (&(z, y, x), &faces))| {
-            let key = [x, y, z];
-            let (min, max) = grid.bounds_of(key);
-            let bounds = WorldBox::new(min, max);
-            PlanTile {
-                index,
-                key,
-                bounds,
-                buffered: bounds.grown(buffer),
-                points: faces,
-            }
-        })
-        .collect();
+    let tiles = tiles_of_counts(&counts, &grid, buffer);
     Ok(Plan {
         version: PLAN_VERSION,
         input: input.display().to_string(),

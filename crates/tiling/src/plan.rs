@@ -150,22 +150,7 @@ pub fn make_plan(input: &Path, options: &PlanOptions) -> Result<Plan, TilingErro
     }
     let grid =
         TileGrid::new(lo, options.tile, buffer).ok_or_else(|| invalid("buffer", "out of range"))?;
-    let tiles = counts
-        .iter()
-        .enumerate()
-        .map(|(index, (&(z, y, x), &points))| {
-            let key = [x, y, z];
-            let (min, max) = grid.bounds_of(key);
-            let bounds = WorldBox::new(min, max);
-            PlanTile {
-                index,
-                key,
-                bounds,
-                buffered: bounds.grown(buffer),
-                points,
-            }
-        })
-        .collect();
+    let tiles = tiles_of_counts(&counts, &grid, buffer);
     Ok(Plan {
         version: PLAN_VERSION,
         input: input.display().to_string(),
@@ -295,4 +280,29 @@ impl Plan {
             tiles: self.tiles.len(),
         })
     }
+}
+
+/// The plan's tiles from the count of points (or faces) per occupied tile key `(z, y, x)`,
+/// in key order: each tile's own box on `grid` and that box grown by `buffer`.
+pub(crate) fn tiles_of_counts(
+    counts: &BTreeMap<(i64, i64, i64), u64>,
+    grid: &TileGrid,
+    buffer: f64,
+) -> Vec<PlanTile> {
+    counts
+        .iter()
+        .enumerate()
+        .map(|(index, (&(z, y, x), &points))| {
+            let key = [x, y, z];
+            let (min, max) = grid.bounds_of(key);
+            let bounds = WorldBox::new(min, max);
+            PlanTile {
+                index,
+                key,
+                bounds,
+                buffered: bounds.grown(buffer),
+                points,
+            }
+        })
+        .collect()
 }
