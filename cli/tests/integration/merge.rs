@@ -6,20 +6,19 @@ use crate::test_command::TestCommand;
 fn merged_patch_counts_add_up() {
     let t = TestCommand::new();
     t.small_sphere("a.spatch");
-    t.run(&[
-        "sphere",
-        "--radius",
-        "3",
-        "--patches",
-        "50",
-        "--grid",
-        "5",
-        "--step",
-        "0.001",
-        "-o",
+    t.sphere(
         "b.spatch",
-    ])
-    .success();
+        &[
+            "--radius",
+            "3",
+            "--patches",
+            "50",
+            "--grid",
+            "5",
+            "--step",
+            "0.001",
+        ],
+    );
     let run = t
         .run(&["merge", "a.spatch", "b.spatch", "-o", "ab.spatch"])
         .success();
@@ -42,16 +41,7 @@ fn streamed_merge_matches_the_in_memory_merge_byte_for_byte() {
     use spatch_format::{encode_scene, Compression, Scene, WriteOptions};
     let t = TestCommand::new();
     t.small_sphere("a.spatch");
-    t.run(&[
-        "sphere",
-        "--radius",
-        "3",
-        "--patches",
-        "50",
-        "-o",
-        "b.spatch",
-    ])
-    .success();
+    t.sphere("b.spatch", &["--radius", "3", "--patches", "50"]);
     let (a, b) = (
         read_scene(&t.path("a.spatch")).unwrap(),
         read_scene(&t.path("b.spatch")).unwrap(),
@@ -236,22 +226,21 @@ fn issue_22_far_part_of_a_merge_renders_as_it_does_alone() {
     use spatch_render::{Camera, RenderOptions, Renderer};
     let t = TestCommand::new();
     // A unit sphere: about the size of the models the issue measured.
-    t.run(&[
-        "sphere",
-        "--radius",
-        "1",
-        "--patches",
-        "200",
-        "--grid",
-        "9",
-        "--spacing",
-        "0.1",
-        "--step",
-        "0.0001",
-        "-o",
+    t.sphere(
         "a.spatch",
-    ])
-    .success();
+        &[
+            "--radius",
+            "1",
+            "--patches",
+            "200",
+            "--grid",
+            "9",
+            "--spacing",
+            "0.1",
+            "--step",
+            "0.0001",
+        ],
+    );
     let near = read_scene(&t.path("a.spatch")).unwrap();
     let mut renderer = Renderer::new(RenderOptions::default()).unwrap();
     for distance in [1e4, 1e6, 1e7] {

@@ -87,20 +87,27 @@ impl TestCommand {
 
     /// Writes a small sphere file and returns its name.
     pub(crate) fn small_sphere(&self, name: &str) -> String {
-        self.run(&[
-            "sphere",
-            "--radius",
-            "10",
-            "--patches",
-            "200",
-            "--grid",
-            "9",
-            "--step",
-            "0.001",
-            "-o",
+        self.sphere(
             name,
-        ])
-        .success();
+            &[
+                "--radius",
+                "10",
+                "--patches",
+                "200",
+                "--grid",
+                "9",
+                "--step",
+                "0.001",
+            ],
+        )
+    }
+
+    /// Runs `spatch sphere OPTIONS -o NAME`, asserts it succeeded and returns the name.
+    pub(crate) fn sphere(&self, name: &str, options: &[&str]) -> String {
+        let mut args = vec!["sphere"];
+        args.extend_from_slice(options);
+        args.extend(["-o", name]);
+        self.run(&args).success();
         name.to_owned()
     }
 }
