@@ -22,8 +22,8 @@ pub(crate) struct PlanArgs {
     #[arg(long, value_name = "SIZE")]
     tile: f64,
     /// Buffer around a tile whose points its conversion reads, in model units (default:
-    /// 16 pixels, the gap filling and smoothing reach with room to spare; for a mesh, 8
-    /// node spacings).
+    /// 16 pixels, the gap filling and smoothing reach with room to spare; for a mesh, 4
+    /// node spacings, at most a quarter tile: the surface border patches reach into).
     #[arg(long, value_name = "B")]
     buffer: Option<f64>,
     /// Point spacing every tile converts with (default: estimated on the most populous

@@ -10,8 +10,8 @@
 //! scene in one file ([`coarse_scene`]). Nothing here loads a
 //! whole input: the readers ([`stream_points`]) hand out chunks.
 //!
-//! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile keeps the patches
-//! whose anchor it owns: [`keep_owned_patches`]).
+//! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile segments the faces
+//! whose centroid it owns and keeps the edge patches whose anchor it owns: [`TileOwner`]).
 //!
 //! Running at scale, the JSON schemas and measured figures: `docs/scale.md`.
 #![forbid(unsafe_code)]
@@ -34,7 +34,7 @@ pub use error::TilingError;
 pub use index::{
     build_index, is_index_file, tile_file_name, CoarseLevel, IndexTile, SceneIndex, INDEX_VERSION,
 };
-pub use mesh_tiles::{keep_owned_patches, make_mesh_plan, mesh_tile, owns, patch_anchor};
+pub use mesh_tiles::{make_mesh_plan, mesh_tile, owns, patch_anchor, TileOwner};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
 pub use select::{is_member, read_tile_points};
 pub use spill::{read_spilled_tile, spill_tiles, Spill, SpillLayout, SpilledTile, SPILL_BUDGET};

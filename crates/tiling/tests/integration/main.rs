@@ -2,6 +2,7 @@
 //! and per-tile conversion joining into the untiled conversion.
 
 mod join;
+mod mesh_owners;
 mod readers;
 mod spill;
 
