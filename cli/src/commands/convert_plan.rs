@@ -9,7 +9,9 @@ use std::time::Instant;
 use spatch_convert::{convert_part, ConvertError, ConvertInput};
 use spatch_format::encode_scene;
 use spatch_mesh::{load_mesh, prepare_mesh, FileFormat, PrepareOptions};
-use spatch_tiling::{make_mesh_plan, mesh_tile, Plan, TileOwner};
+use spatch_tiling::{
+    can_stream_mesh, make_mesh_plan, mesh_tile, read_mesh_tile, Plan, TileOwner, WorldBox,
+};
 
 use super::convert::PipelineArgs;
 use crate::failure::InternalFailure;
@@ -70,6 +72,20 @@ pub(crate) fn plan_mesh(
     make_mesh_plan(&mesh, input, tile, buffer, spacing).map_err(anyhow::Error::msg)
 }
 
+/// The faces of the mesh at `input` whose box touches `area`: streamed from a PLY or a
+/// plain OBJ (memory follows the tile), else cut from the whole mesh, loaded and prepared.
+fn read_part(
+    input: &Path,
+    plan: &Plan,
+    area: &WorldBox,
+) -> anyhow::Result<spatch_mesh::TriangleMesh> {
+    if can_stream_mesh(input).map_err(anyhow::Error::msg)? {
+        let anchor = glam::DVec3::from_array(plan.grid.anchor);
+        return read_mesh_tile(input, anchor, area).map_err(anyhow::Error::msg);
+    }
+    Ok(mesh_tile(&load_prepared(input)?, area))
+}
+
 /// `spatch convert MESH --plan P --tile K -o FILE`: tile K's faces (with its buffer's)
 /// converted at the plan's spacing, segmenting only the faces whose centroid lies in K's
 /// own box and keeping the edge patches anchored there (a tile with no patch is written as
@@ -88,9 +104,7 @@ pub(crate) fn run_tile(
         .map_err(|e| anyhow::anyhow!("{}: {e}", plan_path.display()))?;
     let mut options = pipeline.options();
     options.fit.spacing = Some(plan.spacing);
-    let mesh = load_prepared(input)?;
-    let part = mesh_tile(&mesh, &entry.buffered);
-    drop(mesh);
+    let part = read_part(input, &plan, &entry.buffered)?;
     let faces = part.triangles.len();
     let label = || format!("{} (tile {tile})", input.display());
     let owner = TileOwner {

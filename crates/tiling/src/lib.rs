@@ -20,8 +20,11 @@ mod coarse;
 mod error;
 mod index;
 mod las_stream;
+mod mesh_stream;
 mod mesh_tiles;
+mod obj_stream;
 mod plan;
+mod ply_faces;
 mod ply_stream;
 mod select;
 mod spill;
@@ -34,6 +37,7 @@ pub use error::TilingError;
 pub use index::{
     build_index, is_index_file, tile_file_name, CoarseLevel, IndexTile, SceneIndex, INDEX_VERSION,
 };
+pub use mesh_stream::{can_stream_mesh, read_mesh_tile};
 pub use mesh_tiles::{make_mesh_plan, mesh_tile, owns, patch_anchor, TileOwner};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
 pub use select::{is_member, read_tile_points};
