@@ -13,7 +13,8 @@ use crate::output::{print_summary, write_output};
 #[derive(Debug, clap::Args)]
 pub(crate) struct PlanArgs {
     /// Input point cloud, read as a stream: .ply (ASCII or binary), .las/.laz,
-    /// .xyz/.txt/.pts; or a mesh (.obj, .gltf/.glb, .off, .stl, or a .ply with faces),
+    /// .xyz/.txt/.pts, or a scan set with its poses (.e57, or a Stanford .conf whose scans
+    /// are in those formats); or a mesh (.obj, .gltf/.glb, .off, .stl, or a .ply with faces),
     /// tiled by face for `spatch convert --plan`.
     #[arg(value_name = "INPUT")]
     input: PathBuf,

@@ -26,6 +26,7 @@ mod obj_stream;
 mod plan;
 mod ply_faces;
 mod ply_stream;
+mod scan_stream;
 mod select;
 mod spill;
 mod stream;

@@ -5,6 +5,7 @@ mod join;
 mod mesh_owners;
 mod mesh_stream;
 mod readers;
+mod scan_sets;
 mod spill;
 
 use std::path::Path;
