@@ -7,8 +7,9 @@
 //! owns), on one machine or many (a local run spills every tile's points in one pass:
 //! [`spill_tiles`]); [`build_index`] lists the tile files as a tiled scene that a viewer
 //! opens tile by tile ([`ViewPyramid`] decides which), with a coarse level of the whole
-//! scene in one file ([`coarse_scene`]). Nothing here loads a
-//! whole input: the readers ([`stream_points`]) hand out chunks.
+//! scene in one file ([`coarse_scene`]). The readers ([`stream_points`]) hand out
+//! chunks and never load a whole input, except an E57 file (read one file at a time); a
+//! `.conf` scan set streams its scans, each moved by its pose.
 //!
 //! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile segments the faces
 //! whose centroid it owns and keeps the edge patches whose anchor it owns: [`TileOwner`]).
