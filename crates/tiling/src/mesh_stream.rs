@@ -134,7 +134,8 @@ fn touching_polygons(
         let mut shared = u8::MAX;
         for &v in polygon {
             let code = codes.get(v as usize).ok_or_else(|| {
-                TilingError::malformed(path, format!("a face names vertex {v}, past the last"))
+                let n = codes.len();
+                TilingError::malformed(path, format!("a face names vertex {v} (from 0) of {n}"))
             })?;
             shared &= code;
         }
