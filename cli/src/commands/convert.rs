@@ -36,8 +36,9 @@ pub(crate) struct ConvertArgs {
     #[arg(long)]
     json: bool,
     /// A tile plan of this mesh (`spatch plan MESH --tile SIZE`): convert only tile
-    /// `--tile K`'s faces (and its buffer's) at the plan's spacing, keeping the patches whose
-    /// anchor lies in the tile (docs/scale.md, "Meshes").
+    /// `--tile K`'s faces (and its buffer's) at the plan's spacing, segmenting only the faces
+    /// whose centroid lies in the tile, so tiles join with no seam and no patch twice
+    /// (docs/scale.md, "Meshes").
     #[arg(long, value_name = "PLAN", requires = "tile", conflicts_with = "json")]
     plan: Option<PathBuf>,
     /// With `--plan`: the tile to convert (its index in the plan).

@@ -6,10 +6,12 @@ use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
 
-use spatch_convert::{convert, ConvertInput};
+use spatch_convert::{convert_part, ConvertError, ConvertInput};
 use spatch_format::encode_scene;
 use spatch_mesh::{load_mesh, prepare_mesh, FileFormat, PrepareOptions};
-use spatch_tiling::{keep_owned_patches, make_mesh_plan, mesh_tile, Plan};
+use spatch_tiling::{
+    can_stream_mesh, make_mesh_plan, mesh_tile, read_mesh_tile, Plan, TileOwner, WorldBox,
+};
 
 use super::convert::PipelineArgs;
 use crate::failure::InternalFailure;
@@ -46,10 +48,13 @@ fn load_prepared(path: &Path) -> anyhow::Result<spatch_mesh::TriangleMesh> {
     Ok(prepare_mesh(&loaded.mesh, &PrepareOptions::default()).0)
 }
 
+/// A mesh plan's default buffer in node spacings: the context a tile's border patches
+/// reach into (one cell past their region, and the faces under it), with room to spare.
+const MESH_BUFFER_SPACINGS: f64 = 4.0;
+
 /// `spatch plan MESH`: the plan of a mesh's tiles (the spacing given, or the one `spatch
-/// convert` would derive for the whole mesh; the buffer given, or 0: a tile already reads
-/// every face its box touches, and a wider buffer lets segmentation pull the border's
-/// surface into regions anchored in the neighbour, which holes the join: docs/scale.md).
+/// convert` would derive for the whole mesh; the buffer given, or
+/// [`MESH_BUFFER_SPACINGS`] spacings, at most a quarter tile).
 pub(crate) fn plan_mesh(
     input: &Path,
     tile: f64,
@@ -62,13 +67,29 @@ pub(crate) fn plan_mesh(
         None => spatch_fit::default_spacing(&mesh)
             .ok_or_else(|| anyhow::anyhow!("{}: the mesh has no surface", input.display()))?,
     };
-    let buffer = buffer.unwrap_or(0.0);
+    let buffer =
+        buffer.unwrap_or_else(|| (MESH_BUFFER_SPACINGS * f64::from(spacing)).min(0.25 * tile));
     make_mesh_plan(&mesh, input, tile, buffer, spacing).map_err(anyhow::Error::msg)
 }
 
+/// The faces of the mesh at `input` whose box touches `area`: streamed from a PLY or a
+/// plain OBJ (memory follows the tile), else cut from the whole mesh, loaded and prepared.
+fn read_part(
+    input: &Path,
+    plan: &Plan,
+    area: &WorldBox,
+) -> anyhow::Result<spatch_mesh::TriangleMesh> {
+    if can_stream_mesh(input).map_err(anyhow::Error::msg)? {
+        let anchor = glam::DVec3::from_array(plan.grid.anchor);
+        return read_mesh_tile(input, anchor, area).map_err(anyhow::Error::msg);
+    }
+    Ok(mesh_tile(&load_prepared(input)?, area))
+}
+
 /// `spatch convert MESH --plan P --tile K -o FILE`: tile K's faces (with its buffer's)
-/// converted at the plan's spacing; only the patches whose anchor lies in K's own box are
-/// written (a tile with none is written as a scene with no patch).
+/// converted at the plan's spacing, segmenting only the faces whose centroid lies in K's
+/// own box and keeping the edge patches anchored there (a tile with no patch is written as
+/// a scene with no patch).
 pub(crate) fn run_tile(
     input: &Path,
     plan_path: &Path,
@@ -83,32 +104,29 @@ pub(crate) fn run_tile(
         .map_err(|e| anyhow::anyhow!("{}: {e}", plan_path.display()))?;
     let mut options = pipeline.options();
     options.fit.spacing = Some(plan.spacing);
-    let mesh = load_prepared(input)?;
-    let part = mesh_tile(&mesh, &entry.buffered);
-    drop(mesh);
+    let part = read_part(input, &plan, &entry.buffered)?;
     let faces = part.triangles.len();
     let label = || format!("{} (tile {tile})", input.display());
-    let scene = match convert(ConvertInput::Mesh(part), &options) {
+    let owner = TileOwner {
+        bounds: &entry.bounds,
+    };
+    let kept = match convert_part(ConvertInput::Mesh(part), &owner, &options) {
         Ok(conversion) => conversion.scene,
-        Err(spatch_convert::ConvertError::NoSurface { .. }) => {
+        Err(ConvertError::NoSurface { .. } | ConvertError::NoPatches { .. }) => {
             let offset = glam::DVec3::from_array(entry.bounds.min);
             spatch_format::Scene::new(offset, spatch_format::ColourChannel::None, Vec::new())?
         }
         Err(e) => return Err(anyhow::anyhow!("{}: {e}", label())),
     };
-    let converted = scene.patches().len();
-    let kept = keep_owned_patches(scene, &entry.bounds)
-        .map_err(|e| InternalFailure(format!("{}: {e}", label())))?;
     let bytes = encode_scene(&kept, &options.write)
         .map_err(|e| InternalFailure(format!("{}: encoding: {e}", label())))?;
     write_output(output, &bytes)?;
     print_summary(
         &format!(
-            "{}: tile {tile} of {}: {} of {} patches kept from {faces} faces, {} bytes, {:.2} s\n",
+            "{}: tile {tile} of {}: {} patches from {faces} faces read, {} bytes, {:.2} s\n",
             output.display(),
             plan.tiles.len(),
             kept.patches().len(),
-            converted,
             bytes.len(),
             started.elapsed().as_secs_f64()
         ),

@@ -125,6 +125,7 @@ pub(crate) struct FromCloudArgs {
     /// Convert with a tile plan (`spatch plan`, docs/scale.md): with --tile K only tile K
     /// (its own points and its buffer's, read as a stream) to -o FILE; without, every tile
     /// on this machine to the folder -o DIR (tile_00000.spatch, ...) and DIR/index.json.
+    /// A .conf or .e57 scan set is tiled in its common frame (each scan by its pose).
     #[arg(long, value_name = "PLAN", conflicts_with_all = ["json", "report", "error", "tile_size"])]
     plan: Option<PathBuf>,
     /// The tile of --plan to convert (its index in the plan).

@@ -13,7 +13,8 @@ use crate::output::{print_summary, write_output};
 #[derive(Debug, clap::Args)]
 pub(crate) struct PlanArgs {
     /// Input point cloud, read as a stream: .ply (ASCII or binary), .las/.laz,
-    /// .xyz/.txt/.pts; or a mesh (.obj, .gltf/.glb, .off, .stl, or a .ply with faces),
+    /// .xyz/.txt/.pts, or a scan set with its poses (.e57, or a Stanford .conf whose scans
+    /// are in those formats); or a mesh (.obj, .gltf/.glb, .off, .stl, or a .ply with faces),
     /// tiled by face for `spatch convert --plan`.
     #[arg(value_name = "INPUT")]
     input: PathBuf,
@@ -22,8 +23,8 @@ pub(crate) struct PlanArgs {
     #[arg(long, value_name = "SIZE")]
     tile: f64,
     /// Buffer around a tile whose points its conversion reads, in model units (default:
-    /// 16 pixels, the gap filling and smoothing reach with room to spare; for a mesh, 8
-    /// node spacings).
+    /// 16 pixels, the gap filling and smoothing reach with room to spare; for a mesh, 4
+    /// node spacings, at most a quarter tile: the surface border patches reach into).
     #[arg(long, value_name = "B")]
     buffer: Option<f64>,
     /// Point spacing every tile converts with (default: estimated on the most populous

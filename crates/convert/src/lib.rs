@@ -28,6 +28,7 @@
 mod budget;
 mod error;
 mod options;
+mod owned;
 mod pipeline;
 mod report;
 mod sides;
@@ -35,8 +36,9 @@ mod sides;
 pub use budget::{check_error_budget, ErrorBudgetWarning, FAR_ABOVE_BUDGET};
 pub use error::ConvertError;
 pub use options::ConvertOptions;
+pub use owned::{world_centroid, PartOwner};
 pub use pipeline::{
-    convert, convert_with_progress, Conversion, ConvertInput, ProgressEvent, Stage,
+    convert, convert_part, convert_with_progress, Conversion, ConvertInput, ProgressEvent, Stage,
 };
 pub use report::{ConvertReport, Counts, PrepareCounts, StageTime};
 pub use sides::{apply_sides, find_mesh_sides, MeshSides, SideCounts, MAX_OPENINGS};

@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use spatch_edges::generate_edge_patches;
 
+use crate::owned::{segment_owned, PartOwner};
 use crate::sides::{apply_sides, find_mesh_sides};
 use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
@@ -122,6 +123,28 @@ pub fn convert_with_progress(
     options: &ConvertOptions,
     on_progress: &(dyn Fn(ProgressEvent) + Sync),
 ) -> Result<Conversion, ConvertError> {
+    run_pipeline(input, options, None, on_progress)
+}
+
+/// [`convert`] of the part of a mesh one tile owns (see [`PartOwner`]): only the faces
+/// `owner` owns are segmented, every face of `input` is there for the fitter to reach into,
+/// and only the sharp-edge patches `owner` owns are kept. A part that owns no face, or
+/// whose faces give no patch, is [`ConvertError::NoPatches`].
+pub fn convert_part(
+    input: ConvertInput<'_>,
+    owner: &dyn PartOwner,
+    options: &ConvertOptions,
+) -> Result<Conversion, ConvertError> {
+    run_pipeline(input, options, Some(owner), &|_| {})
+}
+
+/// The pipeline, segmenting only what `owner` owns when it is given.
+fn run_pipeline(
+    input: ConvertInput<'_>,
+    options: &ConvertOptions,
+    owner: Option<&dyn PartOwner>,
+    on_progress: &(dyn Fn(ProgressEvent) + Sync),
+) -> Result<Conversion, ConvertError> {
     let mut stages = Vec::with_capacity(Stage::ALL.len());
     let mut clock = Clock {
         stages: &mut stages,
@@ -151,15 +174,15 @@ pub fn convert_with_progress(
     if segment_options.max_extent.is_infinite() {
         segment_options.max_extent = (options.fit.grid.saturating_sub(1)) as f32 * spacing;
     }
-    let (segmentation, _) = clock.run(Stage::Segment, || {
-        segment(&mesh, &adjacency, &segment_options)
+    let regions = clock.run(Stage::Segment, || match owner {
+        None => segment(&mesh, &adjacency, &segment_options).map(|(s, _)| s.regions),
+        Some(owner) => segment_owned(&mesh, owner, &segment_options),
     })?;
 
     let mut fit_options = options.fit;
     fit_options.spacing = Some(spacing);
     let fitted = clock.run(Stage::Fit, || {
-        let regions: Vec<FitRegion<'_>> = segmentation
-            .regions
+        let regions: Vec<FitRegion<'_>> = regions
             .iter()
             .map(|r| FitRegion {
                 faces: &r.faces,
@@ -181,9 +204,12 @@ pub fn convert_with_progress(
     let mut edges = match options.sharp_edges {
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
-            let (edge_patches, edge_stats) = clock.run(Stage::Edges, || {
+            let (mut edge_patches, edge_stats) = clock.run(Stage::Edges, || {
                 generate_edge_patches(&mesh, &adjacency, &patches, edge_spacing, &edge_options)
             })?;
+            if let Some(owner) = owner {
+                edge_patches.retain(|p| owner.owns_patch(p, mesh.origin));
+            }
             Some((edge_patches, edge_stats))
         }
         None => None,
@@ -233,7 +259,7 @@ pub fn convert_with_progress(
         threads: rayon::current_num_threads(),
         spacing,
         triangles: mesh.face_count(),
-        regions: segmentation.regions.len(),
+        regions: regions.len(),
         split_regions: stats.split_regions,
         refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,

@@ -33,7 +33,7 @@ pub enum TilingError {
         read: u64,
     },
     /// The extension names no point format this crate streams.
-    #[error("{}: cannot stream this format (PLY, LAS, LAZ, XYZ, TXT and PTS can be)", path.display())]
+    #[error("{}: cannot stream this format (PLY, LAS, LAZ, XYZ, TXT, PTS, E57 and .conf scan sets can be)", path.display())]
     UnsupportedFormat {
         /// The file.
         path: PathBuf,

@@ -7,11 +7,12 @@
 //! owns), on one machine or many (a local run spills every tile's points in one pass:
 //! [`spill_tiles`]); [`build_index`] lists the tile files as a tiled scene that a viewer
 //! opens tile by tile ([`ViewPyramid`] decides which), with a coarse level of the whole
-//! scene in one file ([`coarse_scene`]). Nothing here loads a
-//! whole input: the readers ([`stream_points`]) hand out chunks.
+//! scene in one file ([`coarse_scene`]). The readers ([`stream_points`]) hand out
+//! chunks and never load a whole input, except an E57 file (read one file at a time); a
+//! `.conf` scan set streams its scans, each moved by its pose.
 //!
-//! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile keeps the patches
-//! whose anchor it owns: [`keep_owned_patches`]).
+//! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile segments the faces
+//! whose centroid it owns and keeps the edge patches whose anchor it owns: [`TileOwner`]).
 //!
 //! Running at scale, the JSON schemas and measured figures: `docs/scale.md`.
 #![forbid(unsafe_code)]
@@ -20,9 +21,13 @@ mod coarse;
 mod error;
 mod index;
 mod las_stream;
+mod mesh_stream;
 mod mesh_tiles;
+mod obj_stream;
 mod plan;
+mod ply_faces;
 mod ply_stream;
+mod scan_stream;
 mod select;
 mod spill;
 mod stream;
@@ -34,7 +39,8 @@ pub use error::TilingError;
 pub use index::{
     build_index, is_index_file, tile_file_name, CoarseLevel, IndexTile, SceneIndex, INDEX_VERSION,
 };
-pub use mesh_tiles::{keep_owned_patches, make_mesh_plan, mesh_tile, owns, patch_anchor};
+pub use mesh_stream::{can_stream_mesh, read_mesh_tile};
+pub use mesh_tiles::{make_mesh_plan, mesh_tile, owns, patch_anchor, TileOwner};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
 pub use select::{is_member, read_tile_points};
 pub use spill::{read_spilled_tile, spill_tiles, Spill, SpillLayout, SpilledTile, SPILL_BUDGET};

@@ -1,20 +1,21 @@
 //! Tiling a mesh by face: plans, one tile's faces, and the patches a tile owns.
 //!
-//! A face belongs to every tile its bounding box touches; a tile's conversion reads the
+//! A face is counted by every tile its bounding box touches; a tile's conversion reads the
 //! faces whose box touches its buffered box (its own box grown by the buffer), so the
 //! surface near its border is fitted with the context a whole-mesh conversion would see.
-//! A converted tile keeps exactly the patches whose **anchor** — the filled node nearest
-//! its grid's centre, a point on the surface — lies in its own box (`[min, max)` per
-//! axis), so each patch is kept by one tile at most and tiles join with no duplicate.
-//! The mesh is loaded whole (meshes are not streamed); memory per tile task is the mesh
-//! plus one tile's conversion.
+//! Each face is **owned** by the one tile whose box holds its centroid ([`TileOwner`]):
+//! a tile segments only the faces it owns and fits them with every face it read
+//! (`spatch_convert::convert_part`), so every region, hence every surface patch, is made
+//! by exactly one tile, and the patches reach across the border as they reach across
+//! region borders inside one conversion.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::DVec3;
 use spatch_cloud::TileGrid;
-use spatch_format::{FormatError, Patch, Scene};
+use spatch_convert::PartOwner;
+use spatch_format::Patch;
 use spatch_mesh::TriangleMesh;
 
 use crate::plan::{tiles_of_counts, Plan, PlanGrid, WorldBox, PLAN_VERSION};
@@ -170,16 +171,22 @@ pub fn owns(bounds: &WorldBox, w: DVec3) -> bool {
     (0..3).all(|k| w[k] >= bounds.min[k] && w[k] < bounds.max[k])
 }
 
-/// `scene` with only the patches whose anchor lies in `bounds` (its openings kept).
-///
-/// Errors: those of [`Scene::new`], which the patches of a valid scene never raise.
-pub fn keep_owned_patches(scene: Scene, bounds: &WorldBox) -> Result<Scene, FormatError> {
-    let (offset, channel) = (scene.offset(), scene.channel());
-    let openings = scene.openings().to_vec();
-    let kept = scene
-        .into_patches()
-        .into_iter()
-        .filter(|p| patch_anchor(p, offset).is_some_and(|w| owns(bounds, w)))
-        .collect();
-    Ok(Scene::new(offset, channel, kept)?.with_openings(openings))
+/// What one tile of a mesh plan owns: the faces whose world centroid lies in its box
+/// (`[min, max)` per axis), and the sharp-edge patches whose anchor ([`patch_anchor`])
+/// does. The tiles' boxes partition space, so every face has exactly one owner tile, and
+/// that tile reads it (a face's box holds its centroid).
+#[derive(Debug, Clone, Copy)]
+pub struct TileOwner<'a> {
+    /// The tile's own box (the plan's `tiles[].bounds`).
+    pub bounds: &'a WorldBox,
+}
+
+impl PartOwner for TileOwner<'_> {
+    fn owns_face(&self, centroid: DVec3) -> bool {
+        owns(self.bounds, centroid)
+    }
+
+    fn owns_patch(&self, patch: &Patch, offset: DVec3) -> bool {
+        patch_anchor(patch, offset).is_some_and(|w| owns(self.bounds, w))
+    }
 }

@@ -16,7 +16,7 @@ use crate::TilingError;
 
 /// How the records are stored.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Encoding {
+pub(crate) enum Encoding {
     Ascii,
     Little,
     Big,
@@ -24,7 +24,7 @@ enum Encoding {
 
 /// A scalar type of a property.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Scalar {
+pub(crate) enum Scalar {
     I8,
     U8,
     I16,
@@ -36,7 +36,7 @@ enum Scalar {
 }
 
 impl Scalar {
-    fn parse(name: &str) -> Option<Scalar> {
+    pub(crate) fn parse(name: &str) -> Option<Scalar> {
         Some(match name {
             "char" | "int8" => Scalar::I8,
             "uchar" | "uint8" => Scalar::U8,
@@ -50,7 +50,7 @@ impl Scalar {
         })
     }
 
-    fn size(self) -> usize {
+    pub(crate) fn size(self) -> usize {
         match self {
             Scalar::I8 | Scalar::U8 => 1,
             Scalar::I16 | Scalar::U16 => 2,
@@ -60,7 +60,7 @@ impl Scalar {
     }
 
     /// The value at the start of `b`.
-    fn read(self, b: &[u8], big: bool) -> f64 {
+    pub(crate) fn read(self, b: &[u8], big: bool) -> f64 {
         macro_rules! num {
             ($t:ty, $n:expr) => {{
                 let mut a = [0u8; $n];

@@ -2,7 +2,8 @@
 //! visitor, so memory follows the chunk, never the file.
 //!
 //! Formats by extension: `.ply` (ASCII, binary little- or big-endian; `ply_stream.rs`),
-//! `.las`/`.laz` (`las_stream.rs`), `.xyz`/`.txt`/`.pts` (`xyz_stream.rs`). Every chunk has
+//! `.las`/`.laz` (`las_stream.rs`), `.xyz`/`.txt`/`.pts` (`xyz_stream.rs`); scan sets,
+//! posed: `.conf` and `.e57` (`scan_stream.rs`). Every chunk has
 //! colours exactly when the file does (and normals likewise), so chunks concatenate.
 //! Points with a non-finite coordinate are skipped by the readers' users, not here.
 
@@ -66,6 +67,8 @@ pub fn stream_points(path: &Path, visit: &mut Visit<'_>) -> Result<u64, TilingEr
         "ply" => crate::ply_stream::stream_ply(path, visit),
         "las" | "laz" => crate::las_stream::stream_las(path, visit),
         "xyz" | "txt" | "pts" => crate::xyz_stream::stream_xyz(path, visit),
+        "conf" => crate::scan_stream::stream_conf(path, visit),
+        "e57" => crate::scan_stream::stream_e57(path, visit),
         _ => Err(TilingError::UnsupportedFormat {
             path: path.to_path_buf(),
         }),

@@ -2,7 +2,10 @@
 //! and per-tile conversion joining into the untiled conversion.
 
 mod join;
+mod mesh_owners;
+mod mesh_stream;
 mod readers;
+mod scan_sets;
 mod spill;
 
 use std::path::Path;

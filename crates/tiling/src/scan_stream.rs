@@ -1,0 +1,118 @@
+//! Scan sets as a stream of posed points: a Stanford `.conf` (each `bmesh` line a scan file
+//! and its pose) or an E57 file (each scan with its own pose).
+//!
+//! A `.conf`'s scans in the streamed formats (PLY, LAS/LAZ, XYZ/TXT/PTS) are streamed a
+//! chunk at a time, each chunk moved into the common frame by the scan's pose (positions
+//! and normals); an E57 file is read whole by `spatch_scan::read_e57` (one file at a time,
+//! for a `.conf` that lists E57 scans) and handed out in chunks. The chunks of a set carry
+//! colours (and normals) exactly when its first scan does; a later scan that differs is
+//! refused, so that chunks concatenate.
+
+use std::path::Path;
+
+use spatch_scan::{read_conf, read_e57, Pose, PosedScan};
+
+use crate::stream::{stream_points, PointChunk, Visit, CHUNK_POINTS};
+use crate::TilingError;
+
+/// Which attributes the set's chunks carry, fixed by its first chunk.
+#[derive(Default)]
+struct Attributes(Option<(bool, bool)>);
+
+impl Attributes {
+    /// Checks `chunk` against the attributes seen first.
+    fn check(&mut self, path: &Path, chunk: &PointChunk) -> Result<(), TilingError> {
+        let has = (chunk.colours.is_some(), chunk.normals.is_some());
+        match self.0 {
+            None => self.0 = Some(has),
+            Some(first) if first != has => {
+                return Err(TilingError::malformed(
+                    path,
+                    "its scans differ in having colours or normals; a plan needs them alike",
+                ))
+            }
+            Some(_) => {}
+        }
+        Ok(())
+    }
+}
+
+/// Streams the scans of the `.conf` at `path`, posed; returns the points read.
+pub(crate) fn stream_conf(path: &Path, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
+    let set = read_conf(path).map_err(|e| TilingError::malformed(path, e.to_string()))?;
+    let mut attributes = Attributes::default();
+    let mut read = 0;
+    for entry in &set.scans {
+        let mut posed = |chunk: &PointChunk| {
+            let moved = posed_chunk(chunk, &entry.pose);
+            attributes.check(path, &moved)?;
+            visit(&moved)
+        };
+        read += if is_e57(&entry.path) {
+            stream_e57_posed(&entry.path, &entry.pose, &mut posed)?
+        } else {
+            stream_points(&entry.path, &mut posed)?
+        };
+    }
+    Ok(read)
+}
+
+/// Streams the scans of the E57 file at `path`, each by its own pose.
+pub(crate) fn stream_e57(path: &Path, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
+    let mut attributes = Attributes::default();
+    stream_e57_posed(path, &Pose::IDENTITY, &mut |chunk: &PointChunk| {
+        attributes.check(path, chunk)?;
+        visit(chunk)
+    })
+}
+
+/// Whether `path` is an E57 file (by extension).
+fn is_e57(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("e57"))
+}
+
+/// The scans of an E57 file, each moved by its own pose and then by `pose`, in chunks.
+fn stream_e57_posed(path: &Path, pose: &Pose, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
+    let (scans, _) = read_e57(path).map_err(|e| TilingError::malformed(path, e.to_string()))?;
+    let mut read = 0;
+    for scan in &scans {
+        let total = pose.after(&scan.pose);
+        for start in (0..scan.positions.len()).step_by(CHUNK_POINTS) {
+            let chunk = scan_chunk(
+                scan,
+                start..(start + CHUNK_POINTS).min(scan.positions.len()),
+            );
+            visit(&posed_chunk(&chunk, &total))?;
+            read += chunk.len() as u64;
+        }
+    }
+    Ok(read)
+}
+
+/// Points `range` of `scan`, in its own frame.
+fn scan_chunk(scan: &PosedScan, range: std::ops::Range<usize>) -> PointChunk {
+    PointChunk {
+        positions: scan.positions[range.clone()].to_vec(),
+        colours: scan.colours.as_ref().map(|c| c[range.clone()].to_vec()),
+        normals: scan.normals.as_ref().map(|n| n[range].to_vec()),
+    }
+}
+
+/// `chunk` moved by `pose` (positions, and normals by its rotation).
+fn posed_chunk(chunk: &PointChunk, pose: &Pose) -> PointChunk {
+    PointChunk {
+        positions: chunk
+            .positions
+            .iter()
+            .map(|&p| pose.apply_point(p))
+            .collect(),
+        colours: chunk.colours.clone(),
+        normals: chunk.normals.as_ref().map(|n| {
+            n.iter()
+                .map(|v| pose.apply_vector(v.as_dvec3()).as_vec3())
+                .collect()
+        }),
+    }
+}
