@@ -73,6 +73,10 @@ pub(crate) struct EvalArgs {
     /// --splat-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
     splat_limit: f32,
+    /// Geometry limit of the patch renders in pixels (see `spatch render
+    /// --geometry-limit`; 0 = off, the default; not with --sweep).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_GEOMETRY_LIMIT, conflicts_with = "sweep")]
+    geometry_limit: f32,
     /// Skip the image error (geometric error only).
     #[arg(long, conflicts_with = "sweep")]
     no_images: bool,
@@ -147,6 +151,7 @@ impl EvalArgs {
         self.shading.apply(&mut render);
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
+        render.geometry_limit = self.geometry_limit;
         render
     }
 

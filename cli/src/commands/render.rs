@@ -169,6 +169,14 @@ pub(crate) struct RenderArgs {
     /// instructions per frame, 1.6 dB lower PSNR). 0 (default): off.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT)]
     splat_limit: f32,
+    /// Phong, bilinear cells: draw a whole patch's positions from the mip
+    /// level above its shading level when that level's cells stay below
+    /// PX pixels (1..=16), still shading each pixel from the shading
+    /// level's normals: 4× fewer nodes, a surface bilinear between every
+    /// other node (bunny 500² at 3.6: 37 % fewer instructions per frame,
+    /// 1.7 dB lower PSNR, specks on thin rims). 0 (default): off.
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_GEOMETRY_LIMIT)]
+    geometry_limit: f32,
     /// Trim, once per scene, the level-0 cells that an earlier patch
     /// already draws (same surface within 5 % of a cell, normals within
     /// 1°): each frame then draws fewer cells where patches overlap, for a
@@ -320,6 +328,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.mip = !args.no_mip;
     o.mip_limit = args.mip_limit;
     o.splat_limit = args.splat_limit;
+    o.geometry_limit = args.geometry_limit;
     o.guard_band = args.guard_band;
     o.tile_rows = args.tile_rows;
     if let Some(bg) = args.background {

@@ -213,11 +213,45 @@ fn splat_limit_splats_the_pieces_subdivision_would_cut() {
 }
 
 #[test]
+fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
+    // The default sphere seen small: with --geometry-limit its patches
+    // draw the level above their shading level, a quarter of the nodes,
+    // and cover about the pixels the default covers.
+    let t = TestCommand::new();
+    t.run(&["sphere", "-o", "big.spatch"]).success();
+    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
+        let args = [
+            "render",
+            "big.spatch",
+            "-o",
+            "s.png",
+            "--width",
+            "200",
+            "--height",
+            "200",
+            "--stats",
+            name,
+        ];
+        t.run(&[&args[..], extra].concat()).success();
+        t.json(name)
+    };
+    let off = stats(&[], "off.json");
+    let on = stats(&["--geometry-limit", "3.6"], "on.json");
+    let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
+    assert!(
+        count(&on, "patch_nodes") * 3 < count(&off, "patch_nodes") * 2,
+        "{on}"
+    );
+    let (a, b) = (count(&off, "covered_pixels"), count(&on, "covered_pixels"));
+    assert!(a.abs_diff(b) * 200 < a, "{a} against {b}");
+}
+
+#[test]
 fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
-    let cases: [&[&str]; 8] = [
+    let cases: [&[&str]; 9] = [
         &["render", "missing.spatch", "-o", "out.png"],
         &["render", "junk.spatch", "-o", "out.png"],
         &[
@@ -230,6 +264,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         &["render", &name, "-o", "out.png", "--mip-limit", "40"],
         &["render", &name, "-o", "out.png", "--tile-rows", "2"],
         &["render", &name, "-o", "out.png", "--splat-limit", "0.2"],
+        &["render", &name, "-o", "out.png", "--geometry-limit", "0.5"],
     ];
     for args in cases {
         let run = t.run(args);

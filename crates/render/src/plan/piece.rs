@@ -21,7 +21,7 @@ use std::time::Instant;
 use glam::Vec3;
 
 use crate::fixed::{XY_FRAC_BITS, XY_ONE};
-use crate::options::{CellScheme, Projection, RenderMode, RenderOptions};
+use crate::options::{CellScheme, Projection, RenderMode, RenderOptions, Shading};
 use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::counters::nanos_since;
@@ -36,6 +36,10 @@ use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 /// traversal and cell measurement, its subdivision (or the splat or
 /// triangle path), its attributes, and pushes its draw item to `work`
 /// (nothing when no cell is drawn or it lies outside the image's rows).
+/// Why inlined: its one caller, [`plan_chunk`](crate::plan::chunk::plan_chunk),
+/// kept it inline until the coarse-geometry choice made it longer
+/// (0.1 M instructions per bunny frame; callgrind, 500²).
+#[inline]
 pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange) {
     let (p, setup, whole, cell_test) = (ctx.patch, ctx.setup, ctx.whole, ctx.cell_test);
     let opts = setup.options;
@@ -54,7 +58,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     }
     let start = Instant::now();
     // 2. Mip level.
-    let mut m = 0;
+    let (mut m, mut shift) = (0, 0);
     if whole && opts.mip && p.level_count() > 1 {
         let extent = estimate_extent(&proj0, piece, p.base.d_range);
         // The splat path covers cells whose extent (the max-norm sum of
@@ -68,7 +72,12 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < limit {
             m += 1;
         }
+        // Coarse geometry: the level above draws, this one shades.
+        if coarse_geometry(opts) && m + 1 < p.level_count() {
+            shift = (extent * ((2u32 << m) as f32) < opts.geometry_limit) as usize;
+        }
     }
+    let m = m + shift;
     let level = p.level(m);
     let range = if m == 0 {
         piece
@@ -187,6 +196,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         spans: spans as u32,
         uniform_albedo: level.colours.is_none(),
         level: m as u8,
+        shade_shift: shift as u8,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
         y0: y0 - pad,
@@ -194,6 +204,16 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
         splat,
     });
+}
+
+/// Whether whole patches may draw the level above their shading level
+/// ([`RenderOptions::geometry_limit`]): Phong (the resolve pass
+/// interpolates the shading level's normals), bilinear cells, no splats.
+fn coarse_geometry(opts: &RenderOptions) -> bool {
+    opts.geometry_limit > 0.0
+        && opts.shading == Shading::Phong
+        && opts.cells == CellScheme::Bilinear
+        && opts.splat_limit == 0.0
 }
 
 /// Estimated level-0 cell extent in pixels from the projected box corners.

@@ -42,8 +42,13 @@ pub(crate) struct Item {
     /// Every node has the same albedo (a patch without colours): the
     /// resolve pass takes it as is instead of interpolating it.
     pub(crate) uniform_albedo: bool,
-    /// Mip level of the piece (Phong reads the level's prepared normals).
+    /// Mip level of the piece's nodes (Phong reads the prepared normals
+    /// of level `level - shade_shift`).
     pub(crate) level: u8,
+    /// 1 when the piece's positions come from the level above its shading
+    /// level (coarse geometry, [`crate::RenderOptions::geometry_limit`]),
+    /// else 0.
+    pub(crate) shade_shift: u8,
     /// The piece's first node column and row in its level.
     pub(crate) i0: u16,
     pub(crate) j0: u16,

@@ -52,6 +52,10 @@ pub(crate) struct PreparedPatch {
     /// Per level, the nodes' shading inputs, built on first use
     /// ([`Self::shading`]).
     shading: Vec<OnceLock<LevelShading>>,
+    /// Per level `g` above 0, the shading inputs of level `g - 1` on the
+    /// grid that level `g`'s cells span, built on first use
+    /// ([`Self::fine_shading`]).
+    fine_shading: Vec<OnceLock<LevelShading>>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -158,6 +162,7 @@ impl PreparedPatch {
             base,
             coarse: (1..levels).map(|_| OnceLock::new()).collect(),
             shading: (0..levels).map(|_| OnceLock::new()).collect(),
+            fine_shading: (0..levels).map(|_| OnceLock::new()).collect(),
         };
         Some((prepared, corners))
     }
@@ -196,11 +201,65 @@ impl PreparedPatch {
         })
     }
 
+    /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
+    /// level `g` (coarse geometry, [`crate::RenderOptions::geometry_limit`]):
+    /// a grid of `2 (cols - 1) + 1` by `2 (rows - 1) + 1` nodes of level
+    /// `g`'s grid size, whose node `(2i, 2j)` lies at level `g`'s node
+    /// `(i, j)`. A node level `g - 1` has (not empty) keeps its inputs;
+    /// the others (empty nodes, and the node row or column that level
+    /// `g`'s padding adds) take those of the nearest filled node of level
+    /// `g`, so a sample anywhere in a drawn cell of level `g` interpolates
+    /// filled inputs. Built the first time a frame asks for it, and kept.
+    pub(crate) fn fine_shading(&self, g: usize) -> &LevelShading {
+        self.fine_shading[g].get_or_init(|| {
+            let (fine, coarse) = (self.level(g - 1), self.level(g));
+            let (sf, sc) = (self.shading(g - 1), self.shading(g));
+            let (cols, rows) = (2 * (coarse.cols - 1) + 1, 2 * (coarse.rows - 1) + 1);
+            let coloured = !sf.colours.is_empty() && !sc.colours.is_empty();
+            let (mut normals, mut colours) = (Vec::with_capacity(cols * rows), Vec::new());
+            for j in 0..rows {
+                for i in 0..cols {
+                    let own = (i < fine.cols && j < fine.rows)
+                        .then_some(j * fine.cols + i)
+                        .filter(|&k| fine.displacements[k] != EMPTY);
+                    let (v, c) = match own {
+                        Some(_) => (&sf.normals, &sf.colours),
+                        None => (&sc.normals, &sc.colours),
+                    };
+                    let k = own.unwrap_or_else(|| nearest_filled(coarse, i, j));
+                    normals.push(v[k]);
+                    if coloured {
+                        colours.push(c[k]);
+                    }
+                }
+            }
+            LevelShading {
+                normals,
+                colours,
+                slots: SlotSet::new(std::iter::empty()),
+            }
+        })
+    }
+
     /// Shading ratios at mip level `m` (node spacing doubles per level).
     pub(crate) fn ratios_at(&self, m: usize) -> (f32, f32) {
         let s = (1u32 << m) as f32;
         (self.ratios.0 / s, self.ratios.1 / s)
     }
+}
+
+/// The index of a filled node of `coarse` nearest to the point `(i / 2,
+/// j / 2)` (node units of `coarse`): the first filled one of the (up to
+/// four) nodes around it, else node 0 of the cell holding it.
+fn nearest_filled(coarse: &MipLevel, i: usize, j: usize) -> usize {
+    let clamp = |v: usize, n: usize| v.min(n - 1);
+    let (i0, i1) = (clamp(i / 2, coarse.cols), clamp(i.div_ceil(2), coarse.cols));
+    let (j0, j1) = (clamp(j / 2, coarse.rows), clamp(j.div_ceil(2), coarse.rows));
+    let around = [(i0, j0), (i1, j0), (i0, j1), (i1, j1)].map(|(i, j)| j * coarse.cols + i);
+    around
+        .into_iter()
+        .find(|&k| coarse.displacements[k] != EMPTY)
+        .unwrap_or(around[0])
 }
 
 #[cfg(test)]

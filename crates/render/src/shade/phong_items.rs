@@ -43,15 +43,23 @@ pub(crate) struct PhongItems<'a> {
     pub(crate) colours: Vec<&'a [Vec4]>,
     /// True when no item has colours (all take the base albedo).
     pub(crate) uncoloured: bool,
+    /// True when some item is shaded from the level below its nodes'
+    /// (coarse geometry): the resolve pass then maps sub-nodes through
+    /// [`Self::offsets`].
+    pub(crate) shifted: bool,
     /// The shade frames' light and half vectors and directions to the eye
     /// (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
     /// (callgrind, `profile_sphere 500 1`: 60 % of the sphere's groups of
     /// four mix frames where patches overlap).
     pub(crate) frames: Vec<[Vec4; 3]>,
-    /// Per subdivision `nu × nv`, the weights of sub-node `(a, b)` at
-    /// `a * (nv + 1) + b`, each splat over four lanes.
+    /// Per subdivision `nu × nv` and shading shift, the weights of
+    /// sub-node `(a, b)` at `a * (nv + 1) + b`, each splat over four lanes.
     pub(crate) weights: Vec<[Vec4; 4]>,
+    /// Per entry of [`Self::weights`], the shading cell's offset within
+    /// the 2 × 2 shading cells of a coarse-geometry cell: `dj << 16 | di`
+    /// (0 without a shift; see [`sub_node_place`]).
+    pub(crate) offsets: Vec<u32>,
 }
 
 impl<'a> PhongItems<'a> {
@@ -73,23 +81,26 @@ impl<'a> PhongItems<'a> {
             .iter()
             .map(|f| [f.light.extend(0.0), f.half.extend(0.0), f.view.extend(0.0)])
             .collect();
-        let mut built: Vec<(u16, u16, u32)> = Vec::new();
+        let mut built: Vec<(u16, u16, u8, u32)> = Vec::new();
         table.items.reserve(items.len());
         table.colours.reserve(items.len());
         for &(c, i) in items {
             let item = &chunks[c as usize].items[i as usize];
-            let (nu, nv) = (item.nu, item.nv);
-            let start = match built.iter().find(|&&(u, v, _)| (u, v) == (nu, nv)) {
-                Some(&(_, _, start)) => start,
+            let (nu, nv, shift) = (item.nu, item.nv, item.shade_shift);
+            let key = (nu, nv, shift);
+            let start = match built.iter().find(|&&(u, v, h, _)| (u, v, h) == key) {
+                Some(&(_, _, _, start)) => start,
                 None => {
                     let start = table.weights.len() as u32;
                     for a in 0..=nu as u32 {
                         for b in 0..=nv as u32 {
-                            let w = sub_node_weights(a, b, nu as u32, nv as u32);
+                            let (w, offset) =
+                                sub_node_place(a, b, nu as u32, nv as u32, shift as u32);
                             table.weights.push(w.map(Vec4::splat));
+                            table.offsets.push(offset);
                         }
                     }
-                    built.push((nu, nv, start));
+                    built.push((nu, nv, shift, start));
                     start
                 }
             };
@@ -98,6 +109,7 @@ impl<'a> PhongItems<'a> {
             table.colours.push(colours);
         }
         table.uncoloured = table.colours.iter().all(|c| c.is_empty());
+        table.shifted = table.items.iter().any(|item| item.shift != 0);
         table
     }
 }
@@ -115,11 +127,14 @@ pub(crate) struct PhongItem<'a> {
     /// when one-sided).
     pub(crate) view: Vec4,
     pub(crate) normals: &'a [Vec4],
-    /// Nodes per row of the level (`u16`: index sums cannot overflow, no
+    /// Nodes per row of the shading grid (`u16`: index sums cannot overflow, no
     /// checks).
     pub(crate) cols: u16,
     /// Weights per row of the item's weight table (`nv + 1`).
     pub(crate) stride: u16,
+    /// The item's shading shift (1: coarse geometry, a cell holds 2 × 2
+    /// shading cells).
+    pub(crate) shift: u32,
     /// Where the item's weights start in [`PhongItems::weights`].
     pub(crate) weights: u32,
     /// The item's shade frame, with [`BASE_ALBEDO`] for an item without
@@ -139,9 +154,13 @@ impl<'a> PhongItem<'a> {
     ) -> (Self, &'a [Vec4]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
-        let cols = patch.level(m).cols;
-        let shading = patch.shading(m);
-        let start = item.j0 as usize * cols + item.i0 as usize;
+        let shift = item.shade_shift as usize;
+        let (cols, shading) = if shift == 0 {
+            (patch.level(m).cols, patch.shading(m))
+        } else {
+            ((patch.level(m).cols - 1) * 2 + 1, patch.fine_shading(m))
+        };
+        let start = (item.j0 as usize * cols + item.i0 as usize) << shift;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
         let [light, half, view] = frames[item.frame as usize];
         let entry = Self {
@@ -151,6 +170,7 @@ impl<'a> PhongItem<'a> {
             normals: &shading.normals[start..],
             cols: cols as u16,
             stride: item.nv + 1,
+            shift: shift as u32,
             weights,
             frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
         };
@@ -165,12 +185,15 @@ impl<'a> PhongItem<'a> {
     /// The normal interpolated at sample `sub` (`w` unused): the same
     /// operations in the same order as `phong_reference`.
     #[inline(always)]
-    pub(crate) fn normal(&self, sub: u32, weights: &[[Vec4; 4]]) -> Vec4 {
+    /// `SHIFTED` false: no item of the frame has a shift.
+    pub(crate) fn normal<const SHIFTED: bool>(
+        &self,
+        sub: u32,
+        weights: &[[Vec4; 4]],
+        offsets: &[u32],
+    ) -> Vec4 {
+        let (k, w) = self.corner(sub, weights, offsets, SHIFTED);
         let cols = self.cols as usize;
-        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
-        let k = cj * cols + ci;
-        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
-        let w = &weights[self.weights as usize + a * self.stride as usize + b];
         // One slice for the four corners: a single bounds check.
         let quad = &self.normals[k..k + cols + 2];
         quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
@@ -180,12 +203,15 @@ impl<'a> PhongItem<'a> {
     /// sample `sub`: the same operations in the same order as
     /// `phong_reference`.
     #[inline(always)]
-    pub(crate) fn interpolate(&self, sub: u32, colours: &[Vec4], weights: &[[Vec4; 4]]) -> Lane {
+    pub(crate) fn interpolate(
+        &self,
+        sub: u32,
+        colours: &[Vec4],
+        weights: &[[Vec4; 4]],
+        offsets: &[u32],
+    ) -> Lane {
+        let (k, w) = self.corner(sub, weights, offsets, true);
         let cols = self.cols as usize;
-        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
-        let k = cj * cols + ci;
-        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
-        let w = &weights[self.weights as usize + a * self.stride as usize + b];
         // One slice for the four corners: a single bounds check.
         let lerp = |v: &[Vec4]| {
             let quad = &v[k..k + cols + 2];
@@ -205,6 +231,55 @@ impl<'a> PhongItem<'a> {
     }
 }
 
+impl PhongItem<'_> {
+    /// The first corner (index into the item's normals) of the shading
+    /// cell of sample `sub`, and the corners' weights there (`may_shift`
+    /// false: the item has no shift).
+    #[inline(always)]
+    fn corner<'w>(
+        &self,
+        sub: u32,
+        weights: &'w [[Vec4; 4]],
+        offsets: &[u32],
+        may_shift: bool,
+    ) -> (usize, &'w [Vec4; 4]) {
+        let cols = self.cols as usize;
+        let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
+        let (a, b) = (((sub >> 8) & 0xff) as usize, (sub & 0xff) as usize);
+        let entry = self.weights as usize + a * self.stride as usize + b;
+        // Why `may_shift` (a constant in the hot path) and the branch:
+        // without a shift (the default) the offset's load and shifts cost
+        // 1 M instructions per bunny frame, the branch alone 0.4 M
+        // (callgrind, 500²).
+        if !may_shift || self.shift == 0 {
+            return (cj * cols + ci, &weights[entry]);
+        }
+        let o = offsets[entry] as usize;
+        let shift = self.shift;
+        let k = ((cj << shift) + (o >> 16)) * cols + (ci << shift) + (o & 0xffff);
+        (k, &weights[entry])
+    }
+}
+
+/// The corner weights of sub-node `(a, b)` of a cell cut `nu × nv` in its
+/// shading cell, and that cell's offset `dj << 16 | di`: with `shift` 0
+/// the cell itself ([`sub_node_weights`], offset 0); with `shift` 1 (coarse
+/// geometry) the cell spans 2 × 2 shading cells, so the point `2a / nu`
+/// lies in shading cell `min(⌊2a / nu⌋, 1)` at the rest.
+pub(crate) fn sub_node_place(a: u32, b: u32, nu: u32, nv: u32, shift: u32) -> ([f32; 4], u32) {
+    if shift == 0 {
+        return (sub_node_weights(a, b, nu, nv), 0);
+    }
+    let split = |a: u32, n: u32| {
+        let t = a << shift;
+        let off = (t / n).min((1 << shift) - 1);
+        (off, (t - off * n) as f32 / n as f32)
+    };
+    let ((di, s), (dj, t)) = (split(a, nu), split(b, nv));
+    let w = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
+    (w, dj << 16 | di)
+}
+
 /// The bilinear weights of the corners `(0, 0), (1, 0), (0, 1), (1, 1)` at
 /// sub-node `(a, b)` of a cell cut `nu × nv`.
 #[inline(always)]
@@ -212,4 +287,33 @@ pub(crate) fn sub_node_weights(a: u32, b: u32, nu: u32, nv: u32) -> [f32; 4] {
     let s = a as f32 / nu as f32;
     let t = b as f32 / nv as f32;
     [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With a shift, each sub-node lands at `2a / nu` (and `2b / nv`) of
+    /// its shading cells: the offset plus the weights' position gives it
+    /// back, within one shading cell pair, and the weights sum to 1.
+    #[test]
+    fn shifted_sub_nodes_land_at_their_point_of_the_shading_cells() {
+        for (nu, nv) in [(1, 1), (2, 3), (3, 2), (4, 4), (5, 7), (64, 1)] {
+            for a in 0..=nu {
+                for b in 0..=nv {
+                    let (w, offset) = sub_node_place(a, b, nu, nv, 1);
+                    let (di, dj) = ((offset & 0xffff) as f32, (offset >> 16) as f32);
+                    assert!(di <= 1.0 && dj <= 1.0);
+                    let (s, t) = (w[1] + w[3], w[2] + w[3]);
+                    assert!((di + s - 2.0 * a as f32 / nu as f32).abs() < 1e-6);
+                    assert!((dj + t - 2.0 * b as f32 / nv as f32).abs() < 1e-6);
+                    assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+                }
+            }
+            assert_eq!(
+                sub_node_place(1, 1, nu, nv, 0),
+                (sub_node_weights(1, 1, nu, nv), 0)
+            );
+        }
+    }
 }

@@ -26,6 +26,8 @@ use crate::plan::work::{ChunkWork, Item};
 #[cfg(test)]
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
+#[cfg(test)]
+use crate::shade::phong_items::sub_node_place;
 use crate::shade::phong_items::{sub_node_weights, Lane, PhongItems, BASE_ALBEDO};
 
 /// How the resolve pass turns payloads into colours.
@@ -95,11 +97,15 @@ pub(crate) fn resolve_band(
 fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
     // The default shininess, 32, is five squarings (see
     // [`Material::shade4_with`]).
-    if r.material.squarings() == 5 {
-        resolve_phong_pixels::<5>(r, px, rgba, eye_depth);
-    } else {
-        resolve_phong_pixels::<ANY_POWER>(r, px, rgba, eye_depth);
-    }
+    // And the mapping of coarse-geometry items only when the frame has
+    // some (see `PhongItem::corner`).
+    let run = match (r.material.squarings() == 5, r.phong.shifted) {
+        (true, false) => resolve_phong_pixels::<5, false>,
+        (true, true) => resolve_phong_pixels::<5, true>,
+        (false, false) => resolve_phong_pixels::<ANY_POWER, false>,
+        (false, true) => resolve_phong_pixels::<ANY_POWER, true>,
+    };
+    run(r, px, rgba, eye_depth);
 }
 
 /// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
@@ -114,7 +120,7 @@ fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth
 /// Not inlined: inlined into [`resolve_band`] the queued pass cost 2.5 M
 /// instructions more per frame (register allocation).
 #[inline(never)]
-fn resolve_phong_pixels<const SQUARINGS: u32>(
+fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool>(
     r: &Resolve<'_>,
     px: &[Sample],
     rgba: &mut [[u8; 4]],
@@ -127,7 +133,7 @@ fn resolve_phong_pixels<const SQUARINGS: u32>(
         let s: &[Sample; 4] = s.try_into().expect("groups of four");
         let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
         let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
-        resolve_group::<SQUARINGS>(r, s, rgba, eye);
+        resolve_group::<SQUARINGS, SHIFTED>(r, s, rgba, eye);
     }
     // The last pixels of a band whose size is not a multiple of four,
     // padded with empty pixels.
@@ -137,7 +143,7 @@ fn resolve_phong_pixels<const SQUARINGS: u32>(
         let mut s = [Sample::EMPTY; 4];
         s[..n].copy_from_slice(&px[done..]);
         let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
-        resolve_group::<SQUARINGS>(r, &s, &mut c, &mut e);
+        resolve_group::<SQUARINGS, SHIFTED>(r, &s, &mut c, &mut e);
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
     }
@@ -150,7 +156,7 @@ fn resolve_phong_pixels<const SQUARINGS: u32>(
 /// next, and the rest (silhouette edges, triangles, colours) goes through
 /// [`resolve_general_group`] (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn resolve_group<const SQUARINGS: u32>(
+fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
     r: &Resolve<'_>,
     s: &[Sample; 4],
     rgba: &mut [[u8; 4]; 4],
@@ -179,8 +185,8 @@ fn resolve_group<const SQUARINGS: u32>(
                 depth[3] as f32,
             );
             *eye = (Vec4::splat(r.near) + depth * scale).to_array();
-            let weights = &r.phong.weights[..];
-            let normal = |k: usize| it[k].normal(sub[k], weights);
+            let (weights, offsets) = (&r.phong.weights[..], &r.phong.offsets[..]);
+            let normal = |k: usize| it[k].normal::<SHIFTED>(sub[k], weights, offsets);
             let normals = [normal(0), normal(1), normal(2), normal(3)];
             // Why transposes even when the four share a frame: comparing
             // frames and choosing cost more than the shuffles (callgrind,
@@ -255,7 +261,7 @@ fn resolve_general_group(
 fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     if s.w2 & PATCH_SAMPLE != 0 {
         let i = (s.w2 & !PATCH_SAMPLE) as usize;
-        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights);
+        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights, &t.offsets);
     }
     let albedo = unpack_rgb(s.w1);
     Lane {
@@ -462,15 +468,23 @@ pub(crate) fn phong_reference(
     let item = &r.chunks[c as usize].items[i as usize];
     let patch = &patches[item.frame as usize];
     let m = item.level as usize;
-    let cols = patch.level(m).cols;
+    let shift = item.shade_shift as usize;
+    let (cols, shading) = if shift == 0 {
+        (patch.level(m).cols, patch.shading(m))
+    } else {
+        ((patch.level(m).cols - 1) * 2 + 1, patch.fine_shading(m))
+    };
     let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
-    let k = (item.j0 as usize + cj) * cols + item.i0 as usize + ci;
-    let w = sub_node_weights(
+    let (w, offset) = sub_node_place(
         (sub >> 8) & 0xff,
         sub & 0xff,
         item.nu as u32,
         item.nv as u32,
+        shift as u32,
     );
+    let (di, dj) = ((offset & 0xffff) as usize, (offset >> 16) as usize);
+    let k =
+        (((item.j0 as usize + cj) << shift) + dj) * cols + ((item.i0 as usize + ci) << shift) + di;
     let lerp = |v: &[Vec4]| {
         let corners = [k, k + 1, k + cols, k + cols + 1];
         let mut sum = v[corners[0]].truncate() * w[0];
@@ -479,7 +493,6 @@ pub(crate) fn phong_reference(
         }
         sum
     };
-    let shading = patch.shading(m);
     let albedo = if item.uniform_albedo {
         r.base_albedo
     } else {

@@ -79,7 +79,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
     assert_eq!(patches.len(), 2);
     assert!(patches.iter().all(|p| p.level_count() >= 2));
     // Pieces at levels 0 and 1, cut in several ways, with and without
-    // their colours.
+    // their colours, and level-1 pieces shaded from level 0.
     let mut chunk = ChunkWork::default();
     for k in 0..8u32 {
         let (frame, level) = ((k % 2) as usize, (k / 2 % 2) as usize);
@@ -100,6 +100,8 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             spans: 0,
             uniform_albedo: k >= 4 || matches!(mix, Mix::NoColours),
             level: level as u8,
+            // Two whole level-1 pieces shaded from level 0 (coarse geometry).
+            shade_shift: (level == 1 && k >= 6) as u8,
             i0: i0 as u16,
             j0: j0 as u16,
             y0: 0,
