@@ -14,7 +14,7 @@
 //!
 //! The patch surface: every drawable cell (four filled corners) as the bilinear quad through
 //! its nodes, the surface the renderer draws, searched exactly through a [`PatchSurface`]
-//! (a bounding volume hierarchy over the cells; see `patch_surface`). A scene without
+//! (a flat grid of the cells searched by runs of points; see `patch_surface`). A scene without
 //! drawable cells is measured against its nodes.
 //!
 //! Invariants: results do not depend on thread count or query order (per-point distances are

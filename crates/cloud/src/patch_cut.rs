@@ -13,7 +13,8 @@
 //!    bounding rectangle, empty nodes included: a sparse or L-shaped region is cheaper in
 //!    pieces).
 //! 3. A patch is stored with 8-bit codes when its depth range fits them with a step no
-//!    coarser than `max_step`, else with 16-bit codes: a steep region stays whole rather than
+//!    coarser than `max_step` (spatch-format's `QuantizerPolicy`, shared with the mesh
+//!    fitter), else with 16-bit codes: a steep region stays whole rather than
 //!    being cut into strips (cutting a region at 40° slope to 8-bit depth ranges left pieces
 //!    of about 60 filled nodes on the ten bunny scans).
 //!
@@ -24,7 +25,7 @@
 //! Cost: O(cells) for the regions and O(cells · log cells) for the cuts; one byte a cell for
 //! the visited marks.
 
-use spatch_format::{DisplacementWidth, Frame, GridSize, Patch, Quantizer};
+use spatch_format::{DisplacementWidth, Frame, GridSize, Patch, Quantizer, QuantizerPolicy};
 
 use crate::range_image::RangeImage;
 use crate::CloudError;
@@ -41,10 +42,9 @@ const FRAME_BYTES: usize = 45;
 pub(crate) struct CutSettings {
     /// Most nodes a patch side, ≥ 2.
     pub(crate) grid: usize,
-    /// Target 8-bit displacement step (model units).
-    pub(crate) target_step: f32,
-    /// Coarsest 8-bit step before a patch is stored with 16-bit codes (model units).
-    pub(crate) max_step: f32,
+    /// How a patch's codes are chosen: 8-bit codes of at least the target step while their
+    /// step stays within the coarsest allowed, else 16-bit codes of the target step.
+    pub(crate) quantizer: QuantizerPolicy,
 }
 
 /// Counts gathered while cutting.
@@ -104,8 +104,6 @@ fn cut_region(
     out: &mut Vec<Patch>,
 ) -> Result<(), CloudError> {
     let whole = Extent::of(image, cells);
-    let quantizer =
-        Quantizer::for_range(whole.range, settings.target_step, DisplacementWidth::Bits8)?;
     let fits = whole.cols <= settings.grid && whole.rows <= settings.grid;
     if cells.len() > 1 {
         let (low, high) = halves(cells, &whole);
@@ -121,12 +119,10 @@ fn cut_region(
             return cut_region(image, &high, settings, counts, out);
         }
     }
-    let quantizer = if quantizer.step() > settings.max_step {
+    let quantizer = settings.quantizer.choose(whole.range)?;
+    if quantizer.width() == DisplacementWidth::Bits16 {
         counts.wide_patches += 1;
-        Quantizer::for_range(whole.range, settings.target_step, DisplacementWidth::Bits16)?
-    } else {
-        quantizer
-    };
+    }
     out.push(build_patch(image, cells, &whole, &quantizer)?);
     Ok(())
 }
@@ -268,8 +264,11 @@ mod tests {
 
     const SETTINGS: CutSettings = CutSettings {
         grid: 33,
-        target_step: 0.01,
-        max_step: 0.05,
+        quantizer: QuantizerPolicy {
+            target_step: 0.01,
+            max_step: 0.05,
+            fine_step: 0.01,
+        },
     };
 
     /// Cuts the cells of `image` where `emitted(cx, cy)` holds.

@@ -45,6 +45,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
+use spatch_report::StageClock;
 
 use crate::bucket_sort::sort_pairs;
 use crate::consensus::{project_to_consensus, ConsensusLimits};
@@ -55,9 +56,7 @@ use crate::range_image::{ImageGeometry, PointColumns};
 use crate::spacing::estimate_spacing;
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
 use crate::tiles::{bounds_of_members, plan_tiles, TileGrid, TilePlan, TilePoints};
-use crate::{
-    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, StageTime, TILE_BUFFER_PIXELS,
-};
+use crate::{CloudError, CloudOptions, CloudReport, CloudWarning, Counts, TILE_BUFFER_PIXELS};
 
 /// Largest total number of range-image pixels over all views of one tile (about 150 MB of
 /// images). A cloud whose images fit is converted as one tile.
@@ -85,18 +84,19 @@ pub struct CloudConversion {
     pub report: CloudReport,
 }
 
-/// Times consecutive stages and reports each sequential one as done.
-struct StageClock<'a> {
+/// Times consecutive stages on the shared [`StageClock`] and reports each sequential one as
+/// done.
+struct StageLaps<'a> {
     last: Instant,
-    stages: Vec<StageTime>,
+    clock: StageClock,
     progress: ProgressFn<'a>,
 }
 
-impl<'a> StageClock<'a> {
-    fn new(progress: ProgressFn<'a>) -> StageClock<'a> {
-        StageClock {
+impl<'a> StageLaps<'a> {
+    fn new(progress: ProgressFn<'a>) -> StageLaps<'a> {
+        StageLaps {
             last: Instant::now(),
-            stages: Vec::new(),
+            clock: StageClock::new(),
             progress,
         }
     }
@@ -116,10 +116,7 @@ impl<'a> StageClock<'a> {
     /// Adds `seconds` to the stage `name` (the stages of the tiles alternate), and restarts
     /// the clock.
     fn record(&mut self, name: &'static str, seconds: f64) {
-        match self.stages.iter_mut().find(|s| s.name == name) {
-            Some(stage) => stage.seconds += seconds,
-            None => self.stages.push(StageTime { name, seconds }),
-        }
+        self.clock.add(name, seconds);
         self.last = Instant::now();
     }
 }
@@ -166,7 +163,7 @@ fn convert_cloud(
     progress: ProgressFn<'_>,
 ) -> Result<CloudConversion, CloudError> {
     options.validate()?;
-    let mut clock = StageClock::new(progress);
+    let mut clock = StageLaps::new(progress);
     let input_points = cloud.len();
     let (cloud, dropped) = keep_finite(cloud)?;
     let bounds = check_extent(&cloud, dropped)?;
@@ -222,8 +219,8 @@ fn convert_cloud(
         dropped_non_finite: dropped,
         points: cloud.len(),
         counts: Counts::of(&scene, bytes.len()),
-        seconds: clock.stages.iter().map(|s| s.seconds).sum(),
-        stages: clock.stages,
+        seconds: clock.clock.total(),
+        stages: clock.clock.into_stages(),
         threads: rayon::current_num_threads(),
         spacing,
         mean_nearest,
@@ -431,7 +428,7 @@ fn convert_tiles(
     normals: Vec<Vec3>,
     options: &CloudOptions,
     (spacing, pixel): (f32, f32),
-    clock: &mut StageClock<'_>,
+    clock: &mut StageLaps<'_>,
     warnings: &mut Vec<CloudWarning>,
 ) -> Result<TileOutput, CloudError> {
     let bases = view_directions(options.views);

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 use rayon::prelude::*;
-use spatch_format::Patch;
+use spatch_format::{Patch, QuantizerPolicy};
 use spatch_mesh::Aabb;
 
 use crate::directions::ViewBasis;
@@ -134,8 +134,11 @@ pub(crate) fn convert_tile(
         tolerance: options.cover_tolerance * spacing,
         cut: CutSettings {
             grid: options.grid as usize,
-            target_step: options.displacement_step * spacing,
-            max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+            quantizer: QuantizerPolicy {
+                target_step: options.displacement_step * spacing,
+                max_step: CloudOptions::DEFAULT_MAX_DISPLACEMENT_STEP * spacing,
+                fine_step: options.displacement_step * spacing,
+            },
         },
     };
     let mut uncovered = job

@@ -5,7 +5,6 @@
 //! encode: its patches join the fitter's before the scene is built.
 
 use std::path::Path;
-use std::time::Instant;
 
 use spatch_edges::generate_edge_patches;
 
@@ -14,9 +13,10 @@ use crate::sides::{apply_sides, find_mesh_sides};
 use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
+use spatch_report::StageClock;
 use spatch_segment::segment;
 
-use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts, StageTime};
+use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts};
 
 /// What to convert.
 #[derive(Debug, Clone)]
@@ -145,9 +145,8 @@ fn run_pipeline(
     owner: Option<&dyn PartOwner>,
     on_progress: &(dyn Fn(ProgressEvent) + Sync),
 ) -> Result<Conversion, ConvertError> {
-    let mut stages = Vec::with_capacity(Stage::ALL.len());
     let mut clock = Clock {
-        stages: &mut stages,
+        times: StageClock::new(),
         on_progress,
     };
 
@@ -254,8 +253,8 @@ fn run_pipeline(
 
     let report = ConvertReport {
         counts: Counts::of(&scene, bytes.len()),
-        seconds: stages.iter().map(|s| s.seconds).sum(),
-        stages,
+        seconds: clock.times.total(),
+        stages: clock.times.into_stages(),
         threads: rayon::current_num_threads(),
         spacing,
         triangles: mesh.face_count(),
@@ -289,21 +288,15 @@ fn run_pipeline(
     })
 }
 
-/// Times stages and announces them.
+/// Times stages on the shared [`StageClock`] and announces them.
 struct Clock<'a> {
-    stages: &'a mut Vec<StageTime>,
+    times: StageClock,
     on_progress: &'a (dyn Fn(ProgressEvent) + Sync),
 }
 
 impl Clock<'_> {
     fn run<T>(&mut self, stage: Stage, work: impl FnOnce() -> T) -> T {
         (self.on_progress)(ProgressEvent::Stage(stage));
-        let start = Instant::now();
-        let out = work();
-        self.stages.push(StageTime {
-            name: stage.name(),
-            seconds: start.elapsed().as_secs_f64(),
-        });
-        out
+        self.times.time(stage.name(), work)
     }
 }

@@ -10,27 +10,20 @@
 //! Reconstruction: height = `h_min + code × step`; worst-case error `step / 2` (plus f32
 //! rounding of the frame, about 1e-7 of the model's size).
 
-use spatch_format::{DisplacementWidth, Quantizer};
+use spatch_format::{Quantizer, QuantizerPolicy};
 
 use crate::FitError;
 
 /// The step and code width of a region whose heights span `range` (≥ 0), with node spacing
 /// `spacing` and a budget of `max_error` (absolute) for half a step.
 ///
-/// Public so that other producers (the sharp-edge patches of `spatch-edges`) quantize exactly
-/// as the fitter does.
+/// The rule is spatch-format's [`QuantizerPolicy::within_error`], shared with the
+/// point-cloud pipeline. Public so that other producers (the sharp-edge patches of
+/// `spatch-edges`) quantize exactly as the fitter does.
 pub fn choose_quantizer(range: f32, spacing: f32, max_error: f32) -> Result<Quantizer, FitError> {
     // A flat region still needs a positive step; this floor is far below f32 noise of heights.
     let floor = spacing * 1e-5;
-    let eight = Quantizer::for_range(range, floor, DisplacementWidth::Bits8)?;
-    if eight.max_error() <= max_error {
-        return Ok(eight);
-    }
-    Ok(Quantizer::for_range(
-        range,
-        (2.0 * max_error).max(floor),
-        DisplacementWidth::Bits16,
-    )?)
+    Ok(QuantizerPolicy::within_error(max_error, floor).choose(range)?)
 }
 
 /// The code of height `h` above `h_min` (rounded, clamped to the quantizer's codes).
@@ -43,6 +36,7 @@ pub fn quantize_height(q: &Quantizer, h_min: f32, h: f32) -> u16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use spatch_format::DisplacementWidth;
 
     #[test]
     fn eight_bits_when_the_budget_allows() {

@@ -48,7 +48,7 @@ pub use error::{Corruption, FormatError};
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};
 pub use grid::GridSize;
 pub use patch::{DisplacementWidth, Patch, EMPTY};
-pub use quantize::Quantizer;
+pub use quantize::{Quantizer, QuantizerPolicy};
 pub use scene::{ColourChannel, MergeError, Scene};
 pub use sides::{Opening, Sides};
 pub use summary::{Range, SceneSummary};

@@ -3,6 +3,11 @@
 //! A height `h` (distance along `ẑ` from the frame origin) is stored as the
 //! code `d = round(h / step)`, reconstructed as `d · step`. The worst-case
 //! reconstruction error of a code inside the range is `step / 2`.
+//!
+//! [`QuantizerPolicy`] is the one rule every producer (the mesh fitter, its sharp-edge
+//! patches, the point-cloud pipeline) chooses a patch's codes by: 8-bit codes unless
+//! their step over the patch's height range would exceed the error budget, then 16-bit
+//! codes.
 
 use crate::{DisplacementWidth, FormatError};
 
@@ -76,6 +81,49 @@ impl Quantizer {
     }
 }
 
+/// How a producer chooses the quantizer of a patch from its height range: **8-bit codes
+/// unless the error budget needs more.**
+///
+/// With 8-bit codes the step is `max(target_step, range / 254)`; when that exceeds
+/// `max_step` (twice the error budget: the worst-case error is half a step), the patch gets
+/// 16-bit codes with step `max(fine_step, range / 65534)` instead.
+///
+/// # Guarantees
+/// [`QuantizerPolicy::choose`] returns 8-bit codes whenever their step is at most
+/// `max_step`, so a patch's worst-case error is at most `max_step / 2` unless even 16-bit
+/// codes cannot span its range with `fine_step`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuantizerPolicy {
+    /// Finest step of 8-bit codes (model units, > 0): a flat patch still needs a step.
+    pub target_step: f32,
+    /// Coarsest 8-bit step allowed (model units): twice the error budget.
+    pub max_step: f32,
+    /// Step of 16-bit codes when 8 bits are too coarse (model units, > 0).
+    pub fine_step: f32,
+}
+
+impl QuantizerPolicy {
+    /// The policy of an error budget: 8-bit codes while half their step is at most
+    /// `max_error`, else 16-bit codes of step `2 · max_error`; no step finer than `floor`.
+    pub fn within_error(max_error: f32, floor: f32) -> Self {
+        Self {
+            target_step: floor,
+            max_step: 2.0 * max_error,
+            fine_step: (2.0 * max_error).max(floor),
+        }
+    }
+
+    /// The quantizer of a patch whose heights span `range` (see the type's docs). Fails on
+    /// a negative or non-finite range or a step that is not positive and finite.
+    pub fn choose(&self, range: f32) -> Result<Quantizer, FormatError> {
+        let eight = Quantizer::for_range(range, self.target_step, DisplacementWidth::Bits8)?;
+        if eight.step() <= self.max_step {
+            return Ok(eight);
+        }
+        Quantizer::for_range(range, self.fine_step, DisplacementWidth::Bits16)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -100,6 +148,28 @@ mod tests {
                 prop_assert!(q.step() >= target);
             }
         }
+    }
+
+    #[test]
+    fn policy_keeps_eight_bits_within_the_budget() {
+        let policy = QuantizerPolicy::within_error(0.1, 1e-5);
+        let q = policy.choose(1.0).unwrap();
+        assert_eq!(q.width(), DisplacementWidth::Bits8);
+        assert!(q.max_error() <= 0.1);
+        // 254 codes of 0.2 reach 50.8: the last range 8 bits can take.
+        assert_eq!(
+            policy.choose(50.0).unwrap().width(),
+            DisplacementWidth::Bits8
+        );
+        let wide = policy.choose(100.0).unwrap();
+        assert_eq!(wide.width(), DisplacementWidth::Bits16);
+        assert!((wide.step() - 0.2).abs() < 1e-6);
+        let flat = policy.choose(0.0).unwrap();
+        assert_eq!(
+            (flat.width(), flat.step()),
+            (DisplacementWidth::Bits8, 1e-5)
+        );
+        assert!(policy.choose(f32::NAN).is_err());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! pipeline (`spatch-convert`, `spatch-cloud`) and the shared JSON report
 //! (`spatch-eval`, docs/report-schema.md) have in common: the sizes of the
 //! scene it wrote ([`Counts`]) and the wall time of each of its stages
-//! ([`StageTime`]).
+//! ([`StageTime`]), kept by one [`StageClock`] in both pipelines.
 //!
 //! ```
 //! use spatch_report::{Counts, StageTime};
@@ -56,11 +56,75 @@ pub struct StageTime {
     pub seconds: f64,
 }
 
+/// The wall time of a pipeline's stages, in the order they first ran: the one stage clock
+/// of the mesh (`spatch-convert`) and point-cloud (`spatch-cloud`) pipelines.
+///
+/// A stage that runs in several pieces (the cloud's range images and extraction, tile by
+/// tile) adds up under one name.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StageClock {
+    stages: Vec<StageTime>,
+}
+
+impl StageClock {
+    /// A clock with no stage yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Runs `work` as stage `name` and records its wall time.
+    pub fn time<T>(&mut self, name: &'static str, work: impl FnOnce() -> T) -> T {
+        let start = std::time::Instant::now();
+        let out = work();
+        self.add(name, start.elapsed().as_secs_f64());
+        out
+    }
+
+    /// Adds `seconds` to stage `name` (a new stage goes last).
+    pub fn add(&mut self, name: &'static str, seconds: f64) {
+        match self.stages.iter_mut().find(|s| s.name == name) {
+            Some(stage) => stage.seconds += seconds,
+            None => self.stages.push(StageTime { name, seconds }),
+        }
+    }
+
+    /// The stages so far.
+    pub fn stages(&self) -> &[StageTime] {
+        &self.stages
+    }
+
+    /// The sum of the stages' times (seconds).
+    pub fn total(&self) -> f64 {
+        self.stages.iter().map(|s| s.seconds).sum()
+    }
+
+    /// The stages, in order.
+    pub fn into_stages(self) -> Vec<StageTime> {
+        self.stages
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::{DVec3, Vec3};
     use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
+
+    #[test]
+    fn a_stage_in_pieces_adds_up_in_first_run_order() {
+        let mut clock = StageClock::new();
+        assert_eq!(clock.time("load", || 7), 7);
+        clock.add("extract", 0.25);
+        clock.add("range_images", 0.5);
+        clock.add("extract", 0.25);
+        let names: Vec<&str> = clock.stages().iter().map(|s| s.name).collect();
+        assert_eq!(names, ["load", "extract", "range_images"]);
+        assert_eq!(clock.stages()[1].seconds, 0.5);
+        let load = clock.stages()[0].seconds;
+        assert!(load >= 0.0);
+        assert_eq!(clock.total(), load + 1.0);
+        assert_eq!(clock.into_stages().len(), 3);
+    }
 
     #[test]
     fn counts_of_a_scene_leave_out_empty_nodes_and_serialize_flat() {

@@ -135,6 +135,26 @@ impl Gathered {
     }
 }
 
+/// One run of points answered together: the points of one grid cell.
+struct Run<'a> {
+    /// The surface's grid.
+    grid: &'a CellGrid,
+    /// The run's `(grid key, point index)` entries.
+    entries: &'a [(u64, u32)],
+    /// Every query point (the entries index it).
+    points: &'a [Vec3],
+    /// Bounds `(lo, hi)` of the run's points.
+    bounds: (Vec3, Vec3),
+}
+
+impl Run<'_> {
+    /// The point of the run's entry `at`.
+    #[inline]
+    fn point(&self, at: usize) -> Vec3 {
+        self.points[self.entries[at].1 as usize]
+    }
+}
+
 /// Most grid cells the gather of a run of `points` points may read: what their searches one
 /// by one could read ([`MAX_GRID_CELLS`] each), up to [`MAX_GATHER_CELLS`]. A grid whose
 /// largest boxes are long (steep cells of a scan set: `reach` over a grid side) needs more
@@ -196,21 +216,26 @@ impl PatchSurface {
         gathered: &mut Gathered,
         out: &mut Vec<(f32, u32)>,
     ) {
-        let (lo, hi) =
-            run.iter()
-                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &(_, k)| {
-                    let p = points[k as usize];
-                    (lo.min(p), hi.max(p))
-                });
+        let bounds = run
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &(_, k)| {
+                let p = points[k as usize];
+                (lo.min(p), hi.max(p))
+            });
+        let run = Run {
+            grid,
+            entries: run,
+            points,
+            bounds,
+        };
         let cover = COVER * grid.side();
-        let budget = gather_budget(run.len());
-        if run[0].0 == OUTSIDE || !self.gather(grid, (lo, hi), cover, budget, gathered) {
-            self.search_each(run.iter().map(|&(_, k)| k), points, out);
+        if run.entries[0].0 == OUTSIDE || !self.gather(&run, cover, gathered) {
+            self.search_each(run.entries.iter().map(|&(_, k)| k), points, out);
             return;
         }
         let first = out.len();
         let mut far = Vec::new();
-        for (at, &(_, k)) in run.iter().enumerate() {
+        for (at, &(_, k)) in run.entries.iter().enumerate() {
             let best = gathered.nearest(self, points[k as usize]);
             match best {
                 Some(b) if within(b.distance, cover) => out.push((b.distance, b.owner)),
@@ -221,15 +246,7 @@ impl PatchSurface {
             }
         }
         if !far.is_empty() {
-            self.answer_far(
-                grid,
-                run,
-                points,
-                (lo, hi),
-                &far,
-                gathered,
-                &mut out[first..],
-            );
+            self.answer_far(&run, &far, gathered, &mut out[first..]);
         }
     }
 
@@ -238,13 +255,9 @@ impl PatchSurface {
     /// gather wide enough for the farthest of them when one is (points off a noisy or
     /// misregistered scan set, a fraction of a grid side from the surface), one search each
     /// otherwise.
-    #[allow(clippy::too_many_arguments)]
     fn answer_far(
         &self,
-        grid: &CellGrid,
-        run: &[(u64, u32)],
-        points: &[Vec3],
-        (lo, hi): (Vec3, Vec3),
+        run: &Run<'_>,
         far: &[(usize, Option<Best>)],
         gathered: &mut Gathered,
         answers: &mut [(f32, u32)],
@@ -254,10 +267,9 @@ impl PatchSurface {
             .map(|(_, b)| b.map_or(f32::INFINITY, |b| b.distance))
             .fold(0.0f32, f32::max);
         let cover = f64::from(reach) * (1.0 + 4.0 * f64::from(PRUNE_SLACK));
-        let budget = gather_budget(run.len());
-        if reach.is_finite() && self.gather(grid, (lo, hi), cover, budget, gathered) {
+        if reach.is_finite() && self.gather(run, cover, gathered) {
             for &(at, _) in far {
-                let p = points[run[at].1 as usize];
+                let p = run.point(at);
                 let b = gathered.nearest(self, p);
                 answers[at] = match b {
                     Some(b) if within(b.distance, cover) => (b.distance, b.owner),
@@ -270,24 +282,18 @@ impl PatchSurface {
             return;
         }
         for &(at, best) in far {
-            let (d, owner, _) = self.search(points[run[at].1 as usize], best.map(|b| b.cell));
+            let (d, owner, _) = self.search(run.point(at), best.map(|b| b.cell));
             answers[at] = (d, owner);
         }
     }
 
-    /// Gathers every cell whose box lies within `cover` of the box `lo..=hi` on every axis
-    /// into `gathered`; `false` (nothing gathered) when that reads more than `budget` grid
-    /// cells.
-    fn gather(
-        &self,
-        grid: &CellGrid,
-        (lo, hi): (Vec3, Vec3),
-        cover: f64,
-        budget: f64,
-        gathered: &mut Gathered,
-    ) -> bool {
+    /// Gathers every cell whose box lies within `cover` of the bounds of `run` on every
+    /// axis into `gathered`; `false` (nothing gathered) when that reads more grid cells
+    /// than the run's [`gather_budget`].
+    fn gather(&self, run: &Run<'_>, cover: f64, gathered: &mut Gathered) -> bool {
+        let (grid, (lo, hi)) = (run.grid, run.bounds);
         let range = grid.cells_near(lo.as_dvec3(), hi.as_dvec3(), cover);
-        if range.count() > budget {
+        if range.count() > gather_budget(run.entries.len()) {
             return false;
         }
         // The gather tests gaps in f32 against a radius widened by more than their rounding.
