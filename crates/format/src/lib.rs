@@ -29,6 +29,7 @@
 #![forbid(unsafe_code)]
 
 mod axes;
+mod colour_grid;
 mod container;
 mod error;
 mod frame;
@@ -44,6 +45,7 @@ pub use container::{
     write_file_atomically, write_file_atomically_with, write_scene, Compression, ContainerInfo,
     MergeWriter, SectionInfo, WriteOptions, MAGIC, VERSION_MAJOR, VERSION_MINOR,
 };
+pub use colour_grid::ColourGrid;
 pub use error::{Corruption, FormatError};
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};
 pub use grid::GridSize;
