@@ -12,6 +12,8 @@ use spatch_edges::generate_edge_patches;
 use crate::sides::{apply_sides, find_mesh_sides};
 use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
+
+use crate::colour_budget::hold_colour_budget;
 use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
 use spatch_segment::segment;
 
@@ -206,7 +208,7 @@ pub fn convert_with_progress(
         found
     });
 
-    let (scene, bytes, edge_bytes) = clock.run(Stage::Encode, || {
+    let (scene, bytes, edge_bytes, colour_grids) = clock.run(Stage::Encode, || {
         // What the edge patches add to the file: the same scene encoded without them.
         let mut edge_bytes = 0;
         if let Some((edge_patches, _)) = &edges {
@@ -218,12 +220,13 @@ pub fn convert_with_progress(
                 channel = choose_channel(&patches);
             }
         }
+        let grids = hold_grids(&mut patches, channel, options)?;
         let scene = Scene::new(mesh.origin, channel, patches)?.with_openings(sides.openings);
         let bytes = encode_scene(&scene, &options.write)?;
         if edge_bytes > 0 {
             edge_bytes = bytes.len().saturating_sub(edge_bytes);
         }
-        Ok::<_, ConvertError>((scene, bytes, edge_bytes))
+        Ok::<_, ConvertError>((scene, bytes, edge_bytes, grids))
     })?;
 
     let report = ConvertReport {
@@ -238,6 +241,7 @@ pub fn convert_with_progress(
         refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,
         texture,
+        colour_grids,
         colour: channel.name(),
         diagonal: f64::from(mesh.diagonal()),
         prepare: PrepareCounts {
@@ -261,6 +265,29 @@ pub fn convert_with_progress(
         load_warnings,
         report,
     })
+}
+
+/// Holds the colour grids of `patches` to the budget of `options` (measured against the
+/// file without them), or `None` when no patch has one.
+fn hold_grids(
+    patches: &mut Vec<spatch_format::Patch>,
+    channel: spatch_format::ColourChannel,
+    options: &ConvertOptions,
+) -> Result<Option<crate::ColourGridReport>, ConvertError> {
+    if patches.iter().all(|p| p.colour_grid().is_none()) {
+        return Ok(None);
+    }
+    let bare: Vec<_> = patches
+        .iter()
+        .map(|p| p.clone().without_colour_grid())
+        .collect();
+    let base = encode_scene(
+        &Scene::new(glam::DVec3::ZERO, channel, bare)?,
+        &options.write,
+    )?
+    .len();
+    let budget = options.colour_budget.bytes(base);
+    Ok(hold_colour_budget(patches, channel, budget))
 }
 
 /// Times stages and announces them.

@@ -89,6 +89,31 @@ impl ColourGrid {
         &mut self.samples
     }
 
+    /// The same colours at a coarser `factor` over `grid` (the patch's grid size): each new
+    /// sample takes [`Self::albedo_at`] at its position (rounded to bytes) and the alpha of
+    /// the nearest old sample. `None` when `factor` is below 2 (the patch then keeps its node
+    /// colours only) or not coarser than this grid's.
+    pub fn resampled(&self, grid: GridSize, factor: u8) -> Option<ColourGrid> {
+        if factor < 2 || factor >= self.factor {
+            return None;
+        }
+        let (cols, rows) = Self::sample_size(grid, factor);
+        let f = f32::from(factor);
+        let ratio = f32::from(self.factor) / f;
+        let mut samples = Vec::with_capacity(cols * rows);
+        for t in 0..rows {
+            for s in 0..cols {
+                let [r, g, b] = self.albedo_at(s as f32 / f, t as f32 / f);
+                let near_s = ((s as f32 * ratio).round() as usize).min(self.cols - 1);
+                let near_t = ((t as f32 * ratio).round() as usize).min(self.rows - 1);
+                let alpha = self.samples[near_t * self.cols + near_s][3];
+                let byte = |v: f32| v.round().clamp(0.0, 255.0) as u8;
+                samples.push([byte(r), byte(g), byte(b), alpha]);
+            }
+        }
+        ColourGrid::new(grid, factor, samples).ok()
+    }
+
     /// The albedo (RGB in 0..=255) at patch grid position `(x, y)`: the samples around
     /// `(x·factor, y·factor)` interpolated bilinearly. Positions outside the grid are clamped
     /// to it.
@@ -132,6 +157,10 @@ mod tests {
         assert_eq!(g.albedo_at(1.125, 0.5)[0], 45.0);
         assert_eq!(g.albedo_at(2.0, 1.0)[0], 80.0);
         assert_eq!(g.albedo_at(9.0, -1.0)[0], 80.0);
+        let coarse = g.resampled(grid, 2).unwrap();
+        assert_eq!((coarse.cols(), coarse.rows()), (5, 3));
+        assert_eq!(coarse.albedo_at(1.25, 0.5)[0], 50.0);
+        assert!(g.resampled(grid, 4).is_none() && g.resampled(grid, 1).is_none());
         assert!(ColourGrid::new(grid, 1, vec![[0; 4]; 6]).is_err());
         assert!(ColourGrid::new(grid, 4, vec![[0; 4]; 44]).is_err());
     }

@@ -40,12 +40,13 @@ mod scene;
 mod sides;
 mod summary;
 
-pub use container::{
-    abandon_pending_writes, decode_scene, encode_scene, inspect, read_container_bytes, read_scene,
-    write_file_atomically, write_file_atomically_with, write_scene, Compression, ContainerInfo,
-    MergeWriter, SectionInfo, WriteOptions, MAGIC, VERSION_MAJOR, VERSION_MINOR,
-};
 pub use colour_grid::ColourGrid;
+pub use container::{
+    abandon_pending_writes, colour_grid_section_len, decode_scene, encode_scene, inspect,
+    read_container_bytes, read_scene, write_file_atomically, write_file_atomically_with,
+    write_scene, Compression, ContainerInfo, MergeWriter, SectionInfo, WriteOptions, MAGIC,
+    VERSION_MAJOR, VERSION_MINOR,
+};
 pub use error::{Corruption, FormatError};
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};
 pub use grid::GridSize;

@@ -116,6 +116,13 @@ impl Patch {
         Ok(self)
     }
 
+    /// The patch without its colour grid (node colours only).
+    #[must_use]
+    pub fn without_colour_grid(mut self) -> Self {
+        self.colour_grid = None;
+        self
+    }
+
     /// The colour grid, if the patch has one ([`ColourGrid`]): albedo finer than its nodes.
     pub fn colour_grid(&self) -> Option<&ColourGrid> {
         self.colour_grid.as_ref()

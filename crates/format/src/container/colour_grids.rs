@@ -108,6 +108,16 @@ pub(crate) fn grids_section(grids: &[Option<&ColourGrid>], bytes: usize) -> (u8,
     }
 }
 
+/// The bytes of the CGRD section `encode_scene` writes for `patches` in a scene of `channel`
+/// (payload and its 20-byte header; 0 when no patch has a colour grid).
+pub fn colour_grid_section_len(patches: &[Patch], channel: crate::ColourChannel) -> usize {
+    let grids = grids_of(patches);
+    if grids.iter().all(Option::is_none) {
+        return 0;
+    }
+    super::layout::SECTION_HEADER_LEN + grids_section(&grids, channel.bytes_per_node()).2.len()
+}
+
 /// Codes the CGRD payload of the patches' `grids` (`bytes` per sample).
 pub(crate) fn encode_colour_grids(grids: &[Option<&ColourGrid>], bytes: usize) -> Vec<u8> {
     let mut encoder = Encoder::new();
@@ -341,7 +351,12 @@ mod tests {
         assert_eq!(raw.len(), 3 + (33 * 25 + 33 * 33) * 3);
         assert_eq!(&raw[..3], &[8, 0, 16]);
         let coded = encode_colour_grids(&grids_of(&patches), 3);
-        assert!(coded.len() * 10 < raw.len(), "{} of {}", coded.len(), raw.len());
+        assert!(
+            coded.len() * 10 < raw.len(),
+            "{} of {}",
+            coded.len(),
+            raw.len()
+        );
         let decoded = decode_colour_grids(&coded, &grids, 3, raw.len()).unwrap();
         let from_raw = read_raw(&raw, &grids, 3).unwrap();
         for (k, p) in patches.iter().enumerate() {

@@ -13,10 +13,11 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::colour_grids::grids_section;
 use super::layout::{
     ColourStorage, GridStorage, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN, TAG_COLOURS,
-    TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS,
-    TAG_SCENE, TAG_SIDES,
+    TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_SIDES,
 };
 use super::predictive::{ColourEncoder, DisplacementEncoder};
 use super::records::{
@@ -27,7 +28,6 @@ use super::scratch::Scratch;
 use super::shape::SceneShape;
 use super::{write_file_atomically_with, Compression, WriteOptions};
 use crate::scene::{rebase_opening, rebase_patch};
-use super::colour_grids::grids_section;
 use crate::{ColourChannel, ColourGrid, FormatError, MergeError, Opening, Scene};
 
 /// Writes the merge of scenes given one at a time: memory holds one input scene and

@@ -28,6 +28,7 @@ mod stream;
 mod write;
 
 pub use atomic::{abandon_pending_writes, write_file_atomically, write_file_atomically_with};
+pub use colour_grids::colour_grid_section_len;
 pub use merge_writer::MergeWriter;
 pub use read::{decode_scene, inspect, read_scene, ContainerInfo, SectionInfo};
 pub use stream::read_container_bytes;

@@ -12,11 +12,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::colour_grids::read_colour_grids;
 use super::layout::{
     ColourStorage, SceneFields, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES,
     TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
 };
-use super::colour_grids::read_colour_grids;
 use super::read_frames::{read_frames, read_residuals};
 use super::read_nodes::{read_colours, read_displacements, ColourSource};
 use super::read_sides::{read_openings, read_sides};

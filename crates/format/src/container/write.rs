@@ -5,11 +5,11 @@
 
 use std::path::Path;
 
-use super::layout::{
-    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_COLOUR_GRIDS, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
-};
 use super::colour_grids::{grids_of, grids_section};
+use super::layout::{
+    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS,
+    TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+};
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::records::{
     displacement_layout, file_header, openings_payload, push_colours, push_displacements,

@@ -13,6 +13,7 @@ use crate::lighting::ShadeFrame;
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 use crate::prepare::patch::PreparedPatch;
+use crate::shade::colour_grid::{grid_place, GridPlace};
 
 /// Flag of [`Lane::frame`]: the pixel takes the base albedo.
 pub(crate) const BASE_ALBEDO: u32 = 1 << 31;
@@ -43,6 +44,9 @@ pub(crate) struct PhongItems<'a> {
     pub(crate) colours: Vec<&'a [Vec4]>,
     /// True when no item has colours (all take the base albedo).
     pub(crate) uncoloured: bool,
+    /// Per item, where it lies on its patch's colour grid; empty when no
+    /// item's patch has one (the resolve then skips the lookup).
+    pub(crate) grids: Vec<Option<GridPlace<'a>>>,
     /// The shade frames' light and half vectors and directions to the eye
     /// (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
@@ -98,6 +102,13 @@ impl<'a> PhongItems<'a> {
             table.colours.push(colours);
         }
         table.uncoloured = table.colours.iter().all(|c| c.is_empty());
+        if patches.iter().any(|p| p.colour_grid.is_some()) {
+            table.grids = items
+                .iter()
+                .map(|&(c, i)| grid_place(patches, &chunks[c as usize].items[i as usize]))
+                .collect();
+            table.uncoloured = false;
+        }
         table
     }
 }
