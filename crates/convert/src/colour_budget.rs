@@ -5,13 +5,15 @@
 //! once the grids are coded (flat colours code to almost nothing, photographs do not). So the
 //! pipeline codes the CGRD section ([`colour_grid_section_len`]) and, while it exceeds the
 //! budget, lowers the largest factor by a quarter (at least one) and resamples every grid
-//! above it ([`ColourGrid::resampled`]); below a factor of 2 a patch keeps its node colours
+//! above it ([`ColourGrid::resampled`], rounded again to the fitter's step,
+//! [`spatch_fit::COLOUR_GRID_STEP`]); below a factor of 2 a patch keeps its node colours
 //! only. The finest grids give up detail first.
 //!
 //! Cost: one coding of the grids per round; the factor drops geometrically, so at most about
 //! 15 rounds from 64.
 
 use serde::Serialize;
+use spatch_fit::quantize_sample;
 use spatch_format::{colour_grid_section_len, ColourChannel, ColourGrid, Patch};
 
 /// How many bytes the colour grids may take.
@@ -117,6 +119,14 @@ fn lower_grid(patch: Patch, factor: u8) -> Patch {
     }
     match grid.resampled(patch.grid(), factor) {
         Some(coarser) => {
+            let samples = coarser
+                .samples()
+                .iter()
+                .map(|&c| quantize_sample(c))
+                .collect();
+            let Ok(coarser) = ColourGrid::new(patch.grid(), factor, samples) else {
+                return patch.without_colour_grid();
+            };
             let bare = patch.clone().without_colour_grid();
             bare.with_colour_grid(coarser).unwrap_or(patch)
         }

@@ -100,7 +100,7 @@ impl ColourGrid {
         let (cols, rows) = Self::sample_size(grid, factor);
         let f = f32::from(factor);
         let ratio = f32::from(self.factor) / f;
-        let mut samples = Vec::with_capacity(cols * rows);
+        let mut samples = Vec::new();
         for t in 0..rows {
             for s in 0..cols {
                 let [r, g, b] = self.albedo_at(s as f32 / f, t as f32 / f);

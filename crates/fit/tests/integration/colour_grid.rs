@@ -11,7 +11,7 @@ const SQUARE: u32 = 8;
 
 fn checker(u: f32, v: f32) -> [u8; 3] {
     let (i, j) = ((u * TEXELS as f32) as u32, (v * TEXELS as f32) as u32);
-    if (i / SQUARE + j / SQUARE) % 2 == 0 {
+    if (i / SQUARE + j / SQUARE).is_multiple_of(2) {
         [230, 40, 20]
     } else {
         [20, 60, 240]

@@ -155,12 +155,13 @@ fn decode_colour_grids(
     let ended = |_: StreamEnded| Corruption::StreamEndsEarly;
     let mut decoder = Decoder::new(coded).map_err(ended)?;
     let mut models = Models::new();
-    let mut factors = Vec::with_capacity(grids.len());
+    // One factor per FRAM record actually present.
+    let mut factors = Vec::new();
     for _ in grids {
         factors.push(decoder.decode_byte(&mut models.factors).map_err(ended)?);
     }
     check_raw_length(grids, &factors, bytes, raw_limit)?;
-    let mut out = Vec::with_capacity(grids.len());
+    let mut out = Vec::new();
     let mut same = Vec::new();
     for (&grid, &factor) in grids.iter().zip(&factors) {
         if factor == 0 {
@@ -168,7 +169,12 @@ fn decode_colour_grids(
             continue;
         }
         let (cols, rows) = checked_size(grid, factor)?;
-        let mut values: Vec<[u8; 4]> = Vec::with_capacity(cols * rows);
+        // Bounded: the factors' sample counts sum to the checked raw length.
+        let mut values: Vec<[u8; 4]> = vec_for_count(cols * rows, bytes, raw_limit, "samples")
+            .map_err(|_| Corruption::Expansion {
+                raw: raw_limit,
+                stored: coded.len(),
+            })?;
         same.clear();
         for k in 0..cols * rows {
             let (p, context) = prediction(&values, &same, cols, k);
@@ -290,7 +296,7 @@ fn read_raw(
     }
     let (factors, mut rest) = payload.split_at(grids.len());
     check_raw_length(grids, factors, bytes, payload.len())?;
-    let mut out = Vec::with_capacity(grids.len());
+    let mut out = Vec::new();
     for (&grid, &factor) in grids.iter().zip(factors) {
         if factor == 0 {
             out.push(None);
