@@ -201,17 +201,17 @@ fn colour_grids_are_written_reported_and_budgeted() {
     let grid = scene.patches()[0].colour_grid().expect("a colour grid");
     // 10 cells of 7.2 texels: 7 colour cells per node cell.
     assert_eq!(grid.factor(), 7);
-    assert_eq!(report["colour_grids"]["max_factor"], 7);
-    assert_eq!(report["colour_grids"]["budget_limited"], false);
+    assert_eq!(report["details"]["colour_grids"]["max_factor"], 7);
+    assert_eq!(report["details"]["colour_grids"]["budget_limited"], false);
     assert_eq!(
         std::fs::read(t.path("grid.spatch")).unwrap()[7],
         2,
         "version 1.2"
     );
     // A budget below the full grid lowers it; 0 bytes leaves node colours only.
-    let full = report["colour_grids"]["bytes"].as_u64().unwrap();
+    let full = report["details"]["colour_grids"]["bytes"].as_u64().unwrap();
     let (scene, report) = run("half.spatch", &["--colour-budget", &(full / 2).to_string()]);
-    assert!(report["colour_grids"]["bytes"].as_u64().unwrap() <= full / 2);
+    assert!(report["details"]["colour_grids"]["bytes"].as_u64().unwrap() <= full / 2);
     assert!(scene.patches()[0]
         .colour_grid()
         .is_none_or(|g| g.factor() < 7));
