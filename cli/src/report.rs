@@ -96,6 +96,8 @@ pub(crate) struct ConversionDetails {
     pub(crate) prepare: PrepareCounts,
     /// How much texture detail the fit kept (`null` when no region is textured).
     pub(crate) texture: Option<spatch_fit::TextureDetail>,
+    /// What the colour grids kept (`null` when no patch has one).
+    pub(crate) colour_grids: Option<spatch_convert::ColourGridReport>,
     /// What the sharp-edge stage found and made (`null` when it was off).
     pub(crate) edges: Option<EdgeStats>,
     /// Bytes the edge patches add to the file.
@@ -122,6 +124,7 @@ impl ConversionDetails {
             colour: r.colour,
             prepare: r.prepare,
             texture: r.texture,
+            colour_grids: r.colour_grids,
             edges: r.edges,
             edge_bytes: r.edge_bytes,
             sides: r.sides,

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use anyhow::Context;
 use spatch_convert::{
-    convert_with_progress, Conversion, ConvertInput, ConvertOptions, EdgeOptions, ProgressEvent,
-    Stage,
+    convert_with_progress, ColourBudget, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
+    ProgressEvent, Stage,
 };
 use spatch_eval::{
     geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport, Report, Stages,
@@ -123,6 +123,17 @@ pub(crate) struct PipelineArgs {
     /// 4 bytes per node) for all surface nodes. The finest textures give up detail first.
     #[arg(long, value_name = "Nx|BYTES", default_value = "3x", value_parser = texture_budget)]
     pub(crate) texture_budget: TextureBudget,
+    /// Texels per sample of the colour grids (0 = none): a textured patch whose nodes are
+    /// coarser than that gets colour samples finer than its nodes (2 to 64 per cell side,
+    /// container 1.2), read by the renderer at each pixel. Smaller: sharper texture, more
+    /// bytes, within --colour-budget.
+    #[arg(long, value_name = "TEXELS", default_value_t = FitOptions::DEFAULT_COLOUR_GRID_TEXELS, value_parser = non_negative_f32)]
+    pub(crate) colour_grid: f32,
+    /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them,
+    /// or a size in bytes (`20000`, `500k`, `2M`). Over it, the finest grids are resampled
+    /// coarser until the grids fit.
+    #[arg(long, value_name = "Nx|BYTES", default_value = "1x", value_parser = colour_budget)]
+    pub(crate) colour_budget: ColourBudget,
     /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
     /// patches (28 renders per scene).
     #[arg(long)]
@@ -216,6 +227,31 @@ fn texture_budget(s: &str) -> Result<TextureBudget, String> {
     Ok(TextureBudget::Nodes(bytes as u64 / BUDGET_BYTES_PER_NODE))
 }
 
+fn colour_budget(s: &str) -> Result<ColourBudget, String> {
+    let t = s.trim();
+    if let Some(k) = t.strip_suffix(['x', 'X']) {
+        let k: f32 = k.parse().map_err(|e| format!("{e}"))?;
+        return if k.is_finite() && k >= 0.0 {
+            Ok(ColourBudget::Scale(k))
+        } else {
+            Err("the scale Nx must have N >= 0".to_owned())
+        };
+    }
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, 'k' | 'K')) => (&t[..i], 1_000.0),
+        Some((i, 'm' | 'M')) => (&t[..i], 1_000_000.0),
+        _ => (t, 1.0),
+    };
+    let v: f64 = digits
+        .parse()
+        .map_err(|_| "expected Nx (a scale) or a size in bytes such as 500k or 2M".to_owned())?;
+    let bytes = v * unit;
+    if !(bytes.is_finite() && bytes >= 0.0) {
+        return Err("the byte budget must not be negative".to_owned());
+    }
+    Ok(ColourBudget::Bytes(bytes as u64))
+}
+
 fn positive_f32(s: &str) -> Result<f32, String> {
     let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
     if v.is_finite() && v > 0.0 {
@@ -235,6 +271,8 @@ impl PipelineArgs {
         options.fit.colour = !self.no_colour;
         options.fit.texels_per_node = self.texels_per_node;
         options.fit.texture_budget = self.texture_budget;
+        options.fit.colour_grid_texels = self.colour_grid;
+        options.colour_budget = self.colour_budget;
         options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options.sharp_edges = (!self.no_sharp_edges).then(|| {
@@ -561,6 +599,19 @@ pub(crate) fn summary(
             t.nodes,
             t.blind_nodes,
             t.budget_nodes,
+        ));
+    }
+    if let Some(g) = &r.colour_grids {
+        text.push_str(&format!(
+            "  colour grids: {} patches, {} samples, up to {}x{} per cell (asked {}){}, {} bytes (budget {})\n",
+            g.patches,
+            g.samples,
+            g.max_factor,
+            g.max_factor,
+            g.wanted_factor,
+            if g.budget_limited { ", held by the budget" } else { "" },
+            g.bytes,
+            g.budget_bytes,
         ));
     }
     for w in &r.warnings {

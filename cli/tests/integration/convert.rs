@@ -154,3 +154,75 @@ fn demo_needs_no_input_and_fills_its_folder() {
     let png = std::fs::read(t.path("demo/spot.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
 }
+
+/// A unit quad textured with a 72 × 72 checkerboard of 8-texel squares (OBJ, MTL, PNG).
+fn write_checker_quad(t: &TestCommand) -> String {
+    let image = image::RgbImage::from_fn(72, 72, |x, y| {
+        if (x / 8 + y / 8).is_multiple_of(2) {
+            image::Rgb([230, 40, 20])
+        } else {
+            image::Rgb([20, 60, 240])
+        }
+    });
+    image.save(t.path("checker.png")).unwrap();
+    std::fs::write(
+        t.path("quad.mtl"),
+        "newmtl m\nKd 1 1 1\nmap_Kd checker.png\n",
+    )
+    .unwrap();
+    let obj = "mtllib quad.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n\
+               vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nf 1/1 2/2 3/3\nf 3/3 2/2 4/4\n";
+    std::fs::write(t.path("quad.obj"), obj).unwrap();
+    t.path("quad.obj").to_string_lossy().into_owned()
+}
+
+#[test]
+fn colour_grids_are_written_reported_and_budgeted() {
+    let t = TestCommand::new();
+    let obj = write_checker_quad(&t);
+    let base = [
+        "convert",
+        obj.as_str(),
+        "--spacing",
+        "0.1",
+        "--texels-per-node",
+        "0",
+        "--no-error",
+    ];
+    let run = |out: &str, extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(&["-o", out, "--report", "report.json"]);
+        args.extend_from_slice(extra);
+        t.run(&args).success();
+        let report: serde_json::Value = t.json("report.json");
+        (read_scene(&t.path(out)).unwrap(), report)
+    };
+    let (scene, report) = run("grid.spatch", &["--colour-budget", "1M"]);
+    let grid = scene.patches()[0].colour_grid().expect("a colour grid");
+    // 10 cells of 7.2 texels: 7 colour cells per node cell.
+    assert_eq!(grid.factor(), 7);
+    assert_eq!(report["details"]["colour_grids"]["max_factor"], 7);
+    assert_eq!(report["details"]["colour_grids"]["budget_limited"], false);
+    assert_eq!(
+        std::fs::read(t.path("grid.spatch")).unwrap()[7],
+        2,
+        "version 1.2"
+    );
+    // A budget below the full grid lowers it; 0 bytes leaves node colours only.
+    let full = report["details"]["colour_grids"]["bytes"].as_u64().unwrap();
+    let (scene, report) = run("half.spatch", &["--colour-budget", &(full / 2).to_string()]);
+    assert!(report["details"]["colour_grids"]["bytes"].as_u64().unwrap() <= full / 2);
+    assert!(scene.patches()[0]
+        .colour_grid()
+        .is_none_or(|g| g.factor() < 7));
+    let (scene, _) = run("none.spatch", &["--colour-grid", "0"]);
+    assert!(scene.patches()[0].colour_grid().is_none());
+    assert_eq!(
+        std::fs::read(t.path("none.spatch")).unwrap()[7],
+        1,
+        "version 1.1"
+    );
+    let bad = t.run(&["convert", &obj, "-o", "x.spatch", "--colour-budget", "-3x"]);
+    assert_eq!(bad.code, 2, "{}", bad.stderr);
+    assert!(!t.path("x.spatch").exists());
+}

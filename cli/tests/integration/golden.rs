@@ -147,7 +147,8 @@ fn the_sphere_in_every_shading_and_both_modes() {
 #[test]
 fn spot_with_its_texture() {
     let t = TestCommand::new();
-    // The golden image is the texture-blind conversion (texture spacing off).
+    // The golden image is the texture-blind conversion (texture spacing and colour grids
+    // off).
     t.run(&[
         "demo",
         "-o",
@@ -156,6 +157,8 @@ fn spot_with_its_texture() {
         "128",
         "--no-error",
         "--texels-per-node",
+        "0",
+        "--colour-grid",
         "0",
     ])
     .success();

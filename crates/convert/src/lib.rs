@@ -26,6 +26,7 @@
 #![forbid(unsafe_code)]
 
 mod budget;
+mod colour_budget;
 mod error;
 mod options;
 mod owned;
@@ -34,6 +35,7 @@ mod report;
 mod sides;
 
 pub use budget::{check_error_budget, ErrorBudgetWarning, FAR_ABOVE_BUDGET};
+pub use colour_budget::{ColourBudget, ColourGridReport};
 pub use error::ConvertError;
 pub use options::ConvertOptions;
 pub use owned::{world_centroid, PartOwner};

@@ -6,6 +6,8 @@ use spatch_format::WriteOptions;
 use spatch_mesh::PrepareOptions;
 use spatch_segment::SegmentOptions;
 
+use crate::ColourBudget;
+
 /// Options of [`convert`](crate::convert), one struct per stage.
 ///
 /// The segmenter's `max_extent` is tied to the fitter's patch size: when it is left infinite
@@ -28,6 +30,10 @@ pub struct ConvertOptions {
     /// gaps surface patches leave along creases, at the cost of bytes (see
     /// docs/algorithms/edges.md). Their colour follows [`FitOptions::colour`].
     pub sharp_edges: Option<EdgeOptions>,
+    /// Bytes the colour grids (`spatch_fit::FitOptions::colour_grid_texels`) may take; their
+    /// factors are lowered until they fit. Default [`ColourBudget::DEFAULT_SCALE`] × the file
+    /// without them. More: sharper texture, larger files.
+    pub colour_budget: ColourBudget,
 }
 
 impl Default for ConvertOptions {
@@ -38,6 +44,7 @@ impl Default for ConvertOptions {
             fit: FitOptions::default(),
             write: WriteOptions::default(),
             sharp_edges: Some(EdgeOptions::default()),
+            colour_budget: ColourBudget::default(),
         }
     }
 }

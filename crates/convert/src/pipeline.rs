@@ -16,6 +16,7 @@ use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, Tr
 use spatch_report::StageClock;
 use spatch_segment::segment;
 
+use crate::colour_budget::hold_colour_budget;
 use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts};
 
 /// What to convert.
@@ -231,7 +232,7 @@ fn run_pipeline(
         found
     });
 
-    let (scene, bytes, edge_bytes) = clock.run(Stage::Encode, || {
+    let (scene, bytes, edge_bytes, colour_grids) = clock.run(Stage::Encode, || {
         // What the edge patches add to the file: the same scene encoded without them.
         let mut edge_bytes = 0;
         if let Some((edge_patches, _)) = &edges {
@@ -243,12 +244,13 @@ fn run_pipeline(
                 channel = choose_channel(&patches);
             }
         }
+        let grids = hold_grids(&mut patches, channel, options)?;
         let scene = Scene::new(mesh.origin, channel, patches)?.with_openings(sides.openings);
         let bytes = encode_scene(&scene, &options.write)?;
         if edge_bytes > 0 {
             edge_bytes = bytes.len().saturating_sub(edge_bytes);
         }
-        Ok::<_, ConvertError>((scene, bytes, edge_bytes))
+        Ok::<_, ConvertError>((scene, bytes, edge_bytes, grids))
     })?;
 
     let report = ConvertReport {
@@ -263,6 +265,7 @@ fn run_pipeline(
         refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,
         texture,
+        colour_grids,
         colour: channel.name(),
         diagonal: f64::from(mesh.diagonal()),
         prepare: PrepareCounts {
@@ -286,6 +289,29 @@ fn run_pipeline(
         load_warnings,
         report,
     })
+}
+
+/// Holds the colour grids of `patches` to the budget of `options` (measured against the
+/// file without them), or `None` when no patch has one.
+fn hold_grids(
+    patches: &mut Vec<spatch_format::Patch>,
+    channel: spatch_format::ColourChannel,
+    options: &ConvertOptions,
+) -> Result<Option<crate::ColourGridReport>, ConvertError> {
+    if patches.iter().all(|p| p.colour_grid().is_none()) {
+        return Ok(None);
+    }
+    let bare: Vec<_> = patches
+        .iter()
+        .map(|p| p.clone().without_colour_grid())
+        .collect();
+    let base = encode_scene(
+        &Scene::new(glam::DVec3::ZERO, channel, bare)?,
+        &options.write,
+    )?
+    .len();
+    let budget = options.colour_budget.bytes(base);
+    Ok(hold_colour_budget(patches, channel, budget))
 }
 
 /// Times stages on the shared [`StageClock`] and announces them.

@@ -52,6 +52,9 @@ pub struct ConvertReport {
     /// How much texture detail the fit kept (texels per node, texels, estimated nodes
     /// against the budget), or `None` when no region is textured.
     pub texture: Option<spatch_fit::TextureDetail>,
+    /// What the colour grids kept (patches, samples, factor, bytes against the budget), or
+    /// `None` when no patch has one.
+    pub colour_grids: Option<crate::ColourGridReport>,
     /// Colour channel of the scene: `none`, `rgb8` or `rgba8`.
     pub colour: &'static str,
     /// Length of the source's bounding-box diagonal (model units).

@@ -24,12 +24,13 @@ use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
 use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
 
 use crate::colour::{choose_channel, node_colour, Footprint};
+use crate::colour_grid::{grid_factor, sample_colour_grid, SampleFaces};
 use crate::frame_fit::{basis_from_axis, min_area_rect};
 use crate::lattice::Lattice;
 use crate::node_cast::{cast_nodes, Hit};
 use crate::overlap::{needed_nodes, neighbourhood};
 use crate::quantize::{choose_quantizer, quantize_height};
-use crate::texture_spacing::texture_spacings;
+use crate::texture_spacing::{region_texel_size, texture_spacings};
 use crate::{default_spacing, FitError, FitOptions, TextureDetail};
 
 /// One region to fit: its faces and the axis of its normal cone.
@@ -62,6 +63,10 @@ pub struct FitStats {
     pub nodes: usize,
     /// Filled nodes of all patches.
     pub filled_nodes: usize,
+    /// Patches with a colour grid ([`FitOptions::colour_grid_texels`]).
+    pub colour_grids: usize,
+    /// Colour samples of those grids.
+    pub colour_samples: usize,
 }
 
 /// What [`fit_regions`] returns.
@@ -139,6 +144,9 @@ pub fn fit_regions_counted(
                     step_scale: region_spacings.as_ref().map_or(1.0, |s| spacing / s[index]),
                     with_colour,
                     footprint_colour: options.texels_per_node > 0.0,
+                    texel: (with_colour && options.colour_grid_texels > 0.0)
+                        .then(|| region_texel_size(mesh, region))
+                        .flatten(),
                 },
                 index,
                 region,
@@ -169,6 +177,10 @@ pub fn fit_regions_counted(
         if p.displacement_width() == spatch_format::DisplacementWidth::Bits16 {
             stats.wide_patches += 1;
         }
+        if let Some(g) = p.colour_grid() {
+            stats.colour_grids += 1;
+            stats.colour_samples += g.samples().len();
+        }
     }
     let channel = choose_channel(&patches);
     Ok(FitOutput {
@@ -192,6 +204,8 @@ struct RegionJob<'a> {
     with_colour: bool,
     /// Textured nodes take their footprint's mean (on with [`FitOptions::texels_per_node`]).
     footprint_colour: bool,
+    /// The region's texel size when it is textured and colour grids are on.
+    texel: Option<f64>,
 }
 
 /// Fits one region (steps 1-6 of the module docs), refining the spacing up to
@@ -368,7 +382,11 @@ fn fit_lattice(
             if let Some(patch) =
                 make_patch(job, lattice, &hits, &codes, window, (&quantizer, h_min))?
             {
-                patches.push(patch);
+                let faces = SampleFaces {
+                    region: faces,
+                    around: &around,
+                };
+                patches.push(with_colour_grid(job, faces, lattice, window, patch)?);
             }
         }
     }
@@ -405,6 +423,28 @@ fn split_span((a, b): (usize, usize), max_cells: usize) -> Vec<(usize, usize)> {
     (0..windows)
         .map(|k| (a + k * cells / windows, a + (k + 1) * cells / windows))
         .collect()
+}
+
+/// `patch` (over the node window starting at `(i0, j0)`) with a colour grid when its region is
+/// textured finer than its spacing (`colour_grid`).
+fn with_colour_grid(
+    job: &RegionJob<'_>,
+    faces: SampleFaces<'_>,
+    lattice: &Lattice,
+    ((i0, _), (j0, _)): ((usize, usize), (usize, usize)),
+    patch: Patch,
+) -> Result<Patch, FitError> {
+    let spacing = lattice.spacing[0].max(lattice.spacing[1]);
+    let factor = job
+        .texel
+        .and_then(|t| grid_factor(spacing, t, job.options.colour_grid_texels));
+    let (Some(factor), true) = (factor, job.with_colour) else {
+        return Ok(patch);
+    };
+    match sample_colour_grid(job.mesh, faces, lattice, (i0, j0), patch.grid(), factor) {
+        Some(grid) => Ok(patch.with_colour_grid(grid)?),
+        None => Ok(patch),
+    }
 }
 
 /// The patch over the node window `((i0, i1), (j0, j1))`, or `None` when it has no drawable

@@ -22,7 +22,9 @@
 //!   colour gets no colour channel;
 //! - a region whose faces carry a texture gets a node spacing from the texture's own
 //!   resolution ([`FitOptions::texels_per_node`]), within a node budget
-//!   ([`FitOptions::texture_budget`]); [`FitOutput::texture`] says how much detail was kept.
+//!   ([`FitOptions::texture_budget`]); [`FitOutput::texture`] says how much detail was kept;
+//!   where the texture is still finer than the nodes, the patch gets a colour grid
+//!   ([`FitOptions::colour_grid_texels`]).
 //!
 //! ```
 //! use glam::Vec3;
@@ -46,6 +48,7 @@
 #![forbid(unsafe_code)]
 
 mod colour;
+mod colour_grid;
 mod error;
 mod fit;
 mod frame_fit;
@@ -57,6 +60,7 @@ mod quantize;
 mod texture_spacing;
 
 pub use colour::{choose_channel, sample_colour};
+pub use colour_grid::{quantize_sample, COLOUR_GRID_STEP};
 pub use error::FitError;
 pub use fit::{
     fit_regions, fit_regions_counted, FitOutput, FitRegion, FitStats, MAX_REFINEMENTS,

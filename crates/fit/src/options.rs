@@ -53,6 +53,13 @@ pub struct FitOptions {
     /// [`TextureBudget::DEFAULT_SCALE`] × the texture-blind fit. The finest textures give up
     /// detail first when it binds.
     pub texture_budget: TextureBudget,
+    /// Texels of the texture per colour-grid sample: a textured patch whose node spacing is
+    /// coarser than this gets a colour grid (`spatch_format::ColourGrid`) with
+    /// `round(spacing / (colour_grid_texels × texel))` colour cells per node cell (2..=64).
+    /// `0` turns colour grids off. Default [`FitOptions::DEFAULT_COLOUR_GRID_TEXELS`].
+    /// Smaller: sharper texture, more samples (about `1 / colour_grid_texels²` per texel² of
+    /// surface) and bytes; `spatch convert --colour-budget` caps the bytes afterwards.
+    pub colour_grid_texels: f32,
 }
 
 impl FitOptions {
@@ -69,6 +76,8 @@ impl FitOptions {
     pub const DEFAULT_MAX_REGION_NODES: usize = 1 << 24;
     /// Default [`FitOptions::texels_per_node`]: one node per texel.
     pub const DEFAULT_TEXELS_PER_NODE: f32 = 1.0;
+    /// Default [`FitOptions::colour_grid_texels`]: one colour sample per texel.
+    pub const DEFAULT_COLOUR_GRID_TEXELS: f32 = 1.0;
 
     /// Checks the ranges documented on each field.
     pub fn validate(&self) -> Result<(), FitError> {
@@ -103,6 +112,11 @@ impl FitOptions {
                 reason: "the texture budget's scale must be a finite number >= 1",
             });
         }
+        if !(self.colour_grid_texels.is_finite() && self.colour_grid_texels >= 0.0) {
+            return Err(FitError::InvalidOptions {
+                reason: "colour_grid_texels must be a finite number >= 0 (0 = off)",
+            });
+        }
         if self.overlap > 64 {
             return Err(FitError::InvalidOptions {
                 reason: "overlap must be at most 64 node rings",
@@ -124,6 +138,7 @@ impl Default for FitOptions {
             max_region_nodes: Self::DEFAULT_MAX_REGION_NODES,
             texels_per_node: Self::DEFAULT_TEXELS_PER_NODE,
             texture_budget: TextureBudget::default(),
+            colour_grid_texels: Self::DEFAULT_COLOUR_GRID_TEXELS,
         }
     }
 }

@@ -126,6 +126,14 @@ pub(crate) fn texture_spacings(
     Some((out, detail))
 }
 
+/// The region's texel size in model units (its textured faces' model area over their area
+/// in texels, square-rooted), or `None` when it has no textured face.
+pub(crate) fn region_texel_size(mesh: &TriangleMesh, region: &FitRegion<'_>) -> Option<f64> {
+    let m = region_texels(mesh, region);
+    let t = (m.textured_area / m.texels).sqrt();
+    (m.texels > 0.0 && t.is_finite() && t > 0.0).then_some(t)
+}
+
 /// Projected area, textured area and texels of one region.
 fn region_texels(mesh: &TriangleMesh, region: &FitRegion<'_>) -> RegionTexels {
     let axis = region.axis.normalize_or_zero();

@@ -50,6 +50,12 @@ pub enum FormatError {
     /// The scene offset is not finite.
     #[error("scene offset is not finite")]
     InvalidOffset,
+    /// A colour grid's values are out of range.
+    #[error("invalid colour grid: {reason}")]
+    InvalidColourGrid {
+        /// Which rule is broken.
+        reason: &'static str,
+    },
     /// An opening has a non-finite centre or a negative or non-finite radius.
     #[error(
         "an opening needs a finite centre, radius and thickness (not below 0) and a unit normal"

@@ -29,6 +29,7 @@
 #![forbid(unsafe_code)]
 
 mod axes;
+mod colour_grid;
 mod container;
 mod error;
 mod frame;
@@ -39,10 +40,12 @@ mod scene;
 mod sides;
 mod summary;
 
+pub use colour_grid::ColourGrid;
 pub use container::{
-    abandon_pending_writes, decode_scene, encode_scene, inspect, read_container_bytes, read_scene,
-    write_file_atomically, write_file_atomically_with, write_scene, Compression, ContainerInfo,
-    MergeWriter, SectionInfo, WriteOptions, MAGIC, VERSION_MAJOR, VERSION_MINOR,
+    abandon_pending_writes, colour_grid_section_len, decode_scene, encode_scene, inspect,
+    read_container_bytes, read_scene, write_file_atomically, write_file_atomically_with,
+    write_scene, Compression, ContainerInfo, MergeWriter, SectionInfo, WriteOptions, MAGIC,
+    VERSION_MAJOR, VERSION_MINOR,
 };
 pub use error::{Corruption, FormatError};
 pub use frame::{Frame, ORTHOGONALITY_TOLERANCE};

@@ -2,7 +2,7 @@
 
 use glam::{DVec3, Vec3};
 
-use crate::{FormatError, Frame, GridSize, Sides};
+use crate::{ColourGrid, FormatError, Frame, GridSize, Sides};
 
 /// The displacement code of an empty node (no surface there).
 ///
@@ -49,6 +49,7 @@ pub struct Patch {
     grid: GridSize,
     displacements: Vec<u16>,
     colours: Option<Vec<[u8; 4]>>,
+    colour_grid: Option<ColourGrid>,
     sides: Sides,
 }
 
@@ -91,8 +92,44 @@ impl Patch {
             grid,
             displacements,
             colours,
+            colour_grid: None,
             sides: Sides::Front,
         })
+    }
+
+    /// The patch with a colour grid finer than its nodes (container 1.2, `CGRD`). The grid
+    /// must have been made for this patch's grid size, and the patch must have node colours
+    /// (the grid refines them; readers that do not know grids use the nodes').
+    pub fn with_colour_grid(mut self, grid: ColourGrid) -> Result<Self, FormatError> {
+        let (cols, rows) = ColourGrid::sample_size(self.grid, grid.factor());
+        if (grid.cols(), grid.rows()) != (cols, rows) {
+            return Err(FormatError::InvalidColourGrid {
+                reason: "its size does not match the patch's grid",
+            });
+        }
+        if self.colours.is_none() {
+            return Err(FormatError::InvalidColourGrid {
+                reason: "the patch has no node colours",
+            });
+        }
+        self.colour_grid = Some(grid);
+        Ok(self)
+    }
+
+    /// The patch without its colour grid (node colours only).
+    #[must_use]
+    pub fn without_colour_grid(mut self) -> Self {
+        self.colour_grid = None;
+        self
+    }
+
+    /// The colour grid, if the patch has one ([`ColourGrid`]): albedo finer than its nodes.
+    pub fn colour_grid(&self) -> Option<&ColourGrid> {
+        self.colour_grid.as_ref()
+    }
+
+    pub(crate) fn colour_grid_mut(&mut self) -> Option<&mut ColourGrid> {
+        self.colour_grid.as_mut()
     }
 
     /// The patch with its visible sides set to `sides` (see [`Patch::sides`]).

@@ -76,6 +76,9 @@ impl Scene {
                 _ => {}
             }
             if channel == ColourChannel::Rgb8 {
+                if let Some(grid) = patch.colour_grid_mut() {
+                    grid.samples_mut().iter_mut().for_each(|c| c[3] = 255);
+                }
                 let displacements = patch.displacements().to_vec();
                 if let Some(colours) = patch.colours_mut() {
                     for (c, d) in colours.iter_mut().zip(displacements) {

@@ -36,6 +36,9 @@ pub(crate) const TAG_OPENINGS: [u8; 4] = *b"OPEN";
 /// Bytes of one opening: centre 3×f32, radius f32, normal 3×f32, half thickness f32.
 pub(crate) const OPENING_LEN: usize = 32;
 
+/// Per-patch colour grids finer than the nodes (minor version 2).
+pub(crate) const TAG_COLOUR_GRIDS: [u8; 4] = *b"CGRD";
+
 pub(crate) const CODEC_RAW: u8 = 0;
 pub(crate) const CODEC_PREDICTIVE: u8 = 1;
 

@@ -13,9 +13,11 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::colour_grids::grids_section;
 use super::layout::{
     ColourStorage, GridStorage, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN, TAG_COLOURS,
-    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+    TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_SIDES,
 };
 use super::predictive::{ColourEncoder, DisplacementEncoder};
 use super::records::{
@@ -26,7 +28,7 @@ use super::scratch::Scratch;
 use super::shape::SceneShape;
 use super::{write_file_atomically_with, Compression, WriteOptions};
 use crate::scene::{rebase_opening, rebase_patch};
-use crate::{ColourChannel, FormatError, MergeError, Opening, Scene};
+use crate::{ColourChannel, ColourGrid, FormatError, MergeError, Opening, Scene};
 
 /// Writes the merge of scenes given one at a time: memory holds one input scene and
 /// small buffers; the output's sections wait in scratch files (about the output's size
@@ -59,6 +61,11 @@ pub struct MergeWriter {
     residuals: Scratch,
     sides: Scratch,
     openings: Vec<Opening>,
+    /// Patches pushed so far.
+    patch_count: usize,
+    /// The colour grids of the patches that have one, by patch index (kept in memory:
+    /// CGRD is coded as a whole at the end).
+    colour_grids: Vec<(usize, ColourGrid)>,
 }
 
 /// Where a section's payload comes from when the file is written.
@@ -101,6 +108,8 @@ impl MergeWriter {
             residuals: scratch()?,
             sides: scratch()?,
             openings: Vec::new(),
+            patch_count: 0,
+            colour_grids: Vec::new(),
         })
     }
 
@@ -140,6 +149,10 @@ impl MergeWriter {
             }
             push_residual(residuals, &patch);
             sides.push(patch.sides().code());
+            if let Some(grid) = patch.colour_grid() {
+                self.colour_grids.push((self.patch_count, grid.clone()));
+            }
+            self.patch_count += 1;
         }
         self.append(&buffers).map_err(MergeError::Format)
     }
@@ -251,6 +264,14 @@ impl MergeWriter {
             let bytes = openings_payload(&self.openings);
             payloads.push((TAG_OPENINGS, CODEC_RAW, 0, Payload::Bytes(bytes)));
         }
+        if !self.colour_grids.is_empty() {
+            let mut grids: Vec<Option<&ColourGrid>> = vec![None; self.patch_count];
+            for (k, grid) in &self.colour_grids {
+                grids[*k] = Some(grid);
+            }
+            let (codec, raw, bytes) = grids_section(&grids, channel.bytes_per_node());
+            payloads.push((TAG_COLOUR_GRIDS, codec, raw as u64, Payload::Bytes(bytes)));
+        }
         let sections = payloads
             .into_iter()
             .map(|(tag, codec, raw, payload)| section(tag, codec, raw, payload, &folder))
@@ -317,11 +338,11 @@ fn file_len(sections: &[Section]) -> u64 {
 
 /// Writes the file: its header, then every section's header and payload.
 fn write_sections(sections: &mut [Section], out: &mut dyn Write) -> io::Result<()> {
-    let needs_1_1 = sections.iter().any(|s| {
-        let tag = &s.header[..4];
-        tag == TAG_ORIGIN_RESIDUALS || tag == TAG_SIDES || tag == TAG_OPENINGS
-    });
-    out.write_all(&file_header(sections.len() as u32, needs_1_1))?;
+    let tags: Vec<[u8; 4]> = sections
+        .iter()
+        .map(|s| [s.header[0], s.header[1], s.header[2], s.header[3]])
+        .collect();
+    out.write_all(&file_header(sections.len() as u32, super::minor_for(&tags)))?;
     for section in sections {
         out.write_all(&section.header)?;
         write_payload(&mut section.payload, out)?;

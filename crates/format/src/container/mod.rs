@@ -6,10 +6,12 @@
 //! colours, only when the scene stores them), then, from minor version 1,
 //! the optional `ORGR` (origin residuals, only when a frame has one), `SIDE`
 //! (per-patch visible sides, only when a patch is not front-only) and `OPEN`
-//! (the openings of an open surface).
+//! (the openings of an open surface), and from minor version 2 `CGRD`
+//! (colour grids finer than the nodes, only when a patch has one).
 
 mod atomic;
 mod bounded;
+mod colour_grids;
 mod layout;
 mod merge_writer;
 mod predictive;
@@ -26,6 +28,7 @@ mod stream;
 mod write;
 
 pub use atomic::{abandon_pending_writes, write_file_atomically, write_file_atomically_with};
+pub use colour_grids::colour_grid_section_len;
 pub use merge_writer::MergeWriter;
 pub use read::{decode_scene, inspect, read_scene, ContainerInfo, SectionInfo};
 pub use stream::read_container_bytes;
@@ -36,7 +39,23 @@ pub const MAGIC: [u8; 6] = *b"SPATCH";
 /// The major version this crate writes and reads. Readers refuse other majors.
 pub const VERSION_MAJOR: u8 = 1;
 /// The newest minor version this crate writes: 1 adds the optional `ORGR`,
-/// `SIDE` and `OPEN` sections. A file that needs none of them is written as
-/// 1.0, byte for byte as before.
+/// `SIDE` and `OPEN` sections, 2 the optional `CGRD` (colour grids). A file
+/// is written with the lowest minor that describes it, so one that needs none
+/// of them is 1.0, byte for byte as before.
 /// Readers accept any minor of their major.
-pub const VERSION_MINOR: u8 = 1;
+pub const VERSION_MINOR: u8 = 2;
+
+/// The lowest minor version that describes a file holding `tags`.
+pub(crate) fn minor_for(tags: &[[u8; 4]]) -> u8 {
+    use layout::{TAG_COLOUR_GRIDS, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SIDES};
+    if tags.contains(&TAG_COLOUR_GRIDS) {
+        2
+    } else if tags
+        .iter()
+        .any(|t| [TAG_ORIGIN_RESIDUALS, TAG_SIDES, TAG_OPENINGS].contains(t))
+    {
+        1
+    } else {
+        0
+    }
+}

@@ -11,7 +11,7 @@
 //! specification (I. Pavlov).
 
 const PROBABILITY_BITS: u32 = 11;
-const PROBABILITY_ONE: u16 = 1 << PROBABILITY_BITS;
+pub(crate) const PROBABILITY_ONE: u16 = 1 << PROBABILITY_BITS;
 const ADAPT_SHIFT: u32 = 5;
 const TOP: u32 = 1 << 24;
 
@@ -50,7 +50,8 @@ impl Encoder {
         }
     }
 
-    fn encode_bit(&mut self, probability: &mut u16, bit: u32) {
+    /// Codes one binary decision with the adaptive probability `probability` (of a 0).
+    pub(crate) fn encode_bit(&mut self, probability: &mut u16, bit: u32) {
         let bound = (self.range >> PROBABILITY_BITS) * u32::from(*probability);
         if bit == 0 {
             self.range = bound;
@@ -142,7 +143,8 @@ impl<'a> Decoder<'a> {
         Ok(byte)
     }
 
-    fn decode_bit(&mut self, probability: &mut u16) -> Result<u32, StreamEnded> {
+    /// Decodes one binary decision coded by [`Encoder::encode_bit`].
+    pub(crate) fn decode_bit(&mut self, probability: &mut u16) -> Result<u32, StreamEnded> {
         let bound = (self.range >> PROBABILITY_BITS) * u32::from(*probability);
         let bit = if self.code < bound {
             self.range = bound;

@@ -12,9 +12,10 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::colour_grids::read_colour_grids;
 use super::layout::{
-    ColourStorage, SceneFields, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS,
-    TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+    ColourStorage, SceneFields, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES,
+    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
 };
 use super::read_frames::{read_frames, read_residuals};
 use super::read_nodes::{read_colours, read_displacements, ColourSource};
@@ -47,10 +48,11 @@ struct Known<'s, 'a> {
     residuals: Option<&'s RawSection<'a>>,
     sides: Option<&'s RawSection<'a>>,
     openings: Option<&'s RawSection<'a>>,
+    colour_grids: Option<&'s RawSection<'a>>,
 }
 
 /// The known tags in the order a file must hold them.
-const KNOWN_TAGS: [[u8; 4]; 7] = [
+const KNOWN_TAGS: [[u8; 4]; 8] = [
     TAG_SCENE,
     TAG_FRAMES,
     TAG_DISPLACEMENTS,
@@ -58,13 +60,14 @@ const KNOWN_TAGS: [[u8; 4]; 7] = [
     TAG_ORIGIN_RESIDUALS,
     TAG_SIDES,
     TAG_OPENINGS,
+    TAG_COLOUR_GRIDS,
 ];
 
 /// Finds the known sections, refusing a repeated or out-of-order one and a
 /// missing required one; sections with other tags (a later minor version's)
 /// are skipped.
 fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, FormatError> {
-    let mut found: [Option<&'s RawSection<'a>>; 7] = [None; 7];
+    let mut found: [Option<&'s RawSection<'a>>; 8] = [None; 8];
     let mut last = None;
     for section in sections {
         let Some(k) = KNOWN_TAGS
@@ -79,7 +82,7 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         found[k] = Some(section);
         last = Some(k);
     }
-    let [scene, frames, displacements, colours, residuals, sides, openings] = found;
+    let [scene, frames, displacements, colours, residuals, sides, openings, colour_grids] = found;
     Ok(Known {
         scene: scene.ok_or(FormatError::MissingSection("SCNE"))?,
         frames: frames.ok_or(FormatError::MissingSection("FRAM"))?,
@@ -88,6 +91,7 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         residuals,
         sides,
         openings,
+        colour_grids,
     })
 }
 
@@ -122,6 +126,14 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         None => Vec::new(),
     };
 
+    let mut grids = match known.colour_grids {
+        Some(section) => {
+            let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
+            read_colour_grids(section, &sizes, bytes_per_colour)?
+        }
+        None => Vec::new(),
+    }
+    .into_iter();
     let mut colours = ColourSource::new(&fields, node_colours.as_deref(), bytes_per_colour);
     let mut patches = Vec::new();
     for (k, ((frame, grid), codes)) in records.frames.into_iter().zip(codes.per_patch).enumerate() {
@@ -133,6 +145,18 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
                 error: Box::new(e),
             })
         })?;
+        let patch = match grids.next().flatten() {
+            Some(g) => patch.with_colour_grid(g).map_err(|e| {
+                corrupt(
+                    "CGRD",
+                    Corruption::Patch {
+                        patch: k,
+                        error: Box::new(e),
+                    },
+                )
+            })?,
+            None => patch,
+        };
         patches.push(patch.with_sides(side));
     }
     let scene = Scene::new(DVec3::from_array(fields.offset), channel, patches)

@@ -115,11 +115,11 @@ pub(crate) fn openings_payload(openings: &[Opening]) -> Vec<u8> {
 }
 
 /// The 16-byte file header: the lowest minor version that describes the file.
-pub(crate) fn file_header(section_count: u32, needs_1_1: bool) -> [u8; 16] {
+pub(crate) fn file_header(section_count: u32, minor: u8) -> [u8; 16] {
     let mut out = [0u8; 16];
     out[..6].copy_from_slice(&MAGIC);
     out[6] = VERSION_MAJOR;
-    out[7] = if needs_1_1 { VERSION_MINOR } else { 0 };
+    out[7] = minor.min(VERSION_MINOR);
     out[8..12].copy_from_slice(&section_count.to_le_bytes());
     let crc = crc32fast::hash(&out[..12]);
     out[12..].copy_from_slice(&crc.to_le_bytes());

@@ -184,7 +184,7 @@ pub(super) fn require_raw(section: &RawSection<'_>) -> Result<(), FormatError> {
 }
 
 /// Checks that a raw-coded section's raw length equals its stored length.
-fn require_raw_length(section: &RawSection<'_>) -> Result<(), FormatError> {
+pub(super) fn require_raw_length(section: &RawSection<'_>) -> Result<(), FormatError> {
     let info = &section.info;
     if info.raw_len != info.stored_len {
         return Err(section.corrupt(Corruption::RawLengthNotStored {

@@ -5,9 +5,10 @@
 
 use std::path::Path;
 
+use super::colour_grids::{grids_of, grids_section};
 use super::layout::{
-    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS,
+    TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::records::{
@@ -119,13 +120,22 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         .has_sides()
         .then(|| scene.patches().iter().map(|p| p.sides().code()).collect());
     let openings = (!scene.openings().is_empty()).then(|| openings_payload(scene.openings()));
-    let section_count = 3
-        + u32::from(colr.is_some())
-        + u32::from(residuals.is_some())
-        + u32::from(sides.is_some())
-        + u32::from(openings.is_some());
-    let needs_1_1 = residuals.is_some() || sides.is_some() || openings.is_some();
-    let mut out = file_header(section_count, needs_1_1).to_vec();
+    let colour_grids = encode_grids(scene);
+    let optional = [
+        (TAG_ORIGIN_RESIDUALS, residuals),
+        (TAG_SIDES, sides),
+        (TAG_OPENINGS, openings),
+    ];
+    let mut tags: Vec<[u8; 4]> = optional
+        .iter()
+        .filter(|(_, p)| p.is_some())
+        .map(|(t, _)| *t)
+        .collect();
+    if colour_grids.is_some() {
+        tags.push(TAG_COLOUR_GRIDS);
+    }
+    let section_count = 3 + u32::from(colr.is_some()) + tags.len() as u32;
+    let mut out = file_header(section_count, super::minor_for(&tags)).to_vec();
     let scene_bytes = fields.to_bytes();
     push_section(
         &mut out,
@@ -139,17 +149,25 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
     if let Some((codec, raw_len, payload)) = colr {
         push_section(&mut out, TAG_COLOURS, codec, raw_len, &payload)?;
     }
-    let optional = [
-        (TAG_ORIGIN_RESIDUALS, residuals),
-        (TAG_SIDES, sides),
-        (TAG_OPENINGS, openings),
-    ];
     for (tag, payload) in optional {
         if let Some(payload) = payload {
             push_section(&mut out, tag, CODEC_RAW, payload.len(), &payload)?;
         }
     }
+    if let Some((codec, raw_len, payload)) = colour_grids {
+        push_section(&mut out, TAG_COLOUR_GRIDS, codec, raw_len, &payload)?;
+    }
     Ok(out)
+}
+
+/// The CGRD section of a scene where some patch has a colour grid
+/// ([`grids_section`]).
+fn encode_grids(scene: &Scene) -> Option<(u8, usize, Vec<u8>)> {
+    let grids = grids_of(scene.patches());
+    if grids.iter().all(Option::is_none) {
+        return None;
+    }
+    Some(grids_section(&grids, scene.channel().bytes_per_node()))
 }
 
 /// The ORGR payload (every patch's origin residual, 3 × f32), written when some frame

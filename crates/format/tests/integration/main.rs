@@ -10,11 +10,14 @@
 //! - `container_spec`: docs/format.md against the reader: the raw-length rule of every
 //!   section (§3.2) and the exact f32 evaluation of node positions (§1.1).
 //! - `atomic`: a failed write leaves nothing under the output name.
+//! - `colour_grids`: colour grids (1.2, `CGRD`): round trip, layout, merge, files without
+//!   grids unchanged.
 //! - `merge_writer`: the streaming merge writes the in-memory merge's bytes.
 //! - `far_merge`: merged scenes far apart keep each part's node positions
 //!   (issue 22), through the ORGR section.
 
 mod atomic;
+mod colour_grids;
 mod container_spec;
 mod corruption;
 mod far_merge;

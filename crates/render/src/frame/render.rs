@@ -240,6 +240,7 @@ impl Renderer {
                 items: &self.bins.all_items,
                 chunks: &self.chunks,
                 phong: &phong,
+                patches,
                 material: setup.material,
                 base_albedo: Vec3::from_array(
                     setup

@@ -15,7 +15,7 @@ use std::cell::RefCell;
 use std::sync::OnceLock;
 
 use glam::{DMat3, DVec3, Vec4};
-use spatch_format::{Patch, Sides, EMPTY};
+use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
@@ -46,6 +46,9 @@ pub(crate) struct PreparedPatch {
     pub(crate) sides: Sides,
     /// Level 0 of the mip pyramid ([`crate::prepare::mip`]).
     pub(crate) base: MipLevel,
+    /// The patch's colour grid (albedo finer than its nodes), read by the
+    /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
+    pub(crate) colour_grid: Option<ColourGrid>,
     /// Levels 1 and up, each built from the one below the first time a
     /// frame asks for it ([`Self::level`]).
     coarse: Vec<OnceLock<MipLevel>>,
@@ -160,6 +163,7 @@ impl PreparedPatch {
             radius: (hi - lo).length() * 0.5,
             sides: patch.sides(),
             base,
+            colour_grid: patch.colour_grid().cloned(),
             coarse: (1..levels).map(|_| OnceLock::new()).collect(),
             shading: (0..levels).map(|_| OnceLock::new()).collect(),
             fine_shading: (0..levels).map(|_| OnceLock::new()).collect(),

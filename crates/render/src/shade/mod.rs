@@ -2,6 +2,7 @@
 //! band once, after every sample has been drawn. In use order:
 //! the draw items as Phong reads them, the resolve pass.
 
+pub(crate) mod colour_grid;
 pub(crate) mod phong_items;
 pub(crate) mod resolve;
 #[cfg(test)]

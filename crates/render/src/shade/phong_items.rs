@@ -13,6 +13,7 @@ use crate::lighting::ShadeFrame;
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 use crate::prepare::patch::PreparedPatch;
+use crate::shade::colour_grid::{grid_place, GridPlace};
 
 /// Flag of [`Lane::frame`]: the pixel takes the base albedo.
 pub(crate) const BASE_ALBEDO: u32 = 1 << 31;
@@ -47,6 +48,9 @@ pub(crate) struct PhongItems<'a> {
     /// (coarse geometry): the resolve pass then maps sub-nodes through
     /// [`Self::offsets`].
     pub(crate) shifted: bool,
+    /// Per item, where it lies on its patch's colour grid; empty when no
+    /// item's patch has one (the resolve then skips the lookup).
+    pub(crate) grids: Vec<Option<GridPlace<'a>>>,
     /// The shade frames' light and half vectors and directions to the eye
     /// (`w` = 0), by frame index.
     /// Why vectors: lanes of different frames are gathered by transposes
@@ -110,6 +114,13 @@ impl<'a> PhongItems<'a> {
         }
         table.uncoloured = table.colours.iter().all(|c| c.is_empty());
         table.shifted = table.items.iter().any(|item| item.shift != 0);
+        if patches.iter().any(|p| p.colour_grid.is_some()) {
+            table.grids = items
+                .iter()
+                .map(|&(c, i)| grid_place(patches, &chunks[c as usize].items[i as usize]))
+                .collect();
+            table.uncoloured = false;
+        }
         table
     }
 }

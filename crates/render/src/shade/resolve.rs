@@ -23,9 +23,9 @@ use crate::lighting::ShadeFrame;
 use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
-#[cfg(test)]
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
+use crate::shade::colour_grid::{corner_albedo, grid_place, relight};
 #[cfg(test)]
 use crate::shade::phong_items::sub_node_place;
 use crate::shade::phong_items::{sub_node_weights, Lane, PhongItems, BASE_ALBEDO};
@@ -39,6 +39,9 @@ pub(crate) struct Resolve<'a> {
     pub(crate) chunks: &'a [ChunkWork],
     /// The draw items as the Phong resolve pass reads them.
     pub(crate) phong: &'a PhongItems<'a>,
+    /// The prepared patches the items draw (for their colour grids; empty
+    /// for a mesh).
+    pub(crate) patches: &'a [PreparedPatch],
     pub(crate) material: Material,
     /// The albedo of nodes without colours, as stored in nodes (rounded to
     /// the attribute grid).
@@ -261,7 +264,14 @@ fn resolve_general_group(
 fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     if s.w2 & PATCH_SAMPLE != 0 {
         let i = (s.w2 & !PATCH_SAMPLE) as usize;
-        return t.items[i].interpolate(s.w0, t.colours[i], &t.weights, &t.offsets);
+        let mut lane = t.items[i].interpolate(s.w0, t.colours[i], &t.weights, &t.offsets);
+        if let Some(place) = t.grids.get(i).copied().flatten() {
+            let a = place.albedo(s.w0);
+            lane.normal_red.w = a.x;
+            lane.green_blue = Vec2::new(a.y, a.z);
+            lane.frame &= !BASE_ALBEDO;
+        }
+        return lane;
     }
     let albedo = unpack_rgb(s.w1);
     Lane {
@@ -439,14 +449,24 @@ fn lerp4(n: [&Node; 4], w: [f32; 4], from: usize) -> Vec4 {
 /// or the colours of its corners interpolated at its sub-node.
 #[inline]
 fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
-    let (_, n, w) = sample_cell(r, item, sub);
+    let (item, n, w) = sample_cell(r, item, sub);
     let colour = match r.shading {
         Shading::Flat => Vec3::new(
             attr_to_f32f(n[0][3]),
             attr_to_f32f(n[0][4]),
             attr_to_f32f(n[0][5]),
         ),
-        Shading::Gouraud | Shading::Phong => lerp4(n, w, 3).truncate(),
+        Shading::Gouraud | Shading::Phong => {
+            let lit = lerp4(n, w, 3).truncate();
+            match grid_place(r.patches, item) {
+                Some(place) => relight(
+                    lit,
+                    corner_albedo(&r.patches[item.frame as usize], item, sub, w),
+                    place.albedo(sub),
+                ),
+                None => lit,
+            }
+        }
     };
     to_rgba8(colour)
 }

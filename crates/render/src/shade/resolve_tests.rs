@@ -132,6 +132,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         items: &items,
         chunks: &chunks,
         phong: &phong,
+        patches: &[],
         material: Material::new(&lighting),
         base_albedo: Vec3::new(200.0, 120.0, 40.0),
         background: [1, 2, 3, 4],
