@@ -10,7 +10,8 @@ use spatch_convert::{convert_part, ConvertError, ConvertInput};
 use spatch_format::encode_scene;
 use spatch_mesh::{load_mesh, prepare_mesh, FileFormat, PrepareOptions};
 use spatch_tiling::{
-    can_stream_mesh, make_mesh_plan, mesh_tile, read_mesh_tile, Plan, TileOwner, WorldBox,
+    can_stream_mesh, census_mesh, census_mesh_file, mesh_tile, read_mesh_tile, Plan, TileOwner,
+    WorldBox,
 };
 
 use super::convert::PipelineArgs;
@@ -54,22 +55,31 @@ const MESH_BUFFER_SPACINGS: f64 = 4.0;
 
 /// `spatch plan MESH`: the plan of a mesh's tiles (the spacing given, or the one `spatch
 /// convert` would derive for the whole mesh; the buffer given, or
-/// [`MESH_BUFFER_SPACINGS`] spacings, at most a quarter tile).
+/// [`MESH_BUFFER_SPACINGS`] spacings, at most a quarter tile). A PLY or plain OBJ is
+/// streamed (one position per vertex and the tile counts held), other formats loaded.
 pub(crate) fn plan_mesh(
     input: &Path,
     tile: f64,
     buffer: Option<f64>,
     spacing: Option<f32>,
 ) -> anyhow::Result<Plan> {
-    let mesh = load_prepared(input)?;
-    let spacing = match spacing {
-        Some(s) => s,
-        None => spatch_fit::default_spacing(&mesh)
-            .ok_or_else(|| anyhow::anyhow!("{}: the mesh has no surface", input.display()))?,
+    let census = if can_stream_mesh(input).map_err(anyhow::Error::msg)? {
+        census_mesh_file(input, tile).map_err(anyhow::Error::msg)?
+    } else {
+        census_mesh(&load_prepared(input)?, tile).map_err(anyhow::Error::msg)?
     };
+    let derived = census
+        .mean_face_area()
+        .map(|a| (f64::from(spatch_fit::SPACING_PER_TRIANGLE_SIZE) * a.sqrt()) as f32)
+        .filter(|s| s.is_finite() && *s > 0.0);
+    let spacing = spacing
+        .or(derived)
+        .ok_or_else(|| anyhow::anyhow!("{}: the mesh has no surface", input.display()))?;
     let buffer =
         buffer.unwrap_or_else(|| (MESH_BUFFER_SPACINGS * f64::from(spacing)).min(0.25 * tile));
-    make_mesh_plan(&mesh, input, tile, buffer, spacing).map_err(anyhow::Error::msg)
+    census
+        .plan(input, buffer, spacing)
+        .map_err(anyhow::Error::msg)
 }
 
 /// The faces of the mesh at `input` whose box touches `area`: streamed from a PLY or a

@@ -11,7 +11,8 @@
 //! chunks and never load a whole input, except an E57 file (read one file at a time); a
 //! `.conf` scan set streams its scans, each moved by its pose.
 //!
-//! Meshes are tiled by face ([`make_mesh_plan`], [`mesh_tile`]; a tile segments the faces
+//! Meshes are tiled by face ([`make_mesh_plan`], or [`census_mesh_file`] streamed from a
+//! PLY or plain OBJ; [`mesh_tile`], [`read_mesh_tile`]; a tile segments the faces
 //! whose centroid it owns and keeps the edge patches whose anchor it owns: [`TileOwner`]).
 //!
 //! Running at scale, the JSON schemas and measured figures: `docs/scale.md`.
@@ -21,6 +22,7 @@ mod coarse;
 mod error;
 mod index;
 mod las_stream;
+mod mesh_plan;
 mod mesh_stream;
 mod mesh_tiles;
 mod obj_stream;
@@ -39,8 +41,9 @@ pub use error::TilingError;
 pub use index::{
     build_index, is_index_file, tile_file_name, CoarseLevel, IndexTile, SceneIndex, INDEX_VERSION,
 };
+pub use mesh_plan::{census_mesh, census_mesh_file, make_mesh_plan, MeshCensus};
 pub use mesh_stream::{can_stream_mesh, read_mesh_tile};
-pub use mesh_tiles::{make_mesh_plan, mesh_tile, owns, patch_anchor, TileOwner};
+pub use mesh_tiles::{mesh_tile, owns, patch_anchor, TileOwner};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
 pub use select::{is_member, read_tile_points};
 pub use spill::{read_spilled_tile, spill_tiles, Spill, SpillLayout, SpilledTile, SPILL_BUDGET};

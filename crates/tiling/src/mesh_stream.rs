@@ -31,7 +31,7 @@ use crate::TilingError;
 
 /// The two streamed mesh formats.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Format {
+pub(crate) enum Format {
     Ply,
     Obj,
 }
@@ -46,7 +46,7 @@ pub fn can_stream_mesh(path: &Path) -> Result<bool, TilingError> {
     })
 }
 
-fn format_of(path: &Path) -> Option<Format> {
+pub(crate) fn format_of(path: &Path) -> Option<Format> {
     let ext = path.extension()?.to_str()?.to_ascii_lowercase();
     match ext.as_str() {
         "ply" => Some(Format::Ply),
@@ -92,7 +92,7 @@ fn side_code(p: DVec3, min: DVec3, max: DVec3) -> u8 {
 
 /// Visits every vertex of the file in order: position, then colour and normal when the
 /// file has them.
-fn each_vertex(
+pub(crate) fn each_vertex(
     path: &Path,
     format: Format,
     visit: &mut dyn FnMut(DVec3, Option<[u8; 4]>, Option<Vec3>) -> Result<(), TilingError>,
@@ -145,24 +145,34 @@ fn touching_polygons(
         }
         Ok(())
     };
+    each_polygon(path, format, &mut keep)?;
+    let mut needed = kept.corners.clone();
+    needed.sort_unstable();
+    needed.dedup();
+    Ok((kept, needed))
+}
+
+/// Visits every polygon of the file in order, as its 0-based vertex indices.
+pub(crate) fn each_polygon(
+    path: &Path,
+    format: Format,
+    visit: &mut dyn FnMut(&[u32]) -> Result<(), TilingError>,
+) -> Result<(), TilingError> {
     match format {
         Format::Ply => {
-            stream_ply_faces(path, &mut keep)?;
+            stream_ply_faces(path, visit)?;
         }
         Format::Obj => {
             stream_obj(
                 path,
                 &mut ObjVisitor {
                     vertex: &mut |_| Ok(()),
-                    polygon: Some(&mut keep),
+                    polygon: Some(visit),
                 },
             )?;
         }
     }
-    let mut needed = kept.corners.clone();
-    needed.sort_unstable();
-    needed.dedup();
-    Ok((kept, needed))
+    Ok(())
 }
 
 /// The needed vertices' file positions, colours and normals, in `needed` order.

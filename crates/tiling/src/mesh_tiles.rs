@@ -9,17 +9,12 @@
 //! by exactly one tile, and the patches reach across the border as they reach across
 //! region borders inside one conversion.
 
-use std::collections::BTreeMap;
-use std::path::Path;
-
 use glam::DVec3;
-use spatch_cloud::TileGrid;
 use spatch_convert::PartOwner;
 use spatch_format::Patch;
 use spatch_mesh::TriangleMesh;
 
-use crate::plan::{tiles_of_counts, Plan, PlanGrid, WorldBox, PLAN_VERSION};
-use crate::TilingError;
+use crate::plan::WorldBox;
 
 /// World bounds of face `f` of `mesh`.
 fn face_box(mesh: &TriangleMesh, f: usize) -> (DVec3, DVec3) {
@@ -30,75 +25,6 @@ fn face_box(mesh: &TriangleMesh, f: usize) -> (DVec3, DVec3) {
 /// Whether the closed boxes `(lo, hi)` and `(min, max)` overlap.
 fn touches((lo, hi): (DVec3, DVec3), min: DVec3, max: DVec3) -> bool {
     lo.cmple(max).all() && hi.cmpge(min).all()
-}
-
-/// Plans the tiles of `mesh` (read from `input`): the grid anchored at the lowest corner
-/// of its faces, tiles of side `tile` with a buffer `buffer`, every tile some face's box
-/// touches (its `points` field counts those faces), and the node spacing `spacing` every
-/// tile converts with (`pixel_factor` is 1: meshes have no pixels).
-///
-/// Errors: [`TilingError::NoPoints`] (no face), [`TilingError::InvalidOption`].
-pub fn make_mesh_plan(
-    mesh: &TriangleMesh,
-    input: &Path,
-    tile: f64,
-    buffer: f64,
-    spacing: f32,
-) -> Result<Plan, TilingError> {
-    let invalid = |option, reason: &str| TilingError::InvalidOption {
-        option,
-        reason: reason.to_string(),
-    };
-    if !(tile.is_finite() && tile > 0.0) {
-        return Err(invalid("tile size", "must be a positive number"));
-    }
-    if !(buffer.is_finite() && buffer >= 0.0 && buffer < 0.49 * tile) {
-        return Err(invalid(
-            "buffer",
-            "must be 0 or more and under half the tile size",
-        ));
-    }
-    let boxes: Vec<(DVec3, DVec3)> = (0..mesh.triangles.len())
-        .map(|f| face_box(mesh, f))
-        .collect();
-    let Some((lo, hi)) = boxes
-        .iter()
-        .copied()
-        .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
-    else {
-        return Err(TilingError::NoPoints {
-            path: input.to_path_buf(),
-        });
-    };
-    let grid =
-        TileGrid::new(lo, tile, buffer).ok_or_else(|| invalid("tile size", "out of range"))?;
-    let mut counts: BTreeMap<(i64, i64, i64), u64> = BTreeMap::new();
-    for &(a, b) in &boxes {
-        let (ka, kb) = (grid.key_of(a), grid.key_of(b));
-        for z in ka[2]..=kb[2] {
-            for y in ka[1]..=kb[1] {
-                for x in ka[0]..=kb[0] {
-                    *counts.entry((z, y, x)).or_insert(0) += 1;
-                }
-            }
-        }
-    }
-    let tiles = tiles_of_counts(&counts, &grid, buffer);
-    Ok(Plan {
-        version: PLAN_VERSION,
-        input: input.display().to_string(),
-        points: mesh.triangles.len() as u64,
-        skipped_non_finite: 0,
-        bounds: WorldBox::new(lo, hi),
-        spacing,
-        pixel_factor: 1.0,
-        grid: PlanGrid {
-            anchor: lo.to_array(),
-            size: tile,
-            buffer,
-        },
-        tiles,
-    })
 }
 
 /// The faces of `mesh` whose box touches `area`, as a mesh of their own (the same origin;

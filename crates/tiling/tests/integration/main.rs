@@ -3,6 +3,7 @@
 
 mod join;
 mod mesh_owners;
+mod mesh_plan;
 mod mesh_stream;
 mod readers;
 mod scan_sets;
