@@ -77,6 +77,10 @@ pub(crate) struct EvalArgs {
     /// --geometry-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_GEOMETRY_LIMIT, conflicts_with = "sweep")]
     geometry_limit: f32,
+    /// Geometry tolerance of the patch renders in node spacings (see
+    /// `spatch render --geometry-tolerance`; 0 = none, the default).
+    #[arg(long, value_name = "T", default_value_t = RenderOptions::DEFAULT_GEOMETRY_TOLERANCE, conflicts_with = "sweep")]
+    geometry_tolerance: f32,
     /// Skip the image error (geometric error only).
     #[arg(long, conflicts_with = "sweep")]
     no_images: bool,
@@ -152,6 +156,7 @@ impl EvalArgs {
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render.geometry_limit = self.geometry_limit;
+        render.geometry_tolerance = self.geometry_tolerance;
         render
     }
 

@@ -177,6 +177,12 @@ pub(crate) struct RenderArgs {
     /// 1.7 dB lower PSNR, specks on thin rims). 0 (default): off.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_GEOMETRY_LIMIT)]
     geometry_limit: f32,
+    /// With --geometry-limit, coarsen only patches whose shading-level
+    /// nodes all lie within T of their own node spacing of the coarser
+    /// level's bilinear surface (measured once per scene): rough parts of
+    /// a scan keep their own surface. 0 (default): every whole patch.
+    #[arg(long, value_name = "T", default_value_t = RenderOptions::DEFAULT_GEOMETRY_TOLERANCE)]
+    geometry_tolerance: f32,
     /// Trim, once per scene, the level-0 cells that an earlier patch
     /// already draws (same surface within 5 % of a cell, normals within
     /// 1°): each frame then draws fewer cells where patches overlap, for a
@@ -329,6 +335,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.mip_limit = args.mip_limit;
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;
+    o.geometry_tolerance = args.geometry_tolerance;
     o.guard_band = args.guard_band;
     o.tile_rows = args.tile_rows;
     if let Some(bg) = args.background {

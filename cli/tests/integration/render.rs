@@ -244,6 +244,10 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
     );
     let (a, b) = (count(&off, "covered_pixels"), count(&on, "covered_pixels"));
     assert!(a.abs_diff(b) * 200 < a, "{a} against {b}");
+    // A tolerance no patch meets keeps every patch at its shading level.
+    let strict = ["--geometry-limit", "3.6", "--geometry-tolerance", "0.001"];
+    let strict = stats(&strict, "strict.json");
+    assert_eq!(count(&strict, "patch_nodes"), count(&off, "patch_nodes"));
 }
 
 #[test]
@@ -251,7 +255,7 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     std::fs::write(t.path("junk.spatch"), b"not a scene").unwrap();
-    let cases: [&[&str]; 9] = [
+    let cases: [&[&str]; 10] = [
         &["render", "missing.spatch", "-o", "out.png"],
         &["render", "junk.spatch", "-o", "out.png"],
         &[
@@ -265,6 +269,16 @@ fn bad_input_gives_one_line_exit_2_and_no_output() {
         &["render", &name, "-o", "out.png", "--tile-rows", "2"],
         &["render", &name, "-o", "out.png", "--splat-limit", "0.2"],
         &["render", &name, "-o", "out.png", "--geometry-limit", "0.5"],
+        &[
+            "render",
+            &name,
+            "-o",
+            "out.png",
+            "--geometry-limit",
+            "3.6",
+            "--geometry-tolerance",
+            "-1",
+        ],
     ];
     for args in cases {
         let run = t.run(args);

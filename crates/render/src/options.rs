@@ -172,6 +172,14 @@ pub struct RenderOptions {
     /// 54.9 dB against the default image; see docs/algorithms/render.md,
     /// "Coarse geometry"). Bilinear cells only, not with `splat_limit`.
     pub geometry_limit: f32,
+    /// With `geometry_limit`, a patch takes coarse geometry only when every
+    /// filled node of its shading level lies within this many of that
+    /// level's node spacings of the coarser level's bilinear surface
+    /// (measured once per scene and patch); 0 (the default) takes every
+    /// whole patch, else 0.001..=16. Keeps the rough parts of a scan, where
+    /// the coarse surface would move samples, at their own level (see
+    /// docs/algorithms/render.md, "Coarse geometry").
+    pub geometry_tolerance: f32,
     /// Guard band beyond each side of the viewport, as a fraction of its
     /// size, 0..=1. Default 0.1. Patches inside it are drawn without
     /// splitting (pixels outside the image are discarded); wider bands split
@@ -199,6 +207,8 @@ impl RenderOptions {
     pub const DEFAULT_SPLAT_LIMIT: f32 = 0.0;
     /// Default geometry limit: off (positions from the shading level).
     pub const DEFAULT_GEOMETRY_LIMIT: f32 = 0.0;
+    /// Default geometry tolerance: none (every whole patch may coarsen).
+    pub const DEFAULT_GEOMETRY_TOLERANCE: f32 = 0.0;
     /// Largest supersampling factor.
     pub const MAX_SSAA: u32 = 4;
 
@@ -221,6 +231,13 @@ impl RenderOptions {
         let g = self.geometry_limit;
         if !(g.is_finite() && (g == 0.0 || (1.0..=16.0).contains(&g))) {
             return bad("geometry_limit", "must be 0 (off) or in 1..=16 pixels");
+        }
+        let t = self.geometry_tolerance;
+        if !(t.is_finite() && (t == 0.0 || (0.001..=16.0).contains(&t))) {
+            return bad(
+                "geometry_tolerance",
+                "must be 0 (none) or in 0.001..=16 node spacings",
+            );
         }
         if !(4..=256).contains(&self.tile_rows) {
             return bad("tile_rows", "must be in 4..=256");
@@ -261,6 +278,7 @@ impl Default for RenderOptions {
             mip_limit: Self::DEFAULT_MIP_LIMIT,
             splat_limit: Self::DEFAULT_SPLAT_LIMIT,
             geometry_limit: Self::DEFAULT_GEOMETRY_LIMIT,
+            geometry_tolerance: Self::DEFAULT_GEOMETRY_TOLERANCE,
             guard_band: Self::DEFAULT_GUARD_BAND,
             tile_rows: Self::DEFAULT_TILE_ROWS,
             background: [0, 0, 0, 0],

@@ -74,7 +74,9 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         }
         // Coarse geometry: the level above draws, this one shades.
         if coarse_geometry(opts) && m + 1 < p.level_count() {
-            shift = (extent * ((2u32 << m) as f32) < opts.geometry_limit) as usize;
+            let near = extent * ((2u32 << m) as f32) < opts.geometry_limit;
+            let tol = opts.geometry_tolerance;
+            shift = (near && (tol == 0.0 || p.coarse_error(m + 1) <= tol)) as usize;
         }
     }
     let m = m + shift;

@@ -17,6 +17,7 @@ use std::sync::OnceLock;
 use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
+use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
 use crate::prepare::normal_buffer::{NormalBuffer, SlotSet};
@@ -59,6 +60,9 @@ pub(crate) struct PreparedPatch {
     /// grid that level `g`'s cells span, built on first use
     /// ([`Self::fine_shading`]).
     fine_shading: Vec<OnceLock<LevelShading>>,
+    /// Per level `g` above 0, how far level `g - 1` strays from level
+    /// `g`'s surface, built on first use ([`Self::coarse_error`]).
+    coarse_errors: Vec<OnceLock<f32>>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -167,6 +171,7 @@ impl PreparedPatch {
             coarse: (1..levels).map(|_| OnceLock::new()).collect(),
             shading: (0..levels).map(|_| OnceLock::new()).collect(),
             fine_shading: (0..levels).map(|_| OnceLock::new()).collect(),
+            coarse_errors: (0..levels).map(|_| OnceLock::new()).collect(),
         };
         Some((prepared, corners))
     }
@@ -242,6 +247,19 @@ impl PreparedPatch {
                 colours,
                 slots: SlotSet::new(std::iter::empty()),
             }
+        })
+    }
+
+    /// The largest distance of a filled node of level `g - 1` (`g` at
+    /// least 1) from the bilinear surface of level `g`'s cells
+    /// ([`crate::prepare::coarse_fit::coarse_gap`]), in node spacings of
+    /// level `g - 1` (the shorter of its two axes). Measured the first time
+    /// a frame asks for it, and kept: a property of the scene, not the view.
+    pub(crate) fn coarse_error(&self, g: usize) -> f32 {
+        *self.coarse_errors[g].get_or_init(|| {
+            let gap = coarse_gap(self.level(g - 1), self.level(g));
+            let (rx, ry) = self.ratios_at(g - 1);
+            gap * rx.max(ry)
         })
     }
 

@@ -93,6 +93,30 @@ fn coarse_geometry_keeps_the_silhouette_and_shades_as_the_shading_level() {
 }
 
 #[test]
+fn geometry_tolerance_chooses_between_the_default_and_every_patch_coarse() {
+    // The tolerance only takes patches out of coarse geometry: one no
+    // patch meets gives the default image bit for bit, one every patch
+    // meets the image without a tolerance.
+    let camera = known_camera(1500.0, 200);
+    let render = |geometry_limit: f32, geometry_tolerance: f32| {
+        let mut o = RenderOptions::default();
+        o.geometry_limit = geometry_limit;
+        o.geometry_tolerance = geometry_tolerance;
+        Renderer::new(o)
+            .unwrap()
+            .render(prepared_sphere(), &camera)
+            .unwrap()
+    };
+    let (fine, coarse) = (render(0.0, 0.0), render(3.6, 0.0));
+    let strict = render(3.6, 0.001);
+    assert_eq!(strict.image, fine.image);
+    assert_eq!(strict.stats.patch_nodes, fine.stats.patch_nodes);
+    let loose = render(3.6, 16.0);
+    assert_eq!(loose.image, coarse.image);
+    assert_eq!(loose.stats.patch_nodes, coarse.stats.patch_nodes);
+}
+
+#[test]
 fn splatted_pixel_sized_cells_leave_no_hole_at_250_to_2000() {
     // The splatting path: no empty pixel inside the disc, silhouette within
     // the splats' reach, and splatted pieces at the sizes where cells are
