@@ -129,8 +129,9 @@ impl EarthArgs {
         };
         options.convert.fit.spacing = self.spacing;
         // The globe's density levels give the original work's patch counts: its colour map
-        // is sampled at the level's spacing, not refined by texels.
+        // is sampled at the level's spacing, neither refined by texels nor given colour grids.
         options.convert.fit.texels_per_node = 0.0;
+        options.convert.fit.colour_grid_texels = 0.0;
         options.convert.write = WriteOptions::with_compression(super::compression(self.compress));
         options
     }
