@@ -197,7 +197,10 @@ fn colour_grids_are_written_reported_and_budgeted() {
         let report: serde_json::Value = t.json("report.json");
         (read_scene(&t.path(out)).unwrap(), report)
     };
-    let (scene, report) = run("grid.spatch", &["--colour-budget", "1M"]);
+    let (scene, report) = run(
+        "grid.spatch",
+        &["--colour-grid", "1", "--colour-budget", "1M"],
+    );
     let grid = scene.patches()[0].colour_grid().expect("a colour grid");
     // 10 cells of 7.2 texels: 7 colour cells per node cell.
     assert_eq!(grid.factor(), 7);
@@ -210,12 +213,21 @@ fn colour_grids_are_written_reported_and_budgeted() {
     );
     // A budget below the full grid lowers it; 0 bytes leaves node colours only.
     let full = report["details"]["colour_grids"]["bytes"].as_u64().unwrap();
-    let (scene, report) = run("half.spatch", &["--colour-budget", &(full / 2).to_string()]);
+    let (scene, report) = run(
+        "half.spatch",
+        &[
+            "--colour-grid",
+            "1",
+            "--colour-budget",
+            &(full / 2).to_string(),
+        ],
+    );
     assert!(report["details"]["colour_grids"]["bytes"].as_u64().unwrap() <= full / 2);
     assert!(scene.patches()[0]
         .colour_grid()
         .is_none_or(|g| g.factor() < 7));
-    let (scene, _) = run("none.spatch", &["--colour-grid", "0"]);
+    // Grids are off by default.
+    let (scene, _) = run("none.spatch", &[]);
     assert!(scene.patches()[0].colour_grid().is_none());
     assert_eq!(
         std::fs::read(t.path("none.spatch")).unwrap()[7],

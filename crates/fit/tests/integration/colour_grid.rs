@@ -119,6 +119,7 @@ fn a_colour_grid_keeps_a_checkerboard_the_nodes_cannot() {
     let mut options = FitOptions::default();
     options.spacing = Some(0.25);
     options.texels_per_node = 0.0;
+    options.colour_grid_texels = 1.0;
     let (with_grid, factor) = albedo_psnr(&options);
     assert_eq!(factor, Some(18));
     options.colour_grid_texels = 0.0;
