@@ -9,7 +9,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use crate::ply_stream::{Encoding, Scalar};
+use crate::ply_stream::{read_element_line, Encoding, Scalar};
 use crate::TilingError;
 
 /// A property: a scalar, or a list with its count and item types.
@@ -180,18 +180,7 @@ fn read_ascii_faces(
 ) -> Result<u64, TilingError> {
     let (mut line, mut polygon) = (String::new(), Vec::new());
     for read in 0..face.count {
-        line.clear();
-        if reader
-            .read_line(&mut line)
-            .map_err(|e| TilingError::io(path, e))?
-            == 0
-        {
-            return Err(TilingError::Truncated {
-                path: path.to_path_buf(),
-                declared: face.count,
-                read,
-            });
-        }
+        read_element_line(reader, path, &mut line, face.count, read)?;
         let mut words = line.split_whitespace().map(|w| {
             w.parse::<f64>()
                 .map_err(|_| TilingError::malformed(path, format!("face {read}: `{w}`")))

@@ -297,18 +297,7 @@ fn read_ascii(
     let mut read = 0u64;
     chunk.clear();
     while read < h.count {
-        line.clear();
-        if reader
-            .read_line(&mut line)
-            .map_err(|e| TilingError::io(path, e))?
-            == 0
-        {
-            return Err(TilingError::Truncated {
-                path: path.to_path_buf(),
-                declared: h.count,
-                read,
-            });
-        }
+        read_element_line(reader, path, &mut line, h.count, read)?;
         values.clear();
         for word in line.split_whitespace() {
             let v: f64 = word.parse().map_err(|_| {
@@ -333,4 +322,29 @@ fn read_ascii(
         visit(chunk)?;
     }
     Ok(read)
+}
+
+/// Reads the next line of an ASCII element into `line` (cleared first); the element
+/// declared `declared` rows and `read` were read before, so an end of file is
+/// [`TilingError::Truncated`].
+pub(crate) fn read_element_line(
+    reader: &mut impl BufRead,
+    path: &Path,
+    line: &mut String,
+    declared: u64,
+    read: u64,
+) -> Result<(), TilingError> {
+    line.clear();
+    if reader
+        .read_line(line)
+        .map_err(|e| TilingError::io(path, e))?
+        == 0
+    {
+        return Err(TilingError::Truncated {
+            path: path.to_path_buf(),
+            declared,
+            read,
+        });
+    }
+    Ok(())
 }
