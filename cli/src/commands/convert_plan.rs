@@ -1,6 +1,6 @@
 //! Meshes at scale: `spatch plan MESH --tile SIZE` (tiles by face) and `spatch convert MESH
-//! --plan plan.json --tile K` (one tile at the plan's spacing, keeping the patches whose
-//! anchor it owns). See docs/scale.md, "Meshes".
+//! --plan plan.json --tile K` (one tile at the plan's spacing, segmenting the faces and
+//! covering the creases and corners it owns). See docs/scale.md, "Meshes".
 
 use std::io::Read;
 use std::path::Path;
@@ -98,8 +98,8 @@ fn read_part(
 
 /// `spatch convert MESH --plan P --tile K -o FILE`: tile K's faces (with its buffer's)
 /// converted at the plan's spacing, segmenting only the faces whose centroid lies in K's
-/// own box and keeping the edge patches anchored there (a tile with no patch is written as
-/// a scene with no patch).
+/// own box and making the edge patches of the creases whose midpoint (and the corners)
+/// lie there (a tile with no patch is written as a scene with no patch).
 pub(crate) fn run_tile(
     input: &Path,
     plan_path: &Path,

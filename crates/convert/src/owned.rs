@@ -9,21 +9,22 @@
 //! fitter's overlap), and joined tiles leave no crack along the cut.
 //!
 //! Sharp-edge patches follow crease chains, which the buffer cuts at different places in
-//! different tiles; they are kept by [`PartOwner::owns_patch`] instead.
+//! different tiles; so each crease is made by the tile owning its midpoint, and each corner
+//! by the tile owning its position (`spatch_edges::generate_part_edge_patches`), by the
+//! same [`PartOwner::owns_point`].
 
 use glam::DVec3;
-use spatch_format::Patch;
 use spatch_mesh::{build_face_adjacency, FaceId, TriangleMesh};
 use spatch_segment::{segment, Region, SegmentError, SegmentOptions};
 
-/// Which faces and patches of a mesh part belong to the tile being converted.
+/// Which faces, creases and corners of a mesh part belong to the tile being converted.
 pub trait PartOwner: Sync {
-    /// Whether the tile owns a face whose centroid (world coordinates, the f64 mean of its
-    /// three world corners) is `centroid`. Every tile must answer alike for a face it reads,
+    /// Whether the tile owns the world point `world`: a face's centroid (the f64 mean of its
+    /// three world corners: the face is segmented by the tile), a crease's midpoint (the f64
+    /// mean of its two world corners: its edge patches are made by the tile) or a corner's
+    /// world position (its corner patch). Every tile must answer alike for a point it reads,
     /// and exactly one tile must answer `true`.
-    fn owns_face(&self, centroid: DVec3) -> bool;
-    /// Whether the tile keeps sharp-edge patch `patch` of a scene at `offset`.
-    fn owns_patch(&self, patch: &Patch, offset: DVec3) -> bool;
+    fn owns_point(&self, world: DVec3) -> bool;
 }
 
 /// The world centroid of `face`: the f64 mean of its corners' world positions, so that two
@@ -42,7 +43,7 @@ pub(crate) fn segment_owned(
 ) -> Result<Vec<Region>, SegmentError> {
     let owned: Vec<FaceId> = mesh
         .faces()
-        .filter(|&f| owner.owns_face(world_centroid(mesh, f)))
+        .filter(|&f| owner.owns_point(world_centroid(mesh, f)))
         .collect();
     if owned.is_empty() {
         return Ok(Vec::new());
@@ -70,15 +71,12 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    /// Owns the faces whose centroid has x below `cut`; keeps no edge patch.
+    /// Owns the points with x below `cut`.
     struct LeftOf(f64);
 
     impl PartOwner for LeftOf {
-        fn owns_face(&self, centroid: DVec3) -> bool {
-            centroid.x < self.0
-        }
-        fn owns_patch(&self, _: &Patch, _: DVec3) -> bool {
-            false
+        fn owns_point(&self, world: DVec3) -> bool {
+            world.x < self.0
         }
     }
 

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use spatch_edges::generate_edge_patches;
+use spatch_edges::{generate_edge_patches, generate_part_edge_patches};
 
 use crate::owned::{segment_owned, PartOwner};
 use crate::sides::{apply_sides, find_mesh_sides};
@@ -129,7 +129,7 @@ pub fn convert_with_progress(
 
 /// [`convert`] of the part of a mesh one tile owns (see [`PartOwner`]): only the faces
 /// `owner` owns are segmented, every face of `input` is there for the fitter to reach into,
-/// and only the sharp-edge patches `owner` owns are kept. A part that owns no face, or
+/// and only the creases and corners `owner` owns get sharp-edge patches. A part that owns no face, or
 /// whose faces give no patch, is [`ConvertError::NoPatches`].
 pub fn convert_part(
     input: ConvertInput<'_>,
@@ -204,12 +204,19 @@ fn run_pipeline(
     let mut edges = match options.sharp_edges {
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
-            let (mut edge_patches, edge_stats) = clock.run(Stage::Edges, || {
-                generate_edge_patches(&mesh, &adjacency, &patches, edge_spacing, &edge_options)
+            let (edge_patches, edge_stats) = clock.run(Stage::Edges, || match owner {
+                None => {
+                    generate_edge_patches(&mesh, &adjacency, &patches, edge_spacing, &edge_options)
+                }
+                Some(owner) => generate_part_edge_patches(
+                    &mesh,
+                    &adjacency,
+                    &patches,
+                    edge_spacing,
+                    &edge_options,
+                    &|w| owner.owns_point(w),
+                ),
             })?;
-            if let Some(owner) = owner {
-                edge_patches.retain(|p| owner.owns_patch(p, mesh.origin));
-            }
             Some((edge_patches, edge_stats))
         }
         None => None,

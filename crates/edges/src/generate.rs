@@ -28,6 +28,7 @@ use crate::corner_patch::corner_lattice;
 use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage};
 use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
+use crate::part::{drop_unowned_corners, skip_unowned, OwnsPoint};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
 use crate::{EdgeError, EdgeOptions};
 
@@ -78,6 +79,24 @@ pub fn generate_edge_patches(
     surface_spacing: f32,
     options: &EdgeOptions,
 ) -> Result<(Vec<Patch>, EdgeStats), EdgeError> {
+    generate_part_edge_patches(mesh, adjacency, surface, surface_spacing, options, &|_| {
+        true
+    })
+}
+
+/// [`generate_edge_patches`] for one part of a tiled mesh: only the creases whose world
+/// midpoint and the corners whose world position `owns` answers `true` for get patches
+/// (`part.rs`: when the parts' answers partition space, each crease and corner is made by
+/// exactly one part). The other creases end the pieces as covered ones do; the stats count
+/// what was found in all of `mesh`.
+pub fn generate_part_edge_patches(
+    mesh: &TriangleMesh,
+    adjacency: &FaceAdjacency,
+    surface: &[Patch],
+    surface_spacing: f32,
+    options: &EdgeOptions,
+    owns: OwnsPoint<'_>,
+) -> Result<(Vec<Patch>, EdgeStats), EdgeError> {
     options.validate()?;
     if !(surface_spacing.is_finite() && surface_spacing > 0.0) {
         return Err(EdgeError::InvalidSpacing {
@@ -125,7 +144,8 @@ pub fn generate_edge_patches(
         max_stray: options.max_stray * edge_spacing,
     };
     let runs = chain_runs(mesh, &sharp, limits.cos_turn);
-    let (pieces, _) = cut_pieces(mesh, &sharp, &runs, &covered, &limits);
+    let skip = skip_unowned(mesh, &sharp, &covered, owns);
+    let (pieces, _) = cut_pieces(mesh, &sharp, &runs, &skip, &limits);
     stats.pieces = pieces.len();
     let lattices: Vec<(NodeLattice, Vec<FaceId>)> = pieces
         .par_iter()
@@ -143,6 +163,7 @@ pub fn generate_edge_patches(
     if options.corners && !sharp.corners.is_empty() {
         let around = faces_around(mesh, &sharp);
         let mut open = corners_with_gaps(&sharp, &covered);
+        drop_unowned_corners(mesh, &sharp, &mut open, owns);
         if options.only_gaps {
             // The surface and edge patches often close a corner between them already.
             let seen = SurfaceCoverage::new(surface.iter().chain(&patches), surface_spacing);

@@ -15,7 +15,9 @@
 //!   piece with x along the edge and z along the bisector of the two faces' normals, covering
 //!   a strip on both faces at `resolution` times the surface node density; one patch per
 //!   corner; nodes ray-cast against the source and quantized and coloured as the fitter does
-//!   (`spatch-fit`). [`EdgeStats`] counts what was found and made.
+//!   (`spatch-fit`). [`EdgeStats`] counts what was found and made;
+//! - [`generate_part_edge_patches`]: the same for one tile of a tiled mesh, making only the
+//!   creases and corners the tile owns, so that every crease is covered by one tile.
 //!
 //! Options are in [`EdgeOptions`]; errors in [`EdgeError`].
 //!
@@ -51,15 +53,17 @@ mod generate;
 mod lattice_cast;
 mod lattice_raster;
 mod options;
+mod part;
 mod sharp_edges;
 
 pub use coverage::{
     COVER_TOLERANCE, MAX_FACING_ANGLE_DEG, MAX_PROBES_ALONG, PROBE_OFFSETS, SOFT_COVER_TOLERANCE,
 };
 pub use error::EdgeError;
-pub use generate::{generate_edge_patches, EdgeStats};
+pub use generate::{generate_edge_patches, generate_part_edge_patches, EdgeStats};
 pub use options::{
     EdgeOptions, DEFAULT_CREASE_ANGLE_DEG, DEFAULT_MAX_COLS, DEFAULT_MAX_STRAY,
     DEFAULT_MAX_TURN_DEG, DEFAULT_RESOLUTION, DEFAULT_SOFT_CREASE_DEG, DEFAULT_STRIP_WIDTH,
 };
+pub use part::OwnsPoint;
 pub use sharp_edges::{detect_sharp_edges, Crease, CreaseChain, SharpEdges, KNIFE_ANGLE_DEG};

@@ -79,7 +79,7 @@ pub fn read_e57(path: &Path) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanE
 }
 
 /// The scan's pose as a [`Pose`]; a non-finite or zero quaternion is the file's fault.
-fn scan_pose(path: &Path, pc: &e57::PointCloud) -> Result<Pose, ScanError> {
+pub(crate) fn scan_pose(path: &Path, pc: &e57::PointCloud) -> Result<Pose, ScanError> {
     let Some(t) = &pc.transform else {
         return Ok(Pose::IDENTITY);
     };
@@ -94,7 +94,7 @@ fn scan_pose(path: &Path, pc: &e57::PointCloud) -> Result<Pose, ScanError> {
 }
 
 /// A point's colour (or grey from intensity) as RGBA8; invalid values are black.
-fn point_colour(point: &e57::Point, grey: bool) -> [u8; 4] {
+pub(crate) fn point_colour(point: &e57::Point, grey: bool) -> [u8; 4] {
     let byte = |v: f32| unit_byte(f64::from(v));
     if grey {
         let g = point.intensity.map_or(0, byte);

@@ -8,7 +8,7 @@
 //! - [`Pose`]: a rigid transform (rotation, then translation);
 //! - [`merge_scans`] of [`PosedScan`]s → the cloud and a [`ScanSummary`] per scan;
 //! - the readers on their own: [`read_las`] (LAS 1.0-1.4, LAZ), [`read_e57`] (every scan with
-//!   its pose), text clouds through [`parse_columns`] and `spatch_mesh::load::xyz`;
+//!   its pose; [`stream_e57`] a chunk at a time), text clouds through [`parse_columns`] and `spatch_mesh::load::xyz`;
 //! - [`measure_alignment`] → [`ScanAlignment`]: how well the scans of a set line up;
 //! - [`ScanError`] (the one error type) and [`ScanWarning`].
 //!
@@ -34,6 +34,7 @@ mod alignment;
 mod columns;
 mod conf;
 mod e57;
+mod e57_stream;
 mod error;
 mod las;
 mod load;
@@ -45,6 +46,7 @@ pub use alignment::{measure_alignment, ScanAlignment};
 pub use columns::parse_columns;
 pub use conf::{parse_conf, read_conf, ScanEntry, ScanSetFile};
 pub use e57::read_e57;
+pub use e57_stream::{stream_e57, E57Chunk, E57Streamed};
 pub use error::{ColumnSpecProblem, ConfProblem, ScanError};
 pub use las::{intensity_to_grey, read_las, rgb16_to_bytes, LAS_CHUNK};
 pub use load::{is_scan_set, load_scans, LoadedScans, ScanOptions};

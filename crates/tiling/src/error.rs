@@ -44,6 +44,9 @@ pub enum TilingError {
         /// The file.
         path: PathBuf,
     },
+    /// A scan file's reader refused it (the message names the file).
+    #[error(transparent)]
+    Scan(#[from] spatch_scan::ScanError),
     /// A plan or index option is out of range.
     #[error("invalid {option}: {reason}")]
     InvalidOption {

@@ -8,12 +8,13 @@
 //! [`spill_tiles`]); [`build_index`] lists the tile files as a tiled scene that a viewer
 //! opens tile by tile ([`ViewPyramid`] decides which), with a coarse level of the whole
 //! scene in one file ([`coarse_scene`]). The readers ([`stream_points`]) hand out
-//! chunks and never load a whole input, except an E57 file (read one file at a time); a
-//! `.conf` scan set streams its scans, each moved by its pose.
+//! chunks and never load a whole input; a `.conf` scan set or an E57 file streams its
+//! scans, each chunk moved by its scan's pose.
 //!
 //! Meshes are tiled by face ([`make_mesh_plan`], or [`census_mesh_file`] streamed from a
 //! PLY or plain OBJ; [`mesh_tile`], [`read_mesh_tile`]; a tile segments the faces
-//! whose centroid it owns and keeps the edge patches whose anchor it owns: [`TileOwner`]).
+//! whose centroid it owns and makes the edge patches of the creases whose midpoint it owns:
+//! [`TileOwner`]).
 //!
 //! Running at scale, the JSON schemas and measured figures: `docs/scale.md`.
 #![forbid(unsafe_code)]

@@ -7,7 +7,9 @@
 //! a tile segments only the faces it owns and fits them with every face it read
 //! (`spatch_convert::convert_part`), so every region, hence every surface patch, is made
 //! by exactly one tile, and the patches reach across the border as they reach across
-//! region borders inside one conversion.
+//! region borders inside one conversion. Likewise each crease is covered by the tile owning
+//! its midpoint and each corner by the tile owning it, so every sharp-edge and corner patch
+//! is made by exactly one tile.
 
 use glam::DVec3;
 use spatch_convert::PartOwner;
@@ -97,10 +99,11 @@ pub fn owns(bounds: &WorldBox, w: DVec3) -> bool {
     (0..3).all(|k| w[k] >= bounds.min[k] && w[k] < bounds.max[k])
 }
 
-/// What one tile of a mesh plan owns: the faces whose world centroid lies in its box
-/// (`[min, max)` per axis), and the sharp-edge patches whose anchor ([`patch_anchor`])
-/// does. The tiles' boxes partition space, so every face has exactly one owner tile, and
-/// that tile reads it (a face's box holds its centroid).
+/// What one tile of a mesh plan owns: the faces whose world centroid, the creases whose
+/// world midpoint and the corners whose world position lies in its box (`[min, max)` per
+/// axis). The tiles' boxes partition space, so every face, crease and corner has exactly
+/// one owner tile, and that tile reads it (a face's box holds its centroid; both faces of
+/// a crease hold its midpoint; every face around a corner holds the corner).
 #[derive(Debug, Clone, Copy)]
 pub struct TileOwner<'a> {
     /// The tile's own box (the plan's `tiles[].bounds`).
@@ -108,11 +111,7 @@ pub struct TileOwner<'a> {
 }
 
 impl PartOwner for TileOwner<'_> {
-    fn owns_face(&self, centroid: DVec3) -> bool {
-        owns(self.bounds, centroid)
-    }
-
-    fn owns_patch(&self, patch: &Patch, offset: DVec3) -> bool {
-        patch_anchor(patch, offset).is_some_and(|w| owns(self.bounds, w))
+    fn owns_point(&self, world: DVec3) -> bool {
+        owns(self.bounds, world)
     }
 }

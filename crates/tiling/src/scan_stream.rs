@@ -3,14 +3,15 @@
 //!
 //! A `.conf`'s scans in the streamed formats (PLY, LAS/LAZ, XYZ/TXT/PTS) are streamed a
 //! chunk at a time, each chunk moved into the common frame by the scan's pose (positions
-//! and normals); an E57 file is read whole by `spatch_scan::read_e57` (one file at a time,
-//! for a `.conf` that lists E57 scans) and handed out in chunks. The chunks of a set carry
+//! and normals); an E57 file's scans are streamed likewise by `spatch_scan::stream_e57`, each
+//! chunk moved by its scan's own pose (then by the `.conf`'s pose, for a `.conf` that lists
+//! E57 scans). The chunks of a set carry
 //! colours (and normals) exactly when its first scan does; a later scan that differs is
 //! refused, so that chunks concatenate.
 
 use std::path::Path;
 
-use spatch_scan::{read_conf, read_e57, Pose, PosedScan};
+use spatch_scan::{read_conf, E57Chunk, Pose};
 
 use crate::stream::{stream_points, PointChunk, Visit, CHUNK_POINTS};
 use crate::TilingError;
@@ -73,31 +74,22 @@ fn is_e57(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("e57"))
 }
 
-/// The scans of an E57 file, each moved by its own pose and then by `pose`, in chunks.
+/// The scans of an E57 file, each moved by its own pose and then by `pose`, streamed a
+/// chunk at a time by [`spatch_scan::stream_e57`].
 fn stream_e57_posed(path: &Path, pose: &Pose, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
-    let (scans, _) = read_e57(path).map_err(|e| TilingError::malformed(path, e.to_string()))?;
-    let mut read = 0;
-    for scan in &scans {
-        let total = pose.after(&scan.pose);
-        for start in (0..scan.positions.len()).step_by(CHUNK_POINTS) {
-            let chunk = scan_chunk(
-                scan,
-                start..(start + CHUNK_POINTS).min(scan.positions.len()),
-            );
-            visit(&posed_chunk(&chunk, &total))?;
-            read += chunk.len() as u64;
-        }
-    }
-    Ok(read)
-}
-
-/// Points `range` of `scan`, in its own frame.
-fn scan_chunk(scan: &PosedScan, range: std::ops::Range<usize>) -> PointChunk {
-    PointChunk {
-        positions: scan.positions[range.clone()].to_vec(),
-        colours: scan.colours.as_ref().map(|c| c[range.clone()].to_vec()),
-        normals: scan.normals.as_ref().map(|n| n[range].to_vec()),
-    }
+    let streamed = spatch_scan::stream_e57(path, CHUNK_POINTS, &mut |chunk: &E57Chunk<'_>| {
+        let total = pose.after(chunk.pose);
+        visit(&PointChunk {
+            positions: chunk
+                .positions
+                .iter()
+                .map(|&p| total.apply_point(p))
+                .collect(),
+            colours: chunk.colours.map(<[[u8; 4]]>::to_vec),
+            normals: None,
+        })
+    })?;
+    Ok(streamed.points)
 }
 
 /// `chunk` moved by `pose` (positions, and normals by its rotation).

@@ -5,6 +5,7 @@ mod join;
 mod mesh_owners;
 mod mesh_plan;
 mod mesh_stream;
+mod plan_json;
 mod readers;
 mod scan_sets;
 mod spill;

@@ -23,19 +23,19 @@ fn every_face_has_exactly_one_owner_tile_which_reads_it() {
         };
         let mut owned_here = 0;
         for f in part.faces() {
-            if owner.owns_face(world_centroid(&part, f)) {
+            if owner.owns_point(world_centroid(&part, f)) {
                 owned_here += 1;
             }
         }
         for f in mesh.faces() {
-            if owner.owns_face(world_centroid(&mesh, f)) {
+            if owner.owns_point(world_centroid(&mesh, f)) {
                 owners[f.index()] += 1;
             }
         }
         // The part holds every face the tile owns, at the same world centroid.
         let owned_whole = mesh
             .faces()
-            .filter(|&f| owner.owns_face(world_centroid(&mesh, f)))
+            .filter(|&f| owner.owns_point(world_centroid(&mesh, f)))
             .count();
         assert_eq!(owned_here, owned_whole, "tile {}", tile.index);
     }

@@ -126,3 +126,52 @@ fn conf_and_e57_scan_sets_stream_their_posed_points() {
     write_e57(&e57, &scans);
     check(&e57, 2400);
 }
+
+/// The points of every scan of the E57 at `path` read whole by `spatch_scan::read_e57`,
+/// each moved by its pose: what E57 tiles read before they streamed.
+fn whole_e57(path: &Path) -> Vec<DVec3> {
+    let (scans, _) = spatch_scan::read_e57(path).unwrap();
+    scans
+        .iter()
+        .flat_map(|s| s.positions.iter().map(|&p| s.pose.apply_point(p)))
+        .collect()
+}
+
+#[test]
+fn an_e57_tile_streams_the_points_the_whole_read_gives() {
+    let dir = tempfile::tempdir().unwrap();
+    let e57 = dir.path().join("three.e57");
+    let (h, c) = (std::f64::consts::FRAC_1_SQRT_2, 0.8f64);
+    // 70 000 points in the first scan: more than one chunk.
+    let scans = [
+        (sheet(70_000, 0.0), [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        (sheet(2400, 0.5), [h, 0.0, 0.0, h], [3.0, 0.5, 0.0]),
+        (sheet(2400, 0.0), [c, 0.6, 0.0, 0.0], [1.0, -2.0, 0.25]),
+    ];
+    write_e57(&e57, &scans);
+    let whole = whole_e57(&e57);
+    let bits = |v: &[DVec3]| -> Vec<[u64; 3]> {
+        v.iter().map(|p| p.to_array().map(f64::to_bits)).collect()
+    };
+    assert_eq!(bits(&streamed(&e57)), bits(&whole), "bit for bit, in order");
+
+    let options = PlanOptions {
+        tile: 2.0,
+        buffer: Some(0.2),
+        spacing: Some(0.05),
+        pixel_factor: spatch_cloud::CloudOptions::DEFAULT_PIXEL_FACTOR,
+    };
+    let plan = make_plan(&e57, &options).unwrap();
+    assert!(plan.tiles.len() >= 4, "{} tiles", plan.tiles.len());
+    let grid = plan.grid.tile_grid().unwrap();
+    for tile in &plan.tiles {
+        let (cloud, own) = spatch_tiling::read_tile_points(&e57, &grid, tile.key).unwrap();
+        let expected: Vec<glam::Vec3> = whole
+            .iter()
+            .filter(|&&p| spatch_tiling::is_member(&grid, tile.key, p))
+            .map(|&p| (p - cloud.origin).as_vec3())
+            .collect();
+        assert_eq!(cloud.positions, expected, "tile {}", tile.index);
+        assert_eq!(own, tile.points, "tile {}", tile.index);
+    }
+}
