@@ -93,18 +93,14 @@ mod tests {
                     .collect()
             })
             .collect();
-        for k in 0..sharp.creases.len() {
-            assert_eq!(
-                usize::from(made[0][k]) + usize::from(made[1][k]),
-                1,
-                "crease {k}"
-            );
+        for (k, (a, b)) in made[0].iter().zip(&made[1]).enumerate() {
+            assert_eq!(usize::from(*a) + usize::from(*b), 1, "crease {k}");
         }
         let mut corners = [vec![true; 8], vec![true; 8]];
         drop_unowned_corners(&mesh, &sharp, &mut corners[0], &left);
         drop_unowned_corners(&mesh, &sharp, &mut corners[1], &right);
-        for k in 0..8 {
-            assert!(corners[0][k] ^ corners[1][k], "corner {k}");
+        for (k, (a, b)) in corners[0].iter().zip(&corners[1]).enumerate() {
+            assert!(a ^ b, "corner {k}");
         }
         // A covered crease is skipped by every part.
         let all_covered = vec![true; sharp.creases.len()];

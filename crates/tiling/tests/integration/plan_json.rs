@@ -49,13 +49,13 @@ fn a_plan_read_back_has_bit_identical_bounds() {
         points: 1,
         skipped_non_finite: 0,
         bounds: WorldBox {
-            min: [6_400_000.123_456_789_1, -0.1, 1e-300],
-            max: [6_400_049.876_543_210_9, 0.3, 1.0 / 3.0],
+            min: [6.4e6 + 1.0 / 3.0, -0.1, -1.999_997_377_395_629_9],
+            max: [6.4e6 + 50.0 / 7.0, 0.3, 1.0 / 3.0],
         },
         spacing: 0.1,
         pixel_factor: 1.0,
         grid: PlanGrid {
-            anchor: [6_400_000.123_456_789_1, 4_000_000.2, -7.7],
+            anchor: [6.4e6 + 1.0 / 3.0, 4_000_000.2, -7.7],
             size: 50.0 / 3.0,
             buffer: 0.1 + 0.2,
         },
