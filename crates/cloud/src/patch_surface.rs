@@ -13,9 +13,11 @@
 //! its order (a grid cell's cells are one run of `cells` and `boxes`), answers the queries:
 //! the grid cells within reach of the point, then those within the best distance found. A
 //! query whose neighbourhood would pass `MAX_GRID_CELLS` grid cells (a point far from the
-//! surface, e.g. of a source that does not overlap the scene) descends a bounding volume
-//! hierarchy instead (`patch_surface/tree.rs`, built on the first such query), which costs
-//! a few more boxes, not a scan of empty space. Every path prunes a cell whose box is
+//! surface, e.g. of a source that does not overlap the scene) searches a coarser index
+//! instead, built on the first such query: the patches' boxes, nearest first, and the cells
+//! of each (`patch_surface/blocks.rs`) when the blocks are patches of many cells, else a
+//! bounding volume hierarchy over the cells (`patch_surface/tree.rs`); either costs a few
+//! more boxes, not a scan of empty space. Every path prunes a cell whose box is
 //! farther than the best distance so far (with a relative slack of [`PRUNE_SLACK`] for
 //! rounding) and no other: the result is exactly the minimum of the quad distance over all
 //! quads (ties go to the lower patch index), which the tests check against a linear scan.
@@ -30,8 +32,9 @@
 //!
 //! Memory: the node positions of every patch (12 bytes per node; a cell's corners are read
 //! from there, not copied), 8 bytes per drawable cell (its patch and corner) and 24 for its
-//! box; the grid's block table (a few bytes per cell); the tree, when built, 16 bytes per
-//! cell. The build holds 16 bytes of sort key per cell beside the cells (the grid reads the
+//! box; the grid's block table (a few bytes per cell); the patches' index, when built, 4
+//! bytes per cell and 24 per patch (the tree instead, for quads given alone, 16 bytes per
+//! cell). The build holds 16 bytes of sort key per cell beside the cells (the grid reads the
 //! boxes from the corners until the cells are in its order).
 //!
 //! Cost: build O(C log C) for C cells (a sort by grid cell); a query on the surface a few
@@ -48,9 +51,11 @@ use spatch_format::Scene;
 
 use crate::cell_grid::{CellGrid, CellRange};
 use crate::quad_distance::{distance_to_quad, Quad};
+use blocks::{BlockIndex, MIN_CELLS_PER_BLOCK};
 use tree::CellTree;
 
 mod batch;
+mod blocks;
 mod tree;
 
 /// Quads per leaf of the tree.
@@ -143,8 +148,12 @@ pub struct PatchSurface {
     /// The flat grid of the cells by their centres, the first place a query looks; `None`
     /// when the cells have no extent.
     grid: Option<CellGrid>,
-    /// The tree over the cells, built by the first query that needs it.
+    /// The tree over the cells, built by the first query that needs it (surfaces of few
+    /// cells per block).
     tree: OnceLock<CellTree>,
+    /// The blocks' boxes and cells, built by the first query that needs it (surfaces of
+    /// patches: see `blocks.rs`).
+    block_index: OnceLock<BlockIndex>,
 }
 
 impl PatchSurface {
@@ -240,6 +249,7 @@ impl PatchSurface {
             bounds: Node::EMPTY,
             grid: None,
             tree: OnceLock::new(),
+            block_index: OnceLock::new(),
         };
         // The grid reads each cell's box from its corners, so no box array is held beside
         // its sort keys; the boxes are stored once the cells are in the grid's order.
@@ -272,6 +282,21 @@ impl PatchSurface {
         self.tree.get_or_init(|| CellTree::build(&self.boxes))
     }
 
+    /// Improves `best` for `p` over every cell: through the patches' boxes when the blocks
+    /// are patches of many cells (`blocks.rs`), else through the tree over the cells.
+    fn search_everywhere(&self, p: Vec3, best: &mut Best) {
+        if self.blocks.len() * MIN_CELLS_PER_BLOCK <= self.cells.len() {
+            let index = self.block_index.get_or_init(|| {
+                BlockIndex::build(self.blocks.len(), &self.boxes, |k| {
+                    self.cells[k].block as usize
+                })
+            });
+            index.descend(self, p, best);
+        } else {
+            self.tree().descend(self, p, best);
+        }
+    }
+
     /// The corners of `cell`.
     #[inline]
     fn quad(&self, cell: Cell) -> Quad {
@@ -302,8 +327,9 @@ impl PatchSurface {
     /// starts from the distance to `hint` (a cell found near `p`, usually as near as the
     /// best) and the cells of the query's own grid cell, then reads the grid cells around
     /// it that can hold a nearer cell; when that neighbourhood is too wide (a point far from
-    /// the surface) it descends the tree instead, pruning every box farther than the best so
-    /// far. The result is the same with any hint and either way.
+    /// the surface) it searches every cell through the patches' boxes or the tree instead,
+    /// pruning every box farther than the best so far. The result is the same with any hint
+    /// and either way.
     fn search(&self, p: Vec3, hint: Option<usize>) -> (f32, u32, usize) {
         let mut best = match hint {
             Some(k) => Best {
@@ -336,7 +362,7 @@ impl PatchSurface {
                 }
             }
         }
-        self.tree().descend(self, p, &mut best);
+        self.search_everywhere(p, &mut best);
         (best.distance, best.owner, best.cell)
     }
 

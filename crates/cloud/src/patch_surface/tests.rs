@@ -180,14 +180,16 @@ fn small_scene() -> Scene {
     Scene::new(glam::DVec3::splat(1e5), ColourChannel::None, patches).unwrap()
 }
 
-#[test]
-fn scene_cells_match_a_brute_force_over_drawable_cells() {
-    let scene = small_scene();
-    let shift = Vec3::new(1.0, -2.0, 0.5);
+/// The drawable cells of `scene` (moved by `shift`) and their patches, for a linear scan.
+fn scene_quads(scene: &Scene, shift: Vec3) -> (Vec<Quad>, Vec<u32>) {
     let (mut quads, mut owners) = (Vec::new(), Vec::new());
     for (k, patch) in scene.patches().iter().enumerate() {
-        for j in 0..8 {
-            for i in 0..8 {
+        let (cols, rows) = (
+            usize::from(patch.grid().cols()),
+            usize::from(patch.grid().rows()),
+        );
+        for j in 0..rows - 1 {
+            for i in 0..cols - 1 {
                 if patch.cell_is_drawable(i, j) {
                     let at = |a, b| patch.node_position(a, b).unwrap() + shift;
                     quads.push([at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]);
@@ -196,6 +198,14 @@ fn scene_cells_match_a_brute_force_over_drawable_cells() {
             }
         }
     }
+    (quads, owners)
+}
+
+#[test]
+fn scene_cells_match_a_brute_force_over_drawable_cells() {
+    let scene = small_scene();
+    let shift = Vec3::new(1.0, -2.0, 0.5);
+    let (quads, owners) = scene_quads(&scene, shift);
     let surface = PatchSurface::new(&scene, shift).unwrap();
     assert_eq!(surface.cell_count(), quads.len());
     let mut rng = SplitMix64::new(9);
@@ -271,4 +281,43 @@ fn long_cells_and_points_off_the_surface_match_a_linear_scan() {
     for (k, &p) in points.iter().enumerate() {
         assert_eq!((all_d[k], all_o[k]), linear_scan(p, &quads, &owners), "{p}");
     }
+}
+
+/// Six 17 × 17-node patches side by side on a gently waved sheet (256 cells a patch).
+fn sheet_scene() -> Scene {
+    use spatch_format::{ColourChannel, Frame, GridSize, Patch};
+    let patches = (0..6)
+        .map(|k| {
+            let origin = Vec3::new((k % 3) as f32 * 1.6, (k / 3) as f32 * 1.6, 0.0);
+            let d: Vec<u16> = (0..289)
+                .map(|n| (20.0 + 10.0 * ((n % 17 + k) as f32 * 0.7).sin()) as u16)
+                .collect();
+            let frame = Frame::new(origin, Vec3::X * 0.1, Vec3::Y * 0.1, Vec3::Z * 0.01).unwrap();
+            Patch::new(frame, GridSize::new(17, 17).unwrap(), d, None).unwrap()
+        })
+        .collect();
+    Scene::new(glam::DVec3::ZERO, ColourChannel::None, patches).unwrap()
+}
+
+/// Points far from a scene of patches (beyond the grid's neighbourhood) are searched through
+/// the patches' boxes (`blocks.rs`), one by one and in a batch, exactly as a linear scan.
+#[test]
+fn far_points_match_a_linear_scan_through_the_patches_boxes() {
+    let scene = sheet_scene();
+    let shift = Vec3::new(-3.0, 1.0, 2.0);
+    let (quads, owners) = scene_quads(&scene, shift);
+    let surface = PatchSurface::new(&scene, shift).unwrap();
+    assert_eq!(surface.cell_count(), 6 * 256);
+    let mut rng = SplitMix64::new(21);
+    let mut r = move || rng.next_f64() as f32 * 200.0 - 100.0;
+    let points: Vec<Vec3> = (0..1500)
+        .map(|_| Vec3::new(r(), r(), r()) + shift)
+        .collect();
+    let (all_d, all_o) = surface.nearest_all(&points);
+    for (k, &p) in points.iter().enumerate() {
+        let expected = linear_scan(p, &quads, &owners);
+        assert_eq!(surface.nearest(p), expected, "{p}");
+        assert_eq!((all_d[k], all_o[k]), expected, "{p}");
+    }
+    assert!(surface.block_index.get().is_some() && surface.tree.get().is_none());
 }
