@@ -72,10 +72,20 @@ impl MipLevel {
         colours: Option<Vec<[u8; 4]>>,
     ) -> Self {
         let (ccols, crows) = (cols - 1, rows - 1);
+        // A cell is drawn when its four corners are filled. Why from a row
+        // of filled flags, slices of known length: the test runs in byte
+        // lanes (per cell with indexed loads it was 8.7 M of a one-frame
+        // bunny render's 265 M instructions; callgrind).
+        let filled: Vec<bool> = displacements.iter().map(|&d| d != EMPTY).collect();
         let mut drawn = Vec::with_capacity(ccols * crows);
         for j in 0..crows {
-            let k = j * cols;
-            drawn.extend((k..k + ccols).map(|k| corners_filled(&displacements, k, 1, cols)));
+            let (below, above) = (
+                &filled[j * cols..][..cols],
+                &filled[(j + 1) * cols..][..cols],
+            );
+            let (b0, b1) = (&below[..ccols], &below[1..]);
+            let (a0, a1) = (&above[..ccols], &above[1..]);
+            drawn.extend((0..ccols).map(|i| b0[i] & b1[i] & a0[i] & a1[i]));
         }
         let normal_slots = grid_slots(&displacements, cols, rows, EMPTY);
         Self::with_drawn_cells(
@@ -143,14 +153,14 @@ impl MipLevel {
                 *a |= c;
             }
         }
-        let mut lo = u16::MAX;
-        let mut hi = 0;
-        for (&d, &u) in displacements.iter().zip(&used) {
-            if u {
-                lo = lo.min(d);
-                hi = hi.max(d);
-            }
-        }
+        // Branch-free, so it runs in lanes.
+        let (lo, hi) = displacements
+            .iter()
+            .zip(&used)
+            .fold((u16::MAX, 0), |(lo, hi), (&d, &u)| {
+                let (l, h) = if u { (d, d) } else { (u16::MAX, 0) };
+                (lo.min(l), hi.max(h))
+            });
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
         let mut weights = Vec::with_capacity(displacements.len());
         push_weights(&displacements, d_range, &mut weights);
