@@ -54,14 +54,16 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
                 over[..ccols].copy_from_slice(above);
             }
             let (next, over) = (&next[..ccols], &over[..ccols]);
-            let (mut right_n, mut top_n, mut both_n) = (0u32, 0u32, 0u32);
+            // Byte counters (at most 64 cells a row): the loop stays in
+            // byte lanes.
+            let (mut right_n, mut top_n, mut both_n) = (0u8, 0u8, 0u8);
             for ((f, &n), &o) in row.iter_mut().zip(next).zip(over) {
                 let drawn = *f & CELL_DRAW;
                 let (right, top) = (drawn & !n, drawn & !o);
                 *f |= (right * CELL_RIGHT) | (top * CELL_TOP);
-                right_n += right as u32;
-                top_n += top as u32;
-                both_n += (right & top) as u32;
+                right_n += right;
+                top_n += top;
+                both_n += right & top;
             }
             counts[0] += right_n as u64;
             counts[1] += top_n as u64;
