@@ -91,7 +91,7 @@ impl LevelShading {
         // Why one pass over zipped slices: no index checks or capacity
         // tests per node (callgrind, `spatch render bunny.spatch -o out.png
         // --threads 1`).
-        let nodes = d.iter().zip(&level.normal_slots).enumerate();
+        let nodes = d.iter().zip(level.normal_slots()).enumerate();
         let normals: Vec<Vec4> = nodes
             .map(|(k, (&dk, &slot))| {
                 if dk == EMPTY {
@@ -116,7 +116,7 @@ impl LevelShading {
             level
                 .used
                 .iter()
-                .zip(&level.normal_slots)
+                .zip(level.normal_slots())
                 .filter(|&(&u, _)| u)
                 .map(|(_, &slot)| slot),
         );
