@@ -578,6 +578,13 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     stages.push("write", clock.elapsed().as_secs_f64());
     drop(progress);
     let threads = renderer.threads();
+    // The process ends after this command: the prepared scene and the
+    // renderer are left to the OS instead of freed piece by piece. Why:
+    // freeing every patch's levels cost 7 M of the 265 M instructions of a
+    // one-frame bunny render (callgrind, `spatch render bunny.spatch -o
+    // out.png --threads 1`).
+    std::mem::forget(prepared);
+    std::mem::forget(renderer);
     if args.json {
         let details = RenderDetails {
             stats: &out.stats,

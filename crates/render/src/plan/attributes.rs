@@ -137,7 +137,7 @@ fn fill_phong_attributes(
     let piece = &work.nodes[first..first + width * height];
     for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact(width)) {
         let row = j * level.cols + range.i0;
-        let slots = &level.normal_slots[row..row + width];
+        let slots = &level.normal_slots()[row..row + width];
         for (node, &slot) in out.iter().zip(slots) {
             if node[0] == EMPTY_NODE {
                 continue;

@@ -11,7 +11,7 @@
 //! Cost: four corner normals per drawable cell, in lanes; no allocation
 //! beyond one vector of corner normals.
 
-use glam::{DMat3, DVec3, Vec3, Vec4};
+use glam::{DMat3, DVec3, IVec4, Vec3, Vec4, Vec4Swizzles};
 
 use crate::grid::CELL_DRAW;
 use crate::prepare::mip::MipLevel;
@@ -52,12 +52,16 @@ pub(crate) fn compute_normal_cone(
             if flag & CELL_DRAW == 0 {
                 continue;
             }
-            let [d00, d10, d01, d11] = [b[0], b[1], a[0], a[1]].map(i32::from);
-            // The four corners' differences over one spacing, doubled (the
-            // form of a node normal's differences).
-            let du = [d10 - d00, d10 - d00, d11 - d01, d11 - d01].map(|g| 2 * g);
-            let dv = [d01 - d00, d11 - d10, d01 - d00, d11 - d10].map(|g| 2 * g);
-            let n = corner_normals(du, dv, ratios);
+            // The corners d00, d10, d01, d11, and their differences over
+            // one spacing, doubled (the form of a node normal's
+            // differences): du = [d10 - d00, d10 - d00, d11 - d01, d11 -
+            // d01], dv = [d01 - d00, d11 - d10, d01 - d00, d11 - d10]. Why
+            // integer lanes: one packed subtraction and conversion each
+            // (exact, so the normals are those of the scalar form).
+            let c = IVec4::new(b[0].into(), b[1].into(), a[0].into(), a[1].into());
+            let du = (c.yyww() - c.xxzz()) * 2;
+            let dv = (c.zwzw() - c.xyxy()) * 2;
+            let n = corner_normals(du.as_vec4(), dv.as_vec4(), ratios);
             for (s, c) in sum.iter_mut().zip(n) {
                 *s += c;
             }
@@ -88,10 +92,11 @@ pub(crate) fn compute_normal_cone(
 /// [`reconstruct_normal`](crate::prepare::normals::reconstruct_normal)`(gi, gj, rx, ry).normalize()` of
 /// four corners as lanes `[x, y, z]`, with the same operations in the same
 /// order as one by one, so each lane equals its one-by-one value.
+/// `gi` and `gj` hold integer differences (exact in `f32`).
 #[inline]
-fn corner_normals(gi: [i32; 4], gj: [i32; 4], (rx, ry): (f32, f32)) -> [Vec4; 3] {
+fn corner_normals(gi: Vec4, gj: Vec4, (rx, ry): (f32, f32)) -> [Vec4; 3] {
     // As `reconstruct_normal`: `(-g · r · 0.5, ..., 1)`.
-    let lanes = |g: [i32; 4], r: f32| Vec4::from_array(g.map(|g| -(g as f32))) * r * 0.5;
+    let lanes = |g: Vec4, r: f32| -g * r * 0.5;
     let (x, y) = (lanes(gi, rx), lanes(gj, ry));
     // As `Vec3::normalize`: times `1 / sqrt(x·x + y·y + z·z)`, with z = 1.
     let inverse = Vec4::ONE / (x * x + y * y + Vec4::ONE).sqrt();
@@ -113,7 +118,8 @@ mod tests {
             let gi = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
             let gj = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
             let ratios = (0.001 + rng.unit() * 0.2, 0.001 + rng.unit() * 0.2);
-            let [x, y, z] = corner_normals(gi, gj, ratios);
+            let as_lanes = |g: [i32; 4]| IVec4::from_array(g).as_vec4();
+            let [x, y, z] = corner_normals(as_lanes(gi), as_lanes(gj), ratios);
             for k in 0..4 {
                 let one = reconstruct_normal(gi[k], gj[k], ratios.0, ratios.1).normalize();
                 assert_eq!(

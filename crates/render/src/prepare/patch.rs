@@ -88,25 +88,25 @@ impl LevelShading {
         buffer.select(m, ratios);
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let mut normals = Vec::with_capacity(cols * rows);
-        for j in 0..rows {
-            for i in 0..cols {
-                let k = j * cols + i;
-                if d[k] == EMPTY {
-                    normals.push(Vec4::ZERO);
-                    continue;
+        // Why one pass over zipped slices: no index checks or capacity
+        // tests per node (callgrind, `spatch render bunny.spatch -o out.png
+        // --threads 1`).
+        let nodes = d.iter().zip(level.normal_slots()).enumerate();
+        let normals: Vec<Vec4> = nodes
+            .map(|(k, (&dk, &slot))| {
+                if dk == EMPTY {
+                    return Vec4::ZERO;
                 }
-                let slot = level.normal_slots[k];
                 let bits = if slot != OUTSIDE_TABLE {
-                    buffer.normal_bits_at(m, slot)
+                    buffer.cached_bits_at(m, slot)
                 } else {
-                    let (gi, gj) = node_differences(d, cols, rows, i, j, EMPTY);
+                    let (gi, gj) = node_differences(d, cols, rows, k % cols, k / cols, EMPTY);
                     buffer.normal_bits(m, gi, gj)
                 };
                 let [x, y, z] = bits.map(crate::fixed::attr_from_bits);
-                normals.push(Vec4::new(x, y, z, 0.0));
-            }
-        }
+                Vec4::new(x, y, z, 0.0)
+            })
+            .collect();
         let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
             c.iter()
                 .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
@@ -116,7 +116,7 @@ impl LevelShading {
             level
                 .used
                 .iter()
-                .zip(&level.normal_slots)
+                .zip(level.normal_slots())
                 .filter(|&(&u, _)| u)
                 .map(|(_, &slot)| slot),
         );

@@ -77,11 +77,7 @@ impl PreparedScene {
             built.into_iter().flatten().unzip();
         let trimmed_cells = if trim { trim_overlaps(&mut patches) } else { 0 };
         // Drawing order (after trimming, which relies on scene order).
-        patches.sort_by(|a, b| {
-            (a.ratios.0, a.ratios.1)
-                .partial_cmp(&(b.ratios.0, b.ratios.1))
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
+        let patches = in_drawing_order(patches);
         let bounds = corners.iter().flatten().fold(None, |b, &p| {
             let (lo, hi) = b.unwrap_or((p, p));
             Some((p.min(lo), p.max(hi)))
@@ -141,6 +137,30 @@ impl PreparedScene {
     pub fn bounding_sphere(&self) -> Option<(DVec3, f64)> {
         self.sphere
     }
+}
+
+/// `patches` sorted by their shading ratios (stable: equal ratios keep
+/// their order). Why through an index sort: a prepared patch is a few
+/// hundred bytes, and the stable sort moved whole patches (9.3 M of the
+/// 265 M instructions of a one-frame bunny render, mostly `memcpy`;
+/// callgrind, `spatch render bunny.spatch -o out.png --threads 1`); the
+/// keys and the resulting order are the same.
+fn in_drawing_order(patches: Vec<PreparedPatch>) -> Vec<PreparedPatch> {
+    let mut order: Vec<(f32, f32, u32)> = patches
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.ratios.0, p.ratios.1, k as u32))
+        .collect();
+    order.sort_by(|a, b| {
+        (a.0, a.1)
+            .partial_cmp(&(b.0, b.1))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let mut slots: Vec<Option<PreparedPatch>> = patches.into_iter().map(Some).collect();
+    order
+        .iter()
+        .map(|&(_, _, k)| slots[k as usize].take().expect("each index once"))
+        .collect()
 }
 
 impl PreparedScene {
