@@ -77,6 +77,9 @@ pub(crate) struct PieceLimits {
     pub(crate) max_len: f32,
     /// Cosine of the largest turn of the faces' bisector from the piece's first segment.
     pub(crate) cos_turn: f32,
+    /// Cosine of the largest turn while every face of the piece is seen squarely (within
+    /// [`SQUARE_FACE_DOT`] of the first bisector): [`WIDE_TURN`] times the turn.
+    pub(crate) cos_wide_turn: f32,
     /// Largest distance of the crease from the piece's chord.
     pub(crate) max_stray: f32,
 }
@@ -84,6 +87,17 @@ pub(crate) struct PieceLimits {
 /// Smallest `n · b` of a face normal `n` of a piece against its first bisector `b`: below it
 /// the face would be seen too obliquely (or from behind) by the patch.
 const MIN_FACE_DOT: f32 = 0.2;
+
+/// Smallest `n · b` of every face normal of a piece for it to take the wider turn
+/// [`WIDE_TURN`]: faces within 50° of the first bisector (creases up to 100°, fandisk's
+/// 80-90° ones), which a turn of the view by a few degrees more still sees squarely. Steeper
+/// rims (the crease sweep's 110-150° ones, faces 55-75° from the bisector) open holes past
+/// 10° and keep the plain turn.
+pub(crate) const SQUARE_FACE_DOT: f32 = 0.64;
+
+/// The turn allowed while every face is seen squarely, in multiples of
+/// [`crate::EdgeOptions::max_turn_deg`].
+pub(crate) const WIDE_TURN: f32 = 1.5;
 
 /// Cuts every run of chains (`chain_runs`; creases of `sharp`) into pieces (see the module
 /// docs), leaving out the creases `skip` marks
@@ -101,6 +115,8 @@ pub(crate) fn cut_pieces(
     for chain in runs {
         let mut current: Vec<Segment> = Vec::new();
         let (mut length, mut b0) = (0.0f32, Vec3::ZERO);
+        // Every face of the current piece is within SQUARE_FACE_DOT of `b0`.
+        let mut square = false;
         for (k, &ci) in chain.creases.iter().enumerate() {
             let crease = &sharp.creases[ci as usize];
             let knife = crease.is_knife();
@@ -121,8 +137,11 @@ pub(crate) fn cut_pieces(
                     crease: ci,
                 };
                 let part_len = seg_len / parts as f32;
+                let turn = bisector.dot(b0);
+                let squarely =
+                    square && crease.normals.iter().all(|n| n.dot(b0) >= SQUARE_FACE_DOT);
                 let fits = length + part_len <= limits.max_len
-                    && bisector.dot(b0) >= limits.cos_turn
+                    && (turn >= limits.cos_turn || (squarely && turn >= limits.cos_wide_turn))
                     && crease.normals.iter().all(|n| n.dot(b0) >= MIN_FACE_DOT)
                     && stays_near_chord(&current, segment.b, b0, limits.max_stray);
                 if !fits {
@@ -131,6 +150,9 @@ pub(crate) fn cut_pieces(
                 if current.is_empty() {
                     length = 0.0;
                     b0 = bisector;
+                    square = crease.normals.iter().all(|n| n.dot(b0) >= SQUARE_FACE_DOT);
+                } else {
+                    square = squarely;
                 }
                 current.push(segment);
                 length += part_len;

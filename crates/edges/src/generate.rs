@@ -26,7 +26,7 @@ use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh, VertexId};
 use crate::chain_runs::chain_runs;
 use crate::corner_patch::corner_lattice;
 use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage};
-use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits};
+use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits, WIDE_TURN};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::part::{drop_unowned_corners, skip_unowned, OwnsPoint};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
@@ -141,6 +141,10 @@ pub fn generate_part_edge_patches(
     let limits = PieceLimits {
         max_len,
         cos_turn: options.max_turn_deg.to_radians().cos(),
+        cos_wide_turn: (options.max_turn_deg * WIDE_TURN)
+            .min(90.0)
+            .to_radians()
+            .cos(),
         max_stray: options.max_stray * edge_spacing,
     };
     let runs = chain_runs(mesh, &sharp, limits.cos_turn);

@@ -438,10 +438,12 @@ fn with_colour_grid(
     let factor = job
         .texel
         .and_then(|t| grid_factor(spacing, t, job.options.colour_grid_texels));
-    let (Some(factor), true) = (factor, job.with_colour) else {
+    let (Some(factor), Some(texel), true) = (factor, job.texel, job.with_colour) else {
         return Ok(patch);
     };
-    match sample_colour_grid(job.mesh, faces, lattice, (i0, j0), patch.grid(), factor) {
+    let texels = f64::from(spacing) / f64::from(factor) / texel;
+    let window = ((i0, j0), patch.grid());
+    match sample_colour_grid(job.mesh, faces, lattice, window, factor, texels) {
         Some(grid) => Ok(patch.with_colour_grid(grid)?),
         None => Ok(patch),
     }

@@ -14,8 +14,8 @@ use spatch_mesh::load_mesh;
 use crate::surface::fit;
 
 /// Checks the targets on `relative`; `max_share` bounds the edge and corner patches' share
-/// of the patches, when given (issue 22 item 8 asks 30 %; fandisk is at 30.4 %, pinned at
-/// 31 % so that it cannot grow back).
+/// of the patches, when given (issue 22 item 8 asks 30 %; fandisk is at 28.1 % since the
+/// wider turn where faces are seen squarely).
 fn check(relative: &str, max_share: Option<f64>) {
     let Some(path) = spatch_fixtures::shared_data(relative) else {
         return;
@@ -112,7 +112,7 @@ fn cad_cube_meshed() {
 
 #[test]
 fn cad_fandisk() {
-    check("cad/fandisk.obj", Some(0.31));
+    check("cad/fandisk.obj", Some(0.30));
 }
 
 /// Issue 22 item 8 on the low-poly textured models: the soft creases the surface patches

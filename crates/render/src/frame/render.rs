@@ -235,6 +235,7 @@ impl Renderer {
             shading: options.shading,
             cells: options.cells,
             depth_map: (setup.z_scale, setup.z_offset),
+            has_grids: patches.iter().any(|p| p.colour_grid.is_some()),
             resolve: Resolve {
                 shading: options.shading,
                 items: &self.bins.all_items,

@@ -16,7 +16,8 @@ use std::time::Instant;
 use crate::options::{CellScheme, Shading};
 use crate::plan::work::{ChunkWork, Item};
 use crate::raster::band::{
-    Band, BandTarget, FlatPayload, GouraudPayload, Payload, PhongPayload, PATCH_SAMPLE,
+    Band, BandTarget, FlatPayload, GouraudPayload, GridGouraudPayload, GridPhongPayload, Payload,
+    PhongPayload, PATCH_SAMPLE,
 };
 use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
 use crate::raster::cell_smooth::draw_cells_smooth;
@@ -142,6 +143,9 @@ pub(crate) struct BandJob<'a> {
     pub(crate) shading: Shading,
     pub(crate) cells: CellScheme,
     pub(crate) depth_map: (f32, f32),
+    /// Some patch of the frame has a colour grid (its cell triangles read
+    /// it: [`draw_grid_triangles`]).
+    pub(crate) has_grids: bool,
     pub(crate) resolve: Resolve<'a>,
 }
 
@@ -194,6 +198,37 @@ fn draw_triangles<const N: usize, P: Payload<N>>(
     }
 }
 
+/// [`draw_triangles`] for Gouraud and Phong in a frame whose patches have
+/// colour grids: the cell triangles of such a patch read its grid per
+/// sample ([`ScreenTriangle::grid`]), the others draw as usual.
+fn draw_grid_triangles(t: &mut BandTarget<'_>, job: &BandJob<'_>, refs: &[(u32, u32)]) {
+    let patches = job.resolve.patches;
+    for &(c, k) in refs {
+        let tri = &job.chunks[c as usize].triangles[k as usize];
+        let grid = tri
+            .grid
+            .then(|| patches.get(tri.frame as usize))
+            .flatten()
+            .and_then(|p| p.colour_grid.as_ref());
+        match (job.shading, grid) {
+            (Shading::Phong, Some(grid)) => {
+                let payload = GridPhongPayload {
+                    frame: tri.frame,
+                    grid,
+                };
+                draw_triangle::<6, _>(t, tri, job.depth_map, &payload);
+            }
+            (Shading::Phong, None) => {
+                draw_triangle::<6, _>(t, tri, job.depth_map, &PhongPayload(tri.frame))
+            }
+            (_, Some(grid)) => {
+                draw_triangle::<6, _>(t, tri, job.depth_map, &GridGouraudPayload(grid))
+            }
+            (_, None) => draw_triangle::<3, _>(t, tri, job.depth_map, &GouraudPayload),
+        }
+    }
+}
+
 /// Draws band number `index` and resolves it into its rows of the image
 /// (`rgba`, `eye_depth`).
 pub(crate) fn render_band(
@@ -218,6 +253,7 @@ pub(crate) fn render_band(
         let refs = job.bins.tris_of(index);
         match job.shading {
             Shading::Flat => draw_triangles::<0, _>(&mut t, job, refs, |tri| FlatPayload(tri.flat)),
+            _ if job.has_grids => draw_grid_triangles(&mut t, job, refs),
             Shading::Gouraud => draw_triangles::<3, _>(&mut t, job, refs, |_| GouraudPayload),
             Shading::Phong => {
                 draw_triangles::<6, _>(&mut t, job, refs, |tri| PhongPayload(tri.frame))

@@ -39,17 +39,7 @@ pub(crate) fn node_attributes(
         None => setup.base_colour,
     };
     let ratios = p.ratios_at(m);
-    let node_normal = |normals: &mut NormalBuffer| {
-        let (gi, gj) = node_differences(
-            &level.displacements,
-            level.cols,
-            level.rows,
-            i,
-            j,
-            spatch_format::EMPTY,
-        );
-        normals.normal(m, ratios, gi, gj)
-    };
+    let node_normal = |normals: &mut NormalBuffer| node_normal(normals, ctx, m, level, i, j);
     match setup.options.shading {
         Shading::Phong => {
             let n = node_normal(normals);
@@ -73,6 +63,28 @@ pub(crate) fn node_attributes(
             [c.x, c.y, c.z, 0.0, 0.0, 0.0]
         }
     }
+}
+
+/// The patch-space normal of node `(i, j)` of `level` (level `m` of the
+/// patch of `ctx`), through the chunk's normal buffer.
+#[inline]
+pub(crate) fn node_normal(
+    normals: &mut NormalBuffer,
+    ctx: &PatchContext<'_>,
+    m: usize,
+    level: &MipLevel,
+    i: usize,
+    j: usize,
+) -> Vec3 {
+    let (gi, gj) = node_differences(
+        &level.displacements,
+        level.cols,
+        level.rows,
+        i,
+        j,
+        spatch_format::EMPTY,
+    );
+    normals.normal(m, ctx.patch.ratios_at(m), gi, gj)
 }
 
 /// Writes the attributes of the used nodes of `range` of level `m`

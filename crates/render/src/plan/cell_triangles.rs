@@ -10,10 +10,13 @@
 use glam::Vec3;
 
 use crate::lighting::pack_colour;
-use crate::plan::attributes::node_attributes;
+use crate::options::Shading;
+use crate::plan::attributes::{node_attributes, node_normal};
 use crate::plan::project::level_map;
 use crate::plan::split::NodeRange;
 use crate::plan::work::{ChunkWork, PatchContext};
+use crate::prepare::mip::MipLevel;
+use crate::prepare::normal_buffer::NormalBuffer;
 use crate::raster::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
 
 /// Emits every drawable cell of `range` (level `m`) as two triangles,
@@ -28,6 +31,12 @@ pub(crate) fn emit_cell_triangles(
     let level = ctx.patch.level(m);
     let lmap = level_map(&ctx.map, m);
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    // Why grid attributes: a triangle sample has no patch position for
+    // the resolve pass to read a colour grid at, so the cell's triangles
+    // carry it (perspective-correct) and the band reads the grid as it
+    // stores the sample (`crate::frame::tiles`). Flat keeps one colour.
+    let grid = ctx.patch.colour_grid.is_some() && setup.options.shading != Shading::Flat;
+    let first_triangle = work.triangles.len();
     let mut vertices = std::mem::take(&mut work.vertices);
     vertices.clear();
     let mut used = 0;
@@ -37,9 +46,14 @@ pub(crate) fn emit_cell_triangles(
             let d = level.displacements[k];
             let v = if level.used[k] {
                 used += 1;
+                let attrs = if grid {
+                    grid_attributes(&mut work.normals, ctx, m, level, i, j)
+                } else {
+                    node_attributes(&mut work.normals, ctx, m, level, i, j)
+                };
                 ClipVertex {
                     clip: lmap * Vec3::new(i as f32, j as f32, d as f32) + t0,
-                    attrs: node_attributes(&mut work.normals, ctx, m, level, i, j),
+                    attrs,
                 }
             } else {
                 ClipVertex {
@@ -80,7 +94,42 @@ pub(crate) fn emit_cell_triangles(
             }
         }
     }
+    if grid {
+        for t in &mut work.triangles[first_triangle..] {
+            t.grid = true;
+        }
+    }
     work.counters.triangles += emitted;
     work.vertices = vertices;
     emitted
+}
+
+/// The attributes of node `(i, j)` of `level` (level `m`) on a cell
+/// triangle of a patch with a colour grid: Phong, the normal; Gouraud, the
+/// light's factor (the node shaded white, over 255, so that the band
+/// multiplies it by the grid's albedo as [`crate::shade::colour_grid::relight`]
+/// does); then the node's position in level-0 grid units, where the grid is
+/// read.
+fn grid_attributes(
+    normals: &mut NormalBuffer,
+    ctx: &PatchContext<'_>,
+    m: usize,
+    level: &MipLevel,
+    i: usize,
+    j: usize,
+) -> [f32; TRI_ATTRS] {
+    let n = node_normal(normals, ctx, m, level, i, j);
+    let light = match ctx.setup.options.shading {
+        Shading::Phong => n,
+        _ => ctx.setup.material.shade(n, ctx.frame, Vec3::splat(255.0)) / 255.0,
+    };
+    let step = (1u32 << m) as f32;
+    [
+        light.x,
+        light.y,
+        light.z,
+        i as f32 * step,
+        j as f32 * step,
+        0.0,
+    ]
 }

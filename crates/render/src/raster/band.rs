@@ -22,7 +22,9 @@
 //!
 //! Cost: O(pixels) to clear; 16 bytes per internal pixel.
 
-use crate::fixed::{ATTR_FRAC_BITS, Z_FAR};
+use spatch_format::ColourGrid;
+
+use crate::fixed::{ATTR_FRAC_BITS, ATTR_ONE, Z_FAR};
 use crate::lighting::pack_fixed_normal;
 
 /// A band's buffers, borrowed for drawing.
@@ -142,6 +144,51 @@ impl Payload<6> for PhongPayload {
         s.w0 = pack_fixed_normal(a[0], a[1], a[2]);
         s.w1 = channel(a[3]) | channel(a[4]) << 8 | channel(a[5]) << 16;
         s.w2 = self.0;
+    }
+}
+
+/// The albedo of a triangle sample of a patch with a colour grid: the grid
+/// read at the patch position in attributes 3 and 4 (level-0 grid units,
+/// see [`crate::plan::cell_triangles`]).
+#[inline]
+fn grid_albedo(grid: &ColourGrid, a: &[i32; 6]) -> [f32; 3] {
+    grid.albedo_at(a[3] as f32 / ATTR_ONE, a[4] as f32 / ATTR_ONE)
+}
+
+/// Gouraud on a cell triangle of a patch with a colour grid: the light's
+/// factor (attributes 0..3) times the grid's albedo.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GridGouraudPayload<'a>(pub(crate) &'a ColourGrid);
+
+impl Payload<6> for GridGouraudPayload<'_> {
+    #[inline]
+    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 6]) {
+        let albedo = grid_albedo(self.0, a);
+        let c = |k: usize| {
+            let v = a[k] as f32 / ATTR_ONE * albedo[k];
+            v.clamp(0.0, 255.0) as u32
+        };
+        t.px[idx].w0 = c(0) | c(1) << 8 | c(2) << 16 | 0xff00_0000;
+        t.px[idx].w2 = 0;
+    }
+}
+
+/// Phong on a cell triangle of a patch with a colour grid: the
+/// interpolated normal, the grid's albedo and the shade frame.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GridPhongPayload<'a> {
+    pub(crate) frame: u32,
+    pub(crate) grid: &'a ColourGrid,
+}
+
+impl Payload<6> for GridPhongPayload<'_> {
+    #[inline]
+    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 6]) {
+        let [r, g, b] = grid_albedo(self.grid, a).map(|v| v.clamp(0.0, 255.0) as u32);
+        let s = &mut t.px[idx];
+        s.w0 = pack_fixed_normal(a[0], a[1], a[2]);
+        s.w1 = r | g << 8 | b << 16;
+        s.w2 = self.frame;
     }
 }
 

@@ -47,6 +47,11 @@ pub(crate) struct ScreenTriangle {
     pub(crate) frame: u32,
     /// Colour (flat shading).
     pub(crate) flat: u32,
+    /// The triangle is a cell of a patch with a colour grid, and its
+    /// attributes 3 and 4 (before the division by `W`) are the patch
+    /// position in level-0 grid units where the grid is read per pixel
+    /// ([`crate::plan::cell_triangles`]).
+    pub(crate) grid: bool,
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
@@ -158,6 +163,7 @@ fn project(
         a,
         frame,
         flat,
+        grid: false,
         y0: r0.max(0.0) as i32,
         y1: r1.min(size.1 - 1.0) as i32,
     });

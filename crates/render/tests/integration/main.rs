@@ -7,12 +7,15 @@
 //! - `modes`: triangle mode against patch mode, 1 against N threads,
 //!   projection / cell / shading / mip / supersampling variants.
 //! - `mesh`: the public triangle rasterizer on plain meshes.
+//! - `big_cells`: cells large on screen — the triangle path reads colour
+//!   grids, magnified cells at a slant lie at their exact depth.
 //! - `camera`: degenerate cameras and options refused.
 //! - `crease`: a patch bent over a crease keeps its front lit with
 //!   back-face culling (issue 21 item 3).
 //! - `layers`: the modules of `src/` form one layered order without
 //!   import circles (reads the sources).
 
+mod big_cells;
 mod camera;
 mod common;
 mod crease;

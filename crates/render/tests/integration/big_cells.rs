@@ -1,0 +1,128 @@
+//! Cells large on screen (issue 22: a textured box's faces are 40-90 px
+//! cells in the eval's views).
+//!
+//! - A cell drawn by the triangle path (too large to subdivide, or
+//!   `--mode triangles`) reads its patch's colour grid per pixel, as the
+//!   cell path does: a grid with a red left half and a blue right half
+//!   shows both halves, not the grey of the node colours.
+//! - Magnified cells of a flat square seen at a slant lie at their exact
+//!   depth with the default (trilinear) projection: a piece whose
+//!   trilinear positions may be off by more than half a pixel is projected
+//!   exactly (before, 6 % of a box's pixels were drawn behind the source).
+
+use glam::{DVec3, Vec3};
+use spatch_format::{ColourChannel, ColourGrid, Frame, GridSize, Patch, Scene};
+use spatch_render::{
+    Camera, Culling, PreparedScene, RenderMode, RenderOptions, RenderedImage, Renderer, Shading,
+};
+
+/// A flat square of side 1 in the z = 0 plane with `n × n` nodes; with
+/// `grid`, node colours grey and a colour grid of factor 8 per cell, red
+/// where x < 0.5 and blue beyond.
+fn square(n: u32, grid: bool) -> Scene {
+    let s = 1.0 / (n - 1) as f32;
+    let frame = Frame::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s, Vec3::Z * 0.01).expect("frame");
+    let size = GridSize::new(n, n).expect("grid");
+    let nodes = (n * n) as usize;
+    let colours = grid.then(|| vec![[128, 128, 128, 255]; nodes]);
+    let mut patch = Patch::new(frame, size, vec![0; nodes], colours).expect("patch");
+    let channel = if grid {
+        let f = 8u8;
+        let (cols, rows) = ColourGrid::sample_size(size, f);
+        let samples = (0..cols * rows)
+            .map(|k| {
+                let x = (k % cols) as f32 / (cols - 1) as f32;
+                if x < 0.5 {
+                    [240, 20, 20, 255]
+                } else {
+                    [20, 20, 240, 255]
+                }
+            })
+            .collect();
+        let g = ColourGrid::new(size, f, samples).expect("colour grid");
+        patch = patch.with_colour_grid(g).expect("patch with grid");
+        ColourChannel::Rgb8
+    } else {
+        ColourChannel::None
+    };
+    Scene::new(DVec3::ZERO, channel, vec![patch]).expect("scene")
+}
+
+fn draw(scene: &Scene, options: RenderOptions, eye: DVec3) -> RenderedImage {
+    let camera =
+        Camera::look_at(eye, DVec3::new(0.5, 0.5, 0.0), DVec3::Y, 40.0, 200, 200).expect("camera");
+    Renderer::new(options)
+        .expect("renderer")
+        .render(&PreparedScene::new(scene), &camera)
+        .expect("frame")
+        .image
+}
+
+fn unlit() -> RenderOptions {
+    let mut o = RenderOptions::default();
+    o.shading = Shading::Gouraud;
+    o.lighting.ambient = 1.0;
+    o.lighting.diffuse = 0.0;
+    o.lighting.specular = 0.0;
+    o.culling = Culling::None;
+    o.threads = 1;
+    o
+}
+
+/// Red and blue pixels among the covered ones of the left and right
+/// thirds of the image.
+fn halves(image: &RenderedImage) -> (usize, usize, usize) {
+    let w = image.width() as usize;
+    let (mut red_left, mut blue_right, mut covered) = (0, 0, 0);
+    for (k, p) in image.pixels().iter().enumerate() {
+        if p[3] == 0 {
+            continue;
+        }
+        covered += 1;
+        let x = k % w;
+        red_left += (x < w / 3 && p[0] > 200 && p[2] < 60) as usize;
+        blue_right += (x > 2 * w / 3 && p[2] > 200 && p[0] < 60) as usize;
+    }
+    (red_left, blue_right, covered)
+}
+
+#[test]
+fn cells_drawn_as_triangles_read_the_colour_grid() {
+    let scene = square(2, true);
+    // One cell of about 150 px: past the subdivision limit, so the patch
+    // mode draws it as two triangles too.
+    let eye = DVec3::new(0.5, 0.5, 1.8);
+    for shading in [Shading::Gouraud, Shading::Phong] {
+        for mode in [RenderMode::Patches, RenderMode::Triangles] {
+            let mut o = unlit();
+            o.shading = shading;
+            o.mode = mode;
+            let (red, blue, covered) = halves(&draw(&scene, o, eye));
+            assert!(covered > 10_000, "{shading:?} {mode:?}: {covered} pixels");
+            assert!(
+                red > covered / 5 && blue > covered / 5,
+                "{shading:?} {mode:?}: {red} red, {blue} blue of {covered}"
+            );
+        }
+    }
+}
+
+#[test]
+fn magnified_cells_seen_at_a_slant_lie_at_their_depth() {
+    // 10 × 10 cells of 15-25 px, the square seen 55° off its normal.
+    let scene = square(11, false);
+    let eye = DVec3::new(0.5, -0.8, 0.95);
+    let mut exact = unlit();
+    exact.projection = spatch_render::Projection::Exact;
+    let (a, b) = (draw(&scene, unlit(), eye), draw(&scene, exact, eye));
+    let (mut worst, mut both) = (0f32, 0);
+    for (da, db) in a.depth().iter().zip(b.depth()) {
+        if da.is_finite() && db.is_finite() {
+            worst = worst.max((da - db).abs());
+            both += 1;
+        }
+    }
+    assert!(both > 10_000, "{both} pixels covered by both");
+    // Half a pixel along the slant is about 0.004 units of depth here.
+    assert!(worst < 0.01, "trilinear and exact depths differ by {worst}");
+}
