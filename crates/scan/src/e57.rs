@@ -49,15 +49,10 @@ pub fn read_e57(path: &Path) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanE
         };
         for point in points {
             let point = point.map_err(refuse)?;
-            let e57::CartesianCoordinate::Valid { x, y, z } = point.cartesian else {
+            let Some(p) = finite_position(&point) else {
                 scan.dropped_non_finite += 1;
                 continue;
             };
-            let p = DVec3::new(x, y, z);
-            if !p.is_finite() {
-                scan.dropped_non_finite += 1;
-                continue;
-            }
             scan.positions.push(p);
             if let Some(colours) = scan.colours.as_mut() {
                 colours.push(point_colour(&point, grey));
@@ -91,6 +86,16 @@ pub(crate) fn scan_pose(path: &Path, pc: &e57::PointCloud) -> Result<Pose, ScanE
         scan: pc.name.clone().unwrap_or_default(),
         problem,
     })
+}
+
+/// A point's Cartesian position, or `None` when the scanner marked it invalid or a
+/// coordinate is not finite (such points are dropped and counted).
+pub(crate) fn finite_position(point: &e57::Point) -> Option<DVec3> {
+    let e57::CartesianCoordinate::Valid { x, y, z } = point.cartesian else {
+        return None;
+    };
+    let p = DVec3::new(x, y, z);
+    p.is_finite().then_some(p)
 }
 
 /// A point's colour (or grey from intensity) as RGBA8; invalid values are black.

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::e57::{point_colour, scan_pose};
+use crate::e57::{finite_position, point_colour, scan_pose};
 use crate::{Pose, ScanError, ScanWarning};
 
 /// A run of consecutive points of one scan of an E57 file.
@@ -77,15 +77,10 @@ pub fn stream_e57<E: From<ScanError>>(
         points.intensity_to_color(false);
         for point in points {
             let point = point.map_err(refuse)?;
-            let e57::CartesianCoordinate::Valid { x, y, z } = point.cartesian else {
+            let Some(p) = finite_position(&point) else {
                 streamed.dropped_non_finite += 1;
                 continue;
             };
-            let p = DVec3::new(x, y, z);
-            if !p.is_finite() {
-                streamed.dropped_non_finite += 1;
-                continue;
-            }
             chunk.positions.push(p);
             if let Some(colours) = chunk.colours.as_mut() {
                 colours.push(point_colour(&point, grey));
