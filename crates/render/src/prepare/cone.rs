@@ -15,6 +15,7 @@ use glam::{DMat3, DVec3, IVec4, Vec3, Vec4, Vec4Swizzles};
 
 use crate::grid::CELL_DRAW;
 use crate::prepare::mip::MipLevel;
+use crate::prepare::normals::unit_normal_lanes;
 
 /// Extra half angle of every normal cone (radians), for the curvature of
 /// bilinear cells between their corners.
@@ -61,7 +62,7 @@ pub(crate) fn compute_normal_cone(
             let c = IVec4::new(b[0].into(), b[1].into(), a[0].into(), a[1].into());
             let du = (c.yyww() - c.xxzz()) * 2;
             let dv = (c.zwzw() - c.xyxy()) * 2;
-            let n = corner_normals(du.as_vec4(), dv.as_vec4(), ratios);
+            let n = unit_normal_lanes(du.as_vec4(), dv.as_vec4(), ratios);
             for (s, c) in sum.iter_mut().zip(n) {
                 *s += c;
             }
@@ -88,21 +89,6 @@ pub(crate) fn compute_normal_cone(
     }
 }
 
-/// The unit normals
-/// [`reconstruct_normal`](crate::prepare::normals::reconstruct_normal)`(gi, gj, rx, ry).normalize()` of
-/// four corners as lanes `[x, y, z]`, with the same operations in the same
-/// order as one by one, so each lane equals its one-by-one value.
-/// `gi` and `gj` hold integer differences (exact in `f32`).
-#[inline]
-fn corner_normals(gi: Vec4, gj: Vec4, (rx, ry): (f32, f32)) -> [Vec4; 3] {
-    // As `reconstruct_normal`: `(-g · r · 0.5, ..., 1)`.
-    let lanes = |g: Vec4, r: f32| -g * r * 0.5;
-    let (x, y) = (lanes(gi, rx), lanes(gj, ry));
-    // As `Vec3::normalize`: times `1 / sqrt(x·x + y·y + z·z)`, with z = 1.
-    let inverse = Vec4::ONE / (x * x + y * y + Vec4::ONE).sqrt();
-    [x * inverse, y * inverse, inverse]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,7 +105,7 @@ mod tests {
             let gj = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
             let ratios = (0.001 + rng.unit() * 0.2, 0.001 + rng.unit() * 0.2);
             let as_lanes = |g: [i32; 4]| IVec4::from_array(g).as_vec4();
-            let [x, y, z] = corner_normals(as_lanes(gi), as_lanes(gj), ratios);
+            let [x, y, z] = unit_normal_lanes(as_lanes(gi), as_lanes(gj), ratios);
             for k in 0..4 {
                 let one = reconstruct_normal(gi[k], gj[k], ratios.0, ratios.1).normalize();
                 assert_eq!(

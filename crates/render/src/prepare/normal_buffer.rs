@@ -72,7 +72,7 @@ pub(crate) struct NormalCounts {
 
 /// The distinct table slots of a set of nodes (those of a mip level drawn
 /// whole), for counting their lookups at once ([`NormalBuffer::touch_all`]).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct SlotSet {
     /// The non-zero words of the set's bitset, with their index.
     words: Vec<(u16, u64)>,
@@ -87,25 +87,53 @@ pub(crate) struct SlotSet {
 impl SlotSet {
     /// The set of the nodes `slots` (each [`OUTSIDE_TABLE`] or a slot).
     pub(crate) fn new(slots: impl Iterator<Item = u16>) -> Self {
-        let mut bits = [0u64; WORDS];
-        let (mut nodes, mut outside) = (0, 0);
-        for slot in slots {
-            nodes += 1;
-            if slot == OUTSIDE_TABLE {
-                outside += 1;
-            } else {
-                bits[slot as usize / 64] |= 1 << (slot % 64);
-            }
+        let mut builder = SlotSetBuilder::default();
+        slots.for_each(|slot| builder.add(slot));
+        builder.finish()
+    }
+}
+
+/// A [`SlotSet`] gathered a node at a time.
+#[derive(Debug, Clone)]
+pub(crate) struct SlotSetBuilder {
+    bits: [u64; WORDS],
+    nodes: u32,
+    outside: u32,
+}
+
+impl Default for SlotSetBuilder {
+    fn default() -> Self {
+        Self {
+            bits: [0; WORDS],
+            nodes: 0,
+            outside: 0,
         }
+    }
+}
+
+impl SlotSetBuilder {
+    /// Adds a node whose slot is `slot` ([`OUTSIDE_TABLE`] or a slot).
+    #[inline(always)]
+    pub(crate) fn add(&mut self, slot: u16) {
+        self.nodes += 1;
+        if slot == OUTSIDE_TABLE {
+            self.outside += 1;
+        } else {
+            self.bits[slot as usize / 64] |= 1 << (slot % 64);
+        }
+    }
+
+    /// The set of the nodes added.
+    pub(crate) fn finish(self) -> SlotSet {
         let words: Vec<(u16, u64)> = (0..WORDS as u16)
-            .zip(bits)
+            .zip(self.bits)
             .filter(|&(_, w)| w != 0)
             .collect();
-        Self {
+        SlotSet {
             slots: words.iter().map(|&(_, w)| w.count_ones()).sum(),
             words,
-            nodes,
-            outside,
+            nodes: self.nodes,
+            outside: self.outside,
         }
     }
 }

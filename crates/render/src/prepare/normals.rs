@@ -15,7 +15,7 @@
 //! Cost: a few compares per node for the slots, one normalization per
 //! distinct normal.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// Differences in `-RADIUS..=RADIUS` are cached; others are computed.
 const RADIUS: i32 = 32;
@@ -88,60 +88,96 @@ pub(crate) fn node_differences(
 }
 
 /// The table slot ([`table_slot`]) of every node of a `cols × rows` grid,
-/// row-major: [`node_differences`] at each node. Why a pass of its own: a
-/// row walk with neighbours read as empty beyond the grid takes a few
-/// compares per node, where the general form's optional lookups made this
-/// a third of a scene's preparation (callgrind, `profile_sphere 500 1 1`).
+/// row-major: [`node_differences`] at each node (by [`RowDifferences`]).
 pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec<u16> {
-    // A neighbour outside the grid reads as empty.
-    let diff = |prev: u16, centre: u16, next: u16| -> i32 {
-        match (prev != empty, next != empty) {
-            (true, true) => next as i32 - prev as i32,
-            (true, false) => 2 * (centre as i32 - prev as i32),
-            (false, true) => 2 * (next as i32 - centre as i32),
-            (false, false) => 0,
-        }
-    };
     let mut slots = Vec::with_capacity(cols * rows);
-    let filled: Vec<bool> = d.chunks_exact(cols).map(|r| !r.contains(&empty)).collect();
+    let mut rows_of = RowDifferences::new(d, cols, rows, empty);
     for j in 0..rows {
+        let (gi, gj) = rows_of.row(j);
+        slots.extend(gi.iter().zip(gj).map(|(&gi, &gj)| table_slot(gi, gj)));
+    }
+    slots
+}
+
+/// The differences `(gi, gj)` of [`node_differences`] of a grid's nodes, a
+/// row at a time (meaningless for empty nodes). Why by rows: a row walk
+/// with neighbours read as empty beyond the grid takes a few compares per
+/// node, where the general form's optional lookups made the slots a third
+/// of a scene's preparation (callgrind, `profile_sphere 500 1 1`).
+pub(crate) struct RowDifferences<'a> {
+    d: &'a [u16],
+    cols: usize,
+    rows: usize,
+    empty: u16,
+    /// Per row, true when none of its nodes is empty.
+    filled: Vec<bool>,
+    gi: Vec<i32>,
+    gj: Vec<i32>,
+}
+
+impl<'a> RowDifferences<'a> {
+    /// The rows of the `cols × rows` grid `d` whose empty code is `empty`.
+    pub(crate) fn new(d: &'a [u16], cols: usize, rows: usize, empty: u16) -> Self {
+        Self {
+            d,
+            cols,
+            rows,
+            empty,
+            filled: d.chunks_exact(cols).map(|r| !r.contains(&empty)).collect(),
+            gi: vec![0; cols],
+            gj: vec![0; cols],
+        }
+    }
+
+    /// The differences `(gi, gj)` of row `j`'s nodes.
+    pub(crate) fn row(&mut self, j: usize) -> (&[i32], &[i32]) {
+        let (d, cols, rows, empty) = (self.d, self.cols, self.rows, self.empty);
         let row = &d[j * cols..(j + 1) * cols];
         let below = (j > 0).then(|| &d[(j - 1) * cols..j * cols]);
         let above = (j + 1 < rows).then(|| &d[(j + 1) * cols..(j + 2) * cols]);
+        let (gi, gj) = (&mut self.gi[..], &mut self.gj[..]);
         // Why a path for rows whose nodes and neighbours are all filled: no
         // per-node empty tests, and most rows are (callgrind, `spatch render
         // sphere.spatch`: 78 instructions per node before).
-        let whole = filled[j]
-            && (j == 0 || filled[j - 1])
-            && (j + 1 == rows || filled[j + 1])
+        let whole = self.filled[j]
+            && (j == 0 || self.filled[j - 1])
+            && (j + 1 == rows || self.filled[j + 1])
             && cols >= 2
             && rows >= 2;
         if whole {
-            filled_row_slots(row, below, above, &mut slots);
-            continue;
+            filled_row_differences(row, below, above, gi, gj);
+            return (&self.gi, &self.gj);
         }
+        // A neighbour outside the grid reads as empty.
+        let diff = |prev: u16, centre: u16, next: u16| -> i32 {
+            match (prev != empty, next != empty) {
+                (true, true) => next as i32 - prev as i32,
+                (true, false) => 2 * (centre as i32 - prev as i32),
+                (false, true) => 2 * (next as i32 - centre as i32),
+                (false, false) => 0,
+            }
+        };
         for (i, &centre) in row.iter().enumerate() {
             let left = if i > 0 { row[i - 1] } else { empty };
             let right = row.get(i + 1).copied().unwrap_or(empty);
             let down = below.map_or(empty, |r| r[i]);
             let up = above.map_or(empty, |r| r[i]);
-            slots.push(table_slot(
-                diff(left, centre, right),
-                diff(down, centre, up),
-            ));
+            gi[i] = diff(left, centre, right);
+            gj[i] = diff(down, centre, up);
         }
+        (&self.gi, &self.gj)
     }
-    slots
 }
 
-/// The slots of a row of filled nodes whose rows below and above (when
-/// they exist, at least one does) are filled, appended to `slots`: the
-/// differences of [`node_differences`] without its empty cases.
-fn filled_row_slots(
+/// The differences of a row of filled nodes whose rows below and above
+/// (when they exist, at least one does) are filled: those of
+/// [`node_differences`] without its empty cases.
+fn filled_row_differences(
     row: &[u16],
     below: Option<&[u16]>,
     above: Option<&[u16]>,
-    slots: &mut Vec<u16>,
+    gi: &mut [i32],
+    gj: &mut [i32],
 ) {
     let n = row.len();
     // Across the rows: central between the rows below and above, else
@@ -152,14 +188,31 @@ fn filled_row_slots(
         (Some(b), None) => (b, row, 2),
         (None, None) => unreachable!("a grid has at least two rows"),
     };
-    let (lo, hi) = (&lo[..n], &hi[..n]);
-    let gj = |i: usize| scale * (hi[i] as i32 - lo[i] as i32);
-    let d = |a: u16, b: u16| b as i32 - a as i32;
+    let (lo, hi, gi, gj) = (&lo[..n], &hi[..n], &mut gi[..n], &mut gj[..n]);
+    for ((g, &l), &h) in gj.iter_mut().zip(lo).zip(hi) {
+        *g = scale * (h as i32 - l as i32);
+    }
     // Along the row: one-sided (doubled) at the ends, central inside.
-    slots.push(table_slot(2 * d(row[0], row[1]), gj(0)));
-    let inside = row.iter().zip(&row[2..]).zip(lo[1..].iter().zip(&hi[1..]));
-    slots.extend(inside.map(|((&l, &r), (&b, &a))| table_slot(d(l, r), scale * d(b, a))));
-    slots.push(table_slot(2 * d(row[n - 2], row[n - 1]), gj(n - 1)));
+    let d = |a: u16, b: u16| b as i32 - a as i32;
+    gi[0] = 2 * d(row[0], row[1]);
+    for (g, (&l, &r)) in gi[1..n - 1].iter_mut().zip(row.iter().zip(&row[2..])) {
+        *g = d(l, r);
+    }
+    gi[n - 1] = 2 * d(row[n - 2], row[n - 1]);
+}
+
+/// The unit normals [`reconstruct_normal`]`(gi, gj, rx, ry).normalize()`
+/// of four nodes as lanes `[x, y, z]`, with the same operations in the
+/// same order as one by one, so each lane equals its one-by-one value.
+/// `gi` and `gj` hold integer differences (exact in `f32`).
+#[inline]
+pub(crate) fn unit_normal_lanes(gi: Vec4, gj: Vec4, (rx, ry): (f32, f32)) -> [Vec4; 3] {
+    // As `reconstruct_normal`: `(-g · r · 0.5, ..., 1)`.
+    let lanes = |g: Vec4, r: f32| -g * r * 0.5;
+    let (x, y) = (lanes(gi, rx), lanes(gj, ry));
+    // As `Vec3::normalize`: times `1 / sqrt(x·x + y·y + z·z)`, with z = 1.
+    let inverse = Vec4::ONE / (x * x + y * y + Vec4::ONE).sqrt();
+    [x * inverse, y * inverse, inverse]
 }
 
 #[cfg(test)]

@@ -11,23 +11,17 @@
 //! Cost: O(nodes) time; about 1.4× the patch's node memory, plus 16 bytes
 //! per node of every level drawn so far for the normals (32 with colours).
 
-use std::cell::RefCell;
 use std::sync::OnceLock;
 
-use glam::{DMat3, DVec3, Vec4};
+use glam::{DMat3, DVec3, Mat4, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
-use crate::prepare::normal_buffer::{NormalBuffer, SlotSet};
-use crate::prepare::normals::{node_differences, OUTSIDE_TABLE};
-
-thread_local! {
-    /// The normal buffer through which a thread builds shading inputs
-    /// ([`PreparedPatch::shading`]).
-    static SHADING_BUFFER: RefCell<NormalBuffer> = RefCell::new(NormalBuffer::default());
-}
+use crate::fixed::ATTR_ONE;
+use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
+use crate::prepare::normals::{table_slot, unit_normal_lanes, RowDifferences};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -81,51 +75,76 @@ pub(crate) struct LevelShading {
 }
 
 impl LevelShading {
-    /// The inputs of level `m` of a patch with shading ratios `ratios` (at
-    /// that level), through `buffer` (so each distinct normal is computed
-    /// once, as a frame would).
-    fn new(level: &MipLevel, m: usize, ratios: (f32, f32), buffer: &mut NormalBuffer) -> Self {
-        buffer.select(m, ratios);
+    /// The inputs of a mip level with shading ratios `ratios` (at that
+    /// level). Why each node's normal computed from its differences, four
+    /// nodes in lanes, rather than through a normal buffer: a scan's
+    /// patches nearly all have ratios of their own, so the buffer's table
+    /// was cleared for each and every distinct normal computed anyway,
+    /// behind a slot lookup per node (the Phong inputs were 45.5 M of a
+    /// one-frame bunny render's 226.5 M instructions; callgrind, `spatch
+    /// render bunny.spatch -o out.png --threads 1`). The normals are the
+    /// buffer's bit for bit (the same operations in the same order).
+    fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        // Why one pass over zipped slices: no index checks or capacity
-        // tests per node (callgrind, `spatch render bunny.spatch -o out.png
-        // --threads 1`).
-        let nodes = d.iter().zip(level.normal_slots()).enumerate();
-        let normals: Vec<Vec4> = nodes
-            .map(|(k, (&dk, &slot))| {
-                if dk == EMPTY {
-                    return Vec4::ZERO;
+        let mut normals = Vec::with_capacity(cols * rows);
+        let mut slots = SlotSetBuilder::default();
+        let mut differences = RowDifferences::new(d, cols, rows, EMPTY);
+        for j in 0..rows {
+            let (gi, gj) = differences.row(j);
+            let row = j * cols..(j + 1) * cols;
+            push_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals);
+            for ((&u, &gi), &gj) in level.used[row].iter().zip(gi).zip(gj) {
+                if u {
+                    slots.add(table_slot(gi, gj));
                 }
-                let bits = if slot != OUTSIDE_TABLE {
-                    buffer.cached_bits_at(m, slot)
-                } else {
-                    let (gi, gj) = node_differences(d, cols, rows, k % cols, k / cols, EMPTY);
-                    buffer.normal_bits(m, gi, gj)
-                };
-                let [x, y, z] = bits.map(crate::fixed::attr_from_bits);
-                Vec4::new(x, y, z, 0.0)
-            })
-            .collect();
+            }
+        }
         let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
             c.iter()
                 .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
                 .collect()
         });
-        let slots = SlotSet::new(
-            level
-                .used
-                .iter()
-                .zip(level.normal_slots())
-                .filter(|&(&u, _)| u)
-                .map(|(_, &slot)| slot),
-        );
         Self {
             normals,
             colours,
-            slots,
+            slots: slots.finish(),
         }
     }
+}
+
+/// Appends the unit normals of a row of nodes with differences `(gi, gj)`
+/// and displacements `d` to `out`, rounded as projected nodes carry them
+/// ([`crate::fixed::attr_to_bits`]), zero for empty nodes. Why four nodes
+/// at a time in vector lanes ([`unit_normal_lanes`], the rounding by
+/// `Vec4::trunc`, which truncates in lanes as `as i32` does for these
+/// values, and a 4 × 4 transpose to node order): one by one, the three
+/// saturating conversions per node were most of the cost.
+fn push_unit_normals((gi, gj): (&[i32], &[i32]), d: &[u16], ratios: (f32, f32), out: &mut Vec<Vec4>) {
+    let n = d.len();
+    let whole = n / 4 * 4;
+    let fours = gi[..whole].chunks_exact(4).zip(gj[..whole].chunks_exact(4));
+    for ((gi, gj), d) in fours.zip(d.chunks_exact(4)) {
+        let nodes = four_unit_normals(gi, gj, ratios);
+        out.extend(d.iter().zip(nodes).map(|(&dk, v)| if dk == EMPTY { Vec4::ZERO } else { v }));
+    }
+    if whole < n {
+        let pad = |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
+        let nodes = four_unit_normals(&pad(&gi[..n]), &pad(&gj[..n]), ratios);
+        let tail = d[whole..].iter().zip(nodes);
+        out.extend(tail.map(|(&dk, v)| if dk == EMPTY { Vec4::ZERO } else { v }));
+    }
+}
+
+/// The rounded unit normals (`w` = 0) of four nodes with differences `gi`
+/// and `gj` (four each), in node order.
+#[inline(always)]
+fn four_unit_normals(gi: &[i32], gj: &[i32], ratios: (f32, f32)) -> [Vec4; 4] {
+    let lanes = |g: &[i32]| Vec4::new(g[0] as f32, g[1] as f32, g[2] as f32, g[3] as f32);
+    let round = |v: Vec4| (v * ATTR_ONE).trunc() * (1.0 / ATTR_ONE);
+    let [x, y, z] = unit_normal_lanes(lanes(gi), lanes(gj), ratios).map(round);
+    let nodes = Mat4::from_cols(x, y, z, Vec4::ZERO).transpose();
+    std::array::from_fn(|l| nodes.col(l))
 }
 
 impl PreparedPatch {
@@ -203,10 +222,7 @@ impl PreparedPatch {
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
         self.shading[m].get_or_init(|| {
-            SHADING_BUFFER.with(|buffer| {
-                let mut buffer = buffer.borrow_mut();
-                LevelShading::new(self.level(m), m, self.ratios_at(m), &mut buffer)
-            })
+            LevelShading::new(self.level(m), self.ratios_at(m))
         })
     }
 
@@ -287,7 +303,44 @@ fn nearest_filled(coarse: &MipLevel, i: usize, j: usize) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prepare::normal_buffer::NormalBuffer;
+    use crate::prepare::normals::node_differences;
     use crate::prepare::scene::PreparedScene;
+    use glam::Vec3;
+    use spatch_format::{ColourChannel, Frame, GridSize, Scene};
+
+    /// Checks every level of `p`: each filled node's prepared normal is the
+    /// normal buffer's (bit for bit, as a projected node carries it), each
+    /// empty node's is zero, and the slot set is that of the used nodes'
+    /// slots. Returns the filled nodes checked.
+    fn check_levels(p: &PreparedPatch, buffer: &mut NormalBuffer) -> usize {
+        let mut checked = 0;
+        for m in 0..p.level_count() {
+            let level = p.level(m);
+            let shading = p.shading(m);
+            let (cols, rows, d) = (level.cols, level.rows, &level.displacements);
+            for j in 0..rows {
+                for i in 0..cols {
+                    let k = j * cols + i;
+                    let got = shading.normals[k].to_array().map(|v| v.to_bits() as i32);
+                    if d[k] == EMPTY {
+                        assert_eq!(got, [0; 4], "empty node {i}, {j} of level {m}");
+                        continue;
+                    }
+                    let (gi, gj) = node_differences(d, cols, rows, i, j, EMPTY);
+                    let n = buffer.normal(m, p.ratios_at(m), gi, gj);
+                    let bits = n.to_array().map(crate::fixed::attr_to_bits);
+                    assert_eq!(got[..3], bits, "node {i}, {j} of level {m}");
+                    assert_eq!(got[3], 0);
+                    checked += 1;
+                }
+            }
+            let used = level.used.iter().zip(level.normal_slots());
+            let expected = SlotSet::new(used.filter(|&(&u, _)| u).map(|(_, &s)| s));
+            assert_eq!(shading.slots, expected, "level {m}");
+        }
+        checked
+    }
 
     #[test]
     fn prepared_normals_are_the_normals_nodes_carried() {
@@ -295,31 +348,39 @@ mod tests {
         let scene = spatch_sphere::build_sphere(&options).unwrap().scene;
         let prepared = PreparedScene::new(&scene);
         let mut buffer = NormalBuffer::default();
+        let checked: usize = (prepared.patches.iter().step_by(97))
+            .map(|p| check_levels(p, &mut buffer))
+            .sum();
+        assert!(checked > 1000, "{checked}");
+    }
+
+    #[test]
+    fn prepared_normals_hold_on_grids_with_holes_and_steep_steps() {
+        // Grids of 2–20 nodes a side (some a multiple of four, some not),
+        // empty nodes from none to most, steps small (in the normal
+        // buffer's table) and large (outside it), ratios of a scan.
+        let mut rng = crate::test_rng::XorShift(0x5eed_0a11);
+        let mut buffer = NormalBuffer::default();
         let mut checked = 0;
-        for p in prepared.patches.iter().step_by(97) {
-            for m in 0..p.level_count() {
-                let level = p.level(m);
-                let shading = p.shading(m);
-                assert!(shading.colours.is_empty());
-                let (cols, rows) = (level.cols, level.rows);
-                for j in 0..rows {
-                    for i in 0..cols {
-                        let k = j * cols + i;
-                        if level.displacements[k] == EMPTY {
-                            continue;
-                        }
-                        let d = &level.displacements;
-                        let (gi, gj) = node_differences(d, cols, rows, i, j, EMPTY);
-                        let n = buffer.normal(m, p.ratios_at(m), gi, gj);
-                        let bits = n.to_array().map(crate::fixed::attr_to_bits);
-                        let got = shading.normals[k].to_array().map(|v| v.to_bits() as i32);
-                        assert_eq!(got[..3], bits, "node {i}, {j} of level {m}");
-                        assert_eq!(got[3], 0);
-                        checked += 1;
-                    }
-                }
+        for case in 0..300 {
+            let (cols, rows) = (2 + rng.below(19), 2 + rng.below(19));
+            let holes = [0, 5, 30, 70][case % 4];
+            let step = [2, 20, 200][case % 3];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| match rng.below(100) < holes {
+                    true => EMPTY,
+                    false => (1000 + rng.below(step)) as u16,
+                })
+                .collect();
+            let z = 0.002 + rng.unit() * 0.05;
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * z).unwrap();
+            let grid = GridSize::new(cols, rows).unwrap();
+            let patch = Patch::new(frame, grid, d, None).unwrap();
+            let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap();
+            for p in &PreparedScene::new(&scene).patches {
+                checked += check_levels(p, &mut buffer);
             }
         }
-        assert!(checked > 1000, "{checked}");
+        assert!(checked > 10_000, "{checked}");
     }
 }
