@@ -196,3 +196,29 @@ impl RenderedImage {
         Ok(out.into_inner())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_colour_png_decodes_to_the_pixels() {
+        // Transparent background, a gradient, noise and a repeated row: every
+        // kind of row the fixed filter and the fast deflate see.
+        let (width, height) = (37, 23);
+        let mut rng = crate::test_rng::XorShift(0x9e37_79b9);
+        let rgba: Vec<[u8; 4]> = (0..width * height)
+            .map(|k| match (k / width) % 4 {
+                0 => [0; 4],
+                1 => [k as u8, (k * 3) as u8, 200, 255],
+                _ => [0, 1, 2, 3].map(|_| rng.below(256) as u8),
+            })
+            .collect();
+        let depth = vec![f32::INFINITY; rgba.len()];
+        let image = RenderedImage::from_internal(rgba.clone(), depth, width, height, 1, 1.0, 2.0);
+        let png = image.encode_png().unwrap();
+        let decoded = image::load_from_memory(&png).unwrap().to_rgba8();
+        assert_eq!(decoded.dimensions(), (width, height));
+        assert_eq!(decoded.into_raw(), rgba.as_flattened());
+    }
+}

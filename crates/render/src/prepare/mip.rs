@@ -86,9 +86,13 @@ impl MipLevel {
                 &filled[j * cols..][..cols],
                 &filled[(j + 1) * cols..][..cols],
             );
-            let (b0, b1) = (&below[..ccols], &below[1..]);
-            let (a0, a1) = (&above[..ccols], &above[1..]);
-            drawn.extend((0..ccols).map(|i| b0[i] & b1[i] & a0[i] & a1[i]));
+            let bottom = below.iter().zip(&below[1..]);
+            let top = above.iter().zip(&above[1..]);
+            drawn.extend(
+                bottom
+                    .zip(top)
+                    .map(|((&b0, &b1), (&a0, &a1))| b0 & b1 & a0 & a1),
+            );
         }
         Self::with_drawn_cells(
             [cols, rows],

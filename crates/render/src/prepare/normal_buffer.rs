@@ -170,7 +170,7 @@ impl NormalBuffer {
     }
 
     /// Selects the table of mip `level` for `ratios` (invalidating it when
-    /// the ratios changed) before a run of [`Self::normal_bits`] calls.
+    /// the ratios changed) before a run of lookups or counts.
     pub(crate) fn select(&mut self, level: usize, ratios: (f32, f32)) {
         while self.tables.len() <= level {
             self.tables.push(Table {
@@ -199,17 +199,8 @@ impl NormalBuffer {
         }
     }
 
-    /// The unit normal of [`Self::normal`] as stored in projected nodes, from
-    /// the table chosen by [`Self::select`] (the conversion is cached with
-    /// the normal). Why a separate selection: the table and ratio checks
-    /// run once per piece instead of once per node (callgrind,
-    /// `profile_sphere 500 1`).
-    #[inline]
-    pub(crate) fn normal_bits(&mut self, level: usize, gi: i32, gj: i32) -> [i32; 3] {
-        self.entry(level, gi, gj).1
-    }
-
-    /// [`Self::normal_bits`] for a node whose differences have table slot
+    /// The unit normal of [`Self::normal`] as stored in projected nodes
+    /// ([`attr_to_bits`]) for a node whose differences have table slot
     /// `slot` (not [`OUTSIDE_TABLE`]; see [`table_slot`]), counted: the
     /// reference the counting of [`Self::touch_at`] is tested against.
     #[cfg(test)]
@@ -231,7 +222,7 @@ impl NormalBuffer {
     }
 
     /// Counts a lookup of a normal outside the table (always computed), as
-    /// [`Self::normal_bits`] would.
+    /// a lookup would.
     pub(crate) fn touch_outside(&mut self) {
         self.counts.needed += 1;
         self.counts.computed_per_patch_buffer += 1;
@@ -308,17 +299,6 @@ impl NormalBuffer {
     fn probe(&mut self, level: usize, index: usize) -> (Vec3, [i32; 3]) {
         self.count_probe(level, index);
         self.lookup(level, index)
-    }
-
-    /// [`Self::normal_bits_at`] without counting the lookup, for a buffer
-    /// that only caches normals (its counts are never read: the shading
-    /// inputs of a prepared level, [`crate::prepare::patch::LevelShading`]).
-    /// Why: the counting was a fifth of building those inputs (callgrind,
-    /// `spatch render bunny.spatch -o out.png --threads 1`).
-    #[inline(always)]
-    pub(crate) fn cached_bits_at(&mut self, level: usize, slot: u16) -> [i32; 3] {
-        debug_assert!(slot != OUTSIDE_TABLE);
-        self.lookup(level, slot as usize).1
     }
 
     /// The entry at `index` of the table of `level`, computed if the table

@@ -100,17 +100,18 @@ pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec
 }
 
 /// The differences `(gi, gj)` of [`node_differences`] of a grid's nodes, a
-/// row at a time (meaningless for empty nodes). Why by rows: a row walk
-/// with neighbours read as empty beyond the grid takes a few compares per
-/// node, where the general form's optional lookups made the slots a third
-/// of a scene's preparation (callgrind, `profile_sphere 500 1 1`).
+/// row at a time (meaningless for empty nodes). Why by rows, every node by
+/// one branch-free rule ([`difference`]) with neighbours outside the grid
+/// read from a row of empty codes: the loops run in vector lanes, where
+/// the general form's optional lookups made the slots a third of a scene's
+/// preparation (callgrind, `profile_sphere 500 1 1`).
 pub(crate) struct RowDifferences<'a> {
     d: &'a [u16],
     cols: usize,
     rows: usize,
     empty: u16,
-    /// Per row, true when none of its nodes is empty.
-    filled: Vec<bool>,
+    /// `cols` empty codes: the rows below the first and above the last.
+    outside: Vec<u16>,
     gi: Vec<i32>,
     gj: Vec<i32>,
 }
@@ -123,7 +124,7 @@ impl<'a> RowDifferences<'a> {
             cols,
             rows,
             empty,
-            filled: d.chunks_exact(cols).map(|r| !r.contains(&empty)).collect(),
+            outside: vec![empty; cols],
             gi: vec![0; cols],
             gj: vec![0; cols],
         }
@@ -131,74 +132,48 @@ impl<'a> RowDifferences<'a> {
 
     /// The differences `(gi, gj)` of row `j`'s nodes.
     pub(crate) fn row(&mut self, j: usize) -> (&[i32], &[i32]) {
-        let (d, cols, rows, empty) = (self.d, self.cols, self.rows, self.empty);
-        let row = &d[j * cols..(j + 1) * cols];
-        let below = (j > 0).then(|| &d[(j - 1) * cols..j * cols]);
-        let above = (j + 1 < rows).then(|| &d[(j + 1) * cols..(j + 2) * cols]);
-        let (gi, gj) = (&mut self.gi[..], &mut self.gj[..]);
-        // Why a path for rows whose nodes and neighbours are all filled: no
-        // per-node empty tests, and most rows are (callgrind, `spatch render
-        // sphere.spatch`: 78 instructions per node before).
-        let whole = self.filled[j]
-            && (j == 0 || self.filled[j - 1])
-            && (j + 1 == rows || self.filled[j + 1])
-            && cols >= 2
-            && rows >= 2;
-        if whole {
-            filled_row_differences(row, below, above, gi, gj);
+        let (d, n, empty) = (self.d, self.cols, self.empty);
+        let row = &d[j * n..(j + 1) * n];
+        let below = if j > 0 {
+            &d[(j - 1) * n..j * n]
+        } else {
+            &self.outside[..]
+        };
+        let above = match j + 1 < self.rows {
+            true => &d[(j + 1) * n..(j + 2) * n],
+            false => &self.outside[..],
+        };
+        let (gi, gj) = (&mut self.gi[..n], &mut self.gj[..n]);
+        let (below, above) = (&below[..n], &above[..n]);
+        let across = below.iter().zip(row).zip(above);
+        for (g, ((&b, &c), &a)) in gj.iter_mut().zip(across) {
+            *g = difference(b, c, a, empty);
+        }
+        if n == 1 {
+            gi[0] = 0;
             return (&self.gi, &self.gj);
         }
-        // A neighbour outside the grid reads as empty.
-        let diff = |prev: u16, centre: u16, next: u16| -> i32 {
-            match (prev != empty, next != empty) {
-                (true, true) => next as i32 - prev as i32,
-                (true, false) => 2 * (centre as i32 - prev as i32),
-                (false, true) => 2 * (next as i32 - centre as i32),
-                (false, false) => 0,
-            }
-        };
-        for (i, &centre) in row.iter().enumerate() {
-            let left = if i > 0 { row[i - 1] } else { empty };
-            let right = row.get(i + 1).copied().unwrap_or(empty);
-            let down = below.map_or(empty, |r| r[i]);
-            let up = above.map_or(empty, |r| r[i]);
-            gi[i] = diff(left, centre, right);
-            gj[i] = diff(down, centre, up);
+        gi[0] = difference(empty, row[0], row[1], empty);
+        let along = row.iter().zip(&row[1..]).zip(&row[2..]);
+        for (g, ((&l, &c), &r)) in gi[1..n - 1].iter_mut().zip(along) {
+            *g = difference(l, c, r, empty);
         }
+        gi[n - 1] = difference(row[n - 2], row[n - 1], empty, empty);
         (&self.gi, &self.gj)
     }
 }
 
-/// The differences of a row of filled nodes whose rows below and above
-/// (when they exist, at least one does) are filled: those of
-/// [`node_differences`] without its empty cases.
-fn filled_row_differences(
-    row: &[u16],
-    below: Option<&[u16]>,
-    above: Option<&[u16]>,
-    gi: &mut [i32],
-    gj: &mut [i32],
-) {
-    let n = row.len();
-    // Across the rows: central between the rows below and above, else
-    // one-sided (doubled) against the row itself.
-    let (lo, hi, scale) = match (below, above) {
-        (Some(b), Some(a)) => (b, a, 1),
-        (None, Some(a)) => (row, a, 2),
-        (Some(b), None) => (b, row, 2),
-        (None, None) => unreachable!("a grid has at least two rows"),
-    };
-    let (lo, hi, gi, gj) = (&lo[..n], &hi[..n], &mut gi[..n], &mut gj[..n]);
-    for ((g, &l), &h) in gj.iter_mut().zip(lo).zip(hi) {
-        *g = scale * (h as i32 - l as i32);
-    }
-    // Along the row: one-sided (doubled) at the ends, central inside.
-    let d = |a: u16, b: u16| b as i32 - a as i32;
-    gi[0] = 2 * d(row[0], row[1]);
-    for (g, (&l, &r)) in gi[1..n - 1].iter_mut().zip(row.iter().zip(&row[2..])) {
-        *g = d(l, r);
-    }
-    gi[n - 1] = 2 * d(row[n - 2], row[n - 1]);
+/// The difference across a node `centre` from its neighbours `prev` and
+/// `next` (the module header's rule: central, one-sided doubled next to an
+/// `empty` neighbour, 0 between two), without a branch: an empty
+/// neighbour is replaced by the centre and the difference doubled unless
+/// both neighbours are filled.
+#[inline(always)]
+fn difference(prev: u16, centre: u16, next: u16, empty: u16) -> i32 {
+    let (p_in, n_in) = (prev != empty, next != empty);
+    let p = if p_in { prev } else { centre } as i32;
+    let n = if n_in { next } else { centre } as i32;
+    (n - p) * (2 - (p_in & n_in) as i32)
 }
 
 /// The unit normals [`reconstruct_normal`]`(gi, gj, rx, ry).normalize()`
@@ -243,7 +218,7 @@ mod tests {
         for case in 0..400 {
             let (cols, rows) = (2 + rng.below(7) as usize, 2 + rng.below(7) as usize);
             // Every other grid has few empty nodes, so whole rows take the
-            // filled-row path.
+            // the filled-row case.
             let empties = if case % 2 == 0 { 8 } else { 60 };
             let d: Vec<u16> = (0..cols * rows)
                 .map(|_| match rng.below(empties) {

@@ -16,10 +16,10 @@ use std::sync::OnceLock;
 use glam::{DMat3, DVec3, Mat4, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
+use crate::fixed::ATTR_ONE;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
-use crate::fixed::ATTR_ONE;
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
 use crate::prepare::normals::{table_slot, unit_normal_lanes, RowDifferences};
 
@@ -87,13 +87,13 @@ impl LevelShading {
     fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let mut normals = Vec::with_capacity(cols * rows);
+        let mut normals = vec![Vec4::ZERO; cols * rows];
         let mut slots = SlotSetBuilder::default();
         let mut differences = RowDifferences::new(d, cols, rows, EMPTY);
         for j in 0..rows {
             let (gi, gj) = differences.row(j);
             let row = j * cols..(j + 1) * cols;
-            push_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals);
+            write_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals[row.clone()]);
             for ((&u, &gi), &gj) in level.used[row].iter().zip(gi).zip(gj) {
                 if u {
                     slots.add(table_slot(gi, gj));
@@ -113,26 +113,34 @@ impl LevelShading {
     }
 }
 
-/// Appends the unit normals of a row of nodes with differences `(gi, gj)`
-/// and displacements `d` to `out`, rounded as projected nodes carry them
-/// ([`crate::fixed::attr_to_bits`]), zero for empty nodes. Why four nodes
-/// at a time in vector lanes ([`unit_normal_lanes`], the rounding by
-/// `Vec4::trunc`, which truncates in lanes as `as i32` does for these
-/// values, and a 4 × 4 transpose to node order): one by one, the three
-/// saturating conversions per node were most of the cost.
-fn push_unit_normals((gi, gj): (&[i32], &[i32]), d: &[u16], ratios: (f32, f32), out: &mut Vec<Vec4>) {
+/// Writes the unit normals of a row of nodes with differences `(gi, gj)`
+/// and displacements `d` into `out` (zero-filled), rounded as projected
+/// nodes carry them ([`crate::fixed::attr_to_bits`]); empty nodes keep
+/// zero. Why four nodes at a time in vector lanes ([`unit_normal_lanes`],
+/// the rounding by `Vec4::trunc`, which truncates in lanes as `as i32`
+/// does for these values, and a 4 × 4 transpose to node order): one by
+/// one, the three saturating conversions per node were most of the cost.
+fn write_unit_normals((gi, gj): (&[i32], &[i32]), d: &[u16], ratios: (f32, f32), out: &mut [Vec4]) {
     let n = d.len();
     let whole = n / 4 * 4;
     let fours = gi[..whole].chunks_exact(4).zip(gj[..whole].chunks_exact(4));
-    for ((gi, gj), d) in fours.zip(d.chunks_exact(4)) {
+    for ((gi, gj), (d, out)) in fours.zip(d.chunks_exact(4).zip(out.chunks_exact_mut(4))) {
         let nodes = four_unit_normals(gi, gj, ratios);
-        out.extend(d.iter().zip(nodes).map(|(&dk, v)| if dk == EMPTY { Vec4::ZERO } else { v }));
+        for ((o, &dk), v) in out.iter_mut().zip(d).zip(nodes) {
+            if dk != EMPTY {
+                *o = v;
+            }
+        }
     }
     if whole < n {
-        let pad = |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
+        let pad =
+            |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
         let nodes = four_unit_normals(&pad(&gi[..n]), &pad(&gj[..n]), ratios);
-        let tail = d[whole..].iter().zip(nodes);
-        out.extend(tail.map(|(&dk, v)| if dk == EMPTY { Vec4::ZERO } else { v }));
+        for ((o, &dk), v) in out[whole..n].iter_mut().zip(&d[whole..]).zip(nodes) {
+            if dk != EMPTY {
+                *o = v;
+            }
+        }
     }
 }
 
@@ -221,9 +229,7 @@ impl PreparedPatch {
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
-        self.shading[m].get_or_init(|| {
-            LevelShading::new(self.level(m), self.ratios_at(m))
-        })
+        self.shading[m].get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
