@@ -113,13 +113,8 @@ impl Framebuffer {
             .iter()
             .flat_map(|w| [(w >> 16) as u8, (w >> 8) as u8, *w as u8, 255])
             .collect();
-        let image = image::RgbaImage::from_raw(self.width as u32, self.height as u32, bytes)
-            .ok_or_else(|| ViewError::Encode("framebuffer size".into()))?;
-        let mut out = std::io::Cursor::new(Vec::new());
-        image
-            .write_to(&mut out, image::ImageFormat::Png)
-            .map_err(|e| ViewError::Encode(e.to_string()))?;
-        Ok(out.into_inner())
+        spatch_render::encode_rgba_png(self.width as u32, self.height as u32, &bytes)
+            .map_err(|e| ViewError::Encode(e.to_string()))
     }
 }
 

@@ -13,6 +13,31 @@ use crate::error::RenderError;
 /// The PNG row filter of [`RenderedImage::encode_png`].
 const PNG_FILTER: image::codecs::png::FilterType = image::codecs::png::FilterType::Up;
 
+/// `rgba` (`width × height` RGBA8 pixels, row 0 at the top) as PNG bytes,
+/// every row filtered by [`PNG_FILTER`] and compressed by the `png`
+/// crate's fast deflate (the viewer's screenshots use it too, so they
+/// equal `spatch render`'s files byte for byte). Why a fixed filter: the
+/// adaptive filter tries all five filters on every row and was most of
+/// the encoding (12.7 M instructions of a one-frame bunny render at 500²;
+/// callgrind, `spatch render bunny.spatch -o out.png --threads 1`); the
+/// decoded pixels are the same, only the file's bytes differ
+/// (docs/performance-log.md, seventeenth round).
+pub fn encode_rgba_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, RenderError> {
+    use image::codecs::png::{CompressionType, PngEncoder};
+    use image::ImageEncoder;
+    if rgba.len() as u64 != u64::from(width) * u64::from(height) * 4 {
+        return Err(RenderError::Bug("colour buffer size"));
+    }
+    let mut out = Vec::new();
+    PngEncoder::new_with_quality(&mut out, CompressionType::Fast, PNG_FILTER)
+        .write_image(rgba, width, height, image::ExtendedColorType::Rgba8)
+        .map_err(|source| RenderError::Encode {
+            what: "colour",
+            source,
+        })?;
+    Ok(out)
+}
+
 /// A rendered image: RGBA8 colour and linear eye depth per pixel, row 0 at
 /// the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -140,29 +165,9 @@ impl RenderedImage {
         Some(10.0 * (255.0 * 255.0 / mse).log10())
     }
 
-    /// The colour image as PNG bytes (RGBA8), every row filtered by
-    /// [`PNG_FILTER`] and compressed by the `png` crate's fast deflate.
-    /// Why a fixed filter: the adaptive filter tries all five filters on
-    /// every row and was most of the encoding (12.7 M instructions of a
-    /// one-frame bunny render at 500²; callgrind, `spatch render
-    /// bunny.spatch -o out.png --threads 1`); the decoded pixels are the
-    /// same, only the file's bytes differ.
+    /// The colour image as PNG bytes (RGBA8), by [`encode_rgba_png`].
     pub fn encode_png(&self) -> Result<Vec<u8>, RenderError> {
-        use image::codecs::png::{CompressionType, PngEncoder};
-        use image::ImageEncoder;
-        let mut out = Vec::new();
-        PngEncoder::new_with_quality(&mut out, CompressionType::Fast, PNG_FILTER)
-            .write_image(
-                self.rgba.as_flattened(),
-                self.width,
-                self.height,
-                image::ExtendedColorType::Rgba8,
-            )
-            .map_err(|source| RenderError::Encode {
-                what: "colour",
-                source,
-            })?;
-        Ok(out)
+        encode_rgba_png(self.width, self.height, self.rgba.as_flattened())
     }
 
     /// The depth image as 16-bit greyscale PNG bytes (see the module header).
