@@ -222,9 +222,8 @@ impl PreparedPatch {
     }
 
     /// The shading inputs of level `m`, built the first time a frame asks
-    /// for them (on the thread that asks, through that thread's normal
-    /// buffer: it only caches values, so the inputs are the same whoever
-    /// builds them). Why on first use: a view draws few of a scene's
+    /// for them (on the thread that asks; the inputs depend on the level
+    /// alone, so they are the same whoever builds them). Why on first use: a view draws few of a scene's
     /// levels (the 500² sphere: level 0 of 567 of 1,362 patches), so a
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
