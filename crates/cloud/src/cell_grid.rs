@@ -219,12 +219,11 @@ impl CellGrid {
         (0..starts.len())
             .into_par_iter()
             .map(|at| {
-                let end = if (at + 1) % (BLOCK_CELLS + 1) == 0 {
+                // The last entry of a block is its end, not a cell.
+                if (at + 1) % (BLOCK_CELLS + 1) == 0 {
                     return 0.0;
-                } else {
-                    starts[at + 1] as usize
-                };
-                let half = keyed[starts[at] as usize..end]
+                }
+                let half = keyed[starts[at] as usize..starts[at + 1] as usize]
                     .iter()
                     .map(|&(_, k)| half_of(k as usize).1.max_element())
                     .fold(0.0f64, f64::max);

@@ -164,7 +164,8 @@ pub(crate) fn quad_beyond(p: Vec3, q: &Quad, limit: f32) -> bool {
     let r = p - centre;
     let (a, b, c) = (u.dot(u), u.dot(v), v.dot(v));
     let det = a * c - b * b;
-    if !(det > SLIVER * a * c) || !det.is_finite() {
+    let conditioned = det > SLIVER * a * c;
+    if !conditioned || !det.is_finite() {
         return false;
     }
     let (gu, gv) = (u.dot(r), v.dot(r));
