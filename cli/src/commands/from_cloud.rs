@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
-    cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error, CloudError,
+    cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order, CloudError,
     CloudOptions, CloudReport, SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
@@ -255,7 +255,8 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     report.seconds = report.stages.iter().map(|s| s.seconds).sum();
     if let Some(cloud) = &kept {
         progress.step("measuring error");
-        let error = measure_cloud_error(cloud, &conversion.scene, report.spacing)
+        let order = conversion.point_order.as_ref();
+        let error = measure_cloud_error_in_order(cloud, &conversion.scene, report.spacing, order)
             .with_context(|| format!("{label}: measuring the error"))?;
         report.error = Some(error);
     }

@@ -19,8 +19,15 @@
 //! [`MAX_EXTRAS`] are left). Coordinates are reduced to grid cells in f64 with a margin, so
 //! rounding never drops a box that qualifies.
 //!
+//! [`CellGrid::visit_near`] skips a cell whose boxes all lie beyond a gap from a box of
+//! queries: each cell keeps the largest half-extent of its own boxes, so a cell far from the
+//! queries is passed over whole, where the range around them (widened by the largest
+//! half-extent of all boxes) would read each of its boxes (half the error measurement's
+//! gathers on a scan set went to boxes of such cells).
+//!
 //! Storage: none per item (the caller keeps its items in the grid's order); the grid cells
-//! in blocks of 4³, each non-empty block a run of 65 item offsets (260 bytes); an
+//! in blocks of 4³, each non-empty block a run of 65 item offsets and 65 half-extents
+//! (520 bytes); an
 //! open-addressing hash table (linear probing) from a block's packed coordinates to its
 //! run, 16 bytes a slot, at most half full. Blocks keep the cells a query reads in one or
 //! two cache lines: hashing every cell alone cost a cache miss per cell read.
@@ -85,6 +92,10 @@ pub(crate) struct CellGrid {
     /// the items (and where the block's end): cell `l` of the block at `base` holds
     /// `starts[base + l]..starts[base + l + 1]`.
     starts: Vec<u32>,
+    /// Per entry of `starts`, the largest half-extent (any axis, rounded up) of the boxes of
+    /// that cell (0 for an empty cell and the blocks' end entries): a cell's boxes lie
+    /// within it of the cell, which lets [`CellGrid::visit_near`] skip a cell whole.
+    reaches: Vec<f32>,
     /// Open-addressing table of the non-empty blocks.
     slots: Vec<Slot>,
     /// Positions of the items kept out of the grid (the end of the order), visited by
@@ -153,6 +164,7 @@ impl CellGrid {
             dims,
             reach,
             starts: Vec::new(),
+            reaches: Vec::new(),
             slots: Vec::new(),
             extras: 0..0,
         };
@@ -166,6 +178,7 @@ impl CellGrid {
             .collect();
         keyed.par_sort_unstable();
         grid.fill(&keyed);
+        grid.reaches = grid.cell_reaches(&keyed, &half_of);
         grid.extras = keyed.len()..keyed.len() + extras.len();
         let mut order: Vec<u32> = Vec::with_capacity(len);
         order.par_extend(keyed.par_iter().map(|&(_, k)| k));
@@ -193,6 +206,35 @@ impl CellGrid {
             }
             limit *= 2.0;
         }
+    }
+
+    /// Per entry of `starts`, the largest half-extent of the boxes of its cell (the items at
+    /// its positions of `keyed`), rounded up to f32.
+    fn cell_reaches(
+        &self,
+        keyed: &[(u64, u32)],
+        half_of: &(impl Fn(usize) -> (DVec3, DVec3) + Sync),
+    ) -> Vec<f32> {
+        let starts = &self.starts;
+        (0..starts.len())
+            .into_par_iter()
+            .map(|at| {
+                // The last entry of a block is its end, not a cell.
+                if (at + 1) % (BLOCK_CELLS + 1) == 0 {
+                    return 0.0;
+                }
+                let half = keyed[starts[at] as usize..starts[at + 1] as usize]
+                    .iter()
+                    .map(|&(_, k)| half_of(k as usize).1.max_element())
+                    .fold(0.0f64, f64::max);
+                let rounded = half as f32;
+                if f64::from(rounded) < half {
+                    rounded.next_up()
+                } else {
+                    rounded
+                }
+            })
+            .collect()
     }
 
     /// Groups the sorted `(key, item)` pairs by block and cell and builds the hash table of
@@ -332,6 +374,39 @@ impl CellGrid {
         &self,
         range: &CellRange,
         skip: &CellRange,
+        visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        self.visit_cells(range, skip, |_, _| true, visit);
+    }
+
+    /// [`CellGrid::visit`] of the cells of `range` that may hold a box within `gap` of the box
+    /// `lo..=hi` on every axis: a cell whose own boxes all lie farther (by its largest
+    /// half-extent, `reaches`) is skipped without reading them.
+    pub(crate) fn visit_near(
+        &self,
+        range: &CellRange,
+        (lo, hi): (DVec3, DVec3),
+        gap: f64,
+        visit: impl FnMut(std::ops::Range<usize>),
+    ) {
+        let margin = ROUNDING_MARGIN * self.side;
+        let near = |at: usize, c: [i64; 3]| {
+            let cell_lo =
+                self.origin + DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64) * self.side;
+            let widen = f64::from(self.reaches[at]) + margin;
+            let (from, to) = (cell_lo - widen, cell_lo + DVec3::splat(self.side + widen));
+            (lo - to).max(from - hi).max_element() <= gap
+        };
+        self.visit_cells(range, &CellRange::EMPTY, near, visit);
+    }
+
+    /// Calls `visit` with the item positions of every grid cell of `range` outside `skip`
+    /// that `keep` (given the cell's entry in `starts` and its coordinates) keeps.
+    fn visit_cells(
+        &self,
+        range: &CellRange,
+        skip: &CellRange,
+        keep: impl Fn(usize, [i64; 3]) -> bool,
         mut visit: impl FnMut(std::ops::Range<usize>),
     ) {
         let side = 1i64 << BLOCK_BITS;
@@ -357,7 +432,7 @@ impl CellGrid {
                                     | ((z - corner[2]) << (2 * BLOCK_BITS));
                                 let at = base + l as usize;
                                 let items = self.starts[at] as usize..self.starts[at + 1] as usize;
-                                if !items.is_empty() {
+                                if !items.is_empty() && keep(at, [x, y, z]) {
                                     visit(items);
                                 }
                             }
@@ -471,6 +546,47 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn visit_near_reads_every_box_near_a_run_and_skips_far_cells() {
+        // Small boxes and one in 16 six times longer: too many for the extras, so they stay
+        // in the grid and widen every range.
+        let mut boxes = boxes(5000, 6);
+        for b in boxes.iter_mut().step_by(16) {
+            b.1 = b.0 + (b.1 - b.0) * 6.0;
+        }
+        let (grid, order) = build_slice(&boxes).unwrap();
+        let mut gridded = vec![true; boxes.len()];
+        for k in grid.extras() {
+            gridded[order[k] as usize] = false;
+        }
+        let mut rng = SplitMix64::new(9);
+        let (mut read, mut whole) = (0usize, 0usize);
+        for _ in 0..300 {
+            let lo = Vec3::new(
+                rng.next_f64() as f32,
+                rng.next_f64() as f32,
+                rng.next_f64() as f32 * 0.1,
+            );
+            let hi = lo + Vec3::splat(rng.next_f64() as f32 * 0.02);
+            let gap = rng.next_f64() * 0.01;
+            let range = grid.cells_near(lo.as_dvec3(), hi.as_dvec3(), gap);
+            let mut seen = vec![false; boxes.len()];
+            grid.visit_near(&range, (lo.as_dvec3(), hi.as_dvec3()), gap, |items| {
+                read += items.len();
+                items.for_each(|k| seen[order[k] as usize] = true);
+            });
+            grid.visit(&range, &CellRange::EMPTY, |items| whole += items.len());
+            for (k, &(blo, bhi)) in boxes.iter().enumerate() {
+                let axis_gap = (lo - bhi).max(blo - hi).max(Vec3::ZERO).max_element();
+                if gridded[k] && f64::from(axis_gap) <= gap {
+                    assert!(seen[k], "box {k} missed near {lo}..{hi} within {gap}");
+                }
+            }
+        }
+        // The long boxes widen every cell range; most cells read by `visit` are skipped.
+        assert!(read * 2 < whole, "{read} of {whole} items read");
     }
 
     #[test]

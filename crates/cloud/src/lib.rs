@@ -14,7 +14,9 @@
 //!   wall times);
 //! - [`measure_cloud_error`] → [`CloudErrorReport`]: `cloud_to_patch` (every point to the
 //!   patch surface) and `node_to_cloud` (every node to the nearest point), with the
-//!   distances themselves from [`cloud_error_distances`];
+//!   distances themselves from [`cloud_error_distances`]; [`measure_cloud_error_in_order`] for a
+//!   conversion's own cloud, from the conversion's spatial order of the points
+//!   ([`PointOrder`]);
 //! - [`PatchSurface`]: the drawable cells of a scene as bilinear quads in a bounding volume
 //!   hierarchy, for exact nearest-point queries (the error measures of `spatch-eval` use it
 //!   too), and [`distance_to_quad`] for one cell;
@@ -57,11 +59,13 @@ mod error_metrics;
 mod extract;
 mod gap_fill;
 mod ids;
+mod morton_order;
 mod normals;
 mod options;
 mod patch_cut;
 mod patch_surface;
 mod pipeline;
+mod point_hierarchy;
 mod progress;
 mod quad_distance;
 mod range_image;
@@ -76,10 +80,11 @@ pub use consensus::CONSENSUS_MIN_POINTS;
 pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
 pub use error_metrics::{
-    cloud_error_distances, measure_cloud_error, CloudErrorDistances, CloudErrorReport,
-    CloudToPatch, DistanceStats,
+    cloud_error_distances, measure_cloud_error, measure_cloud_error_in_order, CloudErrorDistances,
+    CloudErrorReport, CloudToPatch, DistanceStats,
 };
 pub use ids::{PointId, ViewId};
+pub use morton_order::PointOrder;
 pub use normals::{estimate_normals, smallest_eigenvector};
 pub use options::{CloudOptions, SmoothOptions};
 pub use patch_surface::{PatchSurface, LEAF_QUADS, NO_PATCH, PRUNE_SLACK};

@@ -50,7 +50,7 @@ use rayon::prelude::*;
 use spatch_format::Scene;
 
 use crate::cell_grid::{CellGrid, CellRange};
-use crate::quad_distance::{distance_to_quad, Quad};
+use crate::quad_distance::{distance_to_quad, quad_beyond, Quad};
 use blocks::{BlockIndex, MIN_CELLS_PER_BLOCK};
 use tree::CellTree;
 
@@ -389,7 +389,11 @@ impl PatchSurface {
         {
             return;
         }
-        let d = distance_to_quad(p, &self.quad(self.cells[k]));
+        let quad = self.quad(self.cells[k]);
+        if quad_beyond(p, &quad, best.distance) {
+            return;
+        }
+        let d = distance_to_quad(p, &quad);
         let o = self.owner(k);
         if d < best.distance || (d == best.distance && o < best.owner) {
             *best = Best {
@@ -402,7 +406,11 @@ impl PatchSurface {
 
     /// [`PatchSurface::nearest`] for every point, in parallel, in the order given, for a
     /// surface without a grid (see the module docs for the query order).
-    fn nearest_all_in_morton_order(&self, points: &[Vec3]) -> (Vec<f32>, Vec<u32>) {
+    fn nearest_all_in_morton_order(
+        &self,
+        points: &[Vec3],
+        place: Option<&[u32]>,
+    ) -> (Vec<f32>, Vec<u32>) {
         let mut order: Vec<(u64, u32)> = points
             .par_iter()
             .enumerate()
@@ -420,22 +428,25 @@ impl PatchSurface {
                 })
             })
             .collect();
-        scatter_to_input_order(&order, &found, points.len())
+        scatter_to_input_order(&order, &found, place)
     }
 }
 
 /// The answers `found` (one `(distance, patch)` per entry of `order`, whose second field is
-/// the point's index) put back in the points' own order, as `(distances, patches)`.
+/// the point's index) put where `place` puts each point's answer (the point's own index, or
+/// the caller's: see [`PatchSurface::nearest_all_placed`]), as `(distances, patches)`.
 fn scatter_to_input_order(
     order: &[(u64, u32)],
     found: &[(f32, u32)],
-    count: usize,
+    place: Option<&[u32]>,
 ) -> (Vec<f32>, Vec<u32>) {
+    let count = order.len();
     let mut distances = vec![0.0f32; count];
     let mut owners = vec![NO_PATCH; count];
     for (&(_, k), &(d, o)) in order.iter().zip(found) {
-        distances[k as usize] = d;
-        owners[k as usize] = o;
+        let at = place.map_or(k, |place| place[k as usize]) as usize;
+        distances[at] = d;
+        owners[at] = o;
     }
     (distances, owners)
 }

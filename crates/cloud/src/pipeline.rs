@@ -47,9 +47,9 @@ use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
 use spatch_report::StageClock;
 
-use crate::bucket_sort::sort_pairs;
 use crate::consensus::{project_to_consensus, ConsensusLimits};
 use crate::directions::view_directions;
+use crate::morton_order::{morton_order, PointOrder};
 use crate::normals::{estimate_planes, VoxelPlanes};
 use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
 use crate::range_image::{ImageGeometry, PointColumns};
@@ -82,6 +82,13 @@ pub struct CloudConversion {
     pub bytes: Vec<u8>,
     /// Counts and timings.
     pub report: CloudReport,
+    /// The conversion's spatial (Morton) order of the points, which
+    /// [`measure_cloud_error_in_order`] starts from. Kept when the cloud was borrowed and no
+    /// point was dropped (`None` otherwise: the indices would not be the caller's); 4 bytes
+    /// a point.
+    ///
+    /// [`measure_cloud_error_in_order`]: crate::measure_cloud_error_in_order
+    pub point_order: Option<PointOrder>,
 }
 
 /// Times consecutive stages on the shared [`StageClock`] and reports each sequential one as
@@ -169,7 +176,7 @@ fn convert_cloud(
     let bounds = check_extent(&cloud, dropped)?;
     clock.lap(Stage::Filter);
 
-    let mut cloud = sort_spatially(cloud, &bounds);
+    let (mut cloud, point_order) = sort_spatially(cloud, &bounds);
     clock.lap(Stage::Sort);
 
     let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
@@ -246,6 +253,7 @@ fn convert_cloud(
         scene,
         bytes,
         report,
+        point_order,
     })
 }
 
@@ -529,53 +537,38 @@ fn build_scene(
     Ok(Scene::new(cloud.origin, channel, patches)?)
 }
 
-/// The cloud with its points in Morton (Z-order) order of their position in `bounds`, so
-/// that consecutive points are near each other: every later pass over the points (one per
-/// view) then touches the images and grids in a cache-friendly order.
-fn sort_spatially(cloud: Cow<'_, PointCloud>, bounds: &Aabb) -> PointCloud {
-    let scale =
-        Vec3::splat(f32::from(u16::MAX)) / bounds.size().max(Vec3::splat(f32::MIN_POSITIVE));
-    let spread = |v: u64| {
-        // Interleave the low 16 bits with two zero bits between each.
-        let mut x = v & 0xFFFF;
-        x = (x | (x << 16)) & 0x0000_FF00_00FF;
-        x = (x | (x << 8)) & 0x00F0_0F00_F00F;
-        x = (x | (x << 4)) & 0x0C30_C30C_30C3;
-        (x | (x << 2)) & 0x2492_4924_9249
-    };
-    let order: Vec<(u64, u32)> = cloud
-        .positions
-        .par_iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            let q = ((p - bounds.min) * scale).clamp(Vec3::ZERO, Vec3::splat(f32::from(u16::MAX)));
-            let code = spread(q.x as u64) | (spread(q.y as u64) << 1) | (spread(q.z as u64) << 2);
-            (code, i as u32)
-        })
-        .collect();
-    // Buckets of the top 18 code bits (cells of 1/64 of the box), then short runs: cheaper
-    // than one sort of the whole list (rayon's parallel sort and a radix sort were slower
-    // than `sort_unstable` on the shared machine).
-    let order = sort_pairs(order, 30);
+/// The cloud with its points in Morton (Z-order) order of their position in `bounds`
+/// (`morton_order.rs`), so that consecutive points are near each other: every later pass
+/// over the points (one per view) then touches the images and grids in a cache-friendly
+/// order. Also gives that order (the input index of each sorted point) for a borrowed
+/// cloud, which the caller still holds and may measure the error against.
+fn sort_spatially(cloud: Cow<'_, PointCloud>, bounds: &Aabb) -> (PointCloud, Option<PointOrder>) {
+    let order = morton_order(&cloud.positions, bounds);
     match cloud {
-        Cow::Borrowed(cloud) => PointCloud {
-            origin: cloud.origin,
-            positions: reorder(&cloud.positions, &order),
-            colours: cloud.colours.as_deref().map(|c| reorder(c, &order)),
-            normals: cloud.normals.as_deref().map(|v| reorder(v, &order)),
-        },
+        Cow::Borrowed(cloud) => {
+            let sorted = PointCloud {
+                origin: cloud.origin,
+                positions: reorder(&cloud.positions, &order),
+                colours: cloud.colours.as_deref().map(|c| reorder(c, &order)),
+                normals: cloud.normals.as_deref().map(|v| reorder(v, &order)),
+            };
+            (sorted, Some(PointOrder::of_pairs(&order)))
+        }
         // Each array is dropped once its sorted copy exists.
         Cow::Owned(PointCloud {
             origin,
             positions,
             colours,
             normals,
-        }) => PointCloud {
-            origin,
-            positions: reorder(&positions, &order),
-            colours: colours.map(|c| reorder(&c, &order)),
-            normals: normals.map(|v| reorder(&v, &order)),
-        },
+        }) => {
+            let sorted = PointCloud {
+                origin,
+                positions: reorder(&positions, &order),
+                colours: colours.map(|c| reorder(&c, &order)),
+                normals: normals.map(|v| reorder(&v, &order)),
+            };
+            (sorted, None)
+        }
     }
 }
 

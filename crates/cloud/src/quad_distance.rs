@@ -139,6 +139,47 @@ pub fn distance_to_quad(p: Vec3, q: &Quad) -> f32 {
     refine(p, q, (e1, e2, twist), (s, t), d2)
 }
 
+/// Relative margin of [`quad_beyond`] for f32 rounding: of the coordinates' magnitude (the
+/// differences from the cell's centre lose up to an ulp of it) and of the limit.
+const BEYOND_MARGIN: f32 = 1e-5;
+
+/// Whether the quad `q` is certainly farther from `p` than `limit`, so that
+/// [`distance_to_quad`] gives more than `limit` (`false` says nothing). Cheaper than the
+/// distance (no triangle and no refinement step): the linearisation
+/// `L(s, t) = B(½, ½) + (s − ½)u + (t − ½)v` (`u = e1 + τ/2`, `v = e2 + τ/2`) differs from
+/// the quad by `(s − ½)(t − ½)τ`, at most `|τ| / 4` over the cell, so the exact distance is
+/// at least the distance to the parallelogram `L([0, 1]²)` less `|τ| / 4`; and that distance
+/// is at least the root of the squared height over its plane plus the squared distance, in
+/// the plane, to the nearer strip `0 ≤ s ≤ 1` or `0 ≤ t ≤ 1` that the projection lies
+/// outside of (`excess · area / |v|` for `s`). [`distance_to_quad`] gives the distance of
+/// a true point of the quad, never below the exact one beyond rounding, which
+/// [`BEYOND_MARGIN`] covers with room to spare. A sliver or non-finite cell is never ruled
+/// out.
+#[inline]
+pub(crate) fn quad_beyond(p: Vec3, q: &Quad, limit: f32) -> bool {
+    let [p00, p10, p01, p11] = *q;
+    let twist = p11 - p10 - p01 + p00;
+    let (u, v) = (p10 - p00 + twist * 0.5, p01 - p00 + twist * 0.5);
+    let centre = (p00 + p10 + p01 + p11) * 0.25;
+    let r = p - centre;
+    let (a, b, c) = (u.dot(u), u.dot(v), v.dot(v));
+    let det = a * c - b * b;
+    let conditioned = det > SLIVER * a * c;
+    if !conditioned || !det.is_finite() {
+        return false;
+    }
+    let (gu, gv) = (u.dot(r), v.dot(r));
+    // Offsets from the centre in (s, t), and how far they pass the cell's half-width.
+    let ds = ((c * gu - b * gv) / det).abs() - 0.5;
+    let dt = ((a * gv - b * gu) / det).abs() - 0.5;
+    // det = |u × v|²: the strips' widths per unit of s and t are sqrt(det / c), sqrt(det / a).
+    let side = (ds.max(0.0) * ds.max(0.0) * det / c).max(dt.max(0.0) * dt.max(0.0) * det / a);
+    let height = r.dot(u.cross(v));
+    let scale = p.abs().max_element() + centre.abs().max_element();
+    let reach = (limit + twist.length() * 0.25) * (1.0 + BEYOND_MARGIN) + scale * BEYOND_MARGIN;
+    height * height / det + side > reach * reach
+}
+
 /// Where `p` projects onto the quad's linearisation at its centre,
 /// `L(s, t) = B(½, ½) + (s − ½)(e1 + τ/2) + (t − ½)(e2 + τ/2)`, when that point lies in
 /// `[0, 1]²` (it is then the nearest point of `L` over the square) and the cell is not a
@@ -257,6 +298,45 @@ mod tests {
                 assert!(d <= b + bound + 1e-4, "{p}: {d} vs {b} (twist {twist})");
             }
         }
+    }
+
+    #[test]
+    fn a_quad_ruled_out_is_farther_than_the_limit() {
+        // Points over, beside and far from flat and twisted cells, limits around their
+        // distance: whenever `quad_beyond` says so, the distance exceeds the limit; and it
+        // rules out most cells well beyond the limit.
+        let mut rng = spatch_mesh::SplitMix64::new(17);
+        let mut r = move || rng.next_f64() as f32 - 0.5;
+        let (mut ruled_out, mut clearly_beyond) = (0, 0);
+        for k in 0..400 {
+            let twist = [0.0, 1e-3, 0.05, 0.4][k % 4];
+            let e1 = Vec3::new(1.0, r() * 0.5, r() * 0.2);
+            let e2 = Vec3::new(r() * 0.5, 1.0, r() * 0.2);
+            let o = Vec3::new(r(), r(), r()) * 100.0;
+            let tau = Vec3::new(r(), r(), 1.0) * twist;
+            let q: Quad = [o, o + e1, o + e2, o + e1 + e2 + tau];
+            for _ in 0..20 {
+                let p = o + Vec3::new(r() * 4.0 + 0.5, r() * 4.0 + 0.5, r() * 3.0);
+                let d = distance_to_quad(p, &q);
+                for limit in [d * 0.3, d * 0.9, d * 0.999, d] {
+                    let beyond = quad_beyond(p, &q, limit);
+                    assert!(!beyond || d > limit, "{p} {q:?}: {d} <= {limit}");
+                    if d > 2.0 * limit + twist {
+                        clearly_beyond += 1;
+                        ruled_out += usize::from(beyond);
+                    }
+                }
+            }
+        }
+        assert!(
+            clearly_beyond > 1000 && ruled_out * 4 > clearly_beyond * 3,
+            "{ruled_out} ruled out of {clearly_beyond}"
+        );
+        let square: Quad = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0)];
+        assert!(quad_beyond(Vec3::new(0.5, 0.5, 1.0), &square, 0.99));
+        assert!(!quad_beyond(Vec3::new(0.5, 0.5, 1.0), &square, 1.0));
+        assert!(quad_beyond(Vec3::new(2.5, 0.5, 0.0), &square, 1.49));
+        assert!(!quad_beyond(Vec3::new(2.5, 0.5, 0.0), &square, 1.5));
     }
 
     #[test]

@@ -14,8 +14,10 @@
 //!    hash table and three indirections.
 //! 2. Per point `p`: the squared distance from `p` to every gathered box in one pass (the
 //!    compiler vectorizes it), the quad distance of the nearest box, then of every other box
-//!    as near as the best distance so far (with [`PRUNE_SLACK`], as the search prunes). A
-//!    point on the surface lies in its own cell's box, so it usually costs one quad
+//!    as near as the best distance so far (with [`PRUNE_SLACK`], as the search prunes) that
+//!    `quad_beyond` does not rule out (a lower bound on the quad's distance from its
+//!    linearisation, a few dozen instructions against about a thousand for the distance).
+//!    A point on the surface lies in its own cell's box, so it usually costs one quad
 //!    distance.
 //! 3. Exactness: a cell at most `b` from `p` has its box within `b` of `p` on every axis,
 //!    so within `b` of `G`. When the best distance found is at most `m`, every cell that
@@ -35,8 +37,8 @@ use super::{
     near_enough, scatter_to_input_order, Best, Node, PatchSurface, MAX_GRID_CELLS, NO_PATCH,
     QUERY_CHUNK,
 };
-use crate::cell_grid::{CellGrid, CellRange};
-use crate::quad_distance::distance_to_quad;
+use crate::cell_grid::CellGrid;
+use crate::quad_distance::{distance_to_quad, quad_beyond};
 use crate::PRUNE_SLACK;
 
 /// Margin around a run's points, in grid sides, within which its cells are gathered: a
@@ -121,7 +123,11 @@ impl Gathered {
                 continue;
             }
             let at = self.cells[k];
-            let d = distance_to_quad(p, &surface.quad(surface.cells[at]));
+            let quad = surface.quad(surface.cells[at]);
+            if quad_beyond(p, &quad, best.distance) {
+                continue;
+            }
+            let d = distance_to_quad(p, &quad);
             let o = surface.owner(at);
             if d < best.distance || (d == best.distance && o < best.owner) {
                 best = Best {
@@ -182,8 +188,19 @@ impl PatchSurface {
     /// [`PatchSurface::nearest`] for every point, in parallel, in the order given (see the
     /// module docs of `batch.rs`); the results do not depend on the thread count.
     pub fn nearest_all(&self, points: &[Vec3]) -> (Vec<f32>, Vec<u32>) {
+        self.nearest_all_placed(points, None)
+    }
+
+    /// [`PatchSurface::nearest_all`] with the answer for `points[k]` at position
+    /// `place[k]` (one pass puts the answers in the caller's order instead of two), or at
+    /// `k` without `place`. `place` must be a permutation of the points' indices.
+    pub(crate) fn nearest_all_placed(
+        &self,
+        points: &[Vec3],
+        place: Option<&[u32]>,
+    ) -> (Vec<f32>, Vec<u32>) {
         let Some(grid) = &self.grid else {
-            return self.nearest_all_in_morton_order(points);
+            return self.nearest_all_in_morton_order(points, place);
         };
         let mut order: Vec<(u64, u32)> = points
             .par_iter()
@@ -203,7 +220,7 @@ impl PatchSurface {
                 out
             })
             .collect();
-        scatter_to_input_order(&order, &found, points.len())
+        scatter_to_input_order(&order, &found, place)
     }
 
     /// Answers the points of `run` (one grid cell's key and the points' indices), pushing
@@ -308,7 +325,10 @@ impl PatchSurface {
             }
         };
         take(grid.extras());
-        grid.visit(&range, &CellRange::EMPTY, take);
+        // Cells whose boxes all lie beyond the f32 test's radius (with room for its
+        // rounding) are skipped whole.
+        let bounds = (lo.as_dvec3(), hi.as_dvec3());
+        grid.visit_near(&range, bounds, cover * (1.0 + 2.0 * GATHER_SLACK), take);
         true
     }
 
