@@ -22,6 +22,19 @@ pub(crate) const CELL_DRAW: u8 = 1;
 pub(crate) const CELL_RIGHT: u8 = 2;
 /// Cell flag: the cell also places its last row of sub-nodes.
 pub(crate) const CELL_TOP: u8 = 4;
+/// Cell flag: the cell's side along its first node row (toward cell
+/// `(i, j − 1)`) is an outline of the surface
+/// ([`crate::plan::open_sides`]); set only on magnified pieces.
+pub(crate) const CELL_OPEN_BOTTOM: u8 = 8;
+/// Cell flag: the side toward cell `(i + 1, j)` is an outline.
+pub(crate) const CELL_OPEN_RIGHT: u8 = 16;
+/// Cell flag: the side toward cell `(i, j + 1)` is an outline.
+pub(crate) const CELL_OPEN_TOP: u8 = 32;
+/// Cell flag: the side toward cell `(i − 1, j)` is an outline.
+pub(crate) const CELL_OPEN_LEFT: u8 = 64;
+/// Every open-side flag.
+pub(crate) const CELL_OPEN: u8 =
+    CELL_OPEN_BOTTOM | CELL_OPEN_RIGHT | CELL_OPEN_TOP | CELL_OPEN_LEFT;
 
 /// True when the four corners of the cell whose (0, 0) node is `k` are used.
 #[inline]

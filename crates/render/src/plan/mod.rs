@@ -16,6 +16,7 @@ pub(crate) mod measure;
 mod measure_tests;
 pub(crate) mod mesh;
 pub(crate) mod node_xy;
+pub(crate) mod open_sides;
 pub(crate) mod piece;
 pub(crate) mod project;
 pub(crate) mod split;

@@ -26,6 +26,7 @@ use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::counters::nanos_since;
 use crate::plan::measure::measure_cells;
+use crate::plan::open_sides::{mark_open_sides, OPEN_SIDE_CUT};
 use crate::plan::project::{level_map, project_nodes_exact, project_nodes_trilinear, Projector};
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
@@ -171,6 +172,13 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         work.counters.setup_ns += nanos_since(start);
         return;
     };
+    // Outlines of magnified cells are drawn exactly where the surface
+    // folds away (see `open_sides` and `raster::cell_edges`).
+    let open_sides =
+        !smooth && splat[0] == 0 && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0;
+    if open_sides {
+        mark_open_sides(level, range, &mut work.cell_flags[flags..]);
+    }
     // 5. Attributes.
     let start = Instant::now();
     fill_attributes(work, ctx, m, range, first);
@@ -211,6 +219,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         y1: y1 + pad,
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
         splat,
+        open_sides,
     });
 }
 

@@ -61,6 +61,8 @@ pub(crate) struct Item {
     /// Footprint half-widths in x and y (position units) of a splatted
     /// piece ([`crate::raster::splat`]); 0 for every other piece.
     pub(crate) splat: [i32; 2],
+    /// Some cell has an open side ([`crate::plan::open_sides`]).
+    pub(crate) open_sides: bool,
 }
 
 /// Everything about the frame that planning needs.

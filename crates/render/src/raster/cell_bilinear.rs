@@ -38,7 +38,7 @@ use crate::raster::band::{splat_sample, BandTarget};
 pub(crate) const MAX_SUBDIVISION: u32 = 64;
 
 /// Extra fractional bits carried by the forward differences.
-const EXT: u32 = 16;
+pub(crate) const EXT: u32 = 16;
 /// Reciprocal scale.
 const RECIP_BITS: u32 = 30;
 
@@ -83,10 +83,22 @@ pub(crate) fn draw_nodes(
 
 /// Reciprocals for dividing by `nu`, `nv` and `nu · nv`.
 #[derive(Debug, Clone, Copy)]
-struct Reciprocals {
+pub(crate) struct Reciprocals {
     u: i64,
     v: i64,
     uv: i64,
+}
+
+impl Reciprocals {
+    /// The reciprocals of a cut `nu × nv`.
+    #[inline(always)]
+    pub(crate) fn new(nu: u32, nv: u32) -> Self {
+        Reciprocals {
+            u: (1i64 << RECIP_BITS) / nu as i64,
+            v: (1i64 << RECIP_BITS) / nv as i64,
+            uv: (1i64 << RECIP_BITS) / (nu as i64 * nv as i64),
+        }
+    }
 }
 
 /// A piece of patch as the cell drawer reads it.
@@ -142,11 +154,7 @@ fn draw_cells<const NU: u32, const NV: u32>(
 ) {
     let nu = if NU == 0 { nu } else { NU };
     let nv = if NV == 0 { nv } else { NV };
-    let r = Reciprocals {
-        u: (1i64 << RECIP_BITS) / nu as i64,
-        v: (1i64 << RECIP_BITS) / nv as i64,
-        uv: (1i64 << RECIP_BITS) / (nu as i64 * nv as i64),
-    };
+    let r = Reciprocals::new(nu, nv);
     let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
     let (cols, nodes) = (piece.cols, piece.nodes);
     // Why flags: drawability, back faces and the closing column/row are
@@ -212,7 +220,7 @@ fn draw_cells<const NU: u32, const NV: u32>(
 /// Forward-difference set-up of one channel: start, row step, column step
 /// and its change per row.
 #[inline(always)]
-fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
+pub(crate) fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
     let shift = RECIP_BITS - EXT;
     let (a, b, c, d) = (c00 as i64, c10 as i64, c01 as i64, c11 as i64);
     [
@@ -230,7 +238,7 @@ fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [i64; 4] {
 /// unclipped variant drops the per-row band test and the per-sample bounds
 /// compares (callgrind, `profile_sphere 500 1`: see docs/performance-log.md).
 #[inline(always)]
-fn draw_cell<const CLIP: bool>(
+pub(crate) fn draw_cell<const CLIP: bool>(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     r: Reciprocals,

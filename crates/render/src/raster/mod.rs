@@ -1,11 +1,13 @@
 //! The raster kernels: what writes depth-tested samples into a band of
 //! rows. They read projected nodes, cell flags and screen triangles and
 //! know nothing of patches or plans. In use order: the band
-//! store, bilinear cells (and nodes alone), Catmull-Rom cells, node
+//! store, bilinear cells (and nodes alone), bilinear cells with exact
+//! outlines, Catmull-Rom cells, node
 //! splats, the scan-line triangle rasterizer.
 
 pub(crate) mod band;
 pub(crate) mod cell_bilinear;
+pub(crate) mod cell_edges;
 pub(crate) mod cell_smooth;
 pub(crate) mod splat;
 pub(crate) mod triangle_raster;

@@ -126,3 +126,79 @@ fn magnified_cells_seen_at_a_slant_lie_at_their_depth() {
     // Half a pixel along the slant is about 0.004 units of depth here.
     assert!(worst < 0.01, "trilinear and exact depths differ by {worst}");
 }
+
+/// Pixels one image covers and the other does not.
+fn coverage_difference(a: &RenderedImage, b: &RenderedImage) -> usize {
+    let covered = |d: &f32| d.is_finite();
+    a.depth()
+        .iter()
+        .zip(b.depth())
+        .filter(|(x, y)| covered(x) != covered(y))
+        .count()
+}
+
+/// A roof over the unit square: 48 × 48 cells rising along y to a ridge
+/// 0.3 high at y = 0.625 (off the middle row, where a patch crossing the
+/// frustum is split), then falling.
+fn roof() -> Scene {
+    let n = 49u32;
+    let s = 1.0 / (n - 1) as f32;
+    let frame = Frame::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s, Vec3::Z * 0.001).expect("frame");
+    let heights = (0..n * n)
+        .map(|k| {
+            let j = (k / n) as f32;
+            let h = if j <= 40.0 {
+                j / 40.0
+            } else {
+                1.0 - (j - 40.0) / 24.0
+            };
+            (300.0 * h).round() as u16
+        })
+        .collect();
+    let patch =
+        Patch::new(frame, GridSize::new(n, n).expect("grid"), heights, None).expect("patch");
+    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).expect("scene")
+}
+
+#[test]
+fn where_magnified_cells_fold_away_their_outline_is_the_triangle_paths() {
+    // The roof seen from below its ridge, the camera rolled: the far slope faces away (culled),
+    // so the ridge is the only outline in the image (the patch's borders
+    // lie outside it), drawn by cells of 5-11 px. The patch covers the
+    // pixels the triangle path covers up to a few along the ridge; before,
+    // its sub-nodes wrote every pixel the ridge touched (about half of its
+    // length more).
+    let scene = roof();
+    let mut o = unlit();
+    o.culling = Culling::Back;
+    o.projection = spatch_render::Projection::Exact;
+    let mut tri = o;
+    tri.mode = RenderMode::Triangles;
+    let camera = Camera::look_at(
+        DVec3::new(0.5, -0.6, 0.2),
+        DVec3::new(0.5, 0.6, 0.45),
+        DVec3::new(0.3, 0.0, 1.0),
+        40.0,
+        200,
+        200,
+    )
+    .expect("camera");
+    let prepared = PreparedScene::new(&scene);
+    let draw = |o: RenderOptions| {
+        Renderer::new(o)
+            .expect("renderer")
+            .render(&prepared, &camera)
+            .expect("frame")
+            .image
+    };
+    let (cells, exact) = (draw(o), draw(tri));
+    let covered = exact.depth().iter().filter(|d| d.is_finite()).count();
+    assert!((10_000..35_000).contains(&covered), "{covered} pixels");
+    // Every column is covered at its bottom: no border of the patch shows.
+    let w = exact.width() as usize;
+    let last = &exact.depth()[w * (w - 1)..];
+    assert!(last.iter().all(|d| d.is_finite()));
+    let off = coverage_difference(&cells, &exact);
+    // 17 here; 125 when the sub-nodes were not clipped.
+    assert!(off < 30, "{off} pixels differ along a ridge of about 220");
+}
