@@ -110,6 +110,7 @@ pub(crate) fn convert_tile(
         colours: job.colours,
         band: FRONT_BAND * spacing,
         jump,
+        oriented: options.sight_lines,
     };
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
