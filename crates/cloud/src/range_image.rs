@@ -205,6 +205,13 @@ impl PointColumns {
     pub(crate) fn len(&self) -> usize {
         self.x.len()
     }
+
+    /// The normals as vectors.
+    pub(crate) fn normals(&self) -> Vec<Vec3> {
+        (0..self.len())
+            .map(|i| Vec3::new(self.nx[i], self.ny[i], self.nz[i]))
+            .collect()
+    }
 }
 
 /// Inputs of [`flush_points`] shared by every view.
