@@ -25,7 +25,7 @@ use crate::report::{details_from, new_report, set_detail, stages_from};
 /// Whether `spatch from-cloud` uses where structured scans' scanners were.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum RangeGridUse {
-    /// Normals turned toward each point's scanner; views draw the points facing them.
+    /// Normals turned toward each point's scanner; views draw and cover the points facing them.
     On,
     /// Normals used up to sign.
     Off,
@@ -120,7 +120,7 @@ pub(crate) struct FromCloudArgs {
     /// Structured scans (a PLY `range_grid` element, an E57 scan with row and column
     /// indices) say where their scanner was. `on`: when every input scan is structured and
     /// has no normals of its own, each point's estimated normal is turned toward the
-    /// scanner that saw it and each view draws only the points facing it, so the two sides
+    /// scanner that saw it and each view draws and covers only the points facing it, so the two sides
     /// of a thin part seen by different scans are not averaged together (fewer specks and
     /// holes on the bunny scans). `off`: normals are used up to sign, as for any cloud.
     #[arg(long, value_enum, value_name = "WHEN", default_value_t = RangeGridUse::On)]
