@@ -151,9 +151,13 @@ fn valid_cell(
 /// patches are cut from them by [`cut_view`] once every pass is done.
 ///
 /// `uncovered` is shrunk to the points still uncovered afterwards.
+///
+/// With `sides` (the points' normals turned toward their scanners, `sight_lines`), a point
+/// whose normal faces away from the view is not covered by it: it lies on the other side of
+/// a thin part, for a view of that side.
 pub(crate) fn extract_view(
     state: &mut ViewState,
-    positions: &[Vec3],
+    (positions, sides): (&[Vec3], Option<&[Vec3]>),
     uncovered: &mut Vec<PointId>,
     pass: &PassLimits,
     settings: &ExtractSettings,
@@ -169,6 +173,9 @@ pub(crate) fn extract_view(
         .par_iter()
         .with_min_len(POINTS_PER_TASK)
         .map(|&id| {
+            if faces_away(sides, id, geometry.basis.direction) {
+                return NO_CELL;
+            }
             let (fx, fy, h) = geometry.project(positions[id.index()]);
             if !(fx >= 0.0 && fy >= 0.0 && fx < cw as f32 && fy < ch as f32) {
                 return NO_CELL;
@@ -309,7 +316,7 @@ fn drop_small_regions(
 /// no patch of their own. Returns how many were covered.
 pub(crate) fn absorb_border_points(
     state: &ViewState,
-    positions: &[Vec3],
+    (positions, sides): (&[Vec3], Option<&[Vec3]>),
     uncovered: &mut Vec<PointId>,
     tolerance: f32,
     settings: &ExtractSettings,
@@ -319,6 +326,9 @@ pub(crate) fn absorb_border_points(
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
     let before = uncovered.len();
     let stays = |id: PointId| {
+        if faces_away(sides, id, geometry.basis.direction) {
+            return true;
+        }
         let (fx, fy, h) = geometry.project(positions[id.index()]);
         let (x, y) = (fx.floor(), fy.floor());
         if !(x >= -1.0 && y >= -1.0 && x <= cw as f32 && y <= ch as f32) {
@@ -351,4 +361,13 @@ pub(crate) fn absorb_border_points(
         .filter(|&id| stays(id))
         .collect();
     before - uncovered.len()
+}
+
+/// Whether point `id`'s oriented normal (when the points have `sides`) faces away from a view
+/// along `direction` (not a grazing angle's worth toward it, as the range images draw).
+fn faces_away(sides: Option<&[Vec3]>, id: PointId, direction: Vec3) -> bool {
+    sides.is_some_and(|sides| {
+        let n = sides[id.index()];
+        n != Vec3::ZERO && n.dot(direction) < crate::range_image::MIN_POINT_COSINE
+    })
 }

@@ -143,6 +143,17 @@ pub struct CloudOptions {
     /// each tile of a cloud join with no duplicate. Needs [`CloudOptions::tile_grid`].
     /// Default `None` (every tile).
     pub only_tile: Option<[i64; 3]>,
+    /// The cloud's normals are *sight lines*: unit vectors from each point toward the
+    /// scanner that saw it (structured scans, `spatch_scan::Viewpoint`), not surface
+    /// normals. Each point then takes the PCA normal of its voxel block turned to the
+    /// scanner's side (zero where the block has no plane), and a view draws only the points
+    /// whose normal faces it, so the two sides of a thin part seen by different scans (an
+    /// ear) are never averaged into one pixel, back-facing points never win a pixel, and a
+    /// view's cells cover only the points facing it. Default off: normals are used up to
+    /// sign and every view draws every point not seen at a grazing angle. On the ten bunny
+    /// scans: specks 0.366 → 0.336 %, holes 0.055 → 0.021 % (docs/algorithms/cloud.md,
+    /// "Range grids").
+    pub sight_lines: bool,
 }
 
 impl CloudOptions {
@@ -286,6 +297,7 @@ impl Default for CloudOptions {
             tile_grid: None,
             only_tile: None,
             allow_coarsening: false,
+            sight_lines: false,
         }
     }
 }

@@ -205,6 +205,13 @@ impl PointColumns {
     pub(crate) fn len(&self) -> usize {
         self.x.len()
     }
+
+    /// The normals as vectors.
+    pub(crate) fn normals(&self) -> Vec<Vec3> {
+        (0..self.len())
+            .map(|i| Vec3::new(self.nx[i], self.ny[i], self.nz[i]))
+            .collect()
+    }
 }
 
 /// Inputs of [`flush_points`] shared by every view.
@@ -219,6 +226,9 @@ pub(crate) struct FlushInput<'a> {
     pub(crate) band: f32,
     /// The discontinuity threshold between neighbouring pixels (model units).
     pub(crate) jump: f32,
+    /// The normals face the side each point was seen from: a point is drawn only in views
+    /// it faces (`n · direction ≥` [`MIN_POINT_COSINE`]), not in views of its back.
+    pub(crate) oriented: bool,
 }
 
 /// Per-point buffers of [`flush_points`] for one chunk of [`FLUSH_CHUNK`] points, kept from
@@ -284,6 +294,7 @@ impl Projector {
         &self,
         points: &PointColumns,
         range: std::ops::Range<usize>,
+        oriented: bool,
         scratch: &mut FlushScratch,
     ) {
         let n = range.len();
@@ -325,8 +336,10 @@ impl Projector {
             let n_u = ax * u.x + ay * u.y + az * u.z;
             let n_w = ax * w.x + ay * w.y + az * w.z;
             let is_unknown = ax == 0.0 && ay == 0.0 && az == 0.0;
-            // Points seen at a grazing angle are not drawn (unknown normals always are).
-            let facing = is_unknown || n_d.abs() >= MIN_POINT_COSINE;
+            // Points seen at a grazing angle are not drawn (unknown normals always are), nor,
+            // with oriented normals, points seen from behind.
+            let toward = if oriented { n_d } else { n_d.abs() };
+            let facing = is_unknown || toward >= MIN_POINT_COSINE;
             // Outside the image: a far outlier beyond the robust bounds.
             let inside = fx >= -0.5 && fy >= -0.5 && fx < right && fy < top;
             // Nearest pixel centre: truncating `f + 0.5` rounds wherever the point is inside
@@ -368,7 +381,7 @@ pub(crate) fn flush_points(
     // Pass 1: the front-most height per pixel, a chunk of points at a time.
     let mut front = vec![EMPTY_DEPTH; pixels];
     for range in chunks() {
-        projector.project(input.points, range, scratch);
+        projector.project(input.points, range, input.oriented, scratch);
         for (&k, &hc) in scratch.pixel_of.iter().zip(&scratch.height_of) {
             if k != NOT_DRAWN {
                 let f = &mut front[k as usize];
@@ -382,7 +395,7 @@ pub(crate) fn flush_points(
     let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
     for range in chunks() {
         let first = range.start;
-        projector.project(input.points, range, scratch);
+        projector.project(input.points, range, input.oriented, scratch);
         for (offset, (&k, &hc)) in scratch.pixel_of.iter().zip(&scratch.height_of).enumerate() {
             if k == NOT_DRAWN {
                 continue;
@@ -500,6 +513,7 @@ mod tests {
             colours: None,
             band: 0.02,
             jump: 0.1,
+            oriented: false,
         };
         let image = flush_points(&input, geometry, &mut FlushScratch::default());
         assert!(image.depth.iter().filter(|d| d.is_finite()).count() > 1000);
@@ -512,6 +526,42 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn oriented_normals_keep_the_two_sides_of_a_sheet_apart() {
+        // A sheet 0.05 thick (under the averaging band): its top points face +z, its bottom
+        // points −z. Unoriented, each view averages both sides; oriented, each view sees
+        // only the side that faces it.
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        for j in 0..20 {
+            for i in 0..20 {
+                let p = Vec3::new(i as f32, j as f32, 0.0);
+                positions.extend([p, p + 0.05 * Vec3::Z]);
+                normals.extend([-Vec3::Z, Vec3::Z]);
+            }
+        }
+        let bounds = Aabb::from_points(positions.iter().copied());
+        let points = PointColumns::new(&positions, &normals);
+        let mean_height = |direction: Vec3, oriented: bool| {
+            let geometry = ImageGeometry::covering(ViewBasis::new(direction), &bounds, 1.0);
+            let input = FlushInput {
+                points: &points,
+                colours: None,
+                band: 0.1,
+                jump: 0.5,
+                oriented,
+            };
+            let image = flush_points(&input, geometry, &mut FlushScratch::default());
+            let filled: Vec<f32> = image.depth.into_iter().filter(|d| d.is_finite()).collect();
+            assert_eq!(filled.len(), 400);
+            filled.iter().sum::<f32>() / filled.len() as f32
+        };
+        assert!((mean_height(Vec3::Z, false) - 0.025).abs() < 1e-4);
+        assert!((mean_height(Vec3::Z, true) - 0.05).abs() < 1e-4);
+        assert!((mean_height(-Vec3::Z, false) + 0.025).abs() < 1e-4);
+        assert!(mean_height(-Vec3::Z, true).abs() < 1e-4);
     }
 
     #[test]
@@ -536,6 +586,7 @@ mod tests {
             colours: None,
             band: 0.1,
             jump: 0.5,
+            oriented: false,
         };
         let image = flush_points(&input, geometry, &mut FlushScratch::default());
         let (fx, fy, _) = geometry.project(Vec3::new(10.0, 10.0, 0.0));
@@ -567,6 +618,7 @@ mod tests {
             colours: Some(&colours),
             band: 0.001,
             jump: 10.0,
+            oriented: false,
         };
         let image = flush_points(&input, geometry, &mut FlushScratch::default());
         let colour = image.colour.as_ref().expect("colours kept");

@@ -36,7 +36,8 @@ pub struct CloudReport {
     pub pixel: f32,
     /// View directions.
     pub views: usize,
-    /// Where the normals came from: `file` or `pca`.
+    /// Where the normals came from: `file`, `pca`, or `pca+sight` (PCA normals turned toward
+    /// each point's scanner, [`CloudOptions::sight_lines`](crate::CloudOptions::sight_lines)).
     pub normals: &'static str,
     /// Pixels filled by gap interpolation, over all views.
     pub gap_pixels_filled: usize,

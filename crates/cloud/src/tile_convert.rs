@@ -110,6 +110,7 @@ pub(crate) fn convert_tile(
         colours: job.colours,
         band: FRONT_BAND * spacing,
         jump,
+        oriented: options.sight_lines,
     };
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
@@ -123,6 +124,8 @@ pub(crate) fn convert_tile(
             (ViewState::new(image), filled)
         })
         .collect();
+    // The turned normals stay for the extraction's side test; the rest of the columns go.
+    let sides = context.options.sight_lines.then(|| job.points.normals());
     drop(job.points);
     let gap_pixels_filled = built.iter().map(|b| b.1).sum();
     let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
@@ -147,7 +150,7 @@ pub(crate) fn convert_tile(
     let mut counts = ExtractCounts::default();
     let patches = extract_passes(
         &mut views,
-        job.positions,
+        (job.positions, sides.as_deref()),
         &mut uncovered,
         options,
         &settings,
@@ -205,7 +208,7 @@ fn plan_images(
 /// The three extraction passes over the views in order (see the module documentation).
 fn extract_passes(
     views: &mut [ViewState],
-    positions: &[Vec3],
+    points: (&[Vec3], Option<&[Vec3]>),
     uncovered: &mut Vec<PointId>,
     options: &CloudOptions,
     settings: &ExtractSettings,
@@ -232,7 +235,7 @@ fn extract_passes(
             for view in views.iter() {
                 counts.covered += absorb_border_points(
                     view,
-                    positions,
+                    points,
                     uncovered,
                     BORDER_TOLERANCE * context.spacing,
                     settings,
@@ -241,7 +244,7 @@ fn extract_passes(
         }
         for view in views.iter_mut() {
             if !uncovered.is_empty() {
-                extract_view(view, positions, uncovered, pass, settings, counts)?;
+                extract_view(view, points, uncovered, pass, settings, counts)?;
             }
             context.views_done.step();
         }

@@ -3,8 +3,12 @@
 //! random angle), keeping the first hit of each ray that meets the surface at less than 84°
 //! from its normal, with Gaussian depth noise and a small seeded misregistration per scan
 //! (a random shift), as `scan_KK.ply` files and a Stanford `scans.conf` listing them with
-//! identity poses. It is a scan set of another object than the bunny, and a ~1 M-point
-//! multi-scan set, for the figures of docs/algorithms/cloud.md.
+//! their poses. Like the Stanford raw scans, each file is in its scanner's frame (image
+//! axes x and y, the scanner looking down −z) and holds a `range_grid` element (the ray of
+//! each point: `obj_info num_cols / num_rows`, one list of 0 or 1 vertex index per ray,
+//! row-major), and its `bmesh` line gives the pose to the mesh's frame. It is a scan set of
+//! another object than the bunny, and a ~1 M-point multi-scan set, for the figures of
+//! docs/algorithms/cloud.md.
 //!
 //! ```sh
 //! cargo run --release -p spatch-scan --example range_scans -- MESH SCANS GRID OUT_DIR [NOISE] [SHIFT]
@@ -27,7 +31,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{DMat3, DQuat, DVec3, Vec3};
 use rayon::prelude::*;
 use spatch_mesh::{load_mesh, Bvh, SplitMix64};
 
@@ -83,7 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let offset = Vec3::new(gauss(), gauss(), gauss()) * shift * radius;
         let noises: Vec<f32> = (0..grid * grid).map(|_| gauss() * noise * radius).collect();
         let step = 2.0 * radius / grid as f32;
-        let points: Vec<Vec3> = (0..grid * grid)
+        let rays: Vec<(usize, Vec3)> = (0..grid * grid)
             .into_par_iter()
             .filter_map(|r| {
                 let (a, b) = ((r % grid) as f32 + 0.5, (r / grid) as f32 + 0.5);
@@ -94,13 +98,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let hit = bvh.ray_cast(origin, -view, 0.0, 4.0 * radius)?;
                 let normal = mesh.face_normal(hit.face);
                 (normal.dot(view).abs() >= MIN_COSINE)
-                    .then(|| origin - view * (hit.t + noises[r]) + offset)
+                    .then(|| (r, origin - view * (hit.t + noises[r]) + offset))
             })
             .collect();
         let name = format!("scan_{k:02}.ply");
-        write_ply(&dir.join(&name), &points, mesh.origin)?;
-        conf.push_str(&format!("bmesh {name} 0 0 0 0 0 0 1\n"));
-        total += points.len();
+        // The scanner's frame: image axes u and w, the scanner on the +view side.
+        let frame = DMat3::from_cols(u.as_dvec3(), w.as_dvec3(), view.as_dvec3());
+        write_ply(&dir.join(&name), &rays, grid, mesh.origin, frame)?;
+        // The .conf gives the conjugate of the frame's rotation (docs/algorithms/scan.md).
+        let q = DQuat::from_mat3(&frame).conjugate();
+        conf.push_str(&format!(
+            "bmesh {name} 0 0 0 {} {} {} {}\n",
+            q.x, q.y, q.z, q.w
+        ));
+        total += rays.len();
     }
     std::fs::write(dir.join("scans.conf"), conf)?;
     println!("{scans} scans, {total} points in {}", dir.display());
@@ -172,17 +183,42 @@ fn covering_views(mesh: &spatch_mesh::TriangleMesh, bvh: &Bvh, count: usize) -> 
     chosen
 }
 
-/// Writes `points` (relative to `origin`) as a binary little-endian PLY in world coordinates.
-fn write_ply(path: &Path, points: &[Vec3], origin: glam::DVec3) -> std::io::Result<()> {
+/// Writes the hits of `rays` (ray index in a `grid × grid` image, point relative to
+/// `origin`) as a binary little-endian PLY in the scanner's `frame` (world = frame · local),
+/// with their `range_grid`.
+fn write_ply(
+    path: &Path,
+    rays: &[(usize, Vec3)],
+    grid: usize,
+    origin: DVec3,
+    frame: DMat3,
+) -> std::io::Result<()> {
     let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
     write!(
         file,
-        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
-        points.len()
+        "ply\nformat binary_little_endian 1.0\nobj_info num_cols {grid}\nobj_info num_rows {grid}\n\
+         element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+         element range_grid {}\nproperty list uchar int vertex_indices\nend_header\n",
+        rays.len(),
+        grid * grid
     )?;
-    for p in points {
-        for v in (origin + p.as_dvec3()).to_array() {
+    let to_local = frame.transpose();
+    for (_, p) in rays {
+        for v in (to_local * (origin + p.as_dvec3())).to_array() {
             file.write_all(&(v as f32).to_le_bytes())?;
+        }
+    }
+    let mut cells = vec![None; grid * grid];
+    for (k, &(r, _)) in rays.iter().enumerate() {
+        cells[r] = Some(k as i32);
+    }
+    for cell in cells {
+        match cell {
+            Some(k) => {
+                file.write_all(&[1])?;
+                file.write_all(&k.to_le_bytes())?;
+            }
+            None => file.write_all(&[0])?,
         }
     }
     file.flush()

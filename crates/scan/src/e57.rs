@@ -12,16 +12,30 @@
 //! rounded to bytes. Scans without colour but with intensity give the intensity as grey (also
 //! normalised by the reader) with a [`ScanWarning::IntensityAsGrey`].
 //!
+//! A structured scan (its points carry row and column indices) was taken from its frame's
+//! origin: [`load_scans`](crate::load_scans) gives it that [`Viewpoint`], so each point gets
+//! its sight line (`viewpoint.rs`).
+//!
 //! Cost: one pass over each scan's points; the reader holds one packet at a time.
 
 use std::path::Path;
 
 use glam::{DQuat, DVec3};
 
-use crate::{Pose, PosedScan, ScanError, ScanWarning};
+use crate::{Pose, PosedScan, ScanError, ScanWarning, Viewpoint};
 
-/// Reads every scan of an E57 file; see the module docs.
+/// Reads every scan of an E57 file; see the module docs. (Without viewpoints:
+/// [`load_scans`](crate::load_scans) adds them.)
 pub fn read_e57(path: &Path) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanError> {
+    read_e57_scans(path, false)
+}
+
+/// [`read_e57`], and with `grids` every structured scan (row and column indices in its
+/// points' records) gets its scanner's [`Viewpoint`]: the origin of its own frame.
+pub(crate) fn read_e57_scans(
+    path: &Path,
+    grids: bool,
+) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanError> {
     let file = std::fs::File::open(path).map_err(|source| ScanError::Io {
         path: path.to_path_buf(),
         source,
@@ -45,6 +59,7 @@ pub fn read_e57(path: &Path) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanE
             index,
             pose,
             colours: (has_colour || grey).then(Vec::new),
+            viewpoint: (grids && pc.has_row_column()).then_some(Viewpoint::Position(DVec3::ZERO)),
             ..PosedScan::default()
         };
         for point in points {

@@ -211,6 +211,7 @@ pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError>
         positions,
         colours,
         normals: None,
+        viewpoint: None,
         pose: Pose::IDENTITY,
         dropped_non_finite: 0,
     };

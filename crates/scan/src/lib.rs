@@ -9,6 +9,8 @@
 //! - [`merge_scans`] of [`PosedScan`]s → the cloud and a [`ScanSummary`] per scan;
 //! - the readers on their own: [`read_las`] (LAS 1.0-1.4, LAZ), [`read_e57`] (every scan with
 //!   its pose; [`stream_e57`] a chunk at a time), text clouds through [`parse_columns`] and `spatch_mesh::load::xyz`;
+//! - [`Viewpoint`]: where a structured scan's scanner was (PLY `range_grid` scans, E57 scans
+//!   with row and column indices), giving each point its sight line when merged;
 //! - [`measure_alignment`] → [`ScanAlignment`]: how well the scans of a set line up;
 //! - [`ScanError`] (the one error type) and [`ScanWarning`].
 //!
@@ -40,6 +42,7 @@ mod las;
 mod load;
 mod pose;
 mod scan_set;
+mod viewpoint;
 mod warning;
 
 pub use alignment::{measure_alignment, ScanAlignment};
@@ -51,5 +54,6 @@ pub use error::{ColumnSpecProblem, ConfProblem, ScanError};
 pub use las::{intensity_to_grey, read_las, rgb16_to_bytes, LAS_CHUNK};
 pub use load::{is_scan_set, load_scans, LoadedScans, ScanOptions};
 pub use pose::{Pose, PoseProblem};
-pub use scan_set::{merge_scans, PosedScan, ScanSummary, MAX_POINTS};
+pub use scan_set::{merge_scans, sight_lines_of, PosedScan, ScanSummary, MAX_POINTS};
+pub use viewpoint::Viewpoint;
 pub use warning::ScanWarning;

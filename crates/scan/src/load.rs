@@ -21,9 +21,10 @@ use rayon::prelude::*;
 use spatch_mesh::load::xyz::{load_xyz_columns, XyzLayout};
 use spatch_mesh::{load_point_cloud, LoadedPointCloud, PointCloud};
 
+use crate::e57::read_e57_scans;
 use crate::{
-    merge_scans, read_conf, read_e57, read_las, Pose, PosedScan, ScanError, ScanSummary,
-    ScanWarning,
+    merge_scans, read_conf, read_las, sight_lines_of, Pose, PosedScan, ScanError, ScanSummary,
+    ScanWarning, Viewpoint,
 };
 
 /// How to read the inputs.
@@ -34,6 +35,11 @@ pub struct ScanOptions {
     /// header line and the column-count rules (see [`parse_columns`](crate::parse_columns)).
     /// Default: none (header or count rules).
     pub columns: Option<XyzLayout>,
+    /// Ignore that a scan is structured (a PLY `range_grid`, E57 row and column indices).
+    /// Default `false`: such a scan without normals of its own gets its scanner's
+    /// [`Viewpoint`](crate::Viewpoint), and when every scan has one the merged cloud's
+    /// normals are the points' sight lines ([`LoadedScans::sight_lines`]).
+    pub ignore_range_grids: bool,
 }
 
 /// The merged cloud of every input and what happened on the way.
@@ -47,6 +53,9 @@ pub struct LoadedScans {
     pub camera: Option<Pose>,
     /// Points dropped because a coordinate or normal was NaN or infinite.
     pub dropped_non_finite: u64,
+    /// Whether the cloud's normals are sight lines (unit vectors from each point toward the
+    /// scanner that saw it, `viewpoint.rs`) rather than surface normals.
+    pub sight_lines: bool,
     /// What the readers worked around.
     pub warnings: Vec<ScanWarning>,
 }
@@ -98,12 +107,14 @@ pub fn load_scans(inputs: &[PathBuf], options: &ScanOptions) -> Result<LoadedSca
         scans.extend(file_scans);
     }
     let dropped_non_finite = scans.iter().map(|s| s.dropped_non_finite).sum();
+    let sight_lines = sight_lines_of(&scans);
     let (cloud, scans) = merge_scans(scans, &mut warnings)?;
     Ok(LoadedScans {
         cloud,
         scans,
         camera,
         dropped_non_finite,
+        sight_lines,
         warnings,
     })
 }
@@ -125,8 +136,17 @@ fn read_scan_file(
     options: &ScanOptions,
 ) -> Result<(Vec<PosedScan>, Vec<ScanWarning>), ScanError> {
     let columns = options.columns.as_ref();
+    let grids = !options.ignore_range_grids;
     let (mut scans, warnings) = match extension(path).as_deref() {
-        Some("ply") => from_mesh_loader(path, load_point_cloud(path)?),
+        Some("ply") => {
+            let (mut scans, warnings) = from_mesh_loader(path, load_point_cloud(path)?);
+            for scan in scans.iter_mut().filter(|s| grids && s.normals.is_none()) {
+                if declares_range_grid(path)? {
+                    scan.viewpoint = Some(Viewpoint::Direction(DVec3::Z));
+                }
+            }
+            (scans, warnings)
+        }
         Some(ext @ ("xyz" | "txt" | "pts")) => {
             from_mesh_loader(path, load_xyz_columns(path, ext == "pts", columns)?)
         }
@@ -134,7 +154,7 @@ fn read_scan_file(
             let (scan, warnings) = read_las(path)?;
             (vec![scan], warnings)
         }
-        Some("e57") => read_e57(path)?,
+        Some("e57") => read_e57_scans(path, grids)?,
         _ => {
             return Err(ScanError::UnsupportedFormat {
                 path: path.to_path_buf(),
@@ -174,7 +194,34 @@ fn posed_from_cloud(path: &Path, cloud: PointCloud, dropped: u64) -> PosedScan {
             .collect(),
         colours: cloud.colours,
         normals: cloud.normals,
+        viewpoint: None,
         pose: Pose::IDENTITY,
         dropped_non_finite: dropped,
     }
+}
+
+/// Bytes of a PLY file searched for its header's `element range_grid` line.
+const GRID_HEADER_PEEK: usize = 64 * 1024;
+
+/// Whether the PLY header at `path` declares a `range_grid` element: the file is a raw
+/// range scan in its scanner's frame, the scanner far along +z (`viewpoint.rs`).
+fn declares_range_grid(path: &Path) -> Result<bool, ScanError> {
+    use std::io::Read;
+    let io = |source| ScanError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut head = Vec::with_capacity(GRID_HEADER_PEEK);
+    std::fs::File::open(path)
+        .map_err(io)?
+        .take(GRID_HEADER_PEEK as u64)
+        .read_to_end(&mut head)
+        .map_err(io)?;
+    let end = head
+        .windows(10)
+        .position(|w| w == b"end_header")
+        .unwrap_or(head.len());
+    Ok(head[..end]
+        .windows(19)
+        .any(|w| w == b"\nelement range_grid"))
 }

@@ -11,6 +11,9 @@
 //! deterministic); normals are rotated with their scan; colours survive when any scan has them
 //! (scans without get white, with a [`ScanWarning::ColoursMissing`]); normals survive only when
 //! every scan has them (else [`ScanWarning::NormalsDropped`] and the pipeline estimates them).
+//! When no scan has normals and every scan has a [`Viewpoint`], the cloud's normals are the
+//! points' *sight lines* instead: unit vectors from each point toward the scanner that saw
+//! it, in the common frame ([`sight_lines_of`] tells when).
 //!
 //! Cost: one pass over the points, O(n) f64 scratch for the world positions.
 
@@ -20,7 +23,7 @@ use std::path::PathBuf;
 use glam::{DVec3, Vec3};
 use spatch_mesh::PointCloud;
 
-use crate::{Pose, ScanError, ScanWarning};
+use crate::{Pose, ScanError, ScanWarning, Viewpoint};
 
 /// Largest number of points a merged cloud may hold (32-bit point ids, one kept free).
 pub const MAX_POINTS: usize = u32::MAX as usize - 1;
@@ -38,6 +41,9 @@ pub struct PosedScan {
     pub colours: Option<Vec<[u8; 4]>>,
     /// Normal per point in the scan's own frame.
     pub normals: Option<Vec<Vec3>>,
+    /// Where the scanner was, in the scan's own frame, when the reader knows it (a structured
+    /// scan: `viewpoint.rs`); gives each point its sight line when merged.
+    pub viewpoint: Option<Viewpoint>,
     /// Scan frame to common frame.
     pub pose: Pose,
     /// Points the reader dropped because a value was NaN or infinite.
@@ -57,6 +63,15 @@ pub struct ScanSummary {
     pub pose: Pose,
 }
 
+/// Whether [`merge_scans`] gives `scans` sight lines as their normals: no scan has normals
+/// of its own and every scan has a [`Viewpoint`].
+pub fn sight_lines_of(scans: &[PosedScan]) -> bool {
+    !scans.is_empty()
+        && scans
+            .iter()
+            .all(|s| s.normals.is_none() && s.viewpoint.is_some())
+}
+
 /// Moves every scan into the common frame and concatenates them; see the module docs.
 pub fn merge_scans(
     scans: Vec<PosedScan>,
@@ -70,9 +85,10 @@ pub fn merge_scans(
     }
     let any_colour = scans.iter().any(|s| s.colours.is_some());
     let all_normals = scans.iter().all(|s| s.normals.is_some());
+    let sights = sight_lines_of(&scans);
     let mut world: Vec<DVec3> = Vec::with_capacity(total);
     let mut colours: Option<Vec<[u8; 4]>> = any_colour.then(|| Vec::with_capacity(total));
-    let mut normals: Option<Vec<Vec3>> = all_normals.then(|| Vec::with_capacity(total));
+    let mut normals: Option<Vec<Vec3>> = (all_normals || sights).then(|| Vec::with_capacity(total));
     let mut summaries = Vec::with_capacity(scans.len());
     for scan in scans {
         let start = world.len();
@@ -93,11 +109,16 @@ pub fn merge_scans(
                 }
             }
         }
-        match (normals.as_mut(), &scan.normals) {
-            (Some(out), Some(n)) => {
+        match (normals.as_mut(), &scan.normals, scan.viewpoint) {
+            (Some(out), None, Some(viewpoint)) => out.extend(
+                scan.positions
+                    .iter()
+                    .map(|&p| pose.apply_vector(viewpoint.toward(p)).as_vec3()),
+            ),
+            (Some(out), Some(n), _) => {
                 out.extend(n.iter().map(|&v| pose.apply_vector(v.as_dvec3()).as_vec3()))
             }
-            (None, Some(_)) => warnings.push(ScanWarning::NormalsDropped {
+            (None, Some(_), _) => warnings.push(ScanWarning::NormalsDropped {
                 path: scan.path.clone(),
             }),
             _ => {}
@@ -159,6 +180,32 @@ mod tests {
         );
         assert!((cloud.origin.x - 5.0).abs() < 1e-12);
         assert!(warnings.is_empty());
+    }
+
+    #[test]
+    fn viewpoints_become_sight_lines_turned_by_the_pose() {
+        // A scanner far up +z of its scan, turned over by a half turn about x; a scanner at
+        // the origin of a scan moved to x = 10.
+        let mut a = scan(
+            &[[0.0, 0.0, 1.0]],
+            Pose::new(DQuat::from_rotation_x(std::f64::consts::PI), DVec3::ZERO).unwrap(),
+        );
+        a.viewpoint = Some(Viewpoint::Direction(DVec3::Z));
+        let mut b = scan(
+            &[[0.0, 3.0, 0.0]],
+            Pose::new(DQuat::IDENTITY, DVec3::new(10.0, 0.0, 0.0)).unwrap(),
+        );
+        b.viewpoint = Some(Viewpoint::Position(DVec3::ZERO));
+        assert!(sight_lines_of(&[a.clone(), b.clone()]));
+        let (cloud, _) = merge_scans(vec![a.clone(), b], &mut Vec::new()).unwrap();
+        let normals = cloud.normals.unwrap();
+        assert!((normals[0] - -Vec3::Z).length() < 1e-6, "{}", normals[0]);
+        assert!((normals[1] - -Vec3::Y).length() < 1e-6, "{}", normals[1]);
+        // A scan without a viewpoint: no sight lines for any.
+        let plain = scan(&[[1.0; 3]], Pose::IDENTITY);
+        assert!(!sight_lines_of(&[a.clone(), plain.clone()]));
+        let (cloud, _) = merge_scans(vec![a, plain], &mut Vec::new()).unwrap();
+        assert!(cloud.normals.is_none());
     }
 
     #[test]
