@@ -14,7 +14,7 @@ use crate::error::RenderError;
 const PNG_FILTER: image::codecs::png::FilterType = image::codecs::png::FilterType::Up;
 
 /// `rgba` (`width × height` RGBA8 pixels, row 0 at the top) as PNG bytes,
-/// every row filtered by [`PNG_FILTER`] and compressed by the `png`
+/// every row filtered by the `Up` filter and compressed by the `png`
 /// crate's fast deflate (the viewer's screenshots use it too, so they
 /// equal `spatch render`'s files byte for byte). Why a fixed filter: the
 /// adaptive filter tries all five filters on every row and was most of
