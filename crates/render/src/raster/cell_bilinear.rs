@@ -189,25 +189,9 @@ fn draw_cells<const NU: u32, const NV: u32>(
                 draw_cell::<false>(t, c, r, cut, sub0, item);
                 continue;
             }
-            // Why min/max rather than per-corner tests: one pass of
-            // branch-free compares decides both the band test and the
-            // unclipped path (callgrind, `profile_sphere 500 1`).
-            let y_min = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) >> 16;
-            let y_max = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) >> 16;
-            if y_max < y_lo || y_min >= y_hi {
+            let Some(inside) = cell_in_band(t, c, piece.inside_columns) else {
                 continue;
-            }
-            // A cell whose corners lie a pixel inside the band and the image
-            // cannot place a sample outside them (samples are convex
-            // combinations of the corners, up to 2^-12 px), so it skips the
-            // per-row and per-sample clipping. Why: most cells are inside;
-            // see the "why" in `draw_cell`.
-            let inside_columns = piece.inside_columns || {
-                let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
-                let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
-                x_min > 0 && x_max < t.width - 1
             };
-            let inside = y_min > y_lo && y_max < y_hi - 1 && inside_columns;
             if inside {
                 draw_cell::<false>(t, c, r, cut, sub0, item);
             } else {
@@ -296,6 +280,35 @@ pub(crate) fn draw_cell<const CLIP: bool>(
         step[1] += sy[3];
         step[2] += sz[3];
     }
+}
+
+/// Where the cell with corners `c` lies against the band of `t`: `None`
+/// when wholly outside the band's rows, else whether its corners lie a
+/// pixel inside the band and the image, so that no sample needs clipping
+/// (samples are convex combinations of the corners, up to 2^-12 px).
+/// `inside_columns`: the piece is known to lie inside the image's columns.
+/// Why min/max rather than per-corner tests: one pass of branch-free
+/// compares decides both the band test and the unclipped path (callgrind,
+/// `profile_sphere 500 1`); most cells are inside (see the "why" in
+/// `draw_cell`).
+#[inline(always)]
+pub(crate) fn cell_in_band(
+    t: &BandTarget<'_>,
+    c: [&Node; 4],
+    inside_columns: bool,
+) -> Option<bool> {
+    let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
+    let y_min = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) >> 16;
+    let y_max = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) >> 16;
+    if y_max < y_lo || y_min >= y_hi {
+        return None;
+    }
+    let inside_columns = inside_columns || {
+        let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
+        let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
+        x_min > 0 && x_max < t.width - 1
+    };
+    Some(y_min > y_lo && y_max < y_hi - 1 && inside_columns)
 }
 
 /// Writes the sample at `v` (forward-difference units, `y` relative to

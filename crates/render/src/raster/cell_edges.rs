@@ -30,7 +30,9 @@ use crate::grid::{
     CELL_DRAW, CELL_OPEN, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP,
 };
 use crate::raster::band::{splat_sample, BandTarget};
-use crate::raster::cell_bilinear::{draw_cell, setup, sub_word, BilinearPiece, Reciprocals, EXT};
+use crate::raster::cell_bilinear::{
+    cell_in_band, draw_cell, setup, sub_word, BilinearPiece, Reciprocals, EXT,
+};
 
 /// Draws the cells of a piece with open sides, cut into `nu × nv`: cells
 /// without an open side as [`crate::raster::cell_bilinear`] does, the
@@ -60,16 +62,11 @@ pub(crate) fn draw_cells_open(
                 continue;
             }
             let c = [&below[i], &below[i + 1], &above[i], &above[i + 1]];
-            let inside = row_inside || {
-                let y_min = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) >> 16;
-                let y_max = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) >> 16;
-                if y_max < y_lo || y_min >= y_hi {
-                    continue;
-                }
-                let x_min = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) >> 16;
-                let x_max = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) >> 16;
-                y_min > y_lo && y_max < y_hi - 1 && x_min > 0 && x_max < t.width - 1
-            };
+            let inside = row_inside
+                || match cell_in_band(t, c, piece.inside_columns) {
+                    Some(inside) => inside,
+                    None => continue,
+                };
             // Every cell places its last column and row (see
             // `draw_open_cell`).
             let (cut, sub0) = ([nu, 1, nv + 1], sub_word(i, j, 0, 0));
