@@ -8,7 +8,7 @@ use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
     cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order, CloudError,
-    CloudOptions, CloudReport, SmoothOptions, StageTime,
+    CloudOptions, CloudReport, Scanner, Scanners, SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
@@ -28,6 +28,15 @@ pub(crate) enum RangeGridUse {
     /// Normals turned toward each point's scanner; views draw and cover the points facing them.
     On,
     /// Normals used up to sign.
+    Off,
+}
+
+/// An on/off choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Switch {
+    /// On.
+    On,
+    /// Off.
     Off,
 }
 
@@ -125,6 +134,12 @@ pub(crate) struct FromCloudArgs {
     /// holes on the bunny scans). `off`: normals are used up to sign, as for any cloud.
     #[arg(long, value_enum, value_name = "WHEN", default_value_t = RangeGridUse::On)]
     range_grid: RangeGridUse,
+    /// With --range-grid on and the consensus on (several scans): `on` moves each scan by
+    /// the translation that best puts its points on the planes of all scans before they are
+    /// merged into one surface (the rigid part of their misregistration; fewer specks).
+    /// `off` merges the scans as registered.
+    #[arg(long, value_enum, value_name = "WHEN", default_value_t = Switch::On)]
+    align_scans: Switch,
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
@@ -194,6 +209,7 @@ impl FromCloudArgs {
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options.tile_size = self.tile_size;
         options.allow_coarsening = self.allow_coarsening;
+        options.align_scans = self.align_scans == Switch::On;
         options
     }
 }
@@ -215,7 +231,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     progress.step("load");
     let loaded = read_inputs(args)?;
     options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
-    options.sight_lines = loaded.sight_lines;
+    options.scanners = loaded.sight_lines.then(|| scanners_of(&loaded.scans));
     let load_seconds = started.elapsed().as_secs_f64();
     let label = args.input_label();
     let steps = CloudSteps::new(&progress);
@@ -378,6 +394,23 @@ fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Resul
         }
         (None, _, None) => anyhow::bail!("--plan or --plan-tile is needed"),
     }
+}
+
+/// The scanners of scans that all have a viewpoint (`LoadedScans::sight_lines`), with the
+/// run of points each saw.
+fn scanners_of(scans: &[spatch_scan::ScanSummary]) -> Scanners {
+    use spatch_scan::Viewpoint;
+    let runs = scans
+        .iter()
+        .filter_map(|scan| {
+            let scanner = match scan.viewpoint? {
+                Viewpoint::Direction(d) => Scanner::Far(d),
+                Viewpoint::Position(at) => Scanner::At(at),
+            };
+            Some((scanner, scan.points.len()))
+        })
+        .collect();
+    Scanners { runs }
 }
 
 /// `--columns` as a layout (clap prints the message).

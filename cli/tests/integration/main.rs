@@ -19,7 +19,7 @@
 //!   known offsets), bad input, and a tiny `--sweep` with its Pareto front checked.
 //! - `scan_inputs`: `spatch from-cloud` on bun.conf, several inputs of several formats
 //!   (LAZ, XYZ, PTS), `--columns`, malformed scan files.
-//! - `range_grid`: `--range-grid on/off` on a thin sheet scanned from both sides.
+//! - `range_grid`: `--range-grid on/off` on a thin sheet scanned from both sides; `--align-scans`.
 //! - `scan_plan`: a `.conf` scan set planned and converted tile by tile (issue 18).
 //! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its

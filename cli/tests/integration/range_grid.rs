@@ -1,6 +1,7 @@
 //! `spatch from-cloud --range-grid`: a thin sheet scanned from both sides by two structured
 //! scans keeps its two sides apart with the grids (each view draws only the side facing
-//! it) and averages them into one middle surface without (`--range-grid off`).
+//! it) and averages them into one middle surface without (`--range-grid off`); `--align-scans`
+//! moves structured scans by their offset before the consensus.
 
 use crate::test_command::TestCommand;
 
@@ -70,4 +71,50 @@ fn range_grids_keep_the_two_sides_of_a_thin_sheet_apart() {
     ]);
     assert_eq!(run.code, 2);
     assert!(!t.path("x.spatch").exists());
+}
+
+#[test]
+fn align_scans_moves_each_structured_scan_by_its_offset() {
+    let t = TestCommand::new();
+    // Two structured scans of one flat sheet seen from above, the second registered 0.6 mm
+    // too high (and 0.5 mm along x, which a flat sheet cannot tell): the alignment moves
+    // each by about half the height offset toward the other, before the consensus.
+    write_sheet_scan(&t.path("side.ply"), 0.0);
+    std::fs::write(
+        t.path("pair.conf"),
+        "bmesh side.ply 0 0 0 0 0 0 1\nbmesh side.ply 0.0005 0 0.0006 0 0 0 1\n",
+    )
+    .unwrap();
+    let shift = |align: &str| {
+        let report = format!("{align}.json");
+        t.run(&[
+            "from-cloud",
+            "pair.conf",
+            "--align-scans",
+            align,
+            "-o",
+            &format!("{align}.spatch"),
+            "--report",
+            &report,
+        ])
+        .success();
+        let report: serde_json::Value = t.json(&report);
+        report["details"]["scan_shift"].as_f64().unwrap()
+    };
+    let (on, off) = (shift("on"), shift("off"));
+    assert!(
+        (0.2e-3..0.4e-3).contains(&on),
+        "aligned: longest shift {on}"
+    );
+    assert_eq!(off, 0.0);
+    let run = t.run(&[
+        "from-cloud",
+        "pair.conf",
+        "--align-scans",
+        "no",
+        "-o",
+        "y.spatch",
+    ]);
+    assert_eq!(run.code, 2);
+    assert!(!t.path("y.spatch").exists());
 }

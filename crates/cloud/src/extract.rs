@@ -152,9 +152,9 @@ fn valid_cell(
 ///
 /// `uncovered` is shrunk to the points still uncovered afterwards.
 ///
-/// With `sides` (the points' normals turned toward their scanners, `sight_lines`), a point
-/// whose normal faces away from the view is not covered by it: it lies on the other side of
-/// a thin part, for a view of that side.
+/// With `sides` (the points' normals turned toward their scanners,
+/// `CloudOptions::scanners`), a point whose normal faces away from the view is not covered
+/// by it: it lies on the other side of a thin part, for a view of that side.
 pub(crate) fn extract_view(
     state: &mut ViewState,
     (positions, sides): (&[Vec3], Option<&[Vec3]>),

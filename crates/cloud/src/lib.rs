@@ -57,6 +57,7 @@ mod directions;
 mod error;
 mod error_metrics;
 mod extract;
+mod finite;
 mod gap_fill;
 mod ids;
 mod morton_order;
@@ -70,6 +71,8 @@ mod progress;
 mod quad_distance;
 mod range_image;
 mod report;
+mod scan_shifts;
+mod scanners;
 mod smooth;
 mod spacing;
 mod tile_convert;
@@ -95,6 +98,7 @@ pub use pipeline::{
 pub use progress::{Progress, ProgressFn, Stage};
 pub use quad_distance::{bilinear, distance_to_quad, Quad};
 pub use report::{CloudReport, Counts, StageTime};
+pub use scanners::{Scanner, Scanners, MAX_SCANS};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,
     SPACING_SUBSET,

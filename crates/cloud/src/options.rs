@@ -143,17 +143,22 @@ pub struct CloudOptions {
     /// each tile of a cloud join with no duplicate. Needs [`CloudOptions::tile_grid`].
     /// Default `None` (every tile).
     pub only_tile: Option<[i64; 3]>,
-    /// The cloud's normals are *sight lines*: unit vectors from each point toward the
-    /// scanner that saw it (structured scans, `spatch_scan::Viewpoint`), not surface
-    /// normals. Each point then takes the PCA normal of its voxel block turned to the
-    /// scanner's side (zero where the block has no plane), and a view draws only the points
-    /// whose normal faces it, so the two sides of a thin part seen by different scans (an
-    /// ear) are never averaged into one pixel, back-facing points never win a pixel, and a
-    /// view's cells cover only the points facing it. Default off: normals are used up to
-    /// sign and every view draws every point not seen at a grazing angle. On the ten bunny
-    /// scans: specks 0.366 → 0.336 %, holes 0.055 → 0.021 % (docs/algorithms/cloud.md,
-    /// "Range grids").
-    pub sight_lines: bool,
+    /// Where the scanners of a scan set were and which points each saw (structured scans,
+    /// `spatch_scan::Viewpoint`), for a cloud without normals of its own. Each point then
+    /// takes the PCA normal of its voxel block turned to its scanner's side (zero where the
+    /// block has no plane), and a view draws only the points whose normal faces it, so the
+    /// two sides of a thin part seen by different scans (an ear) are never averaged into one
+    /// pixel, back-facing points never win a pixel, and a view's cells cover only the points
+    /// facing it. Default `None`: normals are used up to sign and every view draws every
+    /// point not seen at a grazing angle. Ignored when the cloud has normals. On the ten
+    /// bunny scans: specks 0.366 → 0.336 %, holes 0.055 → 0.021 %
+    /// (docs/algorithms/cloud.md, "Range grids").
+    pub scanners: Option<crate::Scanners>,
+    /// With [`CloudOptions::scanners`] and the consensus on, move each scan by the
+    /// translation that best puts its points on the voxel blocks' planes before the
+    /// consensus (`scan_shifts.rs`): removes the rigid part of the scans' misregistration.
+    /// Default on.
+    pub align_scans: bool,
 }
 
 impl CloudOptions {
@@ -297,7 +302,8 @@ impl Default for CloudOptions {
             tile_grid: None,
             only_tile: None,
             allow_coarsening: false,
-            sight_lines: false,
+            scanners: None,
+            align_scans: true,
         }
     }
 }

@@ -5,14 +5,14 @@
 //! its encoded bytes and a [`CloudReport`]).
 //!
 //! Stages:
-//! 1. `filter` (`keep_finite`): points with a non-finite coordinate or normal are dropped
-//!    and counted.
+//! 1. `filter` (`keep_finite`, `finite.rs`): points with a non-finite coordinate or normal
+//!    are dropped and counted.
 //! 2. `sort` (`sort_spatially`): the points are put in Morton order, so that every later
 //!    pass over them (one per view) reads and writes the images in a cache-friendly order.
 //! 3. `spacing` (`measure_spacing`): the spacing `s` from 12 nearest neighbours
 //!    (`spacing.rs`), unless given.
 //! 4. `normals` (`estimate_surface`): the file's normals when it has them, else PCA
-//!    normals over voxel blocks (`normals.rs`); with [`CloudOptions::sight_lines`] the PCA
+//!    normals over voxel blocks (`normals.rs`); with [`CloudOptions::scanners`] the PCA
 //!    normals turned to the side of each point's scanner.
 //! 5. `consensus` (`apply_consensus`): every point moved onto its voxel block's
 //!    least-squares plane (`consensus.rs`), so overlapping scans give one surface (unless
@@ -50,14 +50,19 @@ use spatch_report::StageClock;
 
 use crate::consensus::{project_to_consensus, ConsensusLimits};
 use crate::directions::view_directions;
+use crate::finite::{check_extent, keep_finite};
 use crate::morton_order::{morton_order, PointOrder};
 use crate::normals::{estimate_planes, VoxelPlanes};
 use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
 use crate::range_image::{ImageGeometry, PointColumns};
+use crate::scan_shifts::align_scans;
+use crate::scanners::PointScans;
 use crate::spacing::estimate_spacing;
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
 use crate::tiles::{bounds_of_members, plan_tiles, TileGrid, TilePlan, TilePoints};
-use crate::{CloudError, CloudOptions, CloudReport, CloudWarning, Counts, TILE_BUFFER_PIXELS};
+use crate::{
+    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, Scanners, TILE_BUFFER_PIXELS,
+};
 
 /// Largest total number of range-image pixels over all views of one tile (about 150 MB of
 /// images). A cloud whose images fit is converted as one tile.
@@ -173,21 +178,34 @@ fn convert_cloud(
     options.validate()?;
     let mut clock = StageLaps::new(progress);
     let input_points = cloud.len();
-    let (cloud, dropped) = keep_finite(cloud)?;
+    // The scan of each point (1-2 bytes a point), for a cloud whose scanners are known.
+    let scans = match &options.scanners {
+        Some(scanners) if cloud.normals.is_none() => Some(PointScans::of(scanners, cloud.len())?),
+        _ => None,
+    };
+    let (cloud, dropped, scans) = keep_finite(cloud, scans)?;
     let bounds = check_extent(&cloud, dropped)?;
     clock.lap(Stage::Filter);
 
-    let (mut cloud, point_order) = sort_spatially(cloud, &bounds);
+    let (mut cloud, point_order, scans) = sort_spatially(cloud, &bounds, scans);
     clock.lap(Stage::Sort);
 
     let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
     clock.lap(Stage::Spacing);
 
-    let surface = estimate_surface(&cloud, options, spacing)?;
-    if surface.source == SIGHT_SOURCE {
-        // The sight lines are spent (the normals are turned): 12 bytes a point off the peak.
-        cloud.normals = None;
-    }
+    let sights = scans.as_ref().zip(options.scanners.as_ref());
+    let scan_shift = match sights.filter(|_| options.consensus && options.align_scans) {
+        Some((scans, scanners)) => align_scans(
+            &mut cloud.positions,
+            scans,
+            scanners.runs.len(),
+            options.normal_voxel * spacing,
+            consensus_limits(spacing),
+        ),
+        None => 0.0,
+    };
+    let surface = estimate_surface(&cloud, options, spacing, sights)?;
+    drop(scans);
     clock.lap(Stage::Normals);
 
     let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
@@ -214,7 +232,7 @@ fn convert_cloud(
             bounds: &bounds,
         },
         surface.normals,
-        options,
+        (options, surface.source == SIGHT_SOURCE),
         (spacing, pixel),
         &mut clock,
         &mut warnings,
@@ -246,6 +264,7 @@ fn convert_cloud(
         tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
             .then_some(grid.size),
         consensus_points,
+        scan_shift,
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
         smoothed: options.smooth.is_some(),
@@ -260,31 +279,6 @@ fn convert_cloud(
         report,
         point_order,
     })
-}
-
-/// The bounds of the finite cloud, or why it cannot be converted (too few points, no
-/// extent).
-fn check_extent(cloud: &PointCloud, dropped: u64) -> Result<Aabb, CloudError> {
-    let n = cloud.len();
-    if n == 0 {
-        return Err(CloudError::EmptyCloud {
-            dropped_non_finite: dropped,
-        });
-    }
-    if n < 3 {
-        return Err(CloudError::TooFewPoints {
-            found: n,
-            needed: 3,
-        });
-    }
-    let bounds = cloud.bounds();
-    if bounds.diagonal().is_nan() || bounds.diagonal() <= 0.0 {
-        return Err(CloudError::NoExtent {
-            points: n,
-            extent: 0.0,
-        });
-    }
-    Ok(bounds)
 }
 
 /// The spacing (given or estimated) and the mean nearest-neighbour distance (0 when given).
@@ -312,22 +306,24 @@ struct Surface {
     planes: Option<VoxelPlanes>,
 }
 
-/// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks.
+/// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks,
+/// turned toward each point's scanner when `sights` gives the points' scans and the scanners
+/// (only for a cloud without normals).
 fn estimate_surface(
     cloud: &PointCloud,
     options: &CloudOptions,
     spacing: f32,
+    sights: Option<(&PointScans, &Scanners)>,
 ) -> Result<Surface, CloudError> {
-    let sights = options.sight_lines && cloud.normals.is_some();
-    let planes = (options.consensus || cloud.normals.is_none() || sights)
+    let planes = (options.consensus || cloud.normals.is_none())
         .then(|| estimate_planes(&cloud.positions, options.normal_voxel * spacing));
-    let (normals, source) = match (&cloud.normals, &planes) {
-        (Some(sight), Some(planes)) if sights => (turn_to_sight(planes, sight), SIGHT_SOURCE),
-        (Some(given), _) => (
+    let (normals, source) = match (&cloud.normals, &planes, sights) {
+        (None, Some(planes), Some(sights)) => (turn_to_sight(planes, cloud, sights), SIGHT_SOURCE),
+        (Some(given), _, _) => (
             given.iter().map(|n| n.normalize_or_zero()).collect(),
             "file",
         ),
-        (None, Some(planes)) => (
+        (None, Some(planes), None) => (
             planes
                 .point_voxel
                 .par_iter()
@@ -335,7 +331,7 @@ fn estimate_surface(
                 .collect(),
             "pca",
         ),
-        (None, None) => {
+        (None, None, _) => {
             return Err(CloudError::Internal {
                 what: "normals without planes",
             })
@@ -348,14 +344,21 @@ fn estimate_surface(
     })
 }
 
-/// Each point's block-plane normal turned to the scanner's side (its `sight` line); zero
-/// (unknown, drawn by every view) where the block has no plane.
-fn turn_to_sight(planes: &VoxelPlanes, sight: &[Vec3]) -> Vec<Vec3> {
+/// Each point's block-plane normal turned to its scanner's side (the point's sight line,
+/// from its scan's scanner in `sights`); zero (unknown, drawn by every view) where the block
+/// has no plane.
+fn turn_to_sight(
+    planes: &VoxelPlanes,
+    cloud: &PointCloud,
+    (scans, scanners): (&PointScans, &Scanners),
+) -> Vec<Vec3> {
     planes
         .point_voxel
         .par_iter()
-        .zip(sight)
-        .map(|(&v, &toward)| {
+        .zip(&cloud.positions)
+        .enumerate()
+        .map(|(i, (&v, &p))| {
+            let toward = scanners.runs[scans.scan(i)].0.sight_line(cloud.origin, p);
             let normal = planes.planes[v as usize].normal;
             if normal.dot(toward) < 0.0 {
                 -normal
@@ -375,14 +378,16 @@ fn apply_consensus(
     spacing: f32,
 ) -> usize {
     match (&planes, options.consensus) {
-        (Some(planes), true) => {
-            let limits = ConsensusLimits {
-                max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
-                max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
-            };
-            project_to_consensus(positions, planes, limits)
-        }
+        (Some(planes), true) => project_to_consensus(positions, planes, consensus_limits(spacing)),
         _ => 0,
+    }
+}
+
+/// The consensus limits for points of spacing `spacing`.
+fn consensus_limits(spacing: f32) -> ConsensusLimits {
+    ConsensusLimits {
+        max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
+        max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
     }
 }
 
@@ -457,12 +462,13 @@ struct TiledCloud<'a> {
 }
 
 /// The `range_images` and `extract` stages over every tile in order, with their counts
-/// summed. `normals` (unit, zero where unknown) go as soon as no tile needs them.
+/// summed. `normals` (unit, zero where unknown; `oriented` when turned toward the points'
+/// scanners) go as soon as no tile needs them.
 fn convert_tiles(
     plan: TilePlan,
     cloud: &TiledCloud<'_>,
     normals: Vec<Vec3>,
-    options: &CloudOptions,
+    (options, oriented): (&CloudOptions, bool),
     (spacing, pixel): (f32, f32),
     clock: &mut StageLaps<'_>,
     warnings: &mut Vec<CloudWarning>,
@@ -473,6 +479,7 @@ fn convert_tiles(
     let views_done = StageCounter::new(Stage::Extract, 3 * tiles * bases.len(), clock.progress);
     let context = TileContext {
         options,
+        oriented,
         bases: &bases,
         spacing,
         pixel,
@@ -569,10 +576,16 @@ fn build_scene(
 /// (`morton_order.rs`), so that consecutive points are near each other: every later pass
 /// over the points (one per view) then touches the images and grids in a cache-friendly
 /// order. Also gives that order (the input index of each sorted point) for a borrowed
-/// cloud, which the caller still holds and may measure the error against.
-fn sort_spatially(cloud: Cow<'_, PointCloud>, bounds: &Aabb) -> (PointCloud, Option<PointOrder>) {
+/// cloud, which the caller still holds and may measure the error against, and the points'
+/// `scans` in the sorted order.
+fn sort_spatially(
+    cloud: Cow<'_, PointCloud>,
+    bounds: &Aabb,
+    scans: Option<PointScans>,
+) -> (PointCloud, Option<PointOrder>, Option<PointScans>) {
     let order = morton_order(&cloud.positions, bounds);
-    match cloud {
+    let scans = scans.map(|s| s.pick(order.par_iter().map(|o| o.1 as usize)));
+    let (cloud, order) = match cloud {
         Cow::Borrowed(cloud) => {
             let sorted = PointCloud {
                 origin: cloud.origin,
@@ -597,58 +610,11 @@ fn sort_spatially(cloud: Cow<'_, PointCloud>, bounds: &Aabb) -> (PointCloud, Opt
             };
             (sorted, None)
         }
-    }
+    };
+    (cloud, order, scans)
 }
 
 /// `values` in the order of the indices of `order`.
 fn reorder<T: Copy + Send + Sync>(values: &[T], order: &[(u64, u32)]) -> Vec<T> {
     order.par_iter().map(|i| values[i.1 as usize]).collect()
-}
-
-/// The cloud without its non-finite points (borrowed when there are none), and how many were
-/// dropped.
-fn keep_finite(cloud: Cow<'_, PointCloud>) -> Result<(Cow<'_, PointCloud>, u64), CloudError> {
-    let n = cloud.len();
-    if let Some(c) = &cloud.colours {
-        if c.len() != n {
-            return Err(CloudError::MismatchedAttribute {
-                what: "colours",
-                found: c.len(),
-                expected: n,
-            });
-        }
-    }
-    if let Some(normals) = &cloud.normals {
-        if normals.len() != n {
-            return Err(CloudError::MismatchedAttribute {
-                what: "normals",
-                found: normals.len(),
-                expected: n,
-            });
-        }
-    }
-    let is_finite = |i: usize| {
-        cloud.positions[i].is_finite()
-            && cloud
-                .normals
-                .as_ref()
-                .is_none_or(|normals| normals[i].is_finite())
-    };
-    if (0..n).all(is_finite) {
-        return Ok((cloud, 0));
-    }
-    let keep: Vec<usize> = (0..n).filter(|&i| is_finite(i)).collect();
-    let filtered = PointCloud {
-        origin: cloud.origin,
-        positions: keep.iter().map(|&i| cloud.positions[i]).collect(),
-        colours: cloud
-            .colours
-            .as_ref()
-            .map(|c| keep.iter().map(|&i| c[i]).collect()),
-        normals: cloud
-            .normals
-            .as_ref()
-            .map(|v| keep.iter().map(|&i| v[i]).collect()),
-    };
-    Ok((Cow::Owned(filtered), (n - keep.len()) as u64))
 }

@@ -37,7 +37,7 @@ pub struct CloudReport {
     /// View directions.
     pub views: usize,
     /// Where the normals came from: `file`, `pca`, or `pca+sight` (PCA normals turned toward
-    /// each point's scanner, [`CloudOptions::sight_lines`](crate::CloudOptions::sight_lines)).
+    /// each point's scanner, [`CloudOptions::scanners`](crate::CloudOptions::scanners)).
     pub normals: &'static str,
     /// Pixels filled by gap interpolation, over all views.
     pub gap_pixels_filled: usize,
@@ -53,6 +53,10 @@ pub struct CloudReport {
     pub split_tiles: usize,
     /// Points moved onto their block's plane (`consensus.rs`; 0 when off).
     pub consensus_points: usize,
+    /// Length of the longest translation a scan was moved by before the consensus
+    /// ([`CloudOptions::align_scans`](crate::CloudOptions::align_scans)); 0 when no scan
+    /// was moved.
+    pub scan_shift: f64,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
     /// Whether the range images were smoothed.

@@ -47,6 +47,9 @@ use crate::{
 pub(crate) struct TileContext<'a> {
     /// The options.
     pub(crate) options: &'a CloudOptions,
+    /// Whether the points' normals are turned toward their scanners (a view then draws and
+    /// covers only the points facing it).
+    pub(crate) oriented: bool,
     /// The views.
     pub(crate) bases: &'a [ViewBasis],
     /// The point spacing (model units).
@@ -110,7 +113,7 @@ pub(crate) fn convert_tile(
         colours: job.colours,
         band: FRONT_BAND * spacing,
         jump,
-        oriented: options.sight_lines,
+        oriented: context.oriented,
     };
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
@@ -125,7 +128,7 @@ pub(crate) fn convert_tile(
         })
         .collect();
     // The turned normals stay for the extraction's side test; the rest of the columns go.
-    let sides = context.options.sight_lines.then(|| job.points.normals());
+    let sides = context.oriented.then(|| job.points.normals());
     drop(job.points);
     let gap_pixels_filled = built.iter().map(|b| b.1).sum();
     let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();

@@ -37,8 +37,8 @@ pub struct ScanOptions {
     pub columns: Option<XyzLayout>,
     /// Ignore that a scan is structured (a PLY `range_grid`, E57 row and column indices).
     /// Default `false`: such a scan without normals of its own gets its scanner's
-    /// [`Viewpoint`](crate::Viewpoint), and when every scan has one the merged cloud's
-    /// normals are the points' sight lines ([`LoadedScans::sight_lines`]).
+    /// [`Viewpoint`](crate::Viewpoint), and when every scan has one the points have sight
+    /// lines ([`LoadedScans::sight_lines`]).
     pub ignore_range_grids: bool,
 }
 
@@ -53,11 +53,24 @@ pub struct LoadedScans {
     pub camera: Option<Pose>,
     /// Points dropped because a coordinate or normal was NaN or infinite.
     pub dropped_non_finite: u64,
-    /// Whether the cloud's normals are sight lines (unit vectors from each point toward the
-    /// scanner that saw it, `viewpoint.rs`) rather than surface normals.
+    /// Whether every point has a sight line (the unit vector toward the scanner that saw
+    /// it, `viewpoint.rs`): every scan has a [`ScanSummary::viewpoint`] and none has normals
+    /// of its own. The lines are not stored per point ([`LoadedScans::sight_line`]).
     pub sight_lines: bool,
     /// What the readers worked around.
     pub warnings: Vec<ScanWarning>,
+}
+
+impl LoadedScans {
+    /// The sight line of point `i` of the cloud (unit, toward its scanner, common frame), when
+    /// its scan has a viewpoint. A binary search over the scans; for a pass over every point,
+    /// walk [`LoadedScans::scans`] instead.
+    pub fn sight_line(&self, i: usize) -> Option<glam::DVec3> {
+        let scan = self.scans.partition_point(|s| s.points.end <= i);
+        self.scans
+            .get(scan)?
+            .sight_line(self.cloud.world_position(i))
+    }
 }
 
 /// A file to read and the pose to apply to all its scans.

@@ -8,6 +8,7 @@
 //! - `overlapping_scans`: two offset scans of one surface become one (issue 19).
 //! - `real_scans`: the raw bunny scans (alone and registered together) and Hoppe's distcap.
 //! - `sampled_bunny`: points sampled from `bun_zipper.ply`, clean and noisy with smoothing.
+//! - `scanners`: scan sets with known scanners: sight lines, runs, scan alignment.
 
 mod any_extent;
 mod clouds;
@@ -17,3 +18,4 @@ mod generated;
 mod overlapping_scans;
 mod real_scans;
 mod sampled_bunny;
+mod scanners;

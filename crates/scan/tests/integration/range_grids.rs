@@ -1,7 +1,7 @@
 //! Structured scans say where their scanner was: a PLY with a `range_grid` written by hand
 //! and an E57 scan with row and column indices (written by the `e57` crate) are read back
-//! with sight lines (unit vectors toward the scanner) as their normals, also after a pose
-//! turns the scan over; the grids can be ignored; unstructured scans get none.
+//! with sight lines (unit vectors toward the scanner, from each scan's posed viewpoint), also
+//! after a pose turns the scan over; the grids can be ignored; unstructured scans get none.
 
 use std::path::{Path, PathBuf};
 
@@ -44,14 +44,15 @@ fn load(paths: &[PathBuf], ignore_range_grids: bool) -> LoadedScans {
     load_scans(paths, &options).unwrap()
 }
 
-/// Asserts every normal of `loaded` is the unit vector `expected`.
-fn assert_normals(loaded: &LoadedScans, expected: DVec3) {
+/// Asserts every sight line of `loaded` is the unit vector `expected` (and no normals are
+/// stored per point).
+fn assert_sight_lines(loaded: &LoadedScans, expected: DVec3) {
     assert!(loaded.sight_lines);
-    let normals = loaded.cloud.normals.as_ref().expect("sight lines");
-    assert_eq!(normals.len(), loaded.cloud.len());
-    for (i, n) in normals.iter().enumerate() {
+    assert!(loaded.cloud.normals.is_none());
+    for i in 0..loaded.cloud.len() {
+        let n = loaded.sight_line(i).expect("a sight line");
         assert!(
-            (n.as_dvec3() - expected).length() < 1e-6,
+            (n - expected).length() < 1e-6,
             "point {i}: {n} vs {expected}"
         );
     }
@@ -65,17 +66,18 @@ fn a_ply_range_grid_gives_sight_lines_toward_the_scanner() {
     let loaded = load(std::slice::from_ref(&path), false);
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     // The Stanford raw scans' scanner looks down −z of the scan's frame.
-    assert_normals(&loaded, DVec3::Z);
+    assert_sight_lines(&loaded, DVec3::Z);
 
     // The same scan turned over by its pose (a half turn about x): the scanner now looks
     // up the common frame's +z, and the sight lines turn with it.
     let conf = dir.path().join("flipped.conf");
     std::fs::write(&conf, "bmesh plane.ply 0 0 0 1 0 0 0\n").unwrap();
-    assert_normals(&load(&[conf], false), -DVec3::Z);
+    assert_sight_lines(&load(&[conf], false), -DVec3::Z);
 
     let ignored = load(std::slice::from_ref(&path), true);
     assert!(ignored.cloud.normals.is_none());
     assert!(!ignored.sight_lines);
+    assert_eq!(ignored.sight_line(0), None);
 
     // A scan without a grid beside it: no sight lines for any scan of the set.
     let plain = dir.path().join("plain.xyz");
@@ -83,6 +85,7 @@ fn a_ply_range_grid_gives_sight_lines_toward_the_scanner() {
     let mixed = load(&[path, plain], false);
     assert!(!mixed.sight_lines);
     assert!(mixed.cloud.normals.is_none());
+    assert_eq!(mixed.sight_line(mixed.cloud.len() - 1), None);
 }
 
 /// An index record of the E57 prototype.
@@ -144,14 +147,13 @@ fn an_e57_structured_scan_gives_sight_lines_toward_its_scanner() {
 
     let loaded = load(std::slice::from_ref(&path), false);
     assert!(loaded.sight_lines);
-    let normals = loaded.cloud.normals.as_ref().expect("sight lines");
+    assert!(loaded.cloud.normals.is_none());
     let scanner = DVec3::new(100.0, 0.0, 0.0);
-    for (i, n) in normals.iter().enumerate() {
+    for i in 0..loaded.cloud.len() {
+        let n = loaded.sight_line(i).expect("a sight line");
         let toward = (scanner - loaded.cloud.world_position(i)).normalize();
-        assert!(
-            (n.as_dvec3() - toward).length() < 1e-5,
-            "point {i}: {n} vs {toward}"
-        );
+        assert!((n - toward).length() < 1e-5, "point {i}: {n} vs {toward}");
     }
-    assert!(load(&[path], true).cloud.normals.is_none());
+    let ignored = load(&[path], true);
+    assert!(!ignored.sight_lines && ignored.sight_line(0).is_none());
 }
