@@ -53,6 +53,7 @@ pub(crate) fn sub_word(ci: usize, cj: usize, a: u32, b: u32) -> u32 {
 
 /// Places every used node of a `cols × rows` piece (the path for
 /// `nu = nv = 1`). Each node is recorded as a corner of a cell it belongs to.
+#[inline(always)]
 pub(crate) fn draw_nodes(
     t: &mut BandTarget<'_>,
     nodes: &[Node],
@@ -120,6 +121,7 @@ pub(crate) struct BilinearPiece<'a> {
 
 /// Draws the cells of a piece cut into `nu × nv`, as their flags (see
 /// [`crate::plan::measure::measure_cells`]) say.
+#[inline(always)]
 pub(crate) fn draw_cells_bilinear(
     t: &mut BandTarget<'_>,
     piece: &BilinearPiece<'_>,
