@@ -7,10 +7,12 @@
 //! ([`pulp::x86::V3`], whose detection and feature-enabled entry point keep
 //! this crate free of `unsafe`); the kernels they call are
 //! `#[inline(always)]`, so one source is compiled twice and the compiler
-//! gives the second copy 256-bit lanes and the SSE4.1 forms (packed
-//! minimum and maximum of integers, rounding). Rust never fuses a multiply
-//! and an add on its own, so both copies compute the same values and the
-//! images are the same bit for bit (tested).
+//! gives the second copy 256-bit lanes in its auto-vectorised loops, the
+//! SSE4.1 integer forms (packed minimum and maximum) and three-operand VEX
+//! forms. Code left out of line (an iterator's `fold` the compiler does
+//! not inline, glam's own functions) stays portable in both. Rust never
+//! fuses a multiply and an add on its own, so both copies compute the
+//! same values and the images are the same bit for bit (tested).
 //!
 //! Cost: one branch per chunk and per band.
 

@@ -39,7 +39,8 @@ use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 /// (nothing when no cell is drawn or it lies outside the image's rows).
 /// Why inlined: its one caller, [`plan_chunk`](crate::plan::chunk::plan_chunk),
 /// kept it inline until the coarse-geometry choice made it longer
-/// (0.1 M instructions per bunny frame; callgrind, 500²).
+/// (0.1 M instructions per bunny frame; callgrind, 500²); always, so that
+/// it runs in the chunk's instruction set ([`crate::isa`]).
 #[inline(always)]
 pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange) {
     let (p, setup, whole, cell_test) = (ctx.patch, ctx.setup, ctx.whole, ctx.cell_test);
