@@ -157,6 +157,10 @@ pub(crate) struct RenderArgs {
     /// Do not minify far patches through their mip pyramid.
     #[arg(long)]
     no_mip: bool,
+    /// Keep the portable instructions instead of the AVX2 copy of the
+    /// frame's kernels chosen at run time (same image, for comparisons).
+    #[arg(long)]
+    no_simd: bool,
     /// Take the coarsest mip level whose projected cells stay below PX
     /// pixels, 0.1..=16. The default keeps every visible detail; larger
     /// values trade detail for speed (coarser grids, magnified).
@@ -332,6 +336,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.threads = args.threads.count();
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
+    o.simd = !args.no_simd;
     o.mip_limit = args.mip_limit;
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;

@@ -188,6 +188,25 @@ fn band_height_does_not_change_the_image() {
 }
 
 #[test]
+fn no_simd_keeps_the_portable_kernels_and_the_same_image() {
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    for (extra, png, json) in [
+        (None, "a.png", "a.json"),
+        (Some("--no-simd"), "b.png", "b.json"),
+    ] {
+        let args = ["render", &name, "-o", png, "--stats", json];
+        t.run(&[&args[..], extra.as_slice()].concat()).success();
+    }
+    let read = |f: &str| std::fs::read(t.path(f)).unwrap();
+    assert!(read("a.png") == read("b.png"));
+    let kernels = |f: &str| t.json::<serde_json::Value>(f)["kernels"].clone();
+    assert_eq!(kernels("b.json"), "base");
+    let fast = kernels("a.json");
+    assert!(fast == "base" || fast == "x86-64-v3", "{fast}");
+}
+
+#[test]
 fn splat_limit_splats_the_pieces_subdivision_would_cut() {
     // The default sphere at 500²: cells of 1.3-1.9 px are cut without
     // splats and splatted with them; the disc is as covered either way.

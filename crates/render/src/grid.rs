@@ -49,6 +49,7 @@ pub(crate) fn cell_drawable(nodes: &[Node], k: usize, cols: usize) -> bool {
 /// right column ([`CELL_RIGHT`]: the next cell of the row is not drawn)
 /// and their top row ([`CELL_TOP`]: the cell above is not drawn). Returns
 /// the counts of right, top and both.
+#[inline(always)]
 pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> [u64; 3] {
     let mut counts = [0u64; 3];
     // Why byte arithmetic on row slices: no branch or bounds check per cell
@@ -100,6 +101,7 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
 /// Per node of a `cols × rows` piece with cell flags `flags`: in `um`,
 /// all ones when a drawn cell has the u edge starting there, and in `vm`
 /// the same for the v edge (see [`crate::plan::measure::piece_edges_masked_small`]).
+#[inline(always)]
 pub(crate) fn drawn_edge_masks(
     flags: &[u8],
     cols: usize,
@@ -136,6 +138,7 @@ pub(crate) fn drawn_edge_masks(
 /// `d` (`(dk - d.0) / (d.1 - d.0)`, 0 when the range is flat; meaningless
 /// for empty nodes) to `out`, in the operations of the `Vec3` form. Why a
 /// pass of its own: it converts in vector lanes.
+#[inline(always)]
 pub(crate) fn push_weights(disp: &[u16], d: (u16, u16), out: &mut Vec<f32>) {
     let inv_d = if d.1 > d.0 {
         1.0 / (d.1 - d.0) as f32

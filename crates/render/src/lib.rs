@@ -71,6 +71,7 @@ mod error;
 mod fixed;
 mod frame;
 mod grid;
+mod isa;
 mod lighting;
 mod options;
 mod plan;

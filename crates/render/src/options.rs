@@ -194,6 +194,11 @@ pub struct RenderOptions {
     pub background: [u8; 4],
     /// The light and material.
     pub lighting: Lighting,
+    /// Run the frame's hot kernels with AVX2 and FMA when the CPU has them
+    /// (detected at run time; the portable build stays baseline x86-64).
+    /// Default true. The image is the same bit for bit either way; false
+    /// keeps the portable instructions (for comparisons).
+    pub simd: bool,
 }
 
 impl RenderOptions {
@@ -283,6 +288,7 @@ impl Default for RenderOptions {
             tile_rows: Self::DEFAULT_TILE_ROWS,
             background: [0, 0, 0, 0],
             lighting: Lighting::default(),
+            simd: true,
         }
     }
 }

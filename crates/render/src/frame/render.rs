@@ -17,6 +17,7 @@ use crate::fixed::{attr_from_bits, attr_to_bits};
 use crate::frame::image::RenderedImage;
 use crate::frame::stats::RenderStats;
 use crate::frame::tiles::{render_band, BandJob, Bins};
+use crate::isa::Isa;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
 use crate::plan::chunk::plan_chunk;
@@ -45,6 +46,8 @@ pub struct RenderOutput {
 /// A renderer with its thread pool and scratch buffers.
 pub struct Renderer {
     options: RenderOptions,
+    /// The instruction set of the hot kernels ([`Isa::detect`]).
+    isa: Isa,
     pool: rayon::ThreadPool,
     chunks: Vec<ChunkWork>,
     frames: Vec<ShadeFrame>,
@@ -78,6 +81,7 @@ impl Renderer {
             .map_err(|source| RenderError::ThreadPool { threads, source })?;
         Ok(Self {
             options,
+            isa: Isa::detect(options.simd),
             pool,
             chunks: Vec::new(),
             frames: Vec::new(),
@@ -159,6 +163,7 @@ impl Renderer {
             .resize(count.max(1), ShadeFrame::one_sided(Vec3::Z, Vec3::Z));
         let chunks = &mut self.chunks;
         let frames = &mut self.frames;
+        let isa = self.isa;
         self.pool.install(|| {
             chunks
                 .par_iter_mut()
@@ -166,7 +171,11 @@ impl Renderer {
                 .zip(scene.patches.par_chunks(PATCH_CHUNK))
                 .enumerate()
                 .for_each(|(c, ((work, frames), patches))| {
-                    plan_chunk(work, patches, (c * PATCH_CHUNK) as u32, frames, &setup);
+                    let first = (c * PATCH_CHUNK) as u32;
+                    isa.run(
+                        #[inline(always)]
+                        || plan_chunk(work, patches, first, frames, &setup),
+                    );
                 });
         });
         let plan_wall = start.elapsed();
@@ -264,6 +273,7 @@ impl Renderer {
         };
         let band_pixels = (tile_rows * view.width) as usize;
         let bands = &mut self.bands;
+        let isa = self.isa;
         self.pool.install(|| {
             bands
                 .par_iter_mut()
@@ -273,7 +283,10 @@ impl Renderer {
                 .for_each(|(b, ((band, rgba), eye_depth))| {
                     let y0 = b as i32 * tile_rows as i32;
                     band.reset(y0, (height - y0).min(tile_rows as i32), width);
-                    render_band(band, b, &job, rgba, eye_depth);
+                    isa.run(
+                        #[inline(always)]
+                        || render_band(band, b, &job, rgba, eye_depth),
+                    );
                 });
         });
         let raster_wall = raster_start.elapsed();
@@ -310,6 +323,7 @@ impl Renderer {
         stats.internal = [view.width, view.height];
         stats.near_far = [view.near, view.far];
         stats.threads = self.pool.current_num_threads();
+        stats.kernels = self.isa.name();
         stats.tiles = band_count;
         stats.covered_pixels = image.covered_count() as u64;
         stats.options = Some(*options);

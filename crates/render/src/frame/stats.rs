@@ -55,6 +55,10 @@ pub struct RenderStats {
     pub near_far: [f64; 2],
     /// Worker threads.
     pub threads: usize,
+    /// The instruction set the frame's kernels ran with: `"x86-64-v3"`
+    /// (AVX2 and FMA, detected at run time) or `"base"` (the portable
+    /// build's; [`RenderOptions::simd`] false or no AVX2).
+    pub kernels: &'static str,
     /// Tiles (bands of rows) rendered.
     pub tiles: usize,
     /// Patches considered (with at least one drawable cell).

@@ -150,6 +150,7 @@ pub(crate) struct BandJob<'a> {
     pub(crate) resolve: Resolve<'a>,
 }
 
+#[inline(always)]
 fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, cells: CellScheme) {
     let (cols, rows) = (item.cols as usize, item.rows as usize);
     let first = item.first as usize;
@@ -236,6 +237,7 @@ fn draw_grid_triangles(t: &mut BandTarget<'_>, job: &BandJob<'_>, refs: &[(u32, 
 
 /// Draws band number `index` and resolves it into its rows of the image
 /// (`rgba`, `eye_depth`).
+#[inline(always)]
 pub(crate) fn render_band(
     band: &mut Band,
     index: usize,

@@ -91,6 +91,7 @@ pub(crate) fn node_normal(
 /// (projected from node `first` on in the chunk's node array) for the
 /// shading model: for Phong only the normal-buffer lookups are counted
 /// ([`fill_phong_attributes`]).
+#[inline(always)]
 pub(crate) fn fill_attributes(
     work: &mut ChunkWork,
     ctx: &PatchContext<'_>,
@@ -126,6 +127,7 @@ pub(crate) fn fill_attributes(
 /// prepared slot set). Why: copying three normal words (and the albedo)
 /// into every node cost ~50 instructions per node, 7.4 M per 500² sphere
 /// frame (callgrind, `profile_sphere 500 1`).
+#[inline(always)]
 fn fill_phong_attributes(
     work: &mut ChunkWork,
     p: &PreparedPatch,

@@ -32,6 +32,7 @@ use crate::prepare::patch::PreparedPatch;
 
 /// Plans the patches of one chunk; `first_index` is the drawing index of
 /// `patches[0]` and `frames` receives one shade frame per patch.
+#[inline(always)]
 pub(crate) fn plan_chunk(
     work: &mut ChunkWork,
     patches: &[PreparedPatch],

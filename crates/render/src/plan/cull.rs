@@ -31,6 +31,7 @@ use crate::prepare::scene::Portal;
 
 /// True when no point of the sphere `(centre, radius)` can see a normal of
 /// `cone` facing the eye.
+#[inline(always)]
 pub(crate) fn cone_faces_away(cone: &NormalCone, centre: DVec3, radius: f64, eye: DVec3) -> bool {
     let to_eye = eye - centre;
     let distance = to_eye.length();
@@ -54,6 +55,7 @@ pub(crate) const FRONT_MARGIN: f64 = 0.1;
 /// the test cost ≈ 30 instructions per cell and found nothing on ≈ 70 % of
 /// the sphere's drawn patches (callgrind, `profile_sphere 500 1`).
 /// Conservative: a patch that fails it keeps the test.
+#[inline(always)]
 pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye: DVec3) -> bool {
     let to_eye = eye - centre;
     let distance = to_eye.length();
@@ -71,6 +73,7 @@ pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye:
 /// [`Culling::None`]; under [`Culling::Auto`] as the patch's [`Sides`] say,
 /// a patch of an open surface only when no opening can lie between the eye
 /// and it ([`seen_through_portals`]).
+#[inline(always)]
 pub(crate) fn back_culled(
     (culling, sides): (Culling, Sides),
     portals: &[Portal],
@@ -154,6 +157,7 @@ pub(crate) struct Frustum {
 impl Frustum {
     /// Classifies the box `[lo, hi]` of patch-local coordinates `(u, v, t)`
     /// under the local map `(m, t0)`.
+    #[inline(always)]
     pub(crate) fn classify(&self, m: &Mat3, t0: Vec3, lo: Vec3, hi: Vec3) -> BoxClass {
         let mut outside = [true; 6];
         let mut inside = true;

@@ -27,10 +27,10 @@ const LANE_SCALE: Vec4 = Vec4::new(XY_ONE, XY_ONE, Z_FAR as f32, 0.0);
 /// Why: the saturating `as` conversions stay scalar (five instructions
 /// each plus the repacking; callgrind, `profile_sphere 500 1`). When every
 /// lane is below 2^31 in magnitude (always, inside the guard band), the
-/// lanes are truncated in one packed step ([`Vec4::trunc`]: `cvttps2dq`
-/// and back, exact) and read as integers by adding `1.5 · 2^52` in `f64`,
+/// lanes are truncated in one packed step (`cvttps2dq` on x86-64; elsewhere
+/// [`Vec4::trunc`] and the integers read by adding `1.5 · 2^52` in `f64`,
 /// which puts an integer below 2^51 in the low mantissa bits, two's
-/// complement; other inputs (huge, infinite, NaN) take the scalar form.
+/// complement); other inputs (huge, infinite, NaN) take the scalar form.
 #[inline(always)]
 pub(crate) fn fixed_lanes(s: Vec4) -> [i32; 3] {
     const LIMIT: f32 = 2_147_483_648.0; // 2^31
@@ -73,6 +73,16 @@ pub(crate) fn truncate_lanes(q: Vec4) -> [i32; 3] {
 /// pairs and store as one word group (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
 pub(crate) fn truncate_lanes4(q: Vec4) -> [i32; 4] {
+    // Why `cvttps2dq` straight to integers on x86-64 (SSE2, always there,
+    // so the check folds away; pulp's token makes the intrinsic safe): it
+    // truncates every lane below 2^31 exactly, in one instruction where
+    // the portable form below rounds in `f32` (an emulated `roundps`
+    // without SSE4.1) and reads the integers back through `f64`
+    // (callgrind, bunny 500²).
+    #[cfg(target_arch = "x86_64")]
+    if let Some(sse2) = pulp::core_arch::x86::Sse2::try_new() {
+        return pulp::bytemuck::cast(sse2._mm_cvttps_epi32(q.into()));
+    }
     const MAGIC: f64 = 6_755_399_441_055_744.0; // 1.5 · 2^52
     let t = q.trunc().to_array();
     let bits = |v: f32| (v as f64 + MAGIC).to_bits() as i32;

@@ -81,6 +81,7 @@ impl CellMeasure {
 /// ([`away_cells_small`]) and the largest edges in flat `f32` passes over
 /// the whole piece ([`piece_edges_small`], [`piece_edges_masked_small`]);
 /// wider pieces take them row by row in `i32` or `i64`.
+#[inline(always)]
 pub(crate) fn measure_cells(
     level: &MipLevel,
     range: NodeRange,
@@ -250,6 +251,7 @@ pub(crate) fn measure_cells(
 
 /// The used positions of one node row: smallest and largest x, smallest
 /// and largest y (`MAX, MIN` when none) and the used count.
+#[inline(always)]
 fn row_box(used: &[bool], xs: &[i32], ys: &[i32]) -> (i32, i32, i32, i32, usize) {
     let n = used.iter().filter(|&&u| u).count();
     if n == xs.len() {
@@ -273,6 +275,7 @@ fn row_box(used: &[bool], xs: &[i32], ys: &[i32]) -> (i32, i32, i32, i32, usize)
 /// are single instructions where `u32` lanes need several without
 /// SSE4.1). `wrap[k]` is 0 for the last node of a row (no u edge), else
 /// all ones.
+#[inline(always)]
 pub(crate) fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32]) -> [u64; 4] {
     let n = xs.len();
     let m = n - cols;
@@ -301,6 +304,7 @@ pub(crate) fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32
 /// [`piece_edges_small`] for a piece whose cells are not all drawn:
 /// `um[k]` (`vm[k]`) is all ones when node `k`'s u (v) edge belongs to a
 /// drawn cell, else 0.
+#[inline(always)]
 pub(crate) fn piece_edges_masked_small(
     xs: &[i32],
     ys: &[i32],
@@ -329,7 +333,7 @@ pub(crate) fn piece_edges_masked_small(
 /// `f64` (exact for every `i32`): `minpd` and `maxpd` are single
 /// instructions where `i32` lanes need four without SSE4.1 (callgrind,
 /// `profile_sphere 500 1`: ≈ 350 → ≈ 150 instructions per row of 17).
-#[inline]
+#[inline(always)]
 fn min_max(v: &[i32]) -> (i32, i32) {
     let (lo, hi) = v
         .iter()
@@ -347,6 +351,7 @@ fn min_max(v: &[i32]) -> (i32, i32) {
 /// [`mark_row`] decides. For positions whose differences are below 2^24:
 /// the products are then below 2^48 and their difference below 2^49, exact
 /// in `f64`, so the signs are those of the `i64` form.
+#[inline(always)]
 fn away_cells_small<const BACK: i64>(xs: &[i32], ys: &[i32], cols: usize, away: &mut [u8]) {
     let m = away.len();
     let (xa, xb) = (&xs[..m], &xs[1..m + 1]);
@@ -373,7 +378,7 @@ fn away_cells_small<const BACK: i64>(xs: &[i32], ys: &[i32], cols: usize, away: 
 /// `(xh, yh)`: the level's `mask` minus the cells facing away (`BACK`: the
 /// back-face sign, 0 for no test). Returns the drawn and back-facing
 /// counts.
-#[inline]
+#[inline(always)]
 fn mark_row<const BACK: i64>(
     xl: &[i32],
     yl: &[i32],
@@ -422,7 +427,7 @@ fn mark_row<const BACK: i64>(
 /// Largest `|x|` and `|y|` of the u and v edges of the drawn cells of one
 /// row (`[ux, uy, vx, vy]`), for positions whose differences fit in `i32`.
 /// Why branch-free masking: the loop runs in vector lanes.
-#[inline]
+#[inline(always)]
 pub(crate) fn row_edges_narrow(
     xl: &[i32],
     yl: &[i32],

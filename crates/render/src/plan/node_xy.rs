@@ -47,6 +47,7 @@ pub(crate) struct NodeXY {
 impl NodeXY {
     /// Clears and sizes both arrays for `len` nodes (all 0), and forgets
     /// the row boxes of the previous piece.
+    #[inline(always)]
     pub(crate) fn reset(&mut self, len: usize) {
         self.row_stats.clear();
         self.xs.clear();

@@ -39,8 +39,9 @@ use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 /// (nothing when no cell is drawn or it lies outside the image's rows).
 /// Why inlined: its one caller, [`plan_chunk`](crate::plan::chunk::plan_chunk),
 /// kept it inline until the coarse-geometry choice made it longer
-/// (0.1 M instructions per bunny frame; callgrind, 500²).
-#[inline]
+/// (0.1 M instructions per bunny frame; callgrind, 500²); always, so that
+/// it runs in the chunk's instruction set ([`crate::isa`]).
+#[inline(always)]
 pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange) {
     let (p, setup, whole, cell_test) = (ctx.patch, ctx.setup, ctx.whole, ctx.cell_test);
     let opts = setup.options;
@@ -257,6 +258,7 @@ const TRIANGLE_CUT: u32 = 16;
 /// `L` pixels whose `W` grows by `k × W_min` the largest difference is
 /// about `L k / 4` (in the middle). Infinite when a corner is not in front
 /// of the eye.
+#[inline(always)]
 fn trilinear_error(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
     let (lo, hi) = range.local_box(d);
     let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
@@ -278,6 +280,7 @@ fn trilinear_error(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
 }
 
 /// Estimated level-0 cell extent in pixels from the projected box corners.
+#[inline(always)]
 fn estimate_extent(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
     let (lo, hi) = range.local_box(d);
     let c: [Vec3; 8] = std::array::from_fn(|k| {

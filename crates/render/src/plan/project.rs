@@ -114,6 +114,7 @@ pub(crate) fn project_nodes_exact(
 /// Projects the nodes of `range` by trilinear interpolation of its box
 /// corners (`d` is the range's displacement range), appending to `out`
 /// (and the positions to `xy`, see [`NodeXY`]).
+#[inline(always)]
 pub(crate) fn project_nodes_trilinear(
     level: &MipLevel,
     range: NodeRange,
@@ -298,6 +299,7 @@ impl PieceLanes<'_> {
 /// The screen corners of a piece's box over displacements `d`:
 /// `[bottom i0, bottom i1]` at `j0` and at `j1` (low `d`), then the same
 /// at high `d`.
+#[inline(always)]
 fn projected_box_corners(range: NodeRange, d: (u16, u16), p: &Projector) -> [[Vec3; 2]; 4] {
     let (lo, hi) = range.local_box(d);
     let corner = |a: bool, b: bool, c: bool| {

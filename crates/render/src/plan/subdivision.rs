@@ -22,6 +22,7 @@ pub(crate) const SMOOTH_MARGIN: f32 = 1.3;
 /// `[ux, uy, vx, vy]` pixels (times `margin`) such that sub-cells satisfy
 /// `ux/nu + vx/nv < SUBPIXEL_LIMIT` and `uy/nu + vy/nv < SUBPIXEL_LIMIT`;
 /// `None` when more than [`MAX_SUBDIVISION`] per side would be needed.
+#[inline(always)]
 pub(crate) fn choose_subdivision(edges: [f32; 4], margin: f32) -> Option<(u32, u32)> {
     let [ux, uy, vx, vy] = edges.map(|e| e * margin);
     let mut best: Option<(u32, u32)> = None;

@@ -69,7 +69,7 @@ pub(crate) fn draw_cells_open(
                 };
             // Every cell places its last column and row (see
             // `draw_open_cell`).
-            let (cut, sub0) = ([nu, 1, nv + 1], sub_word(i, j, 0, 0));
+            let (cut, sub0) = ([nu, 1, nv, 1], sub_word(i, j, 0, 0));
             match Shape::of(c, f) {
                 Shape::Plain if inside => draw_cell::<false>(t, c, r, cut, sub0, item),
                 Shape::Plain => draw_cell::<true>(t, c, r, cut, sub0, item),

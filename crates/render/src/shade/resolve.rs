@@ -56,6 +56,7 @@ pub(crate) struct Resolve<'a> {
 /// where empty). Why the image's own rows: no band copy to gather, and
 /// the image's first touch happens on the pool (callgrind and
 /// `--bench`: the serial gather was ~1.3 ms of a 13.5 ms frame).
+#[inline(always)]
 pub(crate) fn resolve_band(
     r: &Resolve<'_>,
     px: &[Sample],
@@ -97,18 +98,20 @@ pub(crate) fn resolve_band(
 
 /// [`resolve_band`] for Phong: the band in groups of four pixels
 /// ([`resolve_phong_pixels`]).
+#[inline(always)]
 fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
     // The default shininess, 32, is five squarings (see
     // [`Material::shade4_with`]).
     // And the mapping of coarse-geometry items only when the frame has
     // some (see `PhongItem::corner`).
-    let run = match (r.material.squarings() == 5, r.phong.shifted) {
-        (true, false) => resolve_phong_pixels::<5, false>,
-        (true, true) => resolve_phong_pixels::<5, true>,
-        (false, false) => resolve_phong_pixels::<ANY_POWER, false>,
-        (false, true) => resolve_phong_pixels::<ANY_POWER, true>,
-    };
-    run(r, px, rgba, eye_depth);
+    // Why calls rather than a function pointer: inlined, they run with the
+    // caller's instruction set (`crate::isa`).
+    match (r.material.squarings() == 5, r.phong.shifted) {
+        (true, false) => resolve_phong_pixels::<5, false>(r, px, rgba, eye_depth),
+        (true, true) => resolve_phong_pixels::<5, true>(r, px, rgba, eye_depth),
+        (false, false) => resolve_phong_pixels::<ANY_POWER, false>(r, px, rgba, eye_depth),
+        (false, true) => resolve_phong_pixels::<ANY_POWER, true>(r, px, rgba, eye_depth),
+    }
 }
 
 /// Resolves the Phong pixels `px` into `rgba` and `eye_depth`, four
@@ -120,9 +123,9 @@ fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth
 /// queue's round trip through memory, its indices and scattered stores
 /// were ~50 of the ~150 instructions per covered pixel, and groups only
 /// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
-/// Not inlined: inlined into [`resolve_band`] the queued pass cost 2.5 M
-/// instructions more per frame (register allocation).
-#[inline(never)]
+/// Inlined so that it runs with the band's instruction set
+/// ([`crate::isa`]).
+#[inline(always)]
 fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool>(
     r: &Resolve<'_>,
     px: &[Sample],
@@ -220,7 +223,7 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
 /// [`resolve_group`] for any group with a covered pixel: lanes with their
 /// own albedos, triangle samples, empty pixels (which take the inputs of a
 /// covered one, then the background).
-#[inline(never)]
+#[inline(always)]
 fn resolve_general_group(
     r: &Resolve<'_>,
     s: &[Sample; 4],

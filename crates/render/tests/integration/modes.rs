@@ -1,6 +1,7 @@
 //! Modes against each other: triangle mode and patch mode cover the same
-//! pixels; 1 and N threads give the same image; every projection, cell,
-//! shading, mip and supersampling variant renders the sphere without holes.
+//! pixels; 1 and N threads give the same image; the AVX2 kernels give the
+//! portable ones' image; every projection, cell, shading, mip and
+//! supersampling variant renders the sphere without holes.
 
 use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions, Renderer, Shading};
 
@@ -53,6 +54,48 @@ fn one_and_many_threads_give_the_same_image() {
             assert!(one.image == three.image, "{shading:?} {mode:?}");
             assert_eq!(one.stats.patch_nodes, three.stats.patch_nodes);
             assert_eq!(one.stats.normals_needed, three.stats.normals_needed);
+        }
+    }
+}
+
+#[test]
+fn the_avx2_kernels_draw_what_the_portable_ones_draw() {
+    // Bit for bit, every shading, both modes, the splat and coarse-geometry
+    // paths, a view close enough to magnify cells and one far enough to
+    // minify them.
+    #[cfg(target_arch = "x86_64")]
+    let avx2 = std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma")
+        && std::arch::is_x86_feature_detected!("bmi2")
+        && std::arch::is_x86_feature_detected!("lzcnt");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx2 = false;
+    let mut variants = Vec::new();
+    for shading in [Shading::Phong, Shading::Gouraud, Shading::Flat] {
+        for mode in [RenderMode::Patches, RenderMode::Triangles] {
+            let mut o = RenderOptions::default();
+            (o.shading, o.mode) = (shading, mode);
+            variants.push(o);
+        }
+    }
+    let mut splats = RenderOptions::default();
+    splats.splat_limit = 1.5;
+    let mut coarse = RenderOptions::default();
+    coarse.geometry_limit = 3.6;
+    variants.extend([splats, coarse]);
+    for (k, base) in variants.into_iter().enumerate() {
+        for (distance, size) in [(300.0, 300), (2500.0, 200)] {
+            let mut o = base;
+            o.threads = 2;
+            let fast = render(o, distance, size);
+            o.simd = false;
+            let portable = render(o, distance, size);
+            assert_eq!(portable.stats.kernels, "base");
+            let expected = if avx2 { "x86-64-v3" } else { "base" };
+            assert_eq!(fast.stats.kernels, expected);
+            assert!(fast.image.covered_count() > 1000);
+            assert!(fast.image == portable.image, "variant {k} at {distance}");
+            assert_eq!(fast.stats.patch_nodes, portable.stats.patch_nodes);
         }
     }
 }
