@@ -279,21 +279,30 @@ fn crease_probes(
 ) -> impl Iterator<Item = (Vec3, Vec3)> {
     let a = mesh.positions[crease.v0.index()];
     let b = mesh.positions[crease.v1.index()];
-    span_probes(mesh, crease, a, b, spacing)
+    span_probes(mesh, crease, [a, b], spacing, &PROBE_OFFSETS, false)
 }
 
 /// The probe points of the stretch from `a` to `b` of `crease` (both on its line), each
-/// with its face's unit normal: as for the whole crease, every half `spacing` along it.
-pub(crate) fn span_probes(
+/// with its face's unit normal: every half `spacing` along it (at the middles of equal
+/// parts, and also at both ends when `with_ends`), at `offsets` surface spacings across.
+pub(crate) fn span_probes<'a>(
     mesh: &TriangleMesh,
     crease: &Crease,
-    a: Vec3,
-    b: Vec3,
+    [a, b]: [Vec3; 2],
     spacing: f32,
-) -> impl Iterator<Item = (Vec3, Vec3)> {
+    offsets: &'a [f32],
+    with_ends: bool,
+) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
     let length = (b - a).length();
     let t = (b - a).normalize_or_zero();
     let along = ((length / (0.5 * spacing)).ceil() as usize).clamp(1, MAX_PROBES_ALONG);
+    // Positions along the span, as fractions: the middles of `along` equal parts, or their
+    // ends.
+    let (first, last, shift) = if with_ends {
+        (0, along, 0.0)
+    } else {
+        (0, along - 1, 0.5)
+    };
     // For each face: the unit direction into the face, perpendicular to the edge, the face's
     // height over the edge, and its normal.
     let sides = [0, 1].map(|k| {
@@ -310,12 +319,12 @@ pub(crate) fn span_probes(
         let across = (apex - a).reject_from_normalized(t);
         (across.normalize_or_zero(), across.length(), normal)
     });
-    (0..along).flat_map(move |m| {
-        let on_edge = a + t * (length * (m as f32 + 0.5) / along as f32);
+    (first..=last).flat_map(move |m| {
+        let on_edge = a + t * (length * (m as f32 + shift) / along as f32);
         sides.into_iter().flat_map(move |(dir, height, normal)| {
-            PROBE_OFFSETS
-                .into_iter()
-                .map(move |f| (on_edge + dir * (f * spacing).min(0.9 * height), normal))
+            offsets
+                .iter()
+                .map(move |&f| (on_edge + dir * (f * spacing).min(0.9 * height), normal))
         })
     })
 }

@@ -22,12 +22,15 @@
 use spatch_format::Patch;
 use spatch_mesh::TriangleMesh;
 
-use crate::coverage::{crease_tolerance, span_probes, SurfaceCoverage};
+use crate::coverage::{crease_tolerance, span_probes, SurfaceCoverage, COVER_TOLERANCE};
 use crate::edge_patch::EdgePiece;
 use crate::sharp_edges::SharpEdges;
-
-#[cfg(doc)]
 use crate::PROBE_OFFSETS;
+
+/// Distances of a piece's probes from its crease, in surface node spacings: the crease
+/// probes' ([`PROBE_OFFSETS`]) and the crease itself, whose tip a patch that runs past the
+/// end of its own piece may cut.
+const PIECE_PROBE_OFFSETS: [f32; 4] = [0.0, PROBE_OFFSETS[0], PROBE_OFFSETS[1], PROBE_OFFSETS[2]];
 
 /// For each of `made` (a piece and its cast patch, in order), whether it is dropped: covered
 /// by `surface` and the kept ones of `made` (see the module docs). `spacing` is the surface
@@ -46,9 +49,16 @@ pub(crate) fn covered_pieces(
     let covered = |coverage: &SurfaceCoverage<'_>, piece: &EdgePiece| {
         piece.segments.iter().all(|s| {
             let crease = &sharp.creases[s.crease as usize];
-            let tolerance = crease_tolerance(crease, soft_crease_deg);
-            span_probes(mesh, crease, s.a, s.b, spacing)
-                .all(|(p, n)| coverage.covers(p, n, tolerance))
+            let tolerance = crease_tolerance(crease, soft_crease_deg).min(COVER_TOLERANCE);
+            span_probes(
+                mesh,
+                crease,
+                [s.a, s.b],
+                spacing,
+                &PIECE_PROBE_OFFSETS,
+                true,
+            )
+            .all(|(p, n)| coverage.covers(p, n, tolerance))
         })
     };
     let mut order: Vec<usize> = (0..made.len()).collect();
