@@ -113,6 +113,10 @@ pub(crate) struct PipelineArgs {
     /// the crease (by default only the gaps get one).
     #[arg(long)]
     pub(crate) all_creases: bool,
+    /// Keep the edge patch of every piece, also of pieces that the surface patches and the
+    /// other edge patches already cover (by default those are dropped, shortest first).
+    #[arg(long)]
+    pub(crate) keep_covered_pieces: bool,
     /// Node spacing of textured regions in texels of their texture (0 = off: textures are
     /// sampled at the mesh's spacing). Smaller keeps finer texture detail for more nodes,
     /// within --texture-budget.
@@ -285,6 +289,7 @@ impl PipelineArgs {
             edges.max_turn_deg = self.edge_max_turn;
             edges.soft_crease_deg = self.soft_crease;
             edges.only_gaps = !self.all_creases;
+            edges.drop_covered_pieces = !self.keep_covered_pieces;
             edges
         });
         options

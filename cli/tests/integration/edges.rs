@@ -130,3 +130,41 @@ fn out_of_range_edge_options_are_refused() {
         assert!(!t.path("out.spatch").exists());
     }
 }
+
+/// Pieces the surface and the other edge patches already cover lose their patch by
+/// default; `--keep-covered-pieces` keeps one patch per piece (Duck.glb, skipped when the
+/// shared data is missing).
+#[test]
+fn covered_pieces_are_dropped_unless_kept() {
+    let Some(duck) = spatch_fixtures::shared_data("gltf/Duck.glb") else {
+        return;
+    };
+    let t = TestCommand::new();
+    let duck = duck.to_str().unwrap();
+    let stats = |extra: &[&str]| {
+        let mut args = vec![
+            "convert",
+            duck,
+            "-o",
+            "duck.spatch",
+            "--report",
+            "duck.json",
+            "--no-error",
+        ];
+        args.extend_from_slice(extra);
+        t.run(&args).success();
+        let report: serde_json::Value = t.json("duck.json");
+        report["details"]["edges"].clone()
+    };
+    let count = |v: &serde_json::Value, key: &str| v[key].as_u64().unwrap();
+    let dropped = stats(&[]);
+    let kept = stats(&["--keep-covered-pieces"]);
+    assert_eq!(count(&kept, "covered_pieces"), 0, "{kept}");
+    assert!(count(&dropped, "covered_pieces") > 0, "{dropped}");
+    assert_eq!(count(&dropped, "pieces"), count(&kept, "pieces"));
+    assert_eq!(
+        count(&dropped, "edge_patches") + count(&dropped, "covered_pieces"),
+        count(&kept, "edge_patches"),
+        "{dropped} vs {kept}"
+    );
+}

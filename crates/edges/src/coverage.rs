@@ -76,6 +76,8 @@ struct Indexed<'a> {
     hi: Vec3,
     /// Its node spacing (the larger of x and y), or the edge spacing if larger.
     cell: f32,
+    /// Its position in the patches the index was built from.
+    source: usize,
 }
 
 /// The surface patches in a uniform grid of boxes, for point coverage queries.
@@ -84,6 +86,8 @@ pub(crate) struct SurfaceCoverage<'a> {
     cell: f32,
     buckets: HashMap<IVec3, Vec<u32>>,
     min_facing: f32,
+    /// Per patch the index was built from (in order): left out of the queries.
+    disabled: Vec<bool>,
 }
 
 impl<'a> SurfaceCoverage<'a> {
@@ -91,7 +95,9 @@ impl<'a> SurfaceCoverage<'a> {
     /// smallest cell a tolerance is measured in (see [`SurfaceCoverage::covers`]).
     pub(crate) fn new(surface: impl IntoIterator<Item = &'a Patch>, spacing: f32) -> Self {
         let mut patches = Vec::new();
-        for patch in surface {
+        let mut count = 0;
+        for (source, patch) in surface.into_iter().enumerate() {
+            count = source + 1;
             let Some((lo, hi)) = patch.bounds() else {
                 continue;
             };
@@ -108,6 +114,7 @@ impl<'a> SurfaceCoverage<'a> {
                 lo: lo - pad,
                 hi: hi + pad,
                 cell,
+                source,
             });
         }
         // Cells about as large as a typical patch: each patch lands in a few cells and each
@@ -142,7 +149,14 @@ impl<'a> SurfaceCoverage<'a> {
             cell,
             buckets,
             min_facing: MAX_FACING_ANGLE_DEG.to_radians().cos(),
+            disabled: vec![false; count],
         }
+    }
+
+    /// Leaves the `source`-th patch the index was built from out of the queries (`false`)
+    /// or takes it back (`true`).
+    pub(crate) fn set_enabled(&mut self, source: usize, enabled: bool) {
+        self.disabled[source] = !enabled;
     }
 
     /// Whether some patch facing `normal` (a unit face normal) has a drawable surface within
@@ -153,7 +167,8 @@ impl<'a> SurfaceCoverage<'a> {
         };
         candidates.iter().any(|&k| {
             let q = &self.patches[k as usize];
-            p.cmpge(q.lo).all()
+            !self.disabled[q.source]
+                && p.cmpge(q.lo).all()
                 && p.cmple(q.hi).all()
                 && q.axes[2].dot(normal).abs() >= self.min_facing
                 && Self::patch_covers(q, p, tolerance * q.cell)
@@ -210,14 +225,20 @@ pub(crate) fn covered_creases(
         .creases
         .iter()
         .map(|c| {
-            let tolerance = if c.angle_deg < soft_crease_deg {
-                SOFT_COVER_TOLERANCE
-            } else {
-                COVER_TOLERANCE
-            };
+            let tolerance = crease_tolerance(c, soft_crease_deg);
             crease_probes(mesh, c, spacing).all(|(p, n)| coverage.covers(p, n, tolerance))
         })
         .collect()
+}
+
+/// The tolerance (in cells) that covers probes of `crease`: [`SOFT_COVER_TOLERANCE`] under
+/// `soft_crease_deg`, else [`COVER_TOLERANCE`].
+pub(crate) fn crease_tolerance(crease: &Crease, soft_crease_deg: f32) -> f32 {
+    if crease.angle_deg < soft_crease_deg {
+        SOFT_COVER_TOLERANCE
+    } else {
+        COVER_TOLERANCE
+    }
 }
 
 /// Whether the patches of `coverage` cover the corner at vertex `corner`, whose faces are
@@ -258,9 +279,30 @@ fn crease_probes(
 ) -> impl Iterator<Item = (Vec3, Vec3)> {
     let a = mesh.positions[crease.v0.index()];
     let b = mesh.positions[crease.v1.index()];
+    span_probes(mesh, crease, [a, b], spacing, &PROBE_OFFSETS, false)
+}
+
+/// The probe points of the stretch from `a` to `b` of `crease` (both on its line), each
+/// with its face's unit normal: every half `spacing` along it (at the middles of equal
+/// parts, and also at both ends when `with_ends`), at `offsets` surface spacings across.
+pub(crate) fn span_probes<'a>(
+    mesh: &TriangleMesh,
+    crease: &Crease,
+    [a, b]: [Vec3; 2],
+    spacing: f32,
+    offsets: &'a [f32],
+    with_ends: bool,
+) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
     let length = (b - a).length();
     let t = (b - a).normalize_or_zero();
     let along = ((length / (0.5 * spacing)).ceil() as usize).clamp(1, MAX_PROBES_ALONG);
+    // Positions along the span, as fractions: the middles of `along` equal parts, or their
+    // ends.
+    let (first, last, shift) = if with_ends {
+        (0, along, 0.0)
+    } else {
+        (0, along - 1, 0.5)
+    };
     // For each face: the unit direction into the face, perpendicular to the edge, the face's
     // height over the edge, and its normal.
     let sides = [0, 1].map(|k| {
@@ -277,12 +319,12 @@ fn crease_probes(
         let across = (apex - a).reject_from_normalized(t);
         (across.normalize_or_zero(), across.length(), normal)
     });
-    (0..along).flat_map(move |m| {
-        let on_edge = a + t * (length * (m as f32 + 0.5) / along as f32);
+    (first..=last).flat_map(move |m| {
+        let on_edge = a + t * (length * (m as f32 + shift) / along as f32);
         sides.into_iter().flat_map(move |(dir, height, normal)| {
-            PROBE_OFFSETS
-                .into_iter()
-                .map(move |f| (on_edge + dir * (f * spacing).min(0.9 * height), normal))
+            offsets
+                .iter()
+                .map(move |&f| (on_edge + dir * (f * spacing).min(0.9 * height), normal))
         })
     })
 }

@@ -8,7 +8,10 @@
 //!    into pieces around the covered creases, one lattice per piece (`edge_patch`);
 //! 4. every piece's lattice cast against the source and quantized into a patch
 //!    (`lattice_cast`);
-//! 5. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
+//! 5. with [`EdgeOptions::only_gaps`] and [`EdgeOptions::drop_covered_pieces`], the pieces
+//!    that the surface patches and the other edge patches already cover dropped
+//!    (`covered_pieces`);
+//! 6. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
 //!    reaches and (with `only_gaps`) that the surface and edge patches leave open
 //!    (`corner_patch`), cast the same way.
 //!
@@ -26,7 +29,8 @@ use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh, VertexId};
 use crate::chain_runs::chain_runs;
 use crate::corner_patch::corner_lattice;
 use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage};
-use crate::edge_patch::{cut_pieces, piece_lattice, PieceLimits, WIDE_TURN};
+use crate::covered_pieces::covered_pieces;
+use crate::edge_patch::{cut_pieces, piece_lattice, EdgePiece, PieceLimits, WIDE_TURN};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::part::{drop_unowned_corners, skip_unowned, OwnsPoint};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
@@ -53,6 +57,9 @@ pub struct EdgeStats {
     pub non_manifold_edges: usize,
     /// Pieces the chains were cut into.
     pub pieces: usize,
+    /// Of their patches, those dropped because the surface patches and the other edge
+    /// patches already cover their piece ([`EdgeOptions::drop_covered_pieces`]).
+    pub covered_pieces: usize,
     /// Patches along edges (pieces whose rays hit something).
     pub edge_patches: usize,
     /// Patches at corners.
@@ -151,17 +158,37 @@ pub fn generate_part_edge_patches(
     let skip = skip_unowned(mesh, &sharp, &covered, owns);
     let (pieces, _) = cut_pieces(mesh, &sharp, &runs, &skip, &limits);
     stats.pieces = pieces.len();
-    let lattices: Vec<(NodeLattice, Vec<FaceId>)> = pieces
+    let (lattices, of_piece): (Vec<(NodeLattice, Vec<FaceId>)>, Vec<&EdgePiece>) = pieces
         .par_iter()
-        .filter_map(|piece| piece_lattice(mesh, adjacency, &sharp, piece, edge_spacing, strip))
-        .collect();
+        .filter_map(|piece| {
+            piece_lattice(mesh, adjacency, &sharp, piece, edge_spacing, strip)
+                .map(|lattice| (lattice, piece))
+        })
+        .unzip();
     let job = CastJob {
         mesh,
         spacing: edge_spacing,
         max_step_error: options.max_step_error,
         with_colour: options.colour && mesh.has_colour(),
     };
-    let mut patches = cast_all(&job, &lattices, 0)?;
+    let made: Vec<(&EdgePiece, Patch)> = of_piece
+        .into_iter()
+        .zip(cast_each(&job, &lattices, 0)?)
+        .filter_map(|(piece, patch)| patch.map(|patch| (piece, patch)))
+        .collect();
+    let dropped = if options.only_gaps && options.drop_covered_pieces {
+        let soft = options.soft_crease_deg;
+        covered_pieces(mesh, &sharp, surface, &made, surface_spacing, soft)
+    } else {
+        vec![false; made.len()]
+    };
+    stats.covered_pieces = dropped.iter().filter(|&&d| d).count();
+    let mut patches: Vec<Patch> = made
+        .into_iter()
+        .zip(dropped)
+        .filter(|(_, dropped)| !dropped)
+        .map(|((_, patch), _)| patch)
+        .collect();
     stats.edge_patches = patches.len();
 
     if options.corners && !sharp.corners.is_empty() {
@@ -206,12 +233,24 @@ fn cast_all(
     lattices: &[(NodeLattice, Vec<FaceId>)],
     first: usize,
 ) -> Result<Vec<Patch>, EdgeError> {
-    let cast: Vec<Option<Patch>> = lattices
+    Ok(cast_each(job, lattices, first)?
+        .into_iter()
+        .flatten()
+        .collect())
+}
+
+/// Casts `lattices` in parallel: per lattice, in order, its patch, or `None` when its rays
+/// hit nothing; `first` is the index of the first lattice (for error messages).
+fn cast_each(
+    job: &CastJob<'_>,
+    lattices: &[(NodeLattice, Vec<FaceId>)],
+    first: usize,
+) -> Result<Vec<Option<Patch>>, EdgeError> {
+    lattices
         .par_iter()
         .enumerate()
         .map(|(k, (lattice, faces))| cast_lattice(job, lattice, faces, first + k))
-        .collect::<Result<_, _>>()?;
-    Ok(cast.into_iter().flatten().collect())
+        .collect()
 }
 
 /// For each corner of `sharp` (in order), whether a crease ending there is not covered.

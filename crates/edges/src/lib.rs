@@ -47,6 +47,7 @@
 mod chain_runs;
 mod corner_patch;
 mod coverage;
+mod covered_pieces;
 mod edge_patch;
 mod error;
 mod generate;

@@ -100,6 +100,11 @@ pub struct EdgeOptions {
     /// `coverage` module describes). Default `true`. Off: every crease gets a patch, which
     /// costs bytes and closes no more holes; useful only to compare.
     pub only_gaps: bool,
+    /// With [`EdgeOptions::only_gaps`], whether to drop the edge patches of pieces that the
+    /// surface patches and the other edge patches already cover (probed as the creases are;
+    /// shortest pieces first, every dropped piece still covered by what is kept). Default
+    /// `true`. Off: one patch per piece, as before (more patches, the same probed coverage).
+    pub drop_covered_pieces: bool,
 }
 
 impl Default for EdgeOptions {
@@ -116,6 +121,7 @@ impl Default for EdgeOptions {
             max_step_error: FitOptions::DEFAULT_STEP_ERROR,
             colour: true,
             only_gaps: true,
+            drop_covered_pieces: true,
         }
     }
 }

@@ -5,10 +5,12 @@
 //! - `patches`: edge patches lie on the source and cover both faces of a crease;
 //! - `crease_sweep`: frustums whose rim angle runs from 30° to 150° keep no holes;
 //! - `cad_targets`: the targets on the shared CAD parts (skipped when missing);
+//! - `covered_pieces`: pieces the other patches cover lose their patch, holes unchanged;
 //! - `determinism`: same input, same patches, whatever the thread count.
 
 mod cad_targets;
 mod coverage;
+mod covered_pieces;
 mod crease_sweep;
 mod detection;
 mod determinism;

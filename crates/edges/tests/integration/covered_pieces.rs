@@ -1,0 +1,77 @@
+//! Pieces the surface patches and the other edge patches already cover lose their patch
+//! (`EdgeOptions::drop_covered_pieces`), and the holes stay where they were.
+
+use spatch_edges::{EdgeOptions, EdgeStats};
+use spatch_eval::{hole_fraction, HoleOptions};
+use spatch_mesh::load_mesh;
+
+use crate::surface::{fit, fit_with_spacing, frustum, Fitted};
+
+/// Hole fraction of `fitted` with edge patches made with `options`, and their stats.
+fn holes_with(fitted: &Fitted, options: &EdgeOptions) -> (f64, EdgeStats) {
+    let (edges, stats) = fitted.edges(options);
+    let mut holes = HoleOptions::default();
+    if cfg!(debug_assertions) {
+        holes.views.truncate(6);
+        holes.size = [300, 300];
+    }
+    let found = hole_fraction(&fitted.scene(&edges), &fitted.mesh, &holes).unwrap();
+    (found.fraction, stats)
+}
+
+/// Drops covered pieces on `fitted` and checks the counts and holes against keeping them;
+/// returns how many were dropped.
+fn check(name: &str, fitted: &Fitted) -> usize {
+    let mut keep = EdgeOptions::default();
+    keep.drop_covered_pieces = false;
+    let (holes_keep, kept) = holes_with(fitted, &keep);
+    let (holes_drop, dropped) = holes_with(fitted, &EdgeOptions::default());
+    eprintln!(
+        "{name}: {} + {} patches, holes {:.4} % keeping every piece; {} + {} ({} dropped), \
+         holes {:.4} % dropping the covered ones",
+        kept.edge_patches,
+        kept.corner_patches,
+        holes_keep * 100.0,
+        dropped.edge_patches,
+        dropped.corner_patches,
+        dropped.covered_pieces,
+        holes_drop * 100.0
+    );
+    assert_eq!(kept.covered_pieces, 0);
+    assert_eq!(kept.pieces, dropped.pieces);
+    assert_eq!(
+        dropped.edge_patches + dropped.covered_pieces,
+        kept.edge_patches
+    );
+    // Every dropped piece is covered by what is kept, as the creases are probed: the holes
+    // stay within a few pixels of keeping them all.
+    assert!(
+        holes_drop <= holes_keep * 1.25 + 2e-5,
+        "holes {holes_keep} -> {holes_drop}"
+    );
+    dropped.covered_pieces
+}
+
+#[test]
+fn a_rims_pieces_keep_their_holes() {
+    // 96-sided rims at 90° (the crease sweep's): whatever is dropped leaves no more holes.
+    check(
+        "90° frustum",
+        &fit_with_spacing(frustum(90.0, 96), Some(0.045)),
+    );
+}
+
+#[test]
+fn shared_low_poly_models_drop_covered_pieces() {
+    for relative in ["gltf/Duck.glb", "textured_obj/fuze/fuze.obj"] {
+        let Some(path) = spatch_fixtures::shared_data(relative) else {
+            continue;
+        };
+        let fitted = fit(load_mesh(&path).unwrap().mesh);
+        let dropped = check(relative, &fitted);
+        assert!(dropped > 0, "{relative}: no piece dropped");
+        // Under the CAD parts' bound (cad_targets).
+        let (holes, _) = holes_with(&fitted, &EdgeOptions::default());
+        assert!(holes <= 0.0005, "{relative}: hole fraction {holes}");
+    }
+}
