@@ -16,7 +16,9 @@
 //! Cost: O(cells of the piece), only for pieces cut finer than
 //! [`OPEN_SIDE_CUT`] with a cell facing away.
 
-use crate::grid::{CELL_DRAW, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP};
+use crate::grid::{
+    CELL_DRAW, CELL_EXACT, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP,
+};
 use crate::plan::split::NodeRange;
 use crate::prepare::mip::MipLevel;
 
@@ -28,6 +30,26 @@ use crate::prepare::mip::MipLevel;
 /// cut 4-5 and its frame rose 4.8 % with a limit of 3 (1.4 % with 5, fuze
 /// 27.10 → 27.05 dB; callgrind, `--threads 1`).
 pub(crate) const OPEN_SIDE_CUT: u32 = 5;
+
+/// Whether the pieces of `level` draw every cell by pixel-centre coverage
+/// ([`crate::raster::cell_exact`]): when its patch carries colour. Why
+/// colour: a coloured surface's outline is drawn in its own colours over
+/// whatever lies behind, so the sub-nodes' half-pixel reach past the
+/// outline cost textured models most of their image error (fuze, unlit:
+/// 28.18 → 30.3 dB with colour grids); the frames of colourless scenes
+/// (the bunny and the sphere of issue 21's frame targets) keep the cheaper
+/// sub-node path and their images.
+pub(crate) fn exact_outlines(level: &MipLevel) -> bool {
+    level.colours.is_some()
+}
+
+/// Flags every drawn cell of a piece ([`CELL_DRAW`] set in `flags`) to be
+/// drawn by pixel-centre coverage ([`CELL_EXACT`]).
+pub(crate) fn mark_exact_cells(flags: &mut [u8]) {
+    for f in flags.iter_mut() {
+        *f |= (*f & CELL_DRAW) * CELL_EXACT;
+    }
+}
 
 /// Marks the open sides of every drawn cell of the piece `range` of
 /// `level` in its cell flags `flags` (row-major, `CELL_DRAW` already
