@@ -292,6 +292,9 @@ mod tests {
         // them (53) farther than the margin where a sub-triangle's corner
         // is acute, but none as far as the sub-nodes' reach (up to 0.7 px).
         assert!(margin > 500 && far * 10 < margin, "{margin} {far}");
-        assert!(worst < 2.0 * EXACT_MARGIN_PX, "written {worst} px past the outline");
+        assert!(
+            worst < 2.0 * EXACT_MARGIN_PX,
+            "written {worst} px past the outline"
+        );
     }
 }

@@ -202,7 +202,10 @@ fn coloured_patches_draw_their_outlines_at_pixel_centres() {
     let ((coloured, covered), (grey, _)) = (off(true), off(false));
     assert!((3_000..20_000).contains(&covered), "{covered} pixels");
     // 47 against 121 (the margin's pixels remain).
-    assert!(coloured * 2 < grey, "{coloured} against {grey} pixels differ");
+    assert!(
+        coloured * 2 < grey,
+        "{coloured} against {grey} pixels differ"
+    );
 }
 
 #[test]
