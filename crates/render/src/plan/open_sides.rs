@@ -11,6 +11,11 @@
 //! sub-nodes' half-pixel reach closes the seam (clipping those sides too
 //! opened cracks inside fuze's surface: holes 0.015 % → 0.13 %).
 //!
+//! Pieces of patches that carry colour go further ([`exact_outlines`]):
+//! every drawn cell is flagged [`crate::grid::CELL_EXACT`] and drawn by
+//! pixel-centre coverage ([`crate::raster::cell_exact`]), which also gets
+//! the outline right inside folded cells and along patch borders.
+//!
 //! Input: the level, the piece's node range and its cell flags (after the
 //! back-face test). Output: the flags with [`crate::grid::CELL_OPEN`] bits.
 //! Cost: O(cells of the piece), only for pieces cut finer than
@@ -131,6 +136,26 @@ mod tests {
         assert_eq!(open(2, 1), 0);
         assert_eq!(open(0, 1), 0, "undrawn cells get no flags");
         assert_eq!(open(2, 2), 0);
+    }
+
+    #[test]
+    fn only_coloured_levels_draw_exact_cells_and_only_drawn_cells_are_flagged() {
+        let grey = level_of(3, 3, &[]);
+        assert!(!exact_outlines(&grey));
+        let mut coloured = grey.clone();
+        coloured.colours = Some(vec![[9, 9, 9, 255]; 9]);
+        assert!(exact_outlines(&coloured));
+        let mut flags = [CELL_DRAW, 0, CELL_DRAW | CELL_OPEN_TOP, 2];
+        mark_exact_cells(&mut flags);
+        assert_eq!(
+            flags,
+            [
+                CELL_DRAW | CELL_EXACT,
+                0,
+                CELL_DRAW | CELL_OPEN_TOP | CELL_EXACT,
+                2
+            ]
+        );
     }
 
     #[test]
