@@ -80,7 +80,7 @@ impl FitOptions {
     /// patch whose nodes lie 1.5 texels apart or more (factor 2 and up) gets a grid, within
     /// the convert pipeline's colour budget. Why on: without the texture between its nodes
     /// fuze's albedo stays below 30 dB even with exact outlines (28.8 dB, unlit, 14 views;
-    /// 30.3 with grids at 1.83 × the bytes); Duck and Spot pay 5 % and 14 % more bytes
+    /// 30.7 with grids at 1.83 × the bytes); Duck and Spot pay 5 % and 14 % more bytes
     /// (docs/algorithms/fitter.md, "Colour grids").
     pub const DEFAULT_COLOUR_GRID_TEXELS: f32 = 1.0;
 
