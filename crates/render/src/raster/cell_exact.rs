@@ -115,9 +115,14 @@ fn draw_quad_row(
         let q = [lo[a], lo[a + 1], hi[a], hi[a + 1]];
         let z = q[0].z.min(q[1].z).min(q[2].z).min(q[3].z);
         let sub = word + ((a as u32) << 8);
-        let quad = Quad::new(q);
         let (x0, x1) = pixel_span(q.map(|p| p.x));
         let (y0, y1) = pixel_span(q.map(|p| p.y));
+        // Why: most sub-quads of a cell cut finer than its pixels hold no
+        // pixel centre, and the margins cost five square roots.
+        if x0 > x1 || y0 > y1 {
+            continue;
+        }
+        let quad = Quad::new(q);
         for py in y0..=y1 {
             for px in x0..=x1 {
                 let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
