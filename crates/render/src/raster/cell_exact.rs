@@ -28,9 +28,10 @@
 //! fuze 0.4 dB, Spot 0.6 dB) and the nearest depth of the quad's corners.
 //!
 //! Cost: per sub-quad a box of its corners and, per candidate pixel centre
-//! (usually none to two), five edge functions, about four times the
-//! sub-node path; only pieces that ask for it (patches with colour,
-//! [`crate::plan::piece`]).
+//! (usually none to two), its margins and five edge functions; only pieces
+//! that ask for it (patches with colour, [`crate::plan::piece`]). fuze's
+//! unlit frame: 39.5 M instructions with sub-nodes, 185.5 M with this
+//! (callgrind, `--threads 1`, 500²).
 
 use crate::fixed::Node;
 use crate::raster::band::{splat_sample, BandTarget};
