@@ -127,11 +127,11 @@ pub(crate) struct PipelineArgs {
     /// 4 bytes per node) for all surface nodes. The finest textures give up detail first.
     #[arg(long, value_name = "Nx|BYTES", default_value = "3x", value_parser = texture_budget)]
     pub(crate) texture_budget: TextureBudget,
-    /// Texels per sample of the colour grids (0 = none, the default; 1 = one sample per
-    /// texel): a textured patch whose nodes are
-    /// coarser than that gets colour samples finer than its nodes (2 to 64 per cell side,
-    /// container 1.2), read by the renderer at each pixel. Smaller: sharper texture, more
-    /// bytes, within --colour-budget, and a slower fit (Spot: about 5x).
+    /// Texels per sample of the colour grids (0 = none; 1 = one sample per texel, the
+    /// default): a textured patch whose nodes are 1.5 samples apart or more gets colour
+    /// samples finer than its nodes (2 to 64 per cell side, container 1.2), read by the
+    /// renderer at each pixel. Smaller: sharper texture, more bytes, within --colour-budget,
+    /// and a slower fit.
     #[arg(long, value_name = "TEXELS", default_value_t = FitOptions::DEFAULT_COLOUR_GRID_TEXELS, value_parser = non_negative_f32)]
     pub(crate) colour_grid: f32,
     /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them,

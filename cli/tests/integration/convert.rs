@@ -226,8 +226,19 @@ fn colour_grids_are_written_reported_and_budgeted() {
     assert!(scene.patches()[0]
         .colour_grid()
         .is_none_or(|g| g.factor() < 7));
-    // Grids are off by default.
-    let (scene, _) = run("none.spatch", &[]);
+    // Grids are on by default (one sample per texel; this quad's full grid needs more
+    // than the default 1x budget, which leaves it node colours) and `--colour-grid 0`
+    // turns them off.
+    let (scene, report) = run("default.spatch", &["--colour-budget", "1M"]);
+    assert_eq!(
+        scene.patches()[0].colour_grid().expect("a grid").factor(),
+        7
+    );
+    let (_, report_1x) = run("default_1x.spatch", &[]);
+    for r in [&report, &report_1x] {
+        assert_eq!(r["details"]["colour_grids"]["wanted_factor"], 7);
+    }
+    let (scene, _) = run("none.spatch", &["--colour-grid", "0"]);
     assert!(scene.patches()[0].colour_grid().is_none());
     assert_eq!(
         std::fs::read(t.path("none.spatch")).unwrap()[7],

@@ -32,6 +32,10 @@ pub(crate) const CELL_OPEN_RIGHT: u8 = 16;
 pub(crate) const CELL_OPEN_TOP: u8 = 32;
 /// Cell flag: the side toward cell `(i − 1, j)` is an outline.
 pub(crate) const CELL_OPEN_LEFT: u8 = 64;
+/// Cell flag: the cell is drawn by pixel-centre coverage
+/// ([`crate::raster::cell_exact`]); set on every drawn cell of a piece
+/// that asks for exact outlines ([`crate::plan::piece`]).
+pub(crate) const CELL_EXACT: u8 = 128;
 /// Every open-side flag.
 pub(crate) const CELL_OPEN: u8 =
     CELL_OPEN_BOTTOM | CELL_OPEN_RIGHT | CELL_OPEN_TOP | CELL_OPEN_LEFT;

@@ -65,6 +65,7 @@ fn a_checkerboard_survives_with_texture_spacing_and_is_lost_without() {
     let image = unlit(vec![DVec3::Z], 200);
     let mut blind = ConvertOptions::default();
     blind.fit.texels_per_node = 0.0;
+    blind.fit.colour_grid_texels = 0.0;
     let (off, off_bytes) = albedo(&mesh, &blind, &image);
     let mut fine = ConvertOptions::default();
     fine.fit.texture_budget = TextureBudget::Nodes(20_000);
@@ -84,6 +85,7 @@ fn the_default_budget_holds_the_quad_within_four_times_its_blind_bytes() {
     let mesh = checkerboard_quad();
     let mut blind = ConvertOptions::default();
     blind.fit.texels_per_node = 0.0;
+    blind.fit.colour_grid_texels = 0.0;
     let c0 = convert(ConvertInput::Mesh(mesh.clone()), &blind).unwrap();
     let c = convert(ConvertInput::Mesh(mesh), &ConvertOptions::default()).unwrap();
     let t = c
@@ -111,6 +113,7 @@ fn box_textured_keeps_more_detail_within_four_times_the_bytes() {
     let image = unlit(spatch_eval::views_for_count(14).unwrap(), 250);
     let mut blind = ConvertOptions::default();
     blind.fit.texels_per_node = 0.0;
+    blind.fit.colour_grid_texels = 0.0;
     let (off, off_bytes) = albedo(&mesh, &blind, &image);
     let (on, on_bytes) = albedo(&mesh, &ConvertOptions::default(), &image);
     let (off_db, on_db) = (off.psnr_db.unwrap(), on.psnr_db.unwrap());

@@ -11,12 +11,19 @@
 //! sub-nodes' half-pixel reach closes the seam (clipping those sides too
 //! opened cracks inside fuze's surface: holes 0.015 % → 0.13 %).
 //!
+//! Pieces of patches that carry colour go further ([`exact_outlines`]):
+//! every drawn cell is flagged [`crate::grid::CELL_EXACT`] and drawn by
+//! pixel-centre coverage ([`crate::raster::cell_exact`]), which also gets
+//! the outline right inside folded cells and along patch borders.
+//!
 //! Input: the level, the piece's node range and its cell flags (after the
 //! back-face test). Output: the flags with [`crate::grid::CELL_OPEN`] bits.
 //! Cost: O(cells of the piece), only for pieces cut finer than
 //! [`OPEN_SIDE_CUT`] with a cell facing away.
 
-use crate::grid::{CELL_DRAW, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP};
+use crate::grid::{
+    CELL_DRAW, CELL_EXACT, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP,
+};
 use crate::plan::split::NodeRange;
 use crate::prepare::mip::MipLevel;
 
@@ -28,6 +35,26 @@ use crate::prepare::mip::MipLevel;
 /// cut 4-5 and its frame rose 4.8 % with a limit of 3 (1.4 % with 5, fuze
 /// 27.10 → 27.05 dB; callgrind, `--threads 1`).
 pub(crate) const OPEN_SIDE_CUT: u32 = 5;
+
+/// Whether the pieces of `level` draw every cell by pixel-centre coverage
+/// ([`crate::raster::cell_exact`]): when its patch carries colour. Why
+/// colour: a coloured surface's outline is drawn in its own colours over
+/// whatever lies behind, so the sub-nodes' half-pixel reach past the
+/// outline cost textured models most of their image error (fuze, unlit:
+/// 28.18 → 30.3 dB with colour grids); the frames of colourless scenes
+/// (the bunny and the sphere of issue 21's frame targets) keep the cheaper
+/// sub-node path and their images.
+pub(crate) fn exact_outlines(level: &MipLevel) -> bool {
+    level.colours.is_some()
+}
+
+/// Flags every drawn cell of a piece ([`CELL_DRAW`] set in `flags`) to be
+/// drawn by pixel-centre coverage ([`CELL_EXACT`]).
+pub(crate) fn mark_exact_cells(flags: &mut [u8]) {
+    for f in flags.iter_mut() {
+        *f |= (*f & CELL_DRAW) * CELL_EXACT;
+    }
+}
 
 /// Marks the open sides of every drawn cell of the piece `range` of
 /// `level` in its cell flags `flags` (row-major, `CELL_DRAW` already
@@ -109,6 +136,26 @@ mod tests {
         assert_eq!(open(2, 1), 0);
         assert_eq!(open(0, 1), 0, "undrawn cells get no flags");
         assert_eq!(open(2, 2), 0);
+    }
+
+    #[test]
+    fn only_coloured_levels_draw_exact_cells_and_only_drawn_cells_are_flagged() {
+        let grey = level_of(3, 3, &[]);
+        assert!(!exact_outlines(&grey));
+        let mut coloured = grey.clone();
+        coloured.colours = Some(vec![[9, 9, 9, 255]; 9]);
+        assert!(exact_outlines(&coloured));
+        let mut flags = [CELL_DRAW, 0, CELL_DRAW | CELL_OPEN_TOP, 2];
+        mark_exact_cells(&mut flags);
+        assert_eq!(
+            flags,
+            [
+                CELL_DRAW | CELL_EXACT,
+                0,
+                CELL_DRAW | CELL_OPEN_TOP | CELL_EXACT,
+                2
+            ]
+        );
     }
 
     #[test]

@@ -27,16 +27,19 @@
 
 use crate::fixed::Node;
 use crate::grid::{
-    CELL_DRAW, CELL_OPEN, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT, CELL_OPEN_TOP,
+    CELL_DRAW, CELL_EXACT, CELL_OPEN, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT,
+    CELL_OPEN_TOP,
 };
 use crate::raster::band::{splat_sample, BandTarget};
 use crate::raster::cell_bilinear::{
     cell_in_band, draw_cell, setup, sub_word, BilinearPiece, Reciprocals, EXT,
 };
+use crate::raster::cell_exact::draw_exact_cell;
 
 /// Draws the cells of a piece with open sides, cut into `nu × nv`: cells
 /// without an open side as [`crate::raster::cell_bilinear`] does, the
-/// others clipped at their open sides.
+/// others clipped at their open sides, and cells flagged
+/// [`CELL_EXACT`] by pixel-centre coverage ([`crate::raster::cell_exact`]).
 pub(crate) fn draw_cells_open(
     t: &mut BandTarget<'_>,
     piece: &BilinearPiece<'_>,
@@ -70,6 +73,10 @@ pub(crate) fn draw_cells_open(
             // Every cell places its last column and row (see
             // `draw_open_cell`).
             let (cut, sub0) = ([nu, 1, nv, 1], sub_word(i, j, 0, 0));
+            if f & CELL_EXACT != 0 {
+                draw_exact_cell(t, c, r, [nu, nv], sub0, item);
+                continue;
+            }
             match Shape::of(c, f) {
                 Shape::Plain if inside => draw_cell::<false>(t, c, r, cut, sub0, item),
                 Shape::Plain => draw_cell::<true>(t, c, r, cut, sub0, item),

@@ -2,12 +2,13 @@
 //! rows. They read projected nodes, cell flags and screen triangles and
 //! know nothing of patches or plans. In use order: the band
 //! store, bilinear cells (and nodes alone), bilinear cells with exact
-//! outlines, Catmull-Rom cells, node
+//! outlines, bilinear cells by pixel-centre coverage, Catmull-Rom cells, node
 //! splats, the scan-line triangle rasterizer.
 
 pub(crate) mod band;
 pub(crate) mod cell_bilinear;
 pub(crate) mod cell_edges;
+pub(crate) mod cell_exact;
 pub(crate) mod cell_smooth;
 pub(crate) mod splat;
 pub(crate) mod triangle_raster;

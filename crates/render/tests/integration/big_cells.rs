@@ -139,8 +139,8 @@ fn coverage_difference(a: &RenderedImage, b: &RenderedImage) -> usize {
 
 /// A roof over the unit square: 48 × 48 cells rising along y to a ridge
 /// 0.3 high at y = 0.625 (off the middle row, where a patch crossing the
-/// frustum is split), then falling.
-fn roof() -> Scene {
+/// frustum is split), then falling; grey node colours with `colour`.
+fn roof(colour: bool) -> Scene {
     let n = 49u32;
     let s = 1.0 / (n - 1) as f32;
     let frame = Frame::new(Vec3::ZERO, Vec3::X * s, Vec3::Y * s, Vec3::Z * 0.001).expect("frame");
@@ -155,9 +155,57 @@ fn roof() -> Scene {
             (300.0 * h).round() as u16
         })
         .collect();
+    let colours = colour.then(|| vec![[128, 128, 128, 255]; (n * n) as usize]);
     let patch =
-        Patch::new(frame, GridSize::new(n, n).expect("grid"), heights, None).expect("patch");
-    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).expect("scene")
+        Patch::new(frame, GridSize::new(n, n).expect("grid"), heights, colours).expect("patch");
+    let channel = if colour {
+        ColourChannel::Rgb8
+    } else {
+        ColourChannel::None
+    };
+    Scene::new(DVec3::ZERO, channel, vec![patch]).expect("scene")
+}
+
+#[test]
+fn coloured_patches_draw_their_outlines_at_pixel_centres() {
+    // The roof from afar (cells of 2-5 px, below the open sides' cut): its
+    // ridge and borders are outlines. A coloured patch's cells write the
+    // pixel centres they hold (`raster::cell_exact`), as the triangle path
+    // does, up to the margin; a colourless one keeps the sub-nodes' reach.
+    let camera = Camera::look_at(
+        DVec3::new(0.5, -2.2, 0.5),
+        DVec3::new(0.5, 0.6, 0.3),
+        DVec3::new(0.3, 0.0, 1.0),
+        40.0,
+        200,
+        200,
+    )
+    .expect("camera");
+    let mut o = unlit();
+    o.culling = Culling::Back;
+    o.projection = spatch_render::Projection::Exact;
+    let mut tri = o;
+    tri.mode = RenderMode::Triangles;
+    let off = |colour: bool| {
+        let prepared = PreparedScene::new(&roof(colour));
+        let draw = |o: RenderOptions| {
+            Renderer::new(o)
+                .expect("renderer")
+                .render(&prepared, &camera)
+                .expect("frame")
+                .image
+        };
+        let (cells, exact) = (draw(o), draw(tri));
+        let covered = exact.depth().iter().filter(|d| d.is_finite()).count();
+        (coverage_difference(&cells, &exact), covered)
+    };
+    let ((coloured, covered), (grey, _)) = (off(true), off(false));
+    assert!((3_000..20_000).contains(&covered), "{covered} pixels");
+    // 47 against 121 (the margin's pixels remain).
+    assert!(
+        coloured * 2 < grey,
+        "{coloured} against {grey} pixels differ"
+    );
 }
 
 #[test]
@@ -168,7 +216,7 @@ fn where_magnified_cells_fold_away_their_outline_is_the_triangle_paths() {
     // pixels the triangle path covers up to a few along the ridge; before,
     // its sub-nodes wrote every pixel the ridge touched (about half of its
     // length more).
-    let scene = roof();
+    let scene = roof(false);
     let mut o = unlit();
     o.culling = Culling::Back;
     o.projection = spatch_render::Projection::Exact;
