@@ -13,8 +13,8 @@
 
 use glam::{DMat3, DVec3, IVec4, Vec3, Vec4, Vec4Swizzles};
 
-use crate::grid::CELL_DRAW;
-use crate::prepare::mip::MipLevel;
+use spatch_format::EMPTY;
+
 use crate::prepare::normals::unit_normal_lanes;
 
 /// Extra half angle of every normal cone (radians), for the curvature of
@@ -28,46 +28,74 @@ pub(crate) struct NormalCone {
     pub(crate) half_angle: f64,
 }
 
-/// The normal cone of a level-0 grid with ratios `(rx, ry)` whose unit axes
-/// are the columns of `rotation`: the axis is the normalized sum of the
-/// unit normals at the four corners of every drawable cell, the half angle
-/// the largest angle between the axis and one of them, plus
-/// [`CONE_MARGIN`]. Why lanes throughout (a cell's four corners summed and
-/// tested side by side, kept as three lane vectors): the sum and the
-/// angles over a list of normals were two thirds of this function, and
-/// the function a quarter of a one-frame render of the perfect sphere
-/// (callgrind, `spatch render sphere.spatch`).
+/// What one pass over a level-0 grid's drawable cells finds: the normal
+/// cone and the range of the displacements of their corners (the used nodes' range, [`crate::prepare::mip::MipLevel::d_range`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ConeScan {
+    pub(crate) cone: NormalCone,
+    pub(crate) d_range: (u16, u16),
+}
+
+/// The normal cone of the level-0 grid `d` (`cols` nodes a row, `EMPTY`
+/// for no node) with ratios `(rx, ry)` whose unit axes are the columns of
+/// `rotation`, or `None` when no cell has four filled corners: the axis is
+/// the normalized sum of the unit normals at the four corners of every
+/// drawable cell, the half angle the largest angle between the axis and
+/// one of them, plus [`CONE_MARGIN`]. Read from the nodes (a cell is
+/// drawable when its four corners are filled), so preparation needs no
+/// cell flags of level 0, which are built when a frame first draws the
+/// patch ([`crate::prepare::patch::PreparedPatch::level`]). Why lanes
+/// throughout (a cell's four corners summed and tested side by side, kept
+/// as three lane vectors): the sum and the angles over a list of normals
+/// were two thirds of this function, and the function a quarter of a
+/// one-frame render of the perfect sphere (callgrind, `spatch render
+/// sphere.spatch`).
 pub(crate) fn compute_normal_cone(
-    level: &MipLevel,
+    d: &[u16],
+    cols: usize,
     ratios: (f32, f32),
     rotation: &DMat3,
-) -> NormalCone {
-    let cols = level.cols;
-    let mut corners: Vec<[Vec4; 3]> = Vec::with_capacity(level.drawable_cells as usize);
+) -> Option<ConeScan> {
+    let cells = (cols - 1) * (d.len() / cols).saturating_sub(1);
+    // Written by index into room for every cell. Why not pushed: the
+    // growth check's call made the loop keep its sums on the stack
+    // (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
+    let mut corners = vec![[Vec4::ZERO; 3]; cells];
+    let mut count = 0;
     let mut sum = [Vec4::ZERO; 3];
-    let node_rows = level.displacements.chunks_exact(cols);
-    let rows = node_rows.clone().zip(node_rows.skip(1));
-    for (flags, (below, above)) in level.cell_flags.chunks_exact(cols - 1).zip(rows) {
-        let cells = flags.iter().zip(below.windows(2).zip(above.windows(2)));
-        for (&flag, (b, a)) in cells {
-            if flag & CELL_DRAW == 0 {
-                continue;
-            }
+    // The drawn cells' corner range, in float lanes (exact for codes;
+    // SSE2 has no packed 32-bit integer minimum).
+    let (mut lo, mut hi) = (Vec4::splat(f32::MAX), Vec4::ZERO);
+    let empty = Vec4::splat(EMPTY.into());
+    let node_rows = d.chunks_exact(cols);
+    for (below, above) in node_rows.clone().zip(node_rows.skip(1)) {
+        for (b, a) in below.windows(2).zip(above.windows(2)) {
             // The corners d00, d10, d01, d11, and their differences over
             // one spacing, doubled (the form of a node normal's
             // differences): du = [d10 - d00, d10 - d00, d11 - d01, d11 -
             // d01], dv = [d01 - d00, d11 - d10, d01 - d00, d11 - d10]. Why
             // integer lanes: one packed subtraction and conversion each
-            // (exact, so the normals are those of the scalar form).
+            // (exact, so the normals are those of the scalar form). A cell
+            // is drawable when none of its corners is empty: one packed
+            // compare.
             let c = IVec4::new(b[0].into(), b[1].into(), a[0].into(), a[1].into());
+            let cf = c.as_vec4();
+            if cf.cmpeq(empty).any() {
+                continue;
+            }
+            (lo, hi) = (lo.min(cf), hi.max(cf));
             let du = (c.yyww() - c.xxzz()) * 2;
             let dv = (c.zwzw() - c.xyxy()) * 2;
             let n = unit_normal_lanes(du.as_vec4(), dv.as_vec4(), ratios);
             for (s, c) in sum.iter_mut().zip(n) {
                 *s += c;
             }
-            corners.push(n);
+            corners[count] = n;
+            count += 1;
         }
+    }
+    if count == 0 {
+        return None;
     }
     let axis = Vec3::new(
         sum[0].element_sum(),
@@ -77,16 +105,20 @@ pub(crate) fn compute_normal_cone(
     .normalize_or(Vec3::Z);
     let [ax, ay, az] = axis.to_array().map(Vec4::splat);
     // The cosines in `Vec3::dot`'s order, lane by lane.
-    let min_cos = corners
+    let min_cos = corners[..count]
         .iter()
         .fold(Vec4::ONE, |m, [x, y, z]| m.min(*x * ax + *y * ay + *z * az))
         .min_element()
         .clamp(-1.0, 1.0);
     let half_angle = (min_cos as f64).acos() + CONE_MARGIN;
-    NormalCone {
+    let cone = NormalCone {
         axis: (*rotation * axis.as_dvec3()).normalize(),
         half_angle,
-    }
+    };
+    Some(ConeScan {
+        cone,
+        d_range: (lo.min_element() as u16, hi.max_element() as u16),
+    })
 }
 
 #[cfg(test)]
@@ -94,7 +126,7 @@ mod tests {
     use super::*;
     use crate::prepare::mip::base_level;
     use crate::prepare::normals::reconstruct_normal;
-    use spatch_format::{Frame, GridSize, Patch, EMPTY};
+    use spatch_format::{Frame, GridSize, Patch};
 
     #[test]
     fn corner_normals_in_lanes_equal_normals_one_by_one() {
@@ -142,10 +174,14 @@ mod tests {
             let grid = GridSize::new(cols as u32, rows as u32).unwrap();
             let patch = Patch::new(frame, grid, d.clone(), None).unwrap();
             let Some(level) = base_level(&patch) else {
+                assert!(compute_normal_cone(&d, cols, (0.1, 0.1), &DMat3::IDENTITY).is_none());
                 continue;
             };
             let ratios = (0.01 + rng.unit() * 0.3, 0.01 + rng.unit() * 0.3);
-            let cone = compute_normal_cone(&level, ratios, &DMat3::IDENTITY);
+            let scan = compute_normal_cone(&d, cols, ratios, &DMat3::IDENTITY).unwrap();
+            // The by-product is the level's own range.
+            assert_eq!(scan.d_range, level.d_range, "case {case}");
+            let cone = scan.cone;
             let at = |i: usize, j: usize| d[j * cols + i] as i32;
             let mut corners = Vec::new();
             for j in 0..rows - 1 {

@@ -20,9 +20,9 @@
 
 use std::sync::OnceLock;
 
-use spatch_format::{Patch, EMPTY};
+use spatch_format::EMPTY;
 
-use crate::grid::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
+use crate::grid::{close_cells, drawn_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 use crate::prepare::normals::grid_slots;
 
 /// Most levels kept per patch (including level 0).
@@ -74,26 +74,7 @@ impl MipLevel {
         displacements: Vec<u16>,
         colours: Option<Vec<[u8; 4]>>,
     ) -> Self {
-        let (ccols, crows) = (cols - 1, rows - 1);
-        // A cell is drawn when its four corners are filled. Why from a row
-        // of filled flags, slices of known length: the test runs in byte
-        // lanes (per cell with indexed loads it was 8.7 M of a one-frame
-        // bunny render's 265 M instructions; callgrind).
-        let filled: Vec<bool> = displacements.iter().map(|&d| d != EMPTY).collect();
-        let mut drawn = Vec::with_capacity(ccols * crows);
-        for j in 0..crows {
-            let (below, above) = (
-                &filled[j * cols..][..cols],
-                &filled[(j + 1) * cols..][..cols],
-            );
-            let bottom = below.iter().zip(&below[1..]);
-            let top = above.iter().zip(&above[1..]);
-            drawn.extend(
-                bottom
-                    .zip(top)
-                    .map(|((&b0, &b1), (&a0, &a1))| b0 & b1 & a0 & a1),
-            );
-        }
+        let drawn = drawn_cells(&displacements, cols, rows);
         Self::with_drawn_cells(
             [cols, rows],
             spacing,
@@ -228,19 +209,28 @@ fn corners_filled(displacements: &[u16], k: usize, di: usize, dj: usize) -> bool
 
 /// Level 0 of `patch`'s pyramid, or `None` when the patch has no drawable
 /// cell.
-pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
+#[cfg(test)]
+pub(crate) fn base_level(patch: &spatch_format::Patch) -> Option<MipLevel> {
     let grid = patch.grid();
-    let base = MipLevel::new(
-        grid.cols() as usize,
-        grid.rows() as usize,
-        1,
+    let base = level_zero(
+        [grid.cols() as usize, grid.rows() as usize],
         patch.displacements().to_vec(),
         patch.colours().map(<[_]>::to_vec),
     );
     (base.drawable_cells > 0).then_some(base)
 }
 
-/// How many levels the pyramid over `base` has above it (up to
+/// Level 0 of a pyramid over a `cols × rows` grid of `displacements` (and
+/// `colours`).
+pub(crate) fn level_zero(
+    [cols, rows]: [usize; 2],
+    displacements: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+) -> MipLevel {
+    MipLevel::new(cols, rows, 1, displacements, colours)
+}
+
+/// How many levels the pyramid over the level-0 nodes `base` (`cols × rows`) has above it (up to
 /// [`MAX_MIP_LEVELS`] in all): levels halve while both sides have three
 /// nodes or more ([`halved_side`]) and the halved grid has a drawable cell
 /// whose four corners are level-0 nodes (level `m`'s node `(i, j)` is level
@@ -248,8 +238,8 @@ pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
 /// padding). Counted from level 0's nodes without building the levels, so
 /// that they can be built on first use; a counted level always halves and
 /// has a drawable cell.
-pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
-    let (mut cols, mut rows, mut step) = (base.cols, base.rows, 1);
+pub(crate) fn coarse_level_count(base: &[u16], [base_cols, base_rows]: [usize; 2]) -> usize {
+    let (mut cols, mut rows, mut step) = (base_cols, base_rows, 1);
     let mut count = 0;
     while count + 1 < MAX_MIP_LEVELS {
         let (Some(c), Some(r)) = (halved_side(cols), halved_side(rows)) else {
@@ -258,12 +248,11 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
         (cols, rows, step) = (c, r, step * 2);
         // This level's nodes that are level 0's, and their distances in
         // level 0 along a row and across rows.
-        let real_cols = (base.cols - 1) / step + 1;
-        let real_rows = (base.rows - 1) / step + 1;
-        let (di, dj) = (step, step * base.cols);
+        let real_cols = (base_cols - 1) / step + 1;
+        let real_rows = (base_rows - 1) / step + 1;
+        let (di, dj) = (step, step * base_cols);
         let drawable = (0..real_rows.saturating_sub(1)).any(|j| {
-            (0..real_cols.saturating_sub(1))
-                .any(|i| corners_filled(&base.displacements, j * dj + i * di, di, dj))
+            (0..real_cols.saturating_sub(1)).any(|i| corners_filled(base, j * dj + i * di, di, dj))
         });
         if !drawable {
             break;
@@ -287,7 +276,7 @@ pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
     let Some(base) = base_level(patch) else {
         return Vec::new();
     };
-    let count = coarse_level_count(&base);
+    let count = coarse_level_count(&base.displacements, [base.cols, base.rows]);
     let mut levels = vec![base];
     for _ in 0..count {
         let next = halve_level(levels.last().expect("at least level 0"));
@@ -571,7 +560,7 @@ mod tests {
             let Some(base) = base_level(&patch) else {
                 continue;
             };
-            let count = coarse_level_count(&base);
+            let count = coarse_level_count(&base.displacements, [base.cols, base.rows]);
             let mut level = base.clone();
             for m in 0..count {
                 let next = halve_level(&level).expect("a counted level halves");

@@ -1,6 +1,8 @@
 //! One patch prepared once per scene and reused for every frame: its
-//! model-space frame in f64, its mip pyramid (level 0 at once, the others
-//! on first use), its normal cone and bounding sphere.
+//! model-space frame in f64, its normal cone and bounding sphere (at once:
+//! every frame's culling reads them), and its mip pyramid, every level of
+//! it built the first time a frame draws it (level 0 included: a view
+//! culls about a quarter of a closed model's patches as facing away).
 //!
 //! Each level also keeps its nodes' unit patch-space normals (and albedos)
 //! in the form the Phong resolve pass interpolates ([`LevelShading`]):
@@ -19,7 +21,7 @@ use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 use crate::fixed::ATTR_ONE;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
-use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
+use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
 use crate::prepare::normals::{table_slot, unit_normal_lanes, RowDifferences};
 
@@ -39,8 +41,14 @@ pub(crate) struct PreparedPatch {
     pub(crate) radius: f64,
     /// Which sides the scene says may be seen (automatic culling).
     pub(crate) sides: Sides,
-    /// Level 0 of the mip pyramid ([`crate::prepare::mip`]).
-    pub(crate) base: MipLevel,
+    /// Level 0's grid size `[cols, rows]`.
+    pub(crate) grid: [usize; 2],
+    /// Level 0's displacements and colours, from which [`Self::level`]
+    /// builds level 0.
+    nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
+    /// Level 0 of the mip pyramid ([`crate::prepare::mip`]), built the
+    /// first time a frame asks for it ([`Self::level`]).
+    base: OnceLock<MipLevel>,
     /// The patch's colour grid (albedo finer than its nodes), read by the
     /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
     pub(crate) colour_grid: Option<ColourGrid>,
@@ -87,12 +95,17 @@ impl LevelShading {
     fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let mut normals = vec![Vec4::ZERO; cols * rows];
+        // Zeroed a row at a time. Why: zeroing the whole level at once
+        // (kilobytes) ran as `rep stosb`, 4 M instructions of a one-frame
+        // bunny render (callgrind, `spatch render bunny.spatch -o out.png
+        // --threads 1`).
+        let mut normals = Vec::with_capacity(cols * rows);
         let mut slots = SlotSetBuilder::default();
         let mut differences = RowDifferences::new(d, cols, rows, EMPTY);
         for j in 0..rows {
             let (gi, gj) = differences.row(j);
             let row = j * cols..(j + 1) * cols;
+            normals.resize(row.end, Vec4::ZERO);
             write_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals[row.clone()]);
             for ((&u, &gi), &gj) in level.used[row].iter().zip(gi).zip(gj) {
                 if u {
@@ -160,8 +173,8 @@ impl PreparedPatch {
     /// [`Self::shading`]) and the corners of its box in model space; `None`
     /// when it has no drawable cell.
     pub(crate) fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
-        let base = base_level(patch)?;
-        let levels = 1 + coarse_level_count(&base);
+        let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
+        let displacements = patch.displacements();
         let frame = patch.frame();
         let axes = frame.axes().map(|a| a.as_dvec3());
         let units = frame.unit_axes().map(|a| a.as_dvec3());
@@ -169,10 +182,11 @@ impl PreparedPatch {
         let [lx, ly, lz] = frame.lengths();
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
-        let cone = compute_normal_cone(&base, ratios, &rotation);
+        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation)?;
+        let levels = 1 + coarse_level_count(displacements, size);
         // Box of the used nodes in model space, via the local box corners.
-        let (d0, d1) = base.d_range;
-        let (ci, cj) = ((base.cols - 1) as f64, (base.rows - 1) as f64);
+        let (d0, d1) = scan.d_range;
+        let (ci, cj) = ((size[0] - 1) as f64, (size[1] - 1) as f64);
         let corners: [DVec3; 8] = std::array::from_fn(|k| {
             origin
                 + axes[0] * if k & 1 == 0 { 0.0 } else { ci }
@@ -189,11 +203,13 @@ impl PreparedPatch {
             axes,
             rotation,
             ratios,
-            cone,
+            cone: scan.cone,
             centre: (lo + hi) * 0.5,
             radius: (hi - lo).length() * 0.5,
             sides: patch.sides(),
-            base,
+            grid: size,
+            nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
+            base: OnceLock::new(),
             colour_grid: patch.colour_grid().cloned(),
             coarse: (1..levels).map(|_| OnceLock::new()).collect(),
             shading: (0..levels).map(|_| OnceLock::new()).collect(),
@@ -208,12 +224,26 @@ impl PreparedPatch {
     /// draws few levels (the 500² sphere: level 0 only), and the levels
     /// above 0 were 31 M of the sphere's 74 M instructions of pyramids
     /// (callgrind, `profile_sphere 500 1 1`).
+    /// Level 0 too is built on first use. Why: its cell flags, closing
+    /// flags, edge masks, used nodes and weights are read only by frames
+    /// that draw it, and the quarter of the bunny's patches that face away
+    /// at the automatic view were 7 M instructions of a one-frame render
+    /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
         match m {
-            0 => &self.base,
+            0 => self
+                .base
+                .get_or_init(|| level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone())),
             _ => self.coarse[m - 1]
                 .get_or_init(|| halve_level(self.level(m - 1)).expect("a counted level halves")),
         }
+    }
+
+    /// Level 0, built if no frame has asked for it yet, for changes that
+    /// apply to every frame ([`crate::prepare::overlap`]).
+    pub(crate) fn base_mut(&mut self) -> &mut MipLevel {
+        self.level(0);
+        self.base.get_mut().expect("built by the line above")
     }
 
     /// Levels in the pyramid (level 0 included).
