@@ -272,7 +272,7 @@ fn halved_side(n: usize) -> Option<usize> {
 /// patch has no drawable cell. A prepared patch builds its levels above 0
 /// on first use instead ([`crate::prepare::patch::PreparedPatch::level`]).
 #[cfg(test)]
-pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
+pub(crate) fn build_mip_pyramid(patch: &spatch_format::Patch) -> Vec<MipLevel> {
     let Some(base) = base_level(patch) else {
         return Vec::new();
     };
@@ -484,7 +484,7 @@ fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> 
 mod tests {
     use super::*;
     use glam::Vec3;
-    use spatch_format::{Frame, GridSize};
+    use spatch_format::{Frame, GridSize, Patch};
 
     #[test]
     fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {

@@ -23,7 +23,7 @@ use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{table_slot, unit_normal_lanes, RowDifferences};
+use crate::prepare::normals::{grid_differences, table_slot, unit_normal_lanes};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -95,22 +95,13 @@ impl LevelShading {
     fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        // Zeroed a row at a time. Why: zeroing the whole level at once
-        // (kilobytes) ran as `rep stosb`, 4 M instructions of a one-frame
-        // bunny render (callgrind, `spatch render bunny.spatch -o out.png
-        // --threads 1`).
+        let (gi, gj) = grid_differences(d, cols, rows, EMPTY);
         let mut normals = Vec::with_capacity(cols * rows);
+        push_unit_normals((&gi, &gj), d, ratios, &mut normals);
         let mut slots = SlotSetBuilder::default();
-        let mut differences = RowDifferences::new(d, cols, rows, EMPTY);
-        for j in 0..rows {
-            let (gi, gj) = differences.row(j);
-            let row = j * cols..(j + 1) * cols;
-            normals.resize(row.end, Vec4::ZERO);
-            write_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals[row.clone()]);
-            for ((&u, &gi), &gj) in level.used[row].iter().zip(gi).zip(gj) {
-                if u {
-                    slots.add(table_slot(gi, gj));
-                }
+        for ((&u, &gi), &gj) in level.used.iter().zip(&gi).zip(&gj) {
+            if u {
+                slots.add(table_slot(gi, gj));
             }
         }
         let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
@@ -126,34 +117,34 @@ impl LevelShading {
     }
 }
 
-/// Writes the unit normals of a row of nodes with differences `(gi, gj)`
-/// and displacements `d` into `out` (zero-filled), rounded as projected
-/// nodes carry them ([`crate::fixed::attr_to_bits`]); empty nodes keep
-/// zero. Why four nodes at a time in vector lanes ([`unit_normal_lanes`],
-/// the rounding by `Vec4::trunc`, which truncates in lanes as `as i32`
-/// does for these values, and a 4 × 4 transpose to node order): one by
-/// one, the three saturating conversions per node were most of the cost.
-fn write_unit_normals((gi, gj): (&[i32], &[i32]), d: &[u16], ratios: (f32, f32), out: &mut [Vec4]) {
+/// Appends the unit normals of nodes with differences `(gi, gj)` and
+/// displacements `d` to `out`, rounded as projected nodes carry them
+/// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why four nodes
+/// at a time in vector lanes ([`unit_normal_lanes`], the rounding by
+/// `Vec4::trunc`, which truncates in lanes as `as i32` does for these
+/// values, and a 4 × 4 transpose to node order): one by one, the three
+/// saturating conversions per node were most of the cost. Why appended,
+/// not written over a zeroed level: zeroing kilobytes at once ran as `rep
+/// stosb`, 4 M instructions of a one-frame bunny render (callgrind).
+fn push_unit_normals(
+    (gi, gj): (&[i32], &[i32]),
+    d: &[u16],
+    ratios: (f32, f32),
+    out: &mut Vec<Vec4>,
+) {
     let n = d.len();
     let whole = n / 4 * 4;
     let fours = gi[..whole].chunks_exact(4).zip(gj[..whole].chunks_exact(4));
-    for ((gi, gj), (d, out)) in fours.zip(d.chunks_exact(4).zip(out.chunks_exact_mut(4))) {
+    let keep = |(v, &dk): (Vec4, &u16)| if dk != EMPTY { v } else { Vec4::ZERO };
+    for ((gi, gj), d) in fours.zip(d.chunks_exact(4)) {
         let nodes = four_unit_normals(gi, gj, ratios);
-        for ((o, &dk), v) in out.iter_mut().zip(d).zip(nodes) {
-            if dk != EMPTY {
-                *o = v;
-            }
-        }
+        out.extend(nodes.into_iter().zip(d).map(keep));
     }
     if whole < n {
         let pad =
             |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
         let nodes = four_unit_normals(&pad(&gi[..n]), &pad(&gj[..n]), ratios);
-        for ((o, &dk), v) in out[whole..n].iter_mut().zip(&d[whole..]).zip(nodes) {
-            if dk != EMPTY {
-                *o = v;
-            }
-        }
+        out.extend(nodes.into_iter().zip(&d[whole..]).map(keep));
     }
 }
 
