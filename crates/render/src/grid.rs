@@ -45,34 +45,6 @@ pub(crate) fn cell_drawable(nodes: &[Node], k: usize, cols: usize) -> bool {
         && nodes[k + cols + 1][0] != EMPTY_NODE
 }
 
-/// Per cell of a `cols × rows` grid of displacement codes (row-major,
-/// `(cols - 1) × (rows - 1)`), true when its four corners are filled (not
-/// [`spatch_format::EMPTY`]). Why from a row of filled flags, slices of
-/// known length: the test runs in byte lanes (per cell with indexed loads
-/// it was 8.7 M of a one-frame bunny render's 265 M instructions;
-/// callgrind).
-pub(crate) fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
-    let filled: Vec<bool> = displacements
-        .iter()
-        .map(|&d| d != spatch_format::EMPTY)
-        .collect();
-    let mut drawn = Vec::with_capacity((cols - 1) * (rows - 1));
-    for j in 0..rows - 1 {
-        let (below, above) = (
-            &filled[j * cols..][..cols],
-            &filled[(j + 1) * cols..][..cols],
-        );
-        let bottom = below.iter().zip(&below[1..]);
-        let top = above.iter().zip(&above[1..]);
-        drawn.extend(
-            bottom
-                .zip(top)
-                .map(|((&b0, &b1), (&a0, &a1))| b0 & b1 & a0 & a1),
-        );
-    }
-    drawn
-}
-
 /// Marks which drawn cells of a `ccols × crows` flag array close their
 /// right column ([`CELL_RIGHT`]: the next cell of the row is not drawn)
 /// and their top row ([`CELL_TOP`]: the cell above is not drawn). Returns
