@@ -46,25 +46,30 @@ pub(crate) struct PreparedPatch {
     /// Level 0's displacements and colours, from which [`Self::level`]
     /// builds level 0.
     nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
-    /// Level 0 of the mip pyramid ([`crate::prepare::mip`]), built the
-    /// first time a frame asks for it ([`Self::level`]).
-    base: OnceLock<MipLevel>,
     /// The patch's colour grid (albedo finer than its nodes), read by the
     /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
     pub(crate) colour_grid: Option<ColourGrid>,
-    /// Levels 1 and up, each built from the one below the first time a
-    /// frame asks for it ([`Self::level`]).
-    coarse: Vec<OnceLock<MipLevel>>,
-    /// Per level, the nodes' shading inputs, built on first use
-    /// ([`Self::shading`]).
-    shading: Vec<OnceLock<LevelShading>>,
-    /// Per level `g` above 0, the shading inputs of level `g - 1` on the
-    /// grid that level `g`'s cells span, built on first use
-    /// ([`Self::fine_shading`]).
-    fine_shading: Vec<OnceLock<LevelShading>>,
-    /// Per level `g` above 0, how far level `g - 1` strays from level
-    /// `g`'s surface, built on first use ([`Self::coarse_error`]).
-    coarse_errors: Vec<OnceLock<f32>>,
+    /// Per level of the mip pyramid ([`crate::prepare::mip`]), what is
+    /// built the first time a frame asks for it. Why one vector: four (one
+    /// per kind) were four allocations per patch, 1.4 M instructions of a
+    /// one-frame bunny render (callgrind).
+    levels: Vec<LazyLevel>,
+}
+
+/// What a prepared patch builds of one mip level on first use.
+#[derive(Debug, Clone, Default)]
+struct LazyLevel {
+    /// The level ([`PreparedPatch::level`]): level 0 from the patch's
+    /// nodes, the others from the level below.
+    level: OnceLock<MipLevel>,
+    /// The nodes' shading inputs ([`PreparedPatch::shading`]).
+    shading: OnceLock<LevelShading>,
+    /// Above level 0: the shading inputs of the level below on this
+    /// level's grid ([`PreparedPatch::fine_shading`]).
+    fine_shading: OnceLock<LevelShading>,
+    /// Above level 0: how far the level below strays from this level's
+    /// surface ([`PreparedPatch::coarse_error`]).
+    coarse_error: OnceLock<f32>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -200,12 +205,8 @@ impl PreparedPatch {
             sides: patch.sides(),
             grid: size,
             nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
-            base: OnceLock::new(),
             colour_grid: patch.colour_grid().cloned(),
-            coarse: (1..levels).map(|_| OnceLock::new()).collect(),
-            shading: (0..levels).map(|_| OnceLock::new()).collect(),
-            fine_shading: (0..levels).map(|_| OnceLock::new()).collect(),
-            coarse_errors: (0..levels).map(|_| OnceLock::new()).collect(),
+            levels: vec![LazyLevel::default(); levels],
         };
         Some((prepared, corners))
     }
@@ -221,25 +222,25 @@ impl PreparedPatch {
     /// at the automatic view were 7 M instructions of a one-frame render
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
-        match m {
-            0 => self
-                .base
-                .get_or_init(|| level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone())),
-            _ => self.coarse[m - 1]
-                .get_or_init(|| halve_level(self.level(m - 1)).expect("a counted level halves")),
-        }
+        self.levels[m].level.get_or_init(|| match m {
+            0 => level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+            _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
+        })
     }
 
     /// Level 0, built if no frame has asked for it yet, for changes that
     /// apply to every frame ([`crate::prepare::overlap`]).
     pub(crate) fn base_mut(&mut self) -> &mut MipLevel {
         self.level(0);
-        self.base.get_mut().expect("built by the line above")
+        self.levels[0]
+            .level
+            .get_mut()
+            .expect("built by the line above")
     }
 
     /// Levels in the pyramid (level 0 included).
     pub(crate) fn level_count(&self) -> usize {
-        1 + self.coarse.len()
+        self.levels.len()
     }
 
     /// The shading inputs of level `m`, built the first time a frame asks
@@ -249,7 +250,9 @@ impl PreparedPatch {
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
-        self.shading[m].get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
+        self.levels[m]
+            .shading
+            .get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
@@ -262,7 +265,7 @@ impl PreparedPatch {
     /// `g`, so a sample anywhere in a drawn cell of level `g` interpolates
     /// filled inputs. Built the first time a frame asks for it, and kept.
     pub(crate) fn fine_shading(&self, g: usize) -> &LevelShading {
-        self.fine_shading[g].get_or_init(|| {
+        self.levels[g].fine_shading.get_or_init(|| {
             let (fine, coarse) = (self.level(g - 1), self.level(g));
             let (sf, sc) = (self.shading(g - 1), self.shading(g));
             let (cols, rows) = (2 * (coarse.cols - 1) + 1, 2 * (coarse.rows - 1) + 1);
@@ -298,7 +301,7 @@ impl PreparedPatch {
     /// level `g - 1` (the shorter of its two axes). Measured the first time
     /// a frame asks for it, and kept: a property of the scene, not the view.
     pub(crate) fn coarse_error(&self, g: usize) -> f32 {
-        *self.coarse_errors[g].get_or_init(|| {
+        *self.levels[g].coarse_error.get_or_init(|| {
             let gap = coarse_gap(self.level(g - 1), self.level(g));
             let (rx, ry) = self.ratios_at(g - 1);
             gap * rx.max(ry)
