@@ -126,7 +126,14 @@ impl MipLevel {
         // stores per drawn cell were a third of this function (callgrind,
         // `profile_sphere 500 1 1 trimmed`).
         let mut used = vec![false; cols * rows];
-        let mut corner = vec![false; cols];
+        // On the stack for grids up to 64 nodes a row.
+        let (mut stack, mut heap) = ([false; 64], Vec::new());
+        let corner: &mut [bool] = if cols <= 64 {
+            &mut stack[..cols]
+        } else {
+            heap.resize(cols, false);
+            &mut heap
+        };
         for (j, row) in drawn.chunks_exact(ccols).enumerate() {
             // Nodes of this row of cells that are a corner of a drawn cell.
             corner[0] = row[0];
@@ -135,7 +142,7 @@ impl MipLevel {
                 *c = pair[0] | pair[1];
             }
             let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
-            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(&corner) {
+            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(corner.iter()) {
                 *b |= c;
                 *a |= c;
             }

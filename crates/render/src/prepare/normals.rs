@@ -119,12 +119,21 @@ pub(crate) fn grid_differences(
         let nodes = below.iter().zip(centre).zip(above);
         out.extend(nodes.map(|((&b, &c), &a)| difference(b, c, a, empty)));
     };
-    let outside = vec![empty; cols];
+    // On the stack for grids up to 64 nodes a row (an allocation per
+    // level otherwise).
+    let (stack, heap);
+    let outside: &[u16] = if cols <= 64 {
+        stack = [empty; 64];
+        &stack[..cols]
+    } else {
+        heap = vec![empty; cols];
+        &heap
+    };
     let mut gj = Vec::with_capacity(n);
     if rows == 1 {
-        across(&outside, d, &outside, &mut gj);
+        across(outside, d, outside, &mut gj);
     } else {
-        across(&outside, &d[..cols], &d[cols..2 * cols], &mut gj);
+        across(outside, &d[..cols], &d[cols..2 * cols], &mut gj);
         across(
             &d[..n - 2 * cols],
             &d[cols..n - cols],
