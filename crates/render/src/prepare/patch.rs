@@ -206,7 +206,7 @@ impl PreparedPatch {
             grid: size,
             nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
             colour_grid: patch.colour_grid().cloned(),
-            levels: vec![LazyLevel::default(); levels],
+            levels: (0..levels).map(|_| LazyLevel::default()).collect(),
         };
         Some((prepared, corners))
     }
