@@ -140,12 +140,7 @@ pub(crate) fn grid_differences(
             &d[2 * cols..],
             &mut gj,
         );
-        across(
-            &d[n - 2 * cols..n - cols],
-            &d[n - cols..],
-            &outside,
-            &mut gj,
-        );
+        across(&d[n - 2 * cols..n - cols], &d[n - cols..], outside, &mut gj);
     }
     if cols == 1 {
         return (vec![0; n], gj);
