@@ -219,7 +219,7 @@ impl PreparedPatch {
     /// Level 0 too is built on first use. Why: its cell flags, closing
     /// flags, edge masks, used nodes and weights are read only by frames
     /// that draw it, and the quarter of the bunny's patches that face away
-    /// at the automatic view were 7 M instructions of a one-frame render
+    /// at the automatic view were 8 M instructions of a one-frame render
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
         self.levels[m].level.get_or_init(|| match m {
