@@ -64,7 +64,7 @@ pub(crate) fn plan_chunk(
         let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
-        let level0 = &p.base;
+        let level0 = p.level(0);
         let root = NodeRange::whole(level0);
         let (lo, hi) = root.local_box(level0.d_range);
         let class = setup.frustum.classify(&map, t0, lo, hi);
@@ -130,7 +130,7 @@ pub(crate) fn plan_chunk(
 /// out.png --threads 1`); once warm it is a no-op.
 fn reserve_level_zero(work: &mut ChunkWork, patches: &[PreparedPatch]) {
     let (nodes, cells) = patches.iter().fold((0, 0), |(n, c), p| {
-        let (cols, rows) = (p.base.cols, p.base.rows);
+        let [cols, rows] = p.grid;
         (n + cols * rows, c + (cols - 1) * (rows - 1))
     });
     work.nodes.reserve(nodes);

@@ -62,7 +62,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     // 2. Mip level.
     let (mut m, mut shift) = (0, 0);
     if whole && opts.mip && p.level_count() > 1 {
-        let extent = estimate_extent(&proj0, piece, p.base.d_range);
+        let extent = estimate_extent(&proj0, piece, p.level(0).d_range);
         // The splat path covers cells whose extent (the max-norm sum of
         // their edges) is up to twice its half-width: a level whose nodes
         // still land within that reach needs no subdivision.

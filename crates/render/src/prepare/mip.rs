@@ -20,7 +20,7 @@
 
 use std::sync::OnceLock;
 
-use spatch_format::{Patch, EMPTY};
+use spatch_format::EMPTY;
 
 use crate::grid::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 use crate::prepare::normals::grid_slots;
@@ -74,26 +74,7 @@ impl MipLevel {
         displacements: Vec<u16>,
         colours: Option<Vec<[u8; 4]>>,
     ) -> Self {
-        let (ccols, crows) = (cols - 1, rows - 1);
-        // A cell is drawn when its four corners are filled. Why from a row
-        // of filled flags, slices of known length: the test runs in byte
-        // lanes (per cell with indexed loads it was 8.7 M of a one-frame
-        // bunny render's 265 M instructions; callgrind).
-        let filled: Vec<bool> = displacements.iter().map(|&d| d != EMPTY).collect();
-        let mut drawn = Vec::with_capacity(ccols * crows);
-        for j in 0..crows {
-            let (below, above) = (
-                &filled[j * cols..][..cols],
-                &filled[(j + 1) * cols..][..cols],
-            );
-            let bottom = below.iter().zip(&below[1..]);
-            let top = above.iter().zip(&above[1..]);
-            drawn.extend(
-                bottom
-                    .zip(top)
-                    .map(|((&b0, &b1), (&a0, &a1))| b0 & b1 & a0 & a1),
-            );
-        }
+        let drawn = drawn_cells(&displacements, cols, rows);
         Self::with_drawn_cells(
             [cols, rows],
             spacing,
@@ -145,7 +126,14 @@ impl MipLevel {
         // stores per drawn cell were a third of this function (callgrind,
         // `profile_sphere 500 1 1 trimmed`).
         let mut used = vec![false; cols * rows];
-        let mut corner = vec![false; cols];
+        // On the stack for grids up to 64 nodes a row.
+        let (mut stack, mut heap) = ([false; 64], Vec::new());
+        let corner: &mut [bool] = if cols <= 64 {
+            &mut stack[..cols]
+        } else {
+            heap.resize(cols, false);
+            &mut heap
+        };
         for (j, row) in drawn.chunks_exact(ccols).enumerate() {
             // Nodes of this row of cells that are a corner of a drawn cell.
             corner[0] = row[0];
@@ -154,19 +142,12 @@ impl MipLevel {
                 *c = pair[0] | pair[1];
             }
             let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
-            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(&corner) {
+            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(corner.iter()) {
                 *b |= c;
                 *a |= c;
             }
         }
-        // Branch-free, so it runs in lanes.
-        let (lo, hi) = displacements
-            .iter()
-            .zip(&used)
-            .fold((u16::MAX, 0), |(lo, hi), (&d, &u)| {
-                let (l, h) = if u { (d, d) } else { (u16::MAX, 0) };
-                (lo.min(l), hi.max(h))
-            });
+        let (lo, hi) = used_range(&displacements, &used);
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
         let mut weights = Vec::with_capacity(displacements.len());
         push_weights(&displacements, d_range, &mut weights);
@@ -217,6 +198,61 @@ impl MipLevel {
     }
 }
 
+/// Per cell of a `cols × rows` grid of displacement codes (row-major,
+/// `(cols - 1) × (rows - 1)`), true when its four corners are filled. Why
+/// one flat pass over the grid (every node with the three after it along
+/// the row and across, the nodes closing a row dropped after): the test
+/// runs in byte lanes over the whole grid; a row at a time (15–17 cells on
+/// a scan) left it to the loops' scalar remainders (3.6 M of a one-frame
+/// bunny render's 187 M instructions; callgrind, `spatch render
+/// bunny.spatch -o out.png --threads 1`).
+fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
+    let (ccols, crows) = (cols - 1, rows - 1);
+    if ccols * crows == 0 {
+        return Vec::new();
+    }
+    let filled: Vec<bool> = displacements.iter().map(|&d| d != EMPTY).collect();
+    // Node k with node k + 1, k + cols and k + cols + 1 (the last node of
+    // the last row of cells has no k + cols + 1: it closes its row).
+    let m = crows * cols - 1;
+    let quads = filled[..m].iter().zip(&filled[1..=m]);
+    let quads = quads
+        .zip(&filled[cols..cols + m])
+        .zip(&filled[cols + 1..cols + 1 + m]);
+    let quad: Vec<bool> = quads.map(|(((&a, &b), &c), &d)| a & b & c & d).collect();
+    let mut drawn = Vec::with_capacity(ccols * crows);
+    for row in quad.chunks(cols) {
+        drawn.extend_from_slice(&row[..ccols]);
+    }
+    drawn
+}
+
+/// The smallest and largest of `displacements` where `used` (`(u16::MAX,
+/// 0)` when none). Why eight lanes of extremes, merged at the end: a fold
+/// into one pair ran one node at a time (3.7 M of a one-frame bunny
+/// render's 187 M instructions; callgrind).
+fn used_range(displacements: &[u16], used: &[bool]) -> (u16, u16) {
+    let (mut lo, mut hi) = ([u16::MAX; 8], [0u16; 8]);
+    let nodes = displacements.chunks_exact(8).zip(used.chunks_exact(8));
+    for (d, u) in nodes {
+        for l in 0..8 {
+            let (a, b) = if u[l] { (d[l], d[l]) } else { (u16::MAX, 0) };
+            lo[l] = lo[l].min(a);
+            hi[l] = hi[l].max(b);
+        }
+    }
+    let whole = displacements.len() / 8 * 8;
+    for (&d, &u) in displacements[whole..].iter().zip(&used[whole..]) {
+        let (a, b) = if u { (d, d) } else { (u16::MAX, 0) };
+        lo[0] = lo[0].min(a);
+        hi[0] = hi[0].max(b);
+    }
+    (
+        lo.into_iter().min().unwrap_or(u16::MAX),
+        hi.into_iter().max().unwrap_or(0),
+    )
+}
+
 /// True when the four corners of the cell whose first corner is node `k`
 /// of `displacements` are filled; `di` and `dj` are the steps to the next
 /// corner along the row and across rows.
@@ -228,19 +264,28 @@ fn corners_filled(displacements: &[u16], k: usize, di: usize, dj: usize) -> bool
 
 /// Level 0 of `patch`'s pyramid, or `None` when the patch has no drawable
 /// cell.
-pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
+#[cfg(test)]
+pub(crate) fn base_level(patch: &spatch_format::Patch) -> Option<MipLevel> {
     let grid = patch.grid();
-    let base = MipLevel::new(
-        grid.cols() as usize,
-        grid.rows() as usize,
-        1,
+    let base = level_zero(
+        [grid.cols() as usize, grid.rows() as usize],
         patch.displacements().to_vec(),
         patch.colours().map(<[_]>::to_vec),
     );
     (base.drawable_cells > 0).then_some(base)
 }
 
-/// How many levels the pyramid over `base` has above it (up to
+/// Level 0 of a pyramid over a `cols × rows` grid of `displacements` (and
+/// `colours`).
+pub(crate) fn level_zero(
+    [cols, rows]: [usize; 2],
+    displacements: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+) -> MipLevel {
+    MipLevel::new(cols, rows, 1, displacements, colours)
+}
+
+/// How many levels the pyramid over the level-0 nodes `base` (`cols × rows`) has above it (up to
 /// [`MAX_MIP_LEVELS`] in all): levels halve while both sides have three
 /// nodes or more ([`halved_side`]) and the halved grid has a drawable cell
 /// whose four corners are level-0 nodes (level `m`'s node `(i, j)` is level
@@ -248,8 +293,8 @@ pub(crate) fn base_level(patch: &Patch) -> Option<MipLevel> {
 /// padding). Counted from level 0's nodes without building the levels, so
 /// that they can be built on first use; a counted level always halves and
 /// has a drawable cell.
-pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
-    let (mut cols, mut rows, mut step) = (base.cols, base.rows, 1);
+pub(crate) fn coarse_level_count(base: &[u16], [base_cols, base_rows]: [usize; 2]) -> usize {
+    let (mut cols, mut rows, mut step) = (base_cols, base_rows, 1);
     let mut count = 0;
     while count + 1 < MAX_MIP_LEVELS {
         let (Some(c), Some(r)) = (halved_side(cols), halved_side(rows)) else {
@@ -258,12 +303,11 @@ pub(crate) fn coarse_level_count(base: &MipLevel) -> usize {
         (cols, rows, step) = (c, r, step * 2);
         // This level's nodes that are level 0's, and their distances in
         // level 0 along a row and across rows.
-        let real_cols = (base.cols - 1) / step + 1;
-        let real_rows = (base.rows - 1) / step + 1;
-        let (di, dj) = (step, step * base.cols);
+        let real_cols = (base_cols - 1) / step + 1;
+        let real_rows = (base_rows - 1) / step + 1;
+        let (di, dj) = (step, step * base_cols);
         let drawable = (0..real_rows.saturating_sub(1)).any(|j| {
-            (0..real_cols.saturating_sub(1))
-                .any(|i| corners_filled(&base.displacements, j * dj + i * di, di, dj))
+            (0..real_cols.saturating_sub(1)).any(|i| corners_filled(base, j * dj + i * di, di, dj))
         });
         if !drawable {
             break;
@@ -283,11 +327,11 @@ fn halved_side(n: usize) -> Option<usize> {
 /// patch has no drawable cell. A prepared patch builds its levels above 0
 /// on first use instead ([`crate::prepare::patch::PreparedPatch::level`]).
 #[cfg(test)]
-pub(crate) fn build_mip_pyramid(patch: &Patch) -> Vec<MipLevel> {
+pub(crate) fn build_mip_pyramid(patch: &spatch_format::Patch) -> Vec<MipLevel> {
     let Some(base) = base_level(patch) else {
         return Vec::new();
     };
-    let count = coarse_level_count(&base);
+    let count = coarse_level_count(&base.displacements, [base.cols, base.rows]);
     let mut levels = vec![base];
     for _ in 0..count {
         let next = halve_level(levels.last().expect("at least level 0"));
@@ -495,7 +539,7 @@ fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> 
 mod tests {
     use super::*;
     use glam::Vec3;
-    use spatch_format::{Frame, GridSize};
+    use spatch_format::{Frame, GridSize, Patch};
 
     #[test]
     fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {
@@ -571,7 +615,7 @@ mod tests {
             let Some(base) = base_level(&patch) else {
                 continue;
             };
-            let count = coarse_level_count(&base);
+            let count = coarse_level_count(&base.displacements, [base.cols, base.rows]);
             let mut level = base.clone();
             for m in 0..count {
                 let next = halve_level(&level).expect("a counted level halves");

@@ -125,10 +125,11 @@ impl SlotSetBuilder {
 
     /// The set of the nodes added.
     pub(crate) fn finish(self) -> SlotSet {
-        let words: Vec<(u16, u64)> = (0..WORDS as u16)
-            .zip(self.bits)
-            .filter(|&(_, w)| w != 0)
-            .collect();
+        // Counted first, so the list is allocated once (growing it by
+        // pushes reallocated it for most levels).
+        let filled = self.bits.iter().filter(|&&w| w != 0).count();
+        let mut words: Vec<(u16, u64)> = Vec::with_capacity(filled);
+        words.extend((0..WORDS as u16).zip(self.bits).filter(|&(_, w)| w != 0));
         SlotSet {
             slots: words.iter().map(|&(_, w)| w.count_ones()).sum(),
             words,

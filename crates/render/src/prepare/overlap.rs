@@ -81,7 +81,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         .into_par_iter()
         .map(|p| candidates(shared, &normals, p, &neighbours[p]))
         .collect();
-    let cells = |p: &PreparedPatch| vec![false; p.base.cell_flags.len()];
+    let cells = |p: &PreparedPatch| vec![false; p.level(0).cell_flags.len()];
     let mut trimmed: Vec<Vec<bool>> = patches.iter().map(cells).collect();
     let mut count = 0;
     for (p, list) in found.iter().enumerate() {
@@ -89,7 +89,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         let mut mine = std::mem::take(&mut trimmed[p]);
         for c in list {
             let cover = &trimmed[c.cover as usize];
-            let ccols = patches[c.cover as usize].base.cols - 1;
+            let ccols = patches[c.cover as usize].level(0).cols - 1;
             let untrimmed = |b: &[u8; 4]| {
                 (b[1] as usize..=b[3] as usize).all(|j| {
                     let row = &cover[j * ccols..(j + 1) * ccols];
@@ -107,7 +107,7 @@ pub(crate) fn trim_overlaps(patches: &mut [PreparedPatch]) -> u64 {
         .par_iter_mut()
         .zip(&trimmed)
         .filter(|(_, cells)| cells.contains(&true))
-        .for_each(|(patch, cells)| patch.base.trim_cells(cells));
+        .for_each(|(patch, cells)| patch.base_mut().trim_cells(cells));
     count
 }
 
@@ -133,7 +133,7 @@ fn candidates(
     p: usize,
     covers: &[usize],
 ) -> Vec<Candidate> {
-    let level = &patches[p].base;
+    let level = patches[p].level(0);
     let (cols, ccols) = (level.cols, level.cols - 1);
     let codes = &level.displacements;
     let mut corners = vec![None; cols * level.rows];
@@ -141,7 +141,7 @@ fn candidates(
     let mut found = Vec::new();
     for &q in covers {
         let map = GridMap::new(&patches[p], &patches[q]);
-        map.row_ranges(level, &patches[q].base, &mut ranges);
+        map.row_ranges(level, patches[q].level(0), &mut ranges);
         let cover = Cover::new(&patches[q], &normals[q]);
         for (j, range) in ranges.iter().enumerate() {
             for i in range.clone() {
@@ -216,7 +216,7 @@ fn neighbours(patches: &[PreparedPatch]) -> Vec<Vec<usize>> {
 /// (callgrind, `profile_sphere 500 1 1 trimmed`: 30 M instructions as four
 /// corners and a cross product per cell).
 fn cell_normals(p: &PreparedPatch) -> Vec<DVec3> {
-    let level = &p.base;
+    let level = p.level(0);
     let (cols, rows) = (level.cols, level.rows);
     let [ax, ay, az] = p.axes;
     let (a, b) = (ax + ay, ay - ax);
@@ -378,7 +378,7 @@ impl<'a> Cover<'a> {
             patch,
             normals,
             height_scale: patch.axes[2].length() / spacing,
-            base_whole: patch.base.draws_every_cell(),
+            base_whole: patch.level(0).draws_every_cell(),
             coarse_whole: (1..patch.level_count()).all(|m| patch.level(m).draws_every_cell()),
         }
     }
@@ -388,7 +388,7 @@ impl<'a> Cover<'a> {
     /// drawn cells at every level (see the module header).
     fn covered_corner(&self, [u, v, w]: [f64; 3]) -> Option<Corner> {
         let q = self.patch;
-        let base = &q.base;
+        let base = q.level(0);
         // `u, v` at least 0 and inside the grid (NaN fails too), so the
         // truncations below are floors.
         let inside = |u: f64, v: f64, level: &MipLevel| {
@@ -491,7 +491,7 @@ mod tests {
             .patches
             .iter()
             .map(|p| {
-                let l = &p.base;
+                let l = p.level(0);
                 (0..l.rows - 1)
                     .flat_map(|j| (0..l.cols - 1).map(move |i| (i, j)))
                     .filter(|&(i, j)| !l.cell_is_drawable(i, j))

@@ -1,6 +1,8 @@
 //! One patch prepared once per scene and reused for every frame: its
-//! model-space frame in f64, its mip pyramid (level 0 at once, the others
-//! on first use), its normal cone and bounding sphere.
+//! model-space frame in f64, its normal cone and bounding sphere (at once:
+//! every frame's culling reads them), and its mip pyramid, every level of
+//! it built the first time a frame draws it (level 0 included: a view
+//! culls about a quarter of a closed model's patches as facing away).
 //!
 //! Each level also keeps its nodes' unit patch-space normals (and albedos)
 //! in the form the Phong resolve pass interpolates ([`LevelShading`]):
@@ -19,9 +21,9 @@ use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 use crate::fixed::ATTR_ONE;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
-use crate::prepare::mip::{base_level, coarse_level_count, halve_level, MipLevel};
+use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{table_slot, unit_normal_lanes, RowDifferences};
+use crate::prepare::normals::{grid_differences, table_slot, unit_normal_lanes};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -39,24 +41,35 @@ pub(crate) struct PreparedPatch {
     pub(crate) radius: f64,
     /// Which sides the scene says may be seen (automatic culling).
     pub(crate) sides: Sides,
-    /// Level 0 of the mip pyramid ([`crate::prepare::mip`]).
-    pub(crate) base: MipLevel,
+    /// Level 0's grid size `[cols, rows]`.
+    pub(crate) grid: [usize; 2],
+    /// Level 0's displacements and colours, from which [`Self::level`]
+    /// builds level 0.
+    nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
     /// The patch's colour grid (albedo finer than its nodes), read by the
     /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
     pub(crate) colour_grid: Option<ColourGrid>,
-    /// Levels 1 and up, each built from the one below the first time a
-    /// frame asks for it ([`Self::level`]).
-    coarse: Vec<OnceLock<MipLevel>>,
-    /// Per level, the nodes' shading inputs, built on first use
-    /// ([`Self::shading`]).
-    shading: Vec<OnceLock<LevelShading>>,
-    /// Per level `g` above 0, the shading inputs of level `g - 1` on the
-    /// grid that level `g`'s cells span, built on first use
-    /// ([`Self::fine_shading`]).
-    fine_shading: Vec<OnceLock<LevelShading>>,
-    /// Per level `g` above 0, how far level `g - 1` strays from level
-    /// `g`'s surface, built on first use ([`Self::coarse_error`]).
-    coarse_errors: Vec<OnceLock<f32>>,
+    /// Per level of the mip pyramid ([`crate::prepare::mip`]), what is
+    /// built the first time a frame asks for it. Why one vector: four (one
+    /// per kind) were four allocations per patch, 1.4 M instructions of a
+    /// one-frame bunny render (callgrind).
+    levels: Vec<LazyLevel>,
+}
+
+/// What a prepared patch builds of one mip level on first use.
+#[derive(Debug, Clone, Default)]
+struct LazyLevel {
+    /// The level ([`PreparedPatch::level`]): level 0 from the patch's
+    /// nodes, the others from the level below.
+    level: OnceLock<MipLevel>,
+    /// The nodes' shading inputs ([`PreparedPatch::shading`]).
+    shading: OnceLock<LevelShading>,
+    /// Above level 0: the shading inputs of the level below on this
+    /// level's grid ([`PreparedPatch::fine_shading`]).
+    fine_shading: OnceLock<LevelShading>,
+    /// Above level 0: how far the level below strays from this level's
+    /// surface ([`PreparedPatch::coarse_error`]).
+    coarse_error: OnceLock<f32>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -87,17 +100,13 @@ impl LevelShading {
     fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let mut normals = vec![Vec4::ZERO; cols * rows];
+        let (gi, gj) = grid_differences(d, cols, rows, EMPTY);
+        let mut normals = Vec::with_capacity(cols * rows);
+        push_unit_normals((&gi, &gj), d, ratios, &mut normals);
         let mut slots = SlotSetBuilder::default();
-        let mut differences = RowDifferences::new(d, cols, rows, EMPTY);
-        for j in 0..rows {
-            let (gi, gj) = differences.row(j);
-            let row = j * cols..(j + 1) * cols;
-            write_unit_normals((gi, gj), &d[row.clone()], ratios, &mut normals[row.clone()]);
-            for ((&u, &gi), &gj) in level.used[row].iter().zip(gi).zip(gj) {
-                if u {
-                    slots.add(table_slot(gi, gj));
-                }
+        for ((&u, &gi), &gj) in level.used.iter().zip(&gi).zip(&gj) {
+            if u {
+                slots.add(table_slot(gi, gj));
             }
         }
         let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
@@ -113,34 +122,34 @@ impl LevelShading {
     }
 }
 
-/// Writes the unit normals of a row of nodes with differences `(gi, gj)`
-/// and displacements `d` into `out` (zero-filled), rounded as projected
-/// nodes carry them ([`crate::fixed::attr_to_bits`]); empty nodes keep
-/// zero. Why four nodes at a time in vector lanes ([`unit_normal_lanes`],
-/// the rounding by `Vec4::trunc`, which truncates in lanes as `as i32`
-/// does for these values, and a 4 × 4 transpose to node order): one by
-/// one, the three saturating conversions per node were most of the cost.
-fn write_unit_normals((gi, gj): (&[i32], &[i32]), d: &[u16], ratios: (f32, f32), out: &mut [Vec4]) {
+/// Appends the unit normals of nodes with differences `(gi, gj)` and
+/// displacements `d` to `out`, rounded as projected nodes carry them
+/// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why four nodes
+/// at a time in vector lanes ([`unit_normal_lanes`], the rounding by
+/// `Vec4::trunc`, which truncates in lanes as `as i32` does for these
+/// values, and a 4 × 4 transpose to node order): one by one, the three
+/// saturating conversions per node were most of the cost. Why appended,
+/// not written over a zeroed level: zeroing kilobytes at once ran as `rep
+/// stosb`, 4 M instructions of a one-frame bunny render (callgrind).
+fn push_unit_normals(
+    (gi, gj): (&[i32], &[i32]),
+    d: &[u16],
+    ratios: (f32, f32),
+    out: &mut Vec<Vec4>,
+) {
     let n = d.len();
     let whole = n / 4 * 4;
     let fours = gi[..whole].chunks_exact(4).zip(gj[..whole].chunks_exact(4));
-    for ((gi, gj), (d, out)) in fours.zip(d.chunks_exact(4).zip(out.chunks_exact_mut(4))) {
+    let keep = |(v, &dk): (Vec4, &u16)| if dk != EMPTY { v } else { Vec4::ZERO };
+    for ((gi, gj), d) in fours.zip(d.chunks_exact(4)) {
         let nodes = four_unit_normals(gi, gj, ratios);
-        for ((o, &dk), v) in out.iter_mut().zip(d).zip(nodes) {
-            if dk != EMPTY {
-                *o = v;
-            }
-        }
+        out.extend(nodes.into_iter().zip(d).map(keep));
     }
     if whole < n {
         let pad =
             |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
         let nodes = four_unit_normals(&pad(&gi[..n]), &pad(&gj[..n]), ratios);
-        for ((o, &dk), v) in out[whole..n].iter_mut().zip(&d[whole..]).zip(nodes) {
-            if dk != EMPTY {
-                *o = v;
-            }
-        }
+        out.extend(nodes.into_iter().zip(&d[whole..]).map(keep));
     }
 }
 
@@ -160,8 +169,8 @@ impl PreparedPatch {
     /// [`Self::shading`]) and the corners of its box in model space; `None`
     /// when it has no drawable cell.
     pub(crate) fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
-        let base = base_level(patch)?;
-        let levels = 1 + coarse_level_count(&base);
+        let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
+        let displacements = patch.displacements();
         let frame = patch.frame();
         let axes = frame.axes().map(|a| a.as_dvec3());
         let units = frame.unit_axes().map(|a| a.as_dvec3());
@@ -169,10 +178,11 @@ impl PreparedPatch {
         let [lx, ly, lz] = frame.lengths();
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
-        let cone = compute_normal_cone(&base, ratios, &rotation);
+        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation)?;
+        let levels = 1 + coarse_level_count(displacements, size);
         // Box of the used nodes in model space, via the local box corners.
-        let (d0, d1) = base.d_range;
-        let (ci, cj) = ((base.cols - 1) as f64, (base.rows - 1) as f64);
+        let (d0, d1) = scan.d_range;
+        let (ci, cj) = ((size[0] - 1) as f64, (size[1] - 1) as f64);
         let corners: [DVec3; 8] = std::array::from_fn(|k| {
             origin
                 + axes[0] * if k & 1 == 0 { 0.0 } else { ci }
@@ -189,16 +199,14 @@ impl PreparedPatch {
             axes,
             rotation,
             ratios,
-            cone,
+            cone: scan.cone,
             centre: (lo + hi) * 0.5,
             radius: (hi - lo).length() * 0.5,
             sides: patch.sides(),
-            base,
+            grid: size,
+            nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
             colour_grid: patch.colour_grid().cloned(),
-            coarse: (1..levels).map(|_| OnceLock::new()).collect(),
-            shading: (0..levels).map(|_| OnceLock::new()).collect(),
-            fine_shading: (0..levels).map(|_| OnceLock::new()).collect(),
-            coarse_errors: (0..levels).map(|_| OnceLock::new()).collect(),
+            levels: (0..levels).map(|_| LazyLevel::default()).collect(),
         };
         Some((prepared, corners))
     }
@@ -208,17 +216,31 @@ impl PreparedPatch {
     /// draws few levels (the 500² sphere: level 0 only), and the levels
     /// above 0 were 31 M of the sphere's 74 M instructions of pyramids
     /// (callgrind, `profile_sphere 500 1 1`).
+    /// Level 0 too is built on first use. Why: its cell flags, closing
+    /// flags, edge masks, used nodes and weights are read only by frames
+    /// that draw it, and the quarter of the bunny's patches that face away
+    /// at the automatic view were 8 M instructions of a one-frame render
+    /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
-        match m {
-            0 => &self.base,
-            _ => self.coarse[m - 1]
-                .get_or_init(|| halve_level(self.level(m - 1)).expect("a counted level halves")),
-        }
+        self.levels[m].level.get_or_init(|| match m {
+            0 => level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+            _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
+        })
+    }
+
+    /// Level 0, built if no frame has asked for it yet, for changes that
+    /// apply to every frame ([`crate::prepare::overlap`]).
+    pub(crate) fn base_mut(&mut self) -> &mut MipLevel {
+        self.level(0);
+        self.levels[0]
+            .level
+            .get_mut()
+            .expect("built by the line above")
     }
 
     /// Levels in the pyramid (level 0 included).
     pub(crate) fn level_count(&self) -> usize {
-        1 + self.coarse.len()
+        self.levels.len()
     }
 
     /// The shading inputs of level `m`, built the first time a frame asks
@@ -228,7 +250,9 @@ impl PreparedPatch {
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
-        self.shading[m].get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
+        self.levels[m]
+            .shading
+            .get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
@@ -241,7 +265,7 @@ impl PreparedPatch {
     /// `g`, so a sample anywhere in a drawn cell of level `g` interpolates
     /// filled inputs. Built the first time a frame asks for it, and kept.
     pub(crate) fn fine_shading(&self, g: usize) -> &LevelShading {
-        self.fine_shading[g].get_or_init(|| {
+        self.levels[g].fine_shading.get_or_init(|| {
             let (fine, coarse) = (self.level(g - 1), self.level(g));
             let (sf, sc) = (self.shading(g - 1), self.shading(g));
             let (cols, rows) = (2 * (coarse.cols - 1) + 1, 2 * (coarse.rows - 1) + 1);
@@ -277,7 +301,7 @@ impl PreparedPatch {
     /// level `g - 1` (the shorter of its two axes). Measured the first time
     /// a frame asks for it, and kept: a property of the scene, not the view.
     pub(crate) fn coarse_error(&self, g: usize) -> f32 {
-        *self.coarse_errors[g].get_or_init(|| {
+        *self.levels[g].coarse_error.get_or_init(|| {
             let gap = coarse_gap(self.level(g - 1), self.level(g));
             let (rx, ry) = self.ratios_at(g - 1);
             gap * rx.max(ry)

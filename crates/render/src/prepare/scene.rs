@@ -73,8 +73,15 @@ impl PreparedScene {
             .map(|patch| PreparedPatch::new(patch, offset))
             .collect();
         let skipped = built.iter().filter(|b| b.is_none()).count();
-        let (mut patches, corners): (Vec<PreparedPatch>, Vec<[DVec3; 8]>) =
-            built.into_iter().flatten().unzip();
+        // Pushed into vectors of the right size. Why: `unzip` grew them by
+        // doubling, copying the prepared patches (1.5 M of a one-frame
+        // bunny render's 181 M instructions; callgrind).
+        let kept = built.len() - skipped;
+        let (mut patches, mut corners) = (Vec::with_capacity(kept), Vec::with_capacity(kept));
+        for (patch, box_corners) in built.into_iter().flatten() {
+            patches.push(patch);
+            corners.push(box_corners);
+        }
         let trimmed_cells = if trim { trim_overlaps(&mut patches) } else { 0 };
         // Drawing order (after trimming, which relies on scene order).
         let patches = in_drawing_order(patches);
