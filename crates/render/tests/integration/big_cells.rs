@@ -168,7 +168,8 @@ fn roof(colour: bool) -> Scene {
 
 #[test]
 fn coloured_patches_draw_their_outlines_at_pixel_centres() {
-    // The roof from afar (cells of 2-5 px, below the open sides' cut): its
+    // The roof from afar (cells of 2-5 px, below the open sides' cut; its
+    // pieces cut 6 and more per side are drawn exactly when coloured): its
     // ridge and borders are outlines. A coloured patch's cells write the
     // pixel centres they hold (`raster::cell_exact`), as the triangle path
     // does, up to the margin; a colourless one keeps the sub-nodes' reach.
