@@ -69,6 +69,10 @@ pub(crate) struct EvalArgs {
     /// the albedo alone (colour and texture, no light), as `spatch render --shading unlit`.
     #[arg(long, value_enum, default_value_t = ShadingArg::Phong, conflicts_with = "sweep")]
     shading: ShadingArg,
+    /// Draw coloured patches' cells by pixel-centre coverage, as `spatch
+    /// render --exact-outlines`.
+    #[arg(long, conflicts_with = "sweep")]
+    exact_outlines: bool,
     /// Splat limit of the patch renders in pixels (see `spatch render
     /// --splat-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
@@ -153,6 +157,7 @@ impl EvalArgs {
             CellsArg::Smooth => CellScheme::Smooth,
         };
         self.shading.apply(&mut render);
+        render.exact_outlines = self.exact_outlines;
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render.geometry_limit = self.geometry_limit;

@@ -161,6 +161,13 @@ pub(crate) struct RenderArgs {
     /// frame's kernels chosen at run time (same image, for comparisons).
     #[arg(long)]
     no_simd: bool,
+    /// Draw the cells of coloured patches by pixel-centre coverage, as a
+    /// triangle rasterizer does, instead of letting them reach about half a
+    /// pixel past the outline: sharper coloured silhouettes (fuze, unlit:
+    /// 27.9 -> 30.7 dB against its source) for several times the frame's
+    /// cost on coloured scenes.
+    #[arg(long)]
+    exact_outlines: bool,
     /// Take the coarsest mip level whose projected cells stay below PX
     /// pixels, 0.1..=16. The default keeps every visible detail; larger
     /// values trade detail for speed (coarser grids, magnified).
@@ -337,6 +344,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
     o.simd = !args.no_simd;
+    o.exact_outlines = args.exact_outlines;
     o.mip_limit = args.mip_limit;
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;

@@ -199,6 +199,13 @@ pub struct RenderOptions {
     /// Default true. The image is the same bit for bit either way; false
     /// keeps the portable instructions (for comparisons).
     pub simd: bool,
+    /// Draw the cells of coloured patches by pixel-centre coverage (as a
+    /// triangle rasterizer does) instead of sub-nodes that reach about half
+    /// a pixel past the outline. Default false: sharper coloured outlines
+    /// (fuze, unlit, 14 views: 27.9 → 30.7 dB against its source) at several
+    /// times the frame's cost on coloured scenes (Spot 5.8×, mannequin
+    /// 1.4× and more); see docs/algorithms/render.md.
+    pub exact_outlines: bool,
 }
 
 impl RenderOptions {
@@ -289,6 +296,7 @@ impl Default for RenderOptions {
             background: [0, 0, 0, 0],
             lighting: Lighting::default(),
             simd: true,
+            exact_outlines: false,
         }
     }
 }

@@ -11,8 +11,8 @@
 //! sub-nodes' half-pixel reach closes the seam (clipping those sides too
 //! opened cracks inside fuze's surface: holes 0.015 % → 0.13 %).
 //!
-//! Pieces of patches that carry colour, cut at least [`EXACT_CUT`] per side,
-//! go further ([`exact_outlines`]): every drawn cell is flagged [`crate::grid::CELL_EXACT`] and drawn by
+//! With [`crate::RenderOptions::exact_outlines`], pieces of patches that
+//! carry colour go further ([`exact_outlines`]): every drawn cell is flagged [`crate::grid::CELL_EXACT`] and drawn by
 //! pixel-centre coverage ([`crate::raster::cell_exact`]), which also gets
 //! the outline right inside folded cells and along patch borders.
 //!
@@ -35,16 +35,6 @@ use crate::prepare::mip::MipLevel;
 /// cut 4-5 and its frame rose 4.8 % with a limit of 3 (1.4 % with 5, fuze
 /// 27.10 → 27.05 dB; callgrind, `--threads 1`).
 pub(crate) const OPEN_SIDE_CUT: u32 = 5;
-
-/// Pieces of coloured patches cut into at least this many sub-cells per
-/// side (cells of about 6 px and more) draw their cells by pixel-centre
-/// coverage. Why not every cut: the coverage test costs several times the
-/// sub-nodes, and Spot's 500² frame (callgrind, `--threads 1`, per frame)
-/// went from 56.3 M with sub-nodes to 262.6 M with every coloured piece
-/// cut 2 and more drawn exactly, 86.8 M from a cut of 6; fuze's unlit
-/// albedo over eval's 14 views is 27.89 dB with sub-nodes, 30.71 dB from a
-/// cut of 2, 30.32 dB from 6, 28.90 dB from 8.
-pub(crate) const EXACT_CUT: u32 = 6;
 
 /// Whether the pieces of `level` draw every cell by pixel-centre coverage
 /// ([`crate::raster::cell_exact`]): when its patch carries colour. Why

@@ -26,9 +26,7 @@ use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::counters::nanos_since;
 use crate::plan::measure::measure_cells;
-use crate::plan::open_sides::{
-    exact_outlines, mark_exact_cells, mark_open_sides, EXACT_CUT, OPEN_SIDE_CUT,
-};
+use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides, OPEN_SIDE_CUT};
 use crate::plan::project::{level_map, project_nodes_exact, project_nodes_trilinear, Projector};
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
@@ -179,7 +177,7 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     // folds away (see `open_sides` and `raster::cell_edges`); the cells of
     // coloured patches by pixel-centre coverage (`raster::cell_exact`).
     let bilinear = !smooth && splat[0] == 0;
-    let exact = bilinear && nu.max(nv) >= EXACT_CUT && exact_outlines(level);
+    let exact = bilinear && opts.exact_outlines && (nu, nv) != (1, 1) && exact_outlines(level);
     let open_sides =
         exact || (bilinear && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0);
     if exact {

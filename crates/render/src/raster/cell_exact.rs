@@ -29,8 +29,8 @@
 //!
 //! Cost: per sub-quad a box of its corners and, per candidate pixel centre
 //! (usually none to two), its margins and five edge functions; only pieces
-//! that ask for it (patches with colour cut at least
-//! [`crate::plan::open_sides::EXACT_CUT`] per side, [`crate::plan::piece`]).
+//! that ask for it (patches with colour, under
+//! [`crate::RenderOptions::exact_outlines`], [`crate::plan::piece`]).
 //! fuze's unlit frame: 27.2 M instructions with sub-nodes, 176.7 M with this
 //! (callgrind, `--threads 1`, 500²).
 

@@ -168,11 +168,11 @@ fn roof(colour: bool) -> Scene {
 
 #[test]
 fn coloured_patches_draw_their_outlines_at_pixel_centres() {
-    // The roof from afar (cells of 2-5 px, below the open sides' cut; its
-    // pieces cut 6 and more per side are drawn exactly when coloured): its
-    // ridge and borders are outlines. A coloured patch's cells write the
-    // pixel centres they hold (`raster::cell_exact`), as the triangle path
-    // does, up to the margin; a colourless one keeps the sub-nodes' reach.
+    // The roof from afar (cells of 2-5 px, below the open sides' cut): its
+    // ridge and borders are outlines. With `exact_outlines`, a coloured
+    // patch's cells write the pixel centres they hold (`raster::cell_exact`),
+    // as the triangle path does, up to the margin; a colourless one keeps the
+    // sub-nodes' reach, and so does a coloured one by default.
     let camera = Camera::look_at(
         DVec3::new(0.5, -2.2, 0.5),
         DVec3::new(0.5, 0.6, 0.3),
@@ -185,9 +185,10 @@ fn coloured_patches_draw_their_outlines_at_pixel_centres() {
     let mut o = unlit();
     o.culling = Culling::Back;
     o.projection = spatch_render::Projection::Exact;
+    o.exact_outlines = true;
     let mut tri = o;
     tri.mode = RenderMode::Triangles;
-    let off = |colour: bool| {
+    let off = |colour: bool, o: RenderOptions| {
         let prepared = PreparedScene::new(&roof(colour));
         let draw = |o: RenderOptions| {
             Renderer::new(o)
@@ -200,12 +201,19 @@ fn coloured_patches_draw_their_outlines_at_pixel_centres() {
         let covered = exact.depth().iter().filter(|d| d.is_finite()).count();
         (coverage_difference(&cells, &exact), covered)
     };
-    let ((coloured, covered), (grey, _)) = (off(true), off(false));
+    let ((coloured, covered), (grey, _)) = (off(true, o), off(false, o));
     assert!((3_000..20_000).contains(&covered), "{covered} pixels");
     // 47 against 121 (the margin's pixels remain).
     assert!(
         coloured * 2 < grey,
         "{coloured} against {grey} pixels differ"
+    );
+    let mut default = o;
+    default.exact_outlines = false;
+    let (by_default, _) = off(true, default);
+    assert_eq!(
+        by_default, grey,
+        "by default coloured cells keep the sub-nodes"
     );
 }
 
