@@ -90,6 +90,17 @@ pub(crate) fn pixel_of(v: i32) -> i32 {
     v >> XY_FRAC_BITS
 }
 
+/// A test node at pixel position `(x, y)` with depth 1000 and no
+/// attributes (the cell drawers' unit tests).
+#[cfg(test)]
+pub(crate) fn test_node(x: f32, y: f32) -> Node {
+    let mut n = [0; NODE_WIDTH];
+    n[0] = (x * XY_ONE) as i32;
+    n[1] = (y * XY_ONE) as i32;
+    n[2] = 1000;
+    n
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -378,16 +378,8 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Z_FAR;
+    use crate::fixed::{test_node as node, Z_FAR};
     use crate::raster::band::{Sample, PATCH_SAMPLE};
-
-    fn node(x: f32, y: f32) -> Node {
-        let mut n = [0; 9];
-        n[0] = (x * 65536.0) as i32;
-        n[1] = (y * 65536.0) as i32;
-        n[2] = 1000;
-        n
-    }
 
     #[test]
     fn a_magnified_cell_covers_every_pixel_centre_inside_it() {

@@ -209,19 +209,11 @@ fn draw_open_cell(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Z_FAR;
+    use crate::fixed::{test_node as node, Z_FAR};
     use crate::grid::{close_cells, CELL_RIGHT, CELL_TOP};
     use crate::raster::band::{Sample, PATCH_SAMPLE};
     use crate::raster::cell_bilinear::draw_cells_bilinear;
     use crate::test_rng::XorShift;
-
-    fn node(x: f32, y: f32) -> Node {
-        let mut n = [0; 9];
-        n[0] = (x * 65536.0) as i32;
-        n[1] = (y * 65536.0) as i32;
-        n[2] = 1000;
-        n
-    }
 
     /// Draws a `cols × rows` piece with `flags` cut `cut × cut` into a
     /// `w × w` image; the covered pixels.

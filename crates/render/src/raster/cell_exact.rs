@@ -207,17 +207,9 @@ impl Quad {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Z_FAR;
+    use crate::fixed::{test_node as node, Z_FAR};
     use crate::raster::band::{Sample, PATCH_SAMPLE};
     use crate::test_rng::XorShift;
-
-    fn node(x: f32, y: f32) -> Node {
-        let mut n = [0; 9];
-        n[0] = (x * 65536.0) as i32;
-        n[1] = (y * 65536.0) as i32;
-        n[2] = 1000;
-        n
-    }
 
     /// Draws one cell with corners `q` (ring order) cut `cut × cut` into a
     /// `w × w` image; the covered pixels.
