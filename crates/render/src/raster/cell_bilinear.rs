@@ -217,6 +217,17 @@ pub(crate) fn setup(c00: i32, c10: i32, c01: i32, c11: i32, r: Reciprocals) -> [
     ]
 }
 
+/// Moves the forward differences of x, y and depth (each from [`setup`])
+/// up one row of sub-nodes: the row's start by the row step, the column
+/// step by its change per row.
+#[inline(always)]
+pub(crate) fn next_row(start: &mut [i64; 3], step: &mut [i64; 3], channels: [[i64; 4]; 3]) {
+    for (k, s) in channels.iter().enumerate() {
+        start[k] += s[1];
+        step[k] += s[3];
+    }
+}
+
 /// Places the sub-nodes of one cell, `[nu, right, nv, top]` of `cut`: `nu`
 /// (plus one when `right` is 1) per row, `nv` rows (plus one when `top` is
 /// 1); `CLIP = false` when the caller has checked that the cell lies inside
@@ -256,12 +267,7 @@ pub(crate) fn draw_cell<const CLIP: bool>(
             break;
         }
         rows.draw::<CLIP>(t, start, step, sub0 + b);
-        start[0] += sx[1];
-        start[1] += sy[1];
-        start[2] += sz[1];
-        step[0] += sx[3];
-        step[1] += sy[3];
-        step[2] += sz[3];
+        next_row(&mut start, &mut step, [sx, sy, sz]);
     }
 }
 

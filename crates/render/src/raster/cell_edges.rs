@@ -32,7 +32,7 @@ use crate::grid::{
 };
 use crate::raster::band::{splat_sample, BandTarget};
 use crate::raster::cell_bilinear::{
-    cell_in_band, draw_cell, setup, sub_word, BilinearPiece, Reciprocals, EXT,
+    cell_in_band, draw_cell, next_row, setup, sub_word, BilinearPiece, Reciprocals, EXT,
 };
 use crate::raster::cell_exact::draw_exact_cell;
 
@@ -197,12 +197,7 @@ fn draw_open_cell(
             v[1] += step[1];
             v[2] += step[2];
         }
-        start[0] += sx[1];
-        start[1] += sy[1];
-        start[2] += sz[1];
-        step[0] += sx[3];
-        step[1] += sy[3];
-        step[2] += sz[3];
+        next_row(&mut start, &mut step, [sx, sy, sz]);
     }
 }
 

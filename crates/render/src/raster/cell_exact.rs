@@ -36,7 +36,7 @@
 
 use crate::fixed::Node;
 use crate::raster::band::{splat_sample, BandTarget};
-use crate::raster::cell_bilinear::{setup, Reciprocals, EXT, MAX_SUBDIVISION};
+use crate::raster::cell_bilinear::{next_row, setup, Reciprocals, EXT, MAX_SUBDIVISION};
 
 /// How far (pixels, along each edge's normal) a sub-quad is grown before
 /// the pixel centres inside it are written (see the module docs).
@@ -93,12 +93,7 @@ pub(crate) fn draw_exact_cell(
             let word = sub0 + (b - 1);
             draw_quad_row(t, lo, hi, nu, [ox, oy], word, item);
         }
-        start[0] += sx[1];
-        start[1] += sy[1];
-        start[2] += sz[1];
-        step[0] += sx[3];
-        step[1] += sy[3];
-        step[2] += sz[3];
+        next_row(&mut start, &mut step, [sx, sy, sz]);
     }
 }
 
