@@ -32,4 +32,24 @@ impl XorShift {
     pub(crate) fn unit(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
+
+    /// A square cell of side `s_min + s_span · u` with its first corner
+    /// in `[4, 12)²` pixels, each corner moved by up to ±2 px: the corners
+    /// in ring order (00, 10, 11, 01) and the side. For the cell drawers'
+    /// coverage tests.
+    pub(crate) fn jittered_square(&mut self, s_min: f32, s_span: f32) -> ([(f32, f32); 4], f32) {
+        let j = |r: &mut XorShift| 4.0 * (r.unit() - 0.5);
+        let (ox, oy, s) = (
+            4.0 + 8.0 * self.unit(),
+            4.0 + 8.0 * self.unit(),
+            s_min + s_span * self.unit(),
+        );
+        let q = [
+            (ox + j(self), oy + j(self)),
+            (ox + s + j(self), oy + j(self)),
+            (ox + s + j(self), oy + s + j(self)),
+            (ox + j(self), oy + s + j(self)),
+        ];
+        (q, s)
+    }
 }

@@ -260,18 +260,7 @@ mod tests {
         let w = 40;
         let (mut inside, mut outside) = (0, 0);
         for _ in 0..200 {
-            let j = |r: &mut XorShift| 4.0 * (r.unit() - 0.5);
-            let (ox, oy, s) = (
-                4.0 + 8.0 * rng.unit(),
-                4.0 + 8.0 * rng.unit(),
-                6.0 + 12.0 * rng.unit(),
-            );
-            let q = [
-                (ox + j(&mut rng), oy + j(&mut rng)),
-                (ox + s + j(&mut rng), oy + j(&mut rng)),
-                (ox + s + j(&mut rng), oy + s + j(&mut rng)),
-                (ox + j(&mut rng), oy + s + j(&mut rng)),
-            ];
+            let (q, s) = rng.jittered_square(6.0, 12.0);
             let nodes = [
                 node(q[0].0, q[0].1),
                 node(q[1].0, q[1].1),

@@ -266,18 +266,7 @@ mod tests {
         let (mut inside, mut outside, mut margin, mut far, mut worst) = (0, 0, 0, 0, 0f32);
         let mut nearest = 0f32;
         for _ in 0..200 {
-            let j = |r: &mut XorShift| 4.0 * (r.unit() - 0.5);
-            let (ox, oy, s) = (
-                4.0 + 8.0 * rng.unit(),
-                4.0 + 8.0 * rng.unit(),
-                3.0 + 15.0 * rng.unit(),
-            );
-            let q = [
-                (ox + j(&mut rng), oy + j(&mut rng)),
-                (ox + s + j(&mut rng), oy + j(&mut rng)),
-                (ox + s + j(&mut rng), oy + s + j(&mut rng)),
-                (ox + j(&mut rng), oy + s + j(&mut rng)),
-            ];
+            let (q, s) = rng.jittered_square(3.0, 15.0);
             if !convex(q) {
                 continue;
             }
