@@ -16,8 +16,11 @@
 //! region from its own patch.
 //!
 //! Inside-tests use edge functions in f64 with a tolerance of 1e-6 of the triangle's doubled
-//! area, so a node on an edge shared by two faces is hit by both (never by neither); faces
-//! whose projection has no area (edge-on) are never hit, as a ray would graze them.
+//! area plus [`EDGE_SLACK`] cells of distance past each edge, so a node on an edge shared by
+//! two faces is hit by both (never by neither), and a node on a region's straight border
+//! hits its faces even where f32 rounding leaves the border a few millionths of a cell off
+//! straight; faces whose projection has no area (edge-on) are never hit, as a ray would
+//! graze them.
 //!
 //! Cost: O(Σ nodes in each face's footprint); memory one [`Hit`] per lattice node.
 
@@ -51,6 +54,13 @@ impl Hit {
         self.face.is_valid()
     }
 }
+
+/// How far outside a face, in cells, a node still hits it. The faces' corners carry f32
+/// rounding of a few millionths of a cell (more on a part turned away from the axes, whose
+/// straight edges are no longer exactly straight in f32), so a node on a straight crease
+/// that bounds its region lies just outside some of the faces along it; without the slack
+/// it hits none of them and the region's patch loses its last row along the crease.
+pub(crate) const EDGE_SLACK: f64 = 1e-4;
 
 /// Casts the needed nodes of `lattice` onto `faces`, keeping the highest hit per node in
 /// `hits`. Nodes where `locked` is true (already hit by a face of higher precedence) are left
@@ -89,9 +99,12 @@ fn cast_face(
         return;
     }
     let inv = 1.0 / area2;
-    let tol = -1e-6;
-    let lo = g[0].min(g[1]).min(g[2]);
-    let hi = g[0].max(g[1]).max(g[2]);
+    // Weight of corner c at distance d (grid units) outside the opposite edge: -d·|edge|/|area2|.
+    let tol = [(2, 1), (0, 2), (1, 0)]
+        .map(|(a, b)| -1e-6 - EDGE_SLACK * (p[a] - p[b]).length() / area2.abs());
+    // The box widened by the slack, so a node just past the face's extreme corner is tested.
+    let lo = g[0].min(g[1]).min(g[2]) - Vec3::splat(EDGE_SLACK as f32);
+    let hi = g[0].max(g[1]).max(g[2]) + Vec3::splat(EDGE_SLACK as f32);
     let Some((i0, i1)) = Lattice::node_range(lo.x, hi.x, lattice.cols) else {
         return;
     };
@@ -109,7 +122,7 @@ fn cast_face(
             let w0 = (p[2] - p[1]).perp_dot(q - p[1]) * inv;
             let w1 = (p[0] - p[2]).perp_dot(q - p[2]) * inv;
             let w2 = 1.0 - w0 - w1;
-            if w0 < tol || w1 < tol || w2 < tol {
+            if w0 < tol[0] || w1 < tol[1] || w2 < tol[2] {
                 continue;
             }
             let (w0, w1, w2) = (w0.max(0.0), w1.max(0.0), w2.max(0.0));
