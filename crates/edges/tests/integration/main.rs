@@ -6,7 +6,9 @@
 //! - `crease_sweep`: frustums whose rim angle runs from 30° to 150° keep no holes;
 //! - `cad_targets`: the targets on the shared CAD parts (skipped when missing);
 //! - `covered_pieces`: pieces the other patches cover lose their patch, holes unchanged;
-//! - `determinism`: same input, same patches, whatever the thread count.
+//! - `determinism`: same input, same patches, whatever the thread count;
+//! - `turned_cube`: a meshed cube turned about random axes needs no more crease patches and
+//!   leaves no more holes than the axis-aligned one.
 
 mod cad_targets;
 mod coverage;
@@ -16,3 +18,4 @@ mod detection;
 mod determinism;
 mod patches;
 mod surface;
+mod turned_cube;
