@@ -25,7 +25,7 @@ use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
 
 use crate::colour::{choose_channel, node_colour, Footprint};
 use crate::colour_grid::{grid_factor, sample_colour_grid, SampleFaces};
-use crate::frame_fit::{basis_from_axis, min_area_rect, rect_in_basis};
+use crate::frame_fit::{basis_from_axis, min_area_rect};
 use crate::lattice::Lattice;
 use crate::node_cast::{cast_nodes, Hit};
 use crate::overlap::{needed_nodes, neighbourhood};
@@ -251,10 +251,6 @@ fn fit_region(
         }
     }
     let rect = min_area_rect(basis, &mut projected);
-    let rect = rect_in_basis(
-        rect.basis,
-        faces.iter().flat_map(|&f| mesh.face_positions(f)),
-    );
 
     // 2.-6. at the target spacing, then finer while the region gives no patch.
     let mut spacing = job.spacing;

@@ -114,28 +114,6 @@ pub(crate) fn min_area_rect(basis: Basis, points: &mut [DVec2]) -> PlaneRect {
     }
 }
 
-/// The rectangle around `points` (mesh coordinates) in the plane of `basis`, each point
-/// projected as the lattice projects it (`p·x̂` and `p·ŷ` in f32, then widened to f64).
-///
-/// [`min_area_rect`] measures its rectangle in the plane coordinates of the first basis, and
-/// its rotated basis projects the same point up to f32 rounding apart (about 1e-7 of the
-/// model's size, a few millionths of a cell): enough for the rectangle's border nodes to land
-/// just outside the faces they should lie on, so that a straight crease bounding the region
-/// loses its last row of nodes (a meshed cube turned about a random axis). Measured here
-/// with the lattice's own projection, the extreme points lie exactly on the border nodes.
-pub(crate) fn rect_in_basis(basis: Basis, points: impl Iterator<Item = Vec3>) -> PlaneRect {
-    let (mut min, mut max) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for p in points {
-        let q = DVec2::new(f64::from(p.dot(basis.x)), f64::from(p.dot(basis.y)));
-        min = min.min(q);
-        max = max.max(q);
-    }
-    if min.x > max.x {
-        (min, max) = (DVec2::ZERO, DVec2::ZERO);
-    }
-    PlaneRect { basis, min, max }
-}
-
 /// The bounding rectangle of `points` in the frame whose x axis is the unit vector `d`.
 fn rect_along(d: DVec2, points: &[DVec2]) -> (DVec2, DVec2, DVec2) {
     let n = d.perp();
