@@ -67,6 +67,7 @@ pub(crate) struct MipLevel {
 }
 
 impl MipLevel {
+    #[inline(always)]
     fn new(
         cols: usize,
         rows: usize,
@@ -106,6 +107,7 @@ impl MipLevel {
 
     /// A level drawing the cells `drawn` marks (each with four filled
     /// corners).
+    #[inline(always)]
     fn with_drawn_cells(
         [cols, rows]: [usize; 2],
         spacing: u32,
@@ -206,6 +208,7 @@ impl MipLevel {
 /// a scan) left it to the loops' scalar remainders (3.6 M of a one-frame
 /// bunny render's 187 M instructions; callgrind, `spatch render
 /// bunny.spatch -o out.png --threads 1`).
+#[inline(always)]
 fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
     let (ccols, crows) = (cols - 1, rows - 1);
     if ccols * crows == 0 {
@@ -231,6 +234,7 @@ fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
 /// 0)` when none). Why eight lanes of extremes, merged at the end: a fold
 /// into one pair ran one node at a time (3.7 M of a one-frame bunny
 /// render's 187 M instructions; callgrind).
+#[inline(always)]
 fn used_range(displacements: &[u16], used: &[bool]) -> (u16, u16) {
     let (mut lo, mut hi) = ([u16::MAX; 8], [0u16; 8]);
     let nodes = displacements.chunks_exact(8).zip(used.chunks_exact(8));
@@ -277,6 +281,7 @@ pub(crate) fn base_level(patch: &spatch_format::Patch) -> Option<MipLevel> {
 
 /// Level 0 of a pyramid over a `cols × rows` grid of `displacements` (and
 /// `colours`).
+#[inline(always)]
 pub(crate) fn level_zero(
     [cols, rows]: [usize; 2],
     displacements: Vec<u16>,

@@ -3,7 +3,8 @@
 //! above it): normal reconstruction and the slots of node differences,
 //! the normal buffer, the mip pyramid, how far a level strays from the
 //! one below, the normal cone, the prepared
-//! patch, overlap trimming, the prepared scene.
+//! patch, overlap trimming, the prepared scene; and the eight-lane
+//! vectors their kernels use.
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;
@@ -13,3 +14,4 @@ pub(crate) mod normals;
 pub(crate) mod overlap;
 pub(crate) mod patch;
 pub(crate) mod scene;
+pub(crate) mod wide;

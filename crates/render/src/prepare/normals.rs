@@ -107,6 +107,7 @@ pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec
 /// scalar remainders (8.5 M of a one-frame bunny render's 192.7 M
 /// instructions; callgrind, `spatch render bunny.spatch -o out.png
 /// --threads 1`).
+#[inline(always)]
 pub(crate) fn grid_differences(
     d: &[u16],
     cols: usize,

@@ -19,6 +19,7 @@ use glam::{DMat3, DVec3, Mat4, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::fixed::ATTR_ONE;
+use crate::isa::Isa;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
@@ -54,6 +55,9 @@ pub(crate) struct PreparedPatch {
     /// per kind) were four allocations per patch, 1.4 M instructions of a
     /// one-frame bunny render (callgrind).
     levels: Vec<LazyLevel>,
+    /// The instruction set the preparation kernels run with, here and on
+    /// first use ([`Self::level`], [`Self::shading`]).
+    isa: Isa,
 }
 
 /// What a prepared patch builds of one mip level on first use.
@@ -97,6 +101,7 @@ impl LevelShading {
     /// one-frame bunny render's 226.5 M instructions; callgrind, `spatch
     /// render bunny.spatch -o out.png --threads 1`). The normals are the
     /// buffer's bit for bit (the same operations in the same order).
+    #[inline(always)]
     fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
@@ -131,6 +136,7 @@ impl LevelShading {
 /// saturating conversions per node were most of the cost. Why appended,
 /// not written over a zeroed level: zeroing kilobytes at once ran as `rep
 /// stosb`, 4 M instructions of a one-frame bunny render (callgrind).
+#[inline(always)]
 fn push_unit_normals(
     (gi, gj): (&[i32], &[i32]),
     d: &[u16],
@@ -168,7 +174,7 @@ impl PreparedPatch {
     /// `patch` ready to draw (its shading inputs are built on first use,
     /// [`Self::shading`]) and the corners of its box in model space; `None`
     /// when it has no drawable cell.
-    pub(crate) fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
+    pub(crate) fn new(patch: &Patch, offset: DVec3, isa: Isa) -> Option<(Self, [DVec3; 8])> {
         let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
         let displacements = patch.displacements();
         let frame = patch.frame();
@@ -178,7 +184,7 @@ impl PreparedPatch {
         let [lx, ly, lz] = frame.lengths();
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
-        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation)?;
+        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation, isa)?;
         let levels = 1 + coarse_level_count(displacements, size);
         // Box of the used nodes in model space, via the local box corners.
         let (d0, d1) = scan.d_range;
@@ -207,6 +213,7 @@ impl PreparedPatch {
             nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
+            isa,
         };
         Some((prepared, corners))
     }
@@ -223,7 +230,10 @@ impl PreparedPatch {
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
         self.levels[m].level.get_or_init(|| match m {
-            0 => level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+            0 => (self.isa).run(
+                #[inline(always)]
+                || level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+            ),
             _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
         })
     }
@@ -250,9 +260,13 @@ impl PreparedPatch {
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
-        self.levels[m]
-            .shading
-            .get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
+        self.levels[m].shading.get_or_init(|| {
+            let (level, ratios) = (self.level(m), self.ratios_at(m));
+            self.isa.run(
+                #[inline(always)]
+                || LevelShading::new(level, ratios),
+            )
+        })
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
