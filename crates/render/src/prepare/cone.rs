@@ -16,8 +16,7 @@ use glam::{DMat3, DVec3, Vec3};
 use spatch_format::EMPTY;
 
 use crate::isa::Isa;
-#[cfg(any(doc, test))]
-use crate::prepare::normals::unit_normal_lanes;
+use crate::prepare::normals::unit_normals;
 use crate::prepare::wide::{Lanes, Portable, Wide, LANES};
 
 /// Extra half angle of every normal cone (radians), for the curvature of
@@ -51,7 +50,7 @@ pub(crate) struct ConeScan {
 ///
 /// Why eight cells of a row in lanes ([`Wide`], 256-bit registers under
 /// AVX2), each corner's normal with its own lanes (the operations of
-/// [`unit_normal_lanes`], so every normal is the one-by-one value bit for
+/// [`unit_normals`], so every normal is the one-by-one value bit for
 /// bit), undrawn cells weighted 0 in the sum and left out of the minimum:
 /// four cells at a time in glam's 128-bit vectors were 25.4 M of a
 /// one-frame bunny render's 167.6 M instructions (callgrind, `spatch
@@ -136,20 +135,6 @@ fn cone_with<W: Wide>(
     Some(finish_cone(w, scan, corners, rotation))
 }
 
-/// The unit normals of [`unit_normal_lanes`] for differences `gi`, `gj`
-/// (integers in `f32`) and the ratios negated `(-rx, -ry)`, in lanes: the
-/// same operations in the same order (`-g · r` is `g · -r` exactly), so
-/// each lane equals the one-by-one value.
-#[inline(always)]
-fn unit_normals<W: Wide>(w: W, gi: W::V, gj: W::V, (nrx, nry): (W::V, W::V)) -> [W::V; 3] {
-    let (half, one) = (w.splat(0.5), w.splat(1.0));
-    let x = w.mul(w.mul(gi, nrx), half);
-    let y = w.mul(w.mul(gj, nry), half);
-    let length = w.sqrt(w.add(w.add(w.mul(x, x), w.mul(y, y)), one));
-    let inverse = w.div(one, length);
-    [w.mul(x, inverse), w.mul(y, inverse), inverse]
-}
-
 /// The sum of the drawn cells' corner normals (per lane) and their codes'
 /// range (`None` when no cell is drawn), their normals and weights written
 /// to `corners` ([`GROUP_ARRAYS`] a group).
@@ -195,7 +180,7 @@ fn scan_groups<W: Wide>(
     }
     let lo = w.lanes(lo).into_iter().fold(f32::from(EMPTY), f32::min);
     let hi = w.lanes(hi).into_iter().fold(0.0, f32::max);
-    let sum = sum.map(|s| w.lanes(s));
+    let sum = [w.lanes(sum[0]), w.lanes(sum[1]), w.lanes(sum[2])];
     (lo < f32::from(EMPTY)).then_some((sum, (lo as u16, hi as u16)))
 }
 
@@ -203,6 +188,14 @@ fn scan_groups<W: Wide>(
 #[inline(always)]
 fn lane_sum(v: &Lanes) -> f32 {
     ((v[0] + v[4]) + (v[1] + v[5])) + ((v[2] + v[6]) + (v[3] + v[7]))
+}
+
+/// The cosines between the normals `[x, y, z]` and the unit axis `(ax,
+/// ay, az)`, in `Vec3::dot`'s order.
+#[inline(always)]
+fn corner_cos<W: Wide>(w: W, xyz: &[Lanes], (ax, ay, az): (W::V, W::V, W::V)) -> W::V {
+    let (x, y, z) = (w.load(&xyz[0]), w.load(&xyz[1]), w.load(&xyz[2]));
+    w.add(w.add(w.mul(x, ax), w.mul(y, ay)), w.mul(z, az))
 }
 
 /// The cone around the normalized `sum` through the widest of `corners`.
@@ -215,16 +208,21 @@ fn finish_cone<W: Wide>(
 ) -> ConeScan {
     let axis =
         Vec3::new(lane_sum(&sum[0]), lane_sum(&sum[1]), lane_sum(&sum[2])).normalize_or(Vec3::Z);
-    let [ax, ay, az] = axis.to_array().map(|v| w.splat(v));
+    let (ax, ay, az) = (w.splat(axis.x), w.splat(axis.y), w.splat(axis.z));
     let (half, one) = (w.splat(0.5), w.splat(1.0));
     // The cosines in `Vec3::dot`'s order, lane by lane; undrawn lanes 1.
     let mut min_cos = one;
     for group in corners.chunks_exact(GROUP_ARRAYS) {
-        let cos = |k: usize| {
-            let [x, y, z] = [0, 1, 2].map(|c| w.load(&group[3 * k + c]));
-            w.add(w.add(w.mul(x, ax), w.mul(y, ay)), w.mul(z, az))
-        };
-        let least = w.min(w.min(w.min(cos(0), cos(1)), cos(2)), cos(3));
+        let axis = (ax, ay, az);
+        let (c0, c1) = (
+            corner_cos(w, &group[0..3], axis),
+            corner_cos(w, &group[3..6], axis),
+        );
+        let (c2, c3) = (
+            corner_cos(w, &group[6..9], axis),
+            corner_cos(w, &group[9..12], axis),
+        );
+        let least = w.min(w.min(w.min(c0, c1), c2), c3);
         let weight = w.load(&group[12]);
         min_cos = w.min(min_cos, w.select_lt(weight, half, one, least));
     }
@@ -269,17 +267,11 @@ mod tests {
                     [x, y, z].map(|v| v.map(f32::to_bits))
                 );
             }
-            for half in [0, 4] {
-                let lanes = |v: &Lanes| glam::Vec4::from_slice(&v[half..half + 4]);
-                let [x4, y4, z4] = unit_normal_lanes(lanes(&gi), lanes(&gj), ratios);
-                for k in 0..4 {
-                    let l = half + k;
-                    let one = reconstruct_normal(gi[l] as i32, gj[l] as i32, ratios.0, ratios.1)
-                        .normalize();
-                    let got = [x[l], y[l], z[l]].map(f32::to_bits);
-                    assert_eq!(got, one.to_array().map(f32::to_bits));
-                    assert_eq!(got, [x4[k], y4[k], z4[k]].map(f32::to_bits));
-                }
+            for l in 0..LANES {
+                let one =
+                    reconstruct_normal(gi[l] as i32, gj[l] as i32, ratios.0, ratios.1).normalize();
+                let got = [x[l], y[l], z[l]].map(f32::to_bits);
+                assert_eq!(got, one.to_array().map(f32::to_bits));
             }
         }
     }

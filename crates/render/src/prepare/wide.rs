@@ -11,7 +11,7 @@
 //!
 //! Cost: one instruction per operation (two on the portable build).
 
-use glam::Vec4;
+use glam::{IVec4, Mat4, Vec4};
 
 /// Lanes a [`Wide`] vector holds.
 pub(crate) const LANES: usize = 8;
@@ -46,6 +46,25 @@ pub(crate) trait Wide: Copy {
     fn max(self, a: Self::V, b: Self::V) -> Self::V;
     /// `a < b ? t : f`.
     fn select_lt(self, a: Self::V, b: Self::V, t: Self::V, f: Self::V) -> Self::V;
+    /// The first eight values of `s` as `f32` (exact below 2^24).
+    fn load_i32(self, s: &[i32]) -> Self::V;
+    /// `a` rounded toward zero.
+    fn trunc(self, a: Self::V) -> Self::V;
+    /// Eight vectors `(x, y, z, 0)`, one per lane of `x`, `y`, `z`. Why
+    /// written out (no `map`, no `from_fn`): the calls those left out of
+    /// line ran without the caller's instruction set.
+    #[inline(always)]
+    fn columns(self, [x, y, z]: [Self::V; 3]) -> [Vec4; LANES] {
+        let (x, y, z) = (self.lanes(x), self.lanes(y), self.lanes(z));
+        let half = |h: usize| {
+            let four = |v: &Lanes| Vec4::from_slice(&v[4 * h..4 * h + 4]);
+            Mat4::from_cols(four(&x), four(&y), four(&z), Vec4::ZERO).transpose()
+        };
+        let (a, b) = (half(0), half(1));
+        [
+            a.x_axis, a.y_axis, a.z_axis, a.w_axis, b.x_axis, b.y_axis, b.z_axis, b.w_axis,
+        ]
+    }
 }
 
 /// The portable build's lanes: two of glam's 128-bit vectors (SSE2 on
@@ -108,6 +127,18 @@ impl Wide for Portable {
         let pick = |k: usize| Vec4::select(a[k].cmplt(b[k]), t[k], f[k]);
         [pick(0), pick(1)]
     }
+    #[inline(always)]
+    fn load_i32(self, s: &[i32]) -> Self::V {
+        let four = |s: &[i32]| {
+            let lanes: [i32; 4] = s[..4].try_into().expect("four");
+            IVec4::from(lanes).as_vec4()
+        };
+        [four(s), four(&s[4..])]
+    }
+    #[inline(always)]
+    fn trunc(self, a: Self::V) -> Self::V {
+        [a[0].trunc(), a[1].trunc()]
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -157,6 +188,15 @@ impl Wide for pulp::x86::V3 {
     #[inline(always)]
     fn select_lt(self, a: Self::V, b: Self::V, t: Self::V, f: Self::V) -> Self::V {
         self.select_f32x8(self.cmp_lt_f32x8(a, b), t, f)
+    }
+    #[inline(always)]
+    fn load_i32(self, s: &[i32]) -> Self::V {
+        let lanes: [i32; LANES] = s[..LANES].try_into().expect("eight");
+        self.convert_i32x8_to_f32x8(pulp::bytemuck::cast(lanes))
+    }
+    #[inline(always)]
+    fn trunc(self, a: Self::V) -> Self::V {
+        self.truncate_f32x8(a)
     }
 }
 
@@ -209,8 +249,14 @@ mod tests {
             assert_eq!(w.lanes(*g).map(f32::to_bits), e.map(f32::to_bits));
         }
         let max = w.lanes(w.max(va, vb));
+        let ints: [i32; LANES] = a.map(|v| v as i32);
+        let (from_ints, cut) = (w.lanes(w.load_i32(&ints)), w.lanes(w.trunc(va)));
+        let columns = w.columns([va, vb, twice]);
         for l in 0..LANES {
             assert_eq!(max[l], a[l].max(b[l]));
+            assert_eq!(from_ints[l], ints[l] as f32);
+            assert_eq!(cut[l].to_bits(), a[l].trunc().to_bits());
+            assert_eq!(columns[l], Vec4::new(a[l], b[l], w.lanes(twice)[l], 0.0));
         }
     }
 }
