@@ -45,6 +45,10 @@ pub(crate) struct PreparedPatch {
     pub(crate) sides: Sides,
     /// Level 0's grid size `[cols, rows]`.
     pub(crate) grid: [usize; 2],
+    /// Level 0's used displacement range, found with the normal cone
+    /// ([`crate::prepare::cone::ConeScan::d_range`]), so building level 0
+    /// need not find it again.
+    d_range: (u16, u16),
     /// Level 0's displacements and colours, from which [`Self::level`]
     /// builds level 0.
     nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
@@ -225,6 +229,7 @@ impl PreparedPatch {
             radius: (hi - lo).length() * 0.5,
             sides: patch.sides(),
             grid: size,
+            d_range: scan.d_range,
             nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
@@ -247,7 +252,7 @@ impl PreparedPatch {
         self.levels[m].level.get_or_init(|| match m {
             0 => (self.isa).run(
                 #[inline(always)]
-                || level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+                || level_zero(self.grid, self.nodes.clone(), Some(self.d_range)),
             ),
             _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
         })
@@ -408,6 +413,17 @@ mod tests {
         assert!(checked > 1000, "{checked}");
     }
 
+    /// Level 0 built with the cone's displacement range is the level built
+    /// on its own (which finds the range from its used nodes).
+    fn check_level_zero(p: &PreparedPatch, patch: &Patch) {
+        let own = crate::prepare::mip::base_level(patch).expect("drawable");
+        let built = p.level(0);
+        assert_eq!(built.d_range, own.d_range);
+        assert_eq!(built.weights, own.weights);
+        assert_eq!(built.cell_flags, own.cell_flags);
+        assert_eq!(built.used, own.used);
+    }
+
     #[test]
     fn prepared_normals_hold_on_grids_with_holes_and_steep_steps() {
         // Grids of 2–20 nodes a side (some a multiple of four, some not),
@@ -433,6 +449,7 @@ mod tests {
             let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap();
             for p in &PreparedScene::new(&scene).patches {
                 checked += check_levels(p, &mut buffer);
+                check_level_zero(p, &scene.patches()[0]);
             }
         }
         assert!(checked > 10_000, "{checked}");
