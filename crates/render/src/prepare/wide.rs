@@ -48,7 +48,8 @@ pub(crate) trait Wide: Copy {
     fn select_lt(self, a: Self::V, b: Self::V, t: Self::V, f: Self::V) -> Self::V;
     /// The first eight values of `s` as `f32` (exact below 2^24).
     fn load_i32(self, s: &[i32]) -> Self::V;
-    /// `a` rounded toward zero.
+    /// `a` rounded toward zero as `a as i32 as f32` does (through an
+    /// integer: `-0.0` and `-0.5` give `+0.0`), for `|a| < 2^23`.
     fn trunc(self, a: Self::V) -> Self::V;
     /// Eight vectors `(x, y, z, 0)`, one per lane of `x`, `y`, `z`. Why
     /// written out (no `map`, no `from_fn`): the calls those left out of
@@ -137,6 +138,7 @@ impl Wide for Portable {
     }
     #[inline(always)]
     fn trunc(self, a: Self::V) -> Self::V {
+        // glam's SSE2 truncation goes through `cvttps2dq` below 2^23.
         [a[0].trunc(), a[1].trunc()]
     }
 }
@@ -196,7 +198,7 @@ impl Wide for pulp::x86::V3 {
     }
     #[inline(always)]
     fn trunc(self, a: Self::V) -> Self::V {
-        self.truncate_f32x8(a)
+        self.convert_i32x8_to_f32x8(self.convert_f32x8_to_i32x8(a))
     }
 }
 
@@ -249,13 +251,15 @@ mod tests {
             assert_eq!(w.lanes(*g).map(f32::to_bits), e.map(f32::to_bits));
         }
         let max = w.lanes(w.max(va, vb));
+        let negative_zero = w.lanes(w.trunc(w.mul(w.splat(-0.25), w.splat(1.0))));
+        assert_eq!(negative_zero.map(f32::to_bits), [0; LANES]);
         let ints: [i32; LANES] = a.map(|v| v as i32);
         let (from_ints, cut) = (w.lanes(w.load_i32(&ints)), w.lanes(w.trunc(va)));
         let columns = w.columns([va, vb, twice]);
         for l in 0..LANES {
             assert_eq!(max[l], a[l].max(b[l]));
             assert_eq!(from_ints[l], ints[l] as f32);
-            assert_eq!(cut[l].to_bits(), a[l].trunc().to_bits());
+            assert_eq!(cut[l].to_bits(), (a[l] as i32 as f32).to_bits());
             assert_eq!(columns[l], Vec4::new(a[l], b[l], w.lanes(twice)[l], 0.0));
         }
     }
