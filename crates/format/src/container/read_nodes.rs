@@ -47,14 +47,7 @@ pub(super) fn read_displacements(
                 .collect()
         };
         at += n * layout.bytes_per_code;
-        // Summed, not filtered and counted. Why: the sum runs in vector
-        // lanes, the count one code at a time (1.6 M of a one-frame bunny
-        // render's 147 M instructions; callgrind, `spatch render
-        // bunny.spatch -o out.png --threads 1`).
-        filled += codes
-            .iter()
-            .map(|&d| usize::from(d != EMPTY))
-            .sum::<usize>();
+        filled += codes.iter().filter(|&&d| d != EMPTY).count();
         per_patch.push(codes);
     }
     Ok(Codes { per_patch, filled })
