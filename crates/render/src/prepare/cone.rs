@@ -8,14 +8,16 @@
 //! Based on: L. A. Shirman, S. S. Abi-Ezzi, "The cone of normals technique
 //! for fast processing of curved patches", Eurographics 1993.
 //!
-//! Cost: four corner normals per drawable cell, in lanes; no allocation
-//! beyond one vector of corner normals.
+//! Cost: four corner normals per cell, eight cells in lanes; no allocation
+//! (two vectors per thread, reused).
 
-use glam::{DMat3, DVec3, Vec3, Vec4};
+use glam::{DMat3, DVec3, Vec3};
 
 use spatch_format::EMPTY;
 
-use crate::prepare::normals::unit_normal_lanes;
+use crate::isa::Isa;
+use crate::prepare::normals::unit_normals;
+use crate::prepare::wide::{Lanes, Portable, Wide, LANES};
 
 /// Extra half angle of every normal cone (radians), for the curvature of
 /// bilinear cells between their corners.
@@ -46,132 +48,186 @@ pub(crate) struct ConeScan {
 /// cell flags of level 0, which are built when a frame first draws the
 /// patch ([`crate::prepare::patch::PreparedPatch::level`]).
 ///
-/// Why four cells of a row in lanes, each corner's normal with its own
-/// lanes ([`unit_normal_lanes`], so every normal is the one-by-one value
-/// bit for bit), undrawn cells weighted 0 in the sum and left out of the
-/// minimum: one cell at a time (its four corners in lanes, gathered and
-/// shuffled from the codes) was 27.4 M of a one-frame bunny render's
-/// 185 M instructions (callgrind, `spatch render bunny.spatch -o out.png
-/// --threads 1`). The sum runs in another order than cell by cell, so
-/// the axis may differ from that order's in its last bits; the cone still
-/// holds every corner normal (its half angle is measured from that axis).
+/// Why eight cells of a row in lanes ([`Wide`], 256-bit registers under
+/// AVX2), each corner's normal with its own lanes (the operations of
+/// [`unit_normals`], so every normal is the one-by-one value bit for
+/// bit), undrawn cells weighted 0 in the sum and left out of the minimum:
+/// four cells at a time in glam's 128-bit vectors were 25.4 M of a
+/// one-frame bunny render's 167.6 M instructions (callgrind, `spatch
+/// render bunny.spatch -o out.png --threads 1`). The sum runs in another
+/// order than cell by cell, so the axis may differ from that order's in
+/// its last bits; the cone still holds every corner normal (its half
+/// angle is measured from that axis). Both instruction sets compute the
+/// same cone, bit for bit.
 pub(crate) fn compute_normal_cone(
     d: &[u16],
     cols: usize,
     ratios: (f32, f32),
     rotation: &DMat3,
+    isa: Isa,
 ) -> Option<ConeScan> {
     let rows = d.len() / cols;
     if cols < 2 || rows < 2 {
         return None;
     }
-    let groups = (cols - 1).div_ceil(4);
+    let groups = (cols - 1).div_ceil(LANES);
     // The codes as floats (exact), each row padded with empty codes to
-    // whole groups of four cells, so padding cells are undrawn.
-    let stride = 4 * groups + 1;
-    let mut codes = vec![f32::from(EMPTY); stride * rows];
-    for (row, src) in codes.chunks_exact_mut(stride).zip(d.chunks_exact(cols)) {
-        for (c, &v) in row.iter_mut().zip(src) {
-            *c = f32::from(v);
+    // whole groups of cells, so padding cells are undrawn.
+    let stride = LANES * groups + 1;
+    SCRATCH.with_borrow_mut(|(codes, corners)| {
+        codes.clear();
+        codes.resize(stride * rows, f32::from(EMPTY));
+        for (row, src) in codes.chunks_exact_mut(stride).zip(d.chunks_exact(cols)) {
+            for (c, &v) in row.iter_mut().zip(src) {
+                *c = f32::from(v);
+            }
         }
-    }
-    CORNERS.with_borrow_mut(|corners| {
-        let scan = scan_groups(&codes, stride, groups, ratios, corners)?;
-        Some(finish_cone(scan, corners, rotation))
+        let grid = Grid {
+            codes,
+            stride,
+            groups,
+            ratios,
+        };
+        match isa {
+            Isa::Base => cone_with(Portable, &grid, corners, rotation),
+            #[cfg(target_arch = "x86_64")]
+            Isa::V3(v3) => v3.vectorize(
+                #[inline(always)]
+                || cone_with(v3, &grid, corners, rotation),
+            ),
+        }
     })
 }
 
-/// Four cells' corner normals (`[corner][x, y, z]`, corners 00, 10, 01,
-/// 11) and their weights (1 drawn, 0 not).
-type CornerGroup = ([[Vec4; 3]; 4], Vec4);
+/// A grid's codes as floats, each row padded to whole groups.
+struct Grid<'a> {
+    codes: &'a [f32],
+    /// Codes a row (`LANES * groups + 1`).
+    stride: usize,
+    /// Groups of [`LANES`] cells a row.
+    groups: usize,
+    ratios: (f32, f32),
+}
+
+/// Arrays of lanes a group's corner normals and weights take in the
+/// scratch: `[corner][x, y, z]` (corners 00, 10, 01, 11), then the
+/// weights (1 drawn, 0 not).
+const GROUP_ARRAYS: usize = 13;
 
 thread_local! {
-    /// Room for one patch's corner groups, kept per thread. Why: a fresh
-    /// vector per patch was written twice (zeroed, then filled).
-    static CORNERS: std::cell::RefCell<Vec<CornerGroup>> = const {
-        std::cell::RefCell::new(Vec::new())
+    /// Room for one patch's codes and corner groups, kept per thread. Why:
+    /// fresh vectors per patch were allocated, written twice (zeroed, then
+    /// filled) and freed.
+    static SCRATCH: std::cell::RefCell<(Vec<f32>, Vec<Lanes>)> = const {
+        std::cell::RefCell::new((Vec::new(), Vec::new()))
     };
 }
 
-/// The sum of the drawn cells' corner normals and their codes' range
-/// (`None` when no cell is drawn), their normals written to `corners`
-/// (resized to the grid's groups).
-fn scan_groups(
-    codes: &[f32],
-    stride: usize,
-    groups: usize,
-    ratios: (f32, f32),
-    corners: &mut Vec<CornerGroup>,
-) -> Option<([Vec4; 3], (u16, u16))> {
-    let empty = Vec4::splat(f32::from(EMPTY));
-    let mut sum = [Vec4::ZERO; 3];
-    let (mut lo, mut hi) = (empty, Vec4::ZERO);
-    let mut any = false;
-    // Written by index, not pushed. Why: the growth check's call made the
-    // loop keep its sums and normals on the stack.
-    corners.resize(
-        groups * (codes.len() / stride - 1),
-        ([[Vec4::ZERO; 3]; 4], Vec4::ZERO),
-    );
-    let mut next = 0;
-    for (below, above) in codes
-        .chunks_exact(stride)
-        .zip(codes.chunks_exact(stride).skip(1))
-    {
-        for g in 0..groups {
-            // One unaligned load each (`from_slice` gathers lane by lane).
-            let at = |row: &[f32], k: usize| {
-                let lanes: [f32; 4] = row[4 * g + k..4 * g + k + 4].try_into().expect("four");
-                Vec4::from(lanes)
-            };
+/// [`compute_normal_cone`] with the lanes of `w`.
+#[inline(always)]
+fn cone_with<W: Wide>(
+    w: W,
+    grid: &Grid<'_>,
+    corners: &mut Vec<Lanes>,
+    rotation: &DMat3,
+) -> Option<ConeScan> {
+    let scan = scan_groups(w, grid, corners)?;
+    Some(finish_cone(w, scan, corners, rotation))
+}
+
+/// The sum of the drawn cells' corner normals (per lane) and their codes'
+/// range (`None` when no cell is drawn), their normals and weights written
+/// to `corners` ([`GROUP_ARRAYS`] a group).
+#[inline(always)]
+fn scan_groups<W: Wide>(
+    w: W,
+    grid: &Grid<'_>,
+    corners: &mut Vec<Lanes>,
+) -> Option<([Lanes; 3], (u16, u16))> {
+    let empty = w.splat(f32::from(EMPTY));
+    let (zero, one, two) = (w.splat(0.0), w.splat(1.0), w.splat(2.0));
+    let negated = (w.splat(-grid.ratios.0), w.splat(-grid.ratios.1));
+    let mut sum = [zero; 3];
+    let (mut lo, mut hi) = (empty, zero);
+    let rows = grid.codes.chunks_exact(grid.stride);
+    corners.resize(grid.groups * (rows.len() - 1) * GROUP_ARRAYS, [0.0; LANES]);
+    let mut out = corners.chunks_exact_mut(GROUP_ARRAYS);
+    for (below, above) in rows.clone().zip(rows.skip(1)) {
+        for g in 0..grid.groups {
+            let at = |row: &[f32], k: usize| w.load(&row[LANES * g + k..]);
             let (b0, b1, a0, a1) = (at(below, 0), at(below, 1), at(above, 0), at(above, 1));
             // The empty code is the largest: a cell is drawn when its
             // largest corner is not empty.
-            let top = b0.max(b1).max(a0).max(a1);
-            let drawn = top.cmplt(empty);
-            any |= drawn.any();
-            let w = Vec4::select(drawn, Vec4::ONE, Vec4::ZERO);
-            lo = lo.min(Vec4::select(drawn, b0.min(b1).min(a0).min(a1), empty));
-            hi = hi.max(top * w);
+            let top = w.max(w.max(w.max(b0, b1), a0), a1);
+            let weight = w.select_lt(top, empty, one, zero);
+            let least = w.min(w.min(w.min(b0, b1), a0), a1);
+            lo = w.min(lo, w.select_lt(top, empty, least, empty));
+            hi = w.max(hi, w.mul(top, weight));
             // Differences over one spacing, doubled (as a node normal's).
-            let (du_b, du_t) = ((b1 - b0) * 2.0, (a1 - a0) * 2.0);
-            let (dv_l, dv_r) = ((a0 - b0) * 2.0, (a1 - b1) * 2.0);
+            let (du_b, du_t) = (w.mul(w.sub(b1, b0), two), w.mul(w.sub(a1, a0), two));
+            let (dv_l, dv_r) = (w.mul(w.sub(a0, b0), two), w.mul(w.sub(a1, b1), two));
+            let group = out.next().expect("sized above");
             let pairs = [(du_b, dv_l), (du_b, dv_r), (du_t, dv_l), (du_t, dv_r)];
-            let normals = pairs.map(|(du, dv)| unit_normal_lanes(du, dv, ratios));
-            for n in &normals {
-                for (s, c) in sum.iter_mut().zip(n) {
-                    *s += *c * w;
+            for (k, (du, dv)) in pairs.into_iter().enumerate() {
+                let normal = unit_normals(w, du, dv, negated);
+                for (c, (s, n)) in sum.iter_mut().zip(normal).enumerate() {
+                    *s = w.add(*s, w.mul(n, weight));
+                    group[3 * k + c] = w.lanes(n);
                 }
             }
-            corners[next] = (normals, w);
-            next += 1;
+            group[12] = w.lanes(weight);
         }
     }
-    any.then(|| (sum, (lo.min_element() as u16, hi.max_element() as u16)))
+    let lo = w.lanes(lo).into_iter().fold(f32::from(EMPTY), f32::min);
+    let hi = w.lanes(hi).into_iter().fold(0.0, f32::max);
+    let sum = [w.lanes(sum[0]), w.lanes(sum[1]), w.lanes(sum[2])];
+    (lo < f32::from(EMPTY)).then_some((sum, (lo as u16, hi as u16)))
+}
+
+/// The sum of eight lanes, pairwise.
+#[inline(always)]
+fn lane_sum(v: &Lanes) -> f32 {
+    ((v[0] + v[4]) + (v[1] + v[5])) + ((v[2] + v[6]) + (v[3] + v[7]))
+}
+
+/// The cosines between the normals `[x, y, z]` and the unit axis `(ax,
+/// ay, az)`, in `Vec3::dot`'s order.
+#[inline(always)]
+fn corner_cos<W: Wide>(w: W, xyz: &[Lanes], (ax, ay, az): (W::V, W::V, W::V)) -> W::V {
+    let (x, y, z) = (w.load(&xyz[0]), w.load(&xyz[1]), w.load(&xyz[2]));
+    w.add(w.add(w.mul(x, ax), w.mul(y, ay)), w.mul(z, az))
 }
 
 /// The cone around the normalized `sum` through the widest of `corners`.
-fn finish_cone(
-    (sum, d_range): ([Vec4; 3], (u16, u16)),
-    corners: &[CornerGroup],
+#[inline(always)]
+fn finish_cone<W: Wide>(
+    w: W,
+    (sum, d_range): ([Lanes; 3], (u16, u16)),
+    corners: &[Lanes],
     rotation: &DMat3,
 ) -> ConeScan {
-    let axis = Vec3::new(
-        sum[0].element_sum(),
-        sum[1].element_sum(),
-        sum[2].element_sum(),
-    )
-    .normalize_or(Vec3::Z);
-    let [ax, ay, az] = axis.to_array().map(Vec4::splat);
+    let axis =
+        Vec3::new(lane_sum(&sum[0]), lane_sum(&sum[1]), lane_sum(&sum[2])).normalize_or(Vec3::Z);
+    let (ax, ay, az) = (w.splat(axis.x), w.splat(axis.y), w.splat(axis.z));
+    let (half, one) = (w.splat(0.5), w.splat(1.0));
     // The cosines in `Vec3::dot`'s order, lane by lane; undrawn lanes 1.
-    let mut min_cos = Vec4::ONE;
-    for (normals, w) in corners {
-        let cos = normals.map(|[x, y, z]| x * ax + y * ay + z * az);
-        let least = cos[0].min(cos[1]).min(cos[2]).min(cos[3]);
-        min_cos = min_cos.min(Vec4::select(w.cmpeq(Vec4::ONE), least, Vec4::ONE));
+    let mut min_cos = one;
+    for group in corners.chunks_exact(GROUP_ARRAYS) {
+        let axis = (ax, ay, az);
+        let (c0, c1) = (
+            corner_cos(w, &group[0..3], axis),
+            corner_cos(w, &group[3..6], axis),
+        );
+        let (c2, c3) = (
+            corner_cos(w, &group[6..9], axis),
+            corner_cos(w, &group[9..12], axis),
+        );
+        let least = w.min(w.min(w.min(c0, c1), c2), c3);
+        let weight = w.load(&group[12]);
+        min_cos = w.min(min_cos, w.select_lt(weight, half, one, least));
     }
-    let min_cos = min_cos.min_element().clamp(-1.0, 1.0);
-    let half_angle = (min_cos as f64).acos() + CONE_MARGIN;
+    let min_cos = w.lanes(min_cos).into_iter().fold(1.0, f32::min);
+    let half_angle = (min_cos.clamp(-1.0, 1.0) as f64).acos() + CONE_MARGIN;
     let cone = NormalCone {
         axis: (*rotation * axis.as_dvec3()).normalize(),
         half_angle,
@@ -184,25 +240,38 @@ mod tests {
     use super::*;
     use crate::prepare::mip::base_level;
     use crate::prepare::normals::reconstruct_normal;
-    use glam::IVec4;
     use spatch_format::{Frame, GridSize, Patch};
 
     #[test]
     fn corner_normals_in_lanes_equal_normals_one_by_one() {
         let mut rng = crate::test_rng::XorShift(0xc0de_5eed);
-        for _ in 0..2000 {
-            let g = |r: &mut crate::test_rng::XorShift| r.below(401) as i32 - 200;
-            let gi = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
-            let gj = [g(&mut rng), g(&mut rng), g(&mut rng), g(&mut rng)];
+        for _ in 0..1000 {
+            let g = |r: &mut crate::test_rng::XorShift| r.below(401) as f32 - 200.0;
+            let gi: Lanes = std::array::from_fn(|_| g(&mut rng));
+            let gj: Lanes = std::array::from_fn(|_| g(&mut rng));
             let ratios = (0.001 + rng.unit() * 0.2, 0.001 + rng.unit() * 0.2);
-            let as_lanes = |g: [i32; 4]| IVec4::from_array(g).as_vec4();
-            let [x, y, z] = unit_normal_lanes(as_lanes(gi), as_lanes(gj), ratios);
-            for k in 0..4 {
-                let one = reconstruct_normal(gi[k], gj[k], ratios.0, ratios.1).normalize();
+            let negated = |w: Portable| (w.splat(-ratios.0), w.splat(-ratios.1));
+            let normals = unit_normals(
+                Portable,
+                Portable.load(&gi),
+                Portable.load(&gj),
+                negated(Portable),
+            );
+            let [x, y, z] = normals.map(|v| Portable.lanes(v));
+            #[cfg(target_arch = "x86_64")]
+            if let Some(v3) = pulp::x86::V3::try_new() {
+                let n = (v3.splat(-ratios.0), v3.splat(-ratios.1));
+                let wide = unit_normals(v3, v3.load(&gi), v3.load(&gj), n).map(|v| v3.lanes(v));
                 assert_eq!(
-                    [x[k], y[k], z[k]].map(f32::to_bits),
-                    one.to_array().map(f32::to_bits)
+                    wide.map(|v| v.map(f32::to_bits)),
+                    [x, y, z].map(|v| v.map(f32::to_bits))
                 );
+            }
+            for l in 0..LANES {
+                let one =
+                    reconstruct_normal(gi[l] as i32, gj[l] as i32, ratios.0, ratios.1).normalize();
+                let got = [x[l], y[l], z[l]].map(f32::to_bits);
+                assert_eq!(got, one.to_array().map(f32::to_bits));
             }
         }
     }
@@ -232,12 +301,21 @@ mod tests {
                 .collect();
             let grid = GridSize::new(cols as u32, rows as u32).unwrap();
             let patch = Patch::new(frame, grid, d.clone(), None).unwrap();
+            let best = Isa::detect(true);
             let Some(level) = base_level(&patch) else {
-                assert!(compute_normal_cone(&d, cols, (0.1, 0.1), &DMat3::IDENTITY).is_none());
+                let none = compute_normal_cone(&d, cols, (0.1, 0.1), &DMat3::IDENTITY, best);
+                assert!(none.is_none());
                 continue;
             };
             let ratios = (0.01 + rng.unit() * 0.3, 0.01 + rng.unit() * 0.3);
-            let scan = compute_normal_cone(&d, cols, ratios, &DMat3::IDENTITY).unwrap();
+            let scan = compute_normal_cone(&d, cols, ratios, &DMat3::IDENTITY, best).unwrap();
+            // Every instruction set finds the same cone, bit for bit.
+            let base = compute_normal_cone(&d, cols, ratios, &DMat3::IDENTITY, Isa::Base).unwrap();
+            assert_eq!(base.cone.axis.to_array(), scan.cone.axis.to_array());
+            assert_eq!(
+                base.cone.half_angle.to_bits(),
+                scan.cone.half_angle.to_bits()
+            );
             // The by-product is the level's own range.
             assert_eq!(scan.d_range, level.d_range, "case {case}");
             let cone = scan.cone;

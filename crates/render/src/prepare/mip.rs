@@ -67,60 +67,58 @@ pub(crate) struct MipLevel {
 }
 
 impl MipLevel {
+    /// The level over `displacements` (and `colours`); `range`, when
+    /// known, is its used nodes' displacement range ([`Self::d_range`]).
+    #[inline(always)]
     fn new(
-        cols: usize,
-        rows: usize,
+        [cols, rows]: [usize; 2],
         spacing: u32,
-        displacements: Vec<u16>,
-        colours: Option<Vec<[u8; 4]>>,
+        (displacements, colours): (Vec<u16>, Option<Vec<[u8; 4]>>),
+        range: Option<(u16, u16)>,
     ) -> Self {
         let drawn = drawn_cells(&displacements, cols, rows);
         Self::with_drawn_cells(
             [cols, rows],
             spacing,
-            displacements,
-            colours,
+            (displacements, colours),
             OnceLock::new(),
-            &drawn,
+            (drawn, range),
         )
     }
 
     /// Leaves out the cells `trimmed` marks (row-major per cell; see
     /// [`crate::prepare::overlap`]), keeping the level's nodes.
     pub(crate) fn trim_cells(&mut self, trimmed: &[bool]) {
-        let drawn: Vec<bool> = self
+        let drawn: Vec<u8> = self
             .cell_flags
             .iter()
             .zip(trimmed)
-            .map(|(&f, &t)| f & CELL_DRAW != 0 && !t)
+            .map(|(&f, &t)| f & CELL_DRAW & !(t as u8))
             .collect();
         *self = Self::with_drawn_cells(
             [self.cols, self.rows],
             self.spacing,
-            std::mem::take(&mut self.displacements),
-            self.colours.take(),
+            (std::mem::take(&mut self.displacements), self.colours.take()),
             std::mem::take(&mut self.normal_slots),
-            &drawn,
+            (drawn, None),
         );
     }
 
-    /// A level drawing the cells `drawn` marks (each with four filled
-    /// corners).
+    /// A level drawing the cells whose flag in `drawn` is [`CELL_DRAW`]
+    /// (each with four filled corners; the others 0), which becomes its
+    /// [`Self::cell_flags`]; `range` as in [`Self::new`].
+    #[inline(always)]
     fn with_drawn_cells(
         [cols, rows]: [usize; 2],
         spacing: u32,
-        displacements: Vec<u16>,
-        colours: Option<Vec<[u8; 4]>>,
+        (displacements, colours): (Vec<u16>, Option<Vec<[u8; 4]>>),
         normal_slots: OnceLock<Vec<u16>>,
-        drawn: &[bool],
+        (mut cell_flags, range): (Vec<u8>, Option<(u16, u16)>),
     ) -> Self {
         let (ccols, crows) = (cols - 1, rows - 1);
-        let drawn = &drawn[..ccols * crows];
-        let drawable_cells = drawn.iter().filter(|&&d| d).count() as u32;
-        let mut cell_flags: Vec<u8> = drawn
-            .iter()
-            .map(|&d| if d { CELL_DRAW } else { 0 })
-            .collect();
+        cell_flags.truncate(ccols * crows);
+        let drawn = &cell_flags[..];
+        let drawable_cells = drawn.iter().map(|&d| u32::from(d)).sum::<u32>();
         // A node is used when a drawn cell of the row of cells below or
         // above it has it as a corner. Why by rows of nodes: four indexed
         // stores per drawn cell were a third of this function (callgrind,
@@ -136,10 +134,10 @@ impl MipLevel {
         };
         for (j, row) in drawn.chunks_exact(ccols).enumerate() {
             // Nodes of this row of cells that are a corner of a drawn cell.
-            corner[0] = row[0];
-            corner[ccols] = row[ccols - 1];
+            corner[0] = row[0] != 0;
+            corner[ccols] = row[ccols - 1] != 0;
             for (c, pair) in corner[1..ccols].iter_mut().zip(row.windows(2)) {
-                *c = pair[0] | pair[1];
+                *c = pair[0] | pair[1] != 0;
             }
             let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
             for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(corner.iter()) {
@@ -147,7 +145,7 @@ impl MipLevel {
                 *a |= c;
             }
         }
-        let (lo, hi) = used_range(&displacements, &used);
+        let (lo, hi) = range.unwrap_or_else(|| used_range(&displacements, &used));
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
         let mut weights = Vec::with_capacity(displacements.len());
         push_weights(&displacements, d_range, &mut weights);
@@ -206,12 +204,16 @@ impl MipLevel {
 /// a scan) left it to the loops' scalar remainders (3.6 M of a one-frame
 /// bunny render's 187 M instructions; callgrind, `spatch render
 /// bunny.spatch -o out.png --threads 1`).
-fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
+#[inline(always)]
+fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<u8> {
     let (ccols, crows) = (cols - 1, rows - 1);
     if ccols * crows == 0 {
         return Vec::new();
     }
-    let filled: Vec<bool> = displacements.iter().map(|&d| d != EMPTY).collect();
+    let filled: Vec<u8> = displacements
+        .iter()
+        .map(|&d| u8::from(d != EMPTY) * CELL_DRAW)
+        .collect();
     // Node k with node k + 1, k + cols and k + cols + 1 (the last node of
     // the last row of cells has no k + cols + 1: it closes its row).
     let m = crows * cols - 1;
@@ -219,7 +221,7 @@ fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
     let quads = quads
         .zip(&filled[cols..cols + m])
         .zip(&filled[cols + 1..cols + 1 + m]);
-    let quad: Vec<bool> = quads.map(|(((&a, &b), &c), &d)| a & b & c & d).collect();
+    let quad: Vec<u8> = quads.map(|(((&a, &b), &c), &d)| a & b & c & d).collect();
     let mut drawn = Vec::with_capacity(ccols * crows);
     for row in quad.chunks(cols) {
         drawn.extend_from_slice(&row[..ccols]);
@@ -231,6 +233,7 @@ fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<bool> {
 /// 0)` when none). Why eight lanes of extremes, merged at the end: a fold
 /// into one pair ran one node at a time (3.7 M of a one-frame bunny
 /// render's 187 M instructions; callgrind).
+#[inline(always)]
 fn used_range(displacements: &[u16], used: &[bool]) -> (u16, u16) {
     let (mut lo, mut hi) = ([u16::MAX; 8], [0u16; 8]);
     let nodes = displacements.chunks_exact(8).zip(used.chunks_exact(8));
@@ -269,20 +272,25 @@ pub(crate) fn base_level(patch: &spatch_format::Patch) -> Option<MipLevel> {
     let grid = patch.grid();
     let base = level_zero(
         [grid.cols() as usize, grid.rows() as usize],
-        patch.displacements().to_vec(),
-        patch.colours().map(<[_]>::to_vec),
+        (
+            patch.displacements().to_vec(),
+            patch.colours().map(<[_]>::to_vec),
+        ),
+        None,
     );
     (base.drawable_cells > 0).then_some(base)
 }
 
 /// Level 0 of a pyramid over a `cols × rows` grid of `displacements` (and
-/// `colours`).
+/// `colours`); `range`, when known, the displacement range of its used
+/// nodes (the normal cone finds it, [`crate::prepare::cone::ConeScan`]).
+#[inline(always)]
 pub(crate) fn level_zero(
-    [cols, rows]: [usize; 2],
-    displacements: Vec<u16>,
-    colours: Option<Vec<[u8; 4]>>,
+    size: [usize; 2],
+    nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
+    range: Option<(u16, u16)>,
 ) -> MipLevel {
-    MipLevel::new(cols, rows, 1, displacements, colours)
+    MipLevel::new(size, 1, nodes, range)
 }
 
 /// How many levels the pyramid over the level-0 nodes `base` (`cols × rows`) has above it (up to
@@ -364,11 +372,10 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
         out
     });
     Some(MipLevel::new(
-        hc,
-        hr,
+        [hc, hr],
         level.spacing * 2,
-        displacements,
-        colours,
+        (displacements, colours),
+        None,
     ))
 }
 

@@ -1,9 +1,9 @@
 //! Preparation, once per scene and reused by every frame: what does not
-//! depend on the view. In use order (each uses only those
-//! above it): normal reconstruction and the slots of node differences,
-//! the normal buffer, the mip pyramid, how far a level strays from the
-//! one below, the normal cone, the prepared
-//! patch, overlap trimming, the prepared scene.
+//! depend on the view. In use order (each uses only those above it): the
+//! eight-lane vectors of its kernels, normal reconstruction and the slots
+//! of node differences, the normal buffer, the mip pyramid, how far a
+//! level strays from the one below, the normal cone, the prepared patch,
+//! overlap trimming, the prepared scene.
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;
@@ -13,3 +13,4 @@ pub(crate) mod normals;
 pub(crate) mod overlap;
 pub(crate) mod patch;
 pub(crate) mod scene;
+pub(crate) mod wide;

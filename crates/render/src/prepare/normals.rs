@@ -15,7 +15,9 @@
 //! Cost: a few compares per node for the slots, one normalization per
 //! distinct normal.
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
+
+use crate::prepare::wide::Wide;
 
 /// Differences in `-RADIUS..=RADIUS` are cached; others are computed.
 const RADIUS: i32 = 32;
@@ -107,6 +109,7 @@ pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec
 /// scalar remainders (8.5 M of a one-frame bunny render's 192.7 M
 /// instructions; callgrind, `spatch render bunny.spatch -o out.png
 /// --threads 1`).
+#[inline(always)]
 pub(crate) fn grid_differences(
     d: &[u16],
     cols: usize,
@@ -129,7 +132,10 @@ pub(crate) fn grid_differences(
         heap = vec![empty; cols];
         &heap
     };
-    let mut gj = Vec::with_capacity(n);
+    // Room for whole groups of eight, which the shading inputs pad them to
+    // ([`crate::prepare::patch`]).
+    let room = n.next_multiple_of(8);
+    let mut gj = Vec::with_capacity(room);
     if rows == 1 {
         across(outside, d, outside, &mut gj);
     } else {
@@ -145,7 +151,7 @@ pub(crate) fn grid_differences(
     if cols == 1 {
         return (vec![0; n], gj);
     }
-    let mut gi = Vec::with_capacity(n);
+    let mut gi = Vec::with_capacity(room);
     gi.push(difference(empty, d[0], d[1], empty));
     across(&d[..n - 2], &d[1..n - 1], &d[2..], &mut gi);
     gi.push(difference(d[n - 2], d[n - 1], empty, empty));
@@ -172,17 +178,25 @@ fn difference(prev: u16, centre: u16, next: u16, empty: u16) -> i32 {
 }
 
 /// The unit normals [`reconstruct_normal`]`(gi, gj, rx, ry).normalize()`
-/// of four nodes as lanes `[x, y, z]`, with the same operations in the
-/// same order as one by one, so each lane equals its one-by-one value.
-/// `gi` and `gj` hold integer differences (exact in `f32`).
-#[inline]
-pub(crate) fn unit_normal_lanes(gi: Vec4, gj: Vec4, (rx, ry): (f32, f32)) -> [Vec4; 3] {
+/// of eight nodes as lanes `[x, y, z]` of `w`, given the ratios negated
+/// `(-rx, -ry)`, with the same operations in the same order as one by one
+/// (`-g · r` is `g · -r` exactly), so each lane equals its one-by-one
+/// value. `gi` and `gj` hold integer differences (exact in `f32`).
+#[inline(always)]
+pub(crate) fn unit_normals<W: Wide>(
+    w: W,
+    gi: W::V,
+    gj: W::V,
+    (nrx, nry): (W::V, W::V),
+) -> [W::V; 3] {
+    let (half, one) = (w.splat(0.5), w.splat(1.0));
     // As `reconstruct_normal`: `(-g · r · 0.5, ..., 1)`.
-    let lanes = |g: Vec4, r: f32| -g * r * 0.5;
-    let (x, y) = (lanes(gi, rx), lanes(gj, ry));
+    let x = w.mul(w.mul(gi, nrx), half);
+    let y = w.mul(w.mul(gj, nry), half);
     // As `Vec3::normalize`: times `1 / sqrt(x·x + y·y + z·z)`, with z = 1.
-    let inverse = Vec4::ONE / (x * x + y * y + Vec4::ONE).sqrt();
-    [x * inverse, y * inverse, inverse]
+    let length = w.sqrt(w.add(w.add(w.mul(x, x), w.mul(y, y)), one));
+    let inverse = w.div(one, length);
+    [w.mul(x, inverse), w.mul(y, inverse), inverse]
 }
 
 #[cfg(test)]

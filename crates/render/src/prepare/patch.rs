@@ -15,15 +15,17 @@
 
 use std::sync::OnceLock;
 
-use glam::{DMat3, DVec3, Mat4, Vec4};
+use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::fixed::ATTR_ONE;
+use crate::isa::Isa;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{grid_differences, table_slot, unit_normal_lanes};
+use crate::prepare::normals::{grid_differences, table_slot, unit_normals};
+use crate::prepare::wide::{Portable, Wide, LANES};
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -43,6 +45,10 @@ pub(crate) struct PreparedPatch {
     pub(crate) sides: Sides,
     /// Level 0's grid size `[cols, rows]`.
     pub(crate) grid: [usize; 2],
+    /// Level 0's used displacement range, found with the normal cone
+    /// ([`crate::prepare::cone::ConeScan::d_range`]), so building level 0
+    /// need not find it again.
+    d_range: (u16, u16),
     /// Level 0's displacements and colours, from which [`Self::level`]
     /// builds level 0.
     nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
@@ -54,6 +60,9 @@ pub(crate) struct PreparedPatch {
     /// per kind) were four allocations per patch, 1.4 M instructions of a
     /// one-frame bunny render (callgrind).
     levels: Vec<LazyLevel>,
+    /// The instruction set the preparation kernels run with, here and on
+    /// first use ([`Self::level`], [`Self::shading`]).
+    isa: Isa,
 }
 
 /// What a prepared patch builds of one mip level on first use.
@@ -89,26 +98,27 @@ pub(crate) struct LevelShading {
 
 impl LevelShading {
     /// The inputs of a mip level with shading ratios `ratios` (at that
-    /// level). Why each node's normal computed from its differences, four
-    /// nodes in lanes, rather than through a normal buffer: a scan's
-    /// patches nearly all have ratios of their own, so the buffer's table
-    /// was cleared for each and every distinct normal computed anyway,
-    /// behind a slot lookup per node (the Phong inputs were 45.5 M of a
-    /// one-frame bunny render's 226.5 M instructions; callgrind, `spatch
-    /// render bunny.spatch -o out.png --threads 1`). The normals are the
-    /// buffer's bit for bit (the same operations in the same order).
-    fn new(level: &MipLevel, ratios: (f32, f32)) -> Self {
+    /// level), with the lanes of `w`. Why each node's normal computed from
+    /// its differences, eight nodes in lanes, rather than through a normal
+    /// buffer: a scan's patches nearly all have ratios of their own, so the
+    /// buffer's table was cleared for each and every distinct normal
+    /// computed anyway, behind a slot lookup per node (the Phong inputs
+    /// were 45.5 M of a one-frame bunny render's 226.5 M instructions;
+    /// callgrind, `spatch render bunny.spatch -o out.png --threads 1`). The
+    /// normals are the buffer's bit for bit (the same operations in the
+    /// same order).
+    #[inline(always)]
+    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32)) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
         let (gi, gj) = grid_differences(d, cols, rows, EMPTY);
-        let mut normals = Vec::with_capacity(cols * rows);
-        push_unit_normals((&gi, &gj), d, ratios, &mut normals);
         let mut slots = SlotSetBuilder::default();
         for ((&u, &gi), &gj) in level.used.iter().zip(&gi).zip(&gj) {
             if u {
                 slots.add(table_slot(gi, gj));
             }
         }
+        let normals = rounded_unit_normals(w, (gi, gj), d, ratios);
         let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
             c.iter()
                 .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
@@ -120,55 +130,70 @@ impl LevelShading {
             slots: slots.finish(),
         }
     }
+
+    /// [`Self::new`] with the lanes of `isa`.
+    fn with_isa(isa: Isa, level: &MipLevel, ratios: (f32, f32)) -> Self {
+        match isa {
+            Isa::Base => Self::new(Portable, level, ratios),
+            #[cfg(target_arch = "x86_64")]
+            Isa::V3(v3) => v3.vectorize(
+                #[inline(always)]
+                || Self::new(v3, level, ratios),
+            ),
+        }
+    }
 }
 
-/// Appends the unit normals of nodes with differences `(gi, gj)` and
-/// displacements `d` to `out`, rounded as projected nodes carry them
-/// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why four nodes
-/// at a time in vector lanes ([`unit_normal_lanes`], the rounding by
-/// `Vec4::trunc`, which truncates in lanes as `as i32` does for these
-/// values, and a 4 × 4 transpose to node order): one by one, the three
-/// saturating conversions per node were most of the cost. Why appended,
-/// not written over a zeroed level: zeroing kilobytes at once ran as `rep
-/// stosb`, 4 M instructions of a one-frame bunny render (callgrind).
-fn push_unit_normals(
-    (gi, gj): (&[i32], &[i32]),
+/// The unit normals of nodes with differences `(gi, gj)` and
+/// displacements `d`, rounded as projected nodes carry them
+/// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why eight nodes
+/// at a time in lanes ([`unit_normals`], the rounding by [`Wide::trunc`],
+/// which truncates as `as i32` does for these values, and a transpose to
+/// node order): one by one, the three saturating conversions per node
+/// were most of the cost. Why collected by whole groups of eight (the
+/// differences padded), then cut to length: appending four at a time
+/// checked the vector's room at each append (3.8 M of a one-frame bunny
+/// render; callgrind).
+#[inline(always)]
+fn rounded_unit_normals<W: Wide>(
+    w: W,
+    (mut gi, mut gj): (Vec<i32>, Vec<i32>),
     d: &[u16],
     ratios: (f32, f32),
-    out: &mut Vec<Vec4>,
-) {
+) -> Vec<Vec4> {
     let n = d.len();
-    let whole = n / 4 * 4;
-    let fours = gi[..whole].chunks_exact(4).zip(gj[..whole].chunks_exact(4));
-    let keep = |(v, &dk): (Vec4, &u16)| if dk != EMPTY { v } else { Vec4::ZERO };
-    for ((gi, gj), d) in fours.zip(d.chunks_exact(4)) {
-        let nodes = four_unit_normals(gi, gj, ratios);
-        out.extend(nodes.into_iter().zip(d).map(keep));
+    gi.resize(n.next_multiple_of(LANES), 0);
+    gj.resize(n.next_multiple_of(LANES), 0);
+    let negated = (w.splat(-ratios.0), w.splat(-ratios.1));
+    let (scale, unscale) = (w.splat(ATTR_ONE), w.splat(1.0 / ATTR_ONE));
+    let round = |v| w.mul(w.trunc(w.mul(v, scale)), unscale);
+    // A loop, not an iterator's `collect`: the fold it called was left out
+    // of line, without the caller's instruction set.
+    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(n.div_ceil(LANES));
+    for ((gi, gj), d) in gi
+        .chunks_exact(LANES)
+        .zip(gj.chunks_exact(LANES))
+        .zip(d.chunks(LANES))
+    {
+        let [x, y, z] = unit_normals(w, w.load_i32(gi), w.load_i32(gj), negated);
+        let mut group = w.columns([round(x), round(y), round(z)]);
+        for (l, node) in group.iter_mut().enumerate() {
+            if d.get(l).is_none_or(|&v| v == EMPTY) {
+                *node = Vec4::ZERO;
+            }
+        }
+        nodes.push(group);
     }
-    if whole < n {
-        let pad =
-            |g: &[i32]| std::array::from_fn::<i32, 4, _>(|l| g.get(whole + l).map_or(0, |&v| v));
-        let nodes = four_unit_normals(&pad(&gi[..n]), &pad(&gj[..n]), ratios);
-        out.extend(nodes.into_iter().zip(&d[whole..]).map(keep));
-    }
-}
-
-/// The rounded unit normals (`w` = 0) of four nodes with differences `gi`
-/// and `gj` (four each), in node order.
-#[inline(always)]
-fn four_unit_normals(gi: &[i32], gj: &[i32], ratios: (f32, f32)) -> [Vec4; 4] {
-    let lanes = |g: &[i32]| Vec4::new(g[0] as f32, g[1] as f32, g[2] as f32, g[3] as f32);
-    let round = |v: Vec4| (v * ATTR_ONE).trunc() * (1.0 / ATTR_ONE);
-    let [x, y, z] = unit_normal_lanes(lanes(gi), lanes(gj), ratios).map(round);
-    let nodes = Mat4::from_cols(x, y, z, Vec4::ZERO).transpose();
-    std::array::from_fn(|l| nodes.col(l))
+    let mut nodes = nodes.into_flattened();
+    nodes.truncate(n);
+    nodes
 }
 
 impl PreparedPatch {
     /// `patch` ready to draw (its shading inputs are built on first use,
     /// [`Self::shading`]) and the corners of its box in model space; `None`
     /// when it has no drawable cell.
-    pub(crate) fn new(patch: &Patch, offset: DVec3) -> Option<(Self, [DVec3; 8])> {
+    pub(crate) fn new(patch: &Patch, offset: DVec3, isa: Isa) -> Option<(Self, [DVec3; 8])> {
         let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
         let displacements = patch.displacements();
         let frame = patch.frame();
@@ -178,7 +203,7 @@ impl PreparedPatch {
         let [lx, ly, lz] = frame.lengths();
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
-        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation)?;
+        let scan = compute_normal_cone(displacements, size[0], ratios, &rotation, isa)?;
         let levels = 1 + coarse_level_count(displacements, size);
         // Box of the used nodes in model space, via the local box corners.
         let (d0, d1) = scan.d_range;
@@ -204,9 +229,11 @@ impl PreparedPatch {
             radius: (hi - lo).length() * 0.5,
             sides: patch.sides(),
             grid: size,
+            d_range: scan.d_range,
             nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
+            isa,
         };
         Some((prepared, corners))
     }
@@ -223,7 +250,10 @@ impl PreparedPatch {
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
         self.levels[m].level.get_or_init(|| match m {
-            0 => level_zero(self.grid, self.nodes.0.clone(), self.nodes.1.clone()),
+            0 => (self.isa).run(
+                #[inline(always)]
+                || level_zero(self.grid, self.nodes.clone(), Some(self.d_range)),
+            ),
             _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
         })
     }
@@ -252,7 +282,7 @@ impl PreparedPatch {
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
         self.levels[m]
             .shading
-            .get_or_init(|| LevelShading::new(self.level(m), self.ratios_at(m)))
+            .get_or_init(|| LevelShading::with_isa(self.isa, self.level(m), self.ratios_at(m)))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
@@ -383,6 +413,17 @@ mod tests {
         assert!(checked > 1000, "{checked}");
     }
 
+    /// Level 0 built with the cone's displacement range is the level built
+    /// on its own (which finds the range from its used nodes).
+    fn check_level_zero(p: &PreparedPatch, patch: &Patch) {
+        let own = crate::prepare::mip::base_level(patch).expect("drawable");
+        let built = p.level(0);
+        assert_eq!(built.d_range, own.d_range);
+        assert_eq!(built.weights, own.weights);
+        assert_eq!(built.cell_flags, own.cell_flags);
+        assert_eq!(built.used, own.used);
+    }
+
     #[test]
     fn prepared_normals_hold_on_grids_with_holes_and_steep_steps() {
         // Grids of 2–20 nodes a side (some a multiple of four, some not),
@@ -408,6 +449,7 @@ mod tests {
             let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap();
             for p in &PreparedScene::new(&scene).patches {
                 checked += check_levels(p, &mut buffer);
+                check_level_zero(p, &scene.patches()[0]);
             }
         }
         assert!(checked > 10_000, "{checked}");

@@ -16,6 +16,7 @@ use spatch_format::Scene;
 
 use crate::camera::Camera;
 use crate::error::CameraProblem;
+use crate::isa::Isa;
 use crate::prepare::overlap::trim_overlaps;
 use crate::prepare::patch::PreparedPatch;
 
@@ -67,10 +68,11 @@ impl PreparedScene {
     /// not depend on the number of threads.
     fn prepare(scene: &Scene, trim: bool) -> Self {
         let offset = scene.offset();
+        let isa = Isa::detect(true);
         let built: Vec<Option<(PreparedPatch, [DVec3; 8])>> = scene
             .patches()
             .par_iter()
-            .map(|patch| PreparedPatch::new(patch, offset))
+            .map(|patch| PreparedPatch::new(patch, offset, isa))
             .collect();
         let skipped = built.iter().filter(|b| b.is_none()).count();
         // Pushed into vectors of the right size. Why: `unzip` grew them by
