@@ -86,7 +86,7 @@ pub use error::{CameraProblem, RenderError};
 pub use frame::image::{encode_rgba_png, RenderedImage};
 pub use frame::render::{rasterize_triangles, render, RenderOutput, Renderer};
 pub use frame::shortcuts::{measure_shortcuts, ShortcutCost, ShortcutCosts};
-pub use frame::stats::{RenderStats, StageTimes};
+pub use frame::stats::{BandStats, RenderStats, StageTimes};
 pub use options::{CellScheme, Culling, Lighting, Projection, RenderMode, RenderOptions, Shading};
 pub use plan::mesh::{MeshColours, TriangleMesh};
 pub use prepare::scene::PreparedScene;

@@ -131,6 +131,14 @@ impl Bins {
             .map(|(_, id)| id)
     }
 
+    /// Items and triangles binned to `band`.
+    pub(crate) fn counts(&self, band: usize) -> (u32, u32) {
+        (
+            self.item_starts[band + 1] - self.item_starts[band],
+            self.tri_starts[band + 1] - self.tri_starts[band],
+        )
+    }
+
     fn tris_of(&self, band: usize) -> &[(u32, u32)] {
         &self.tris[self.tri_starts[band] as usize..self.tri_starts[band + 1] as usize]
     }

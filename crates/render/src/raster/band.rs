@@ -208,6 +208,8 @@ pub(crate) struct Band {
     pub(crate) width: i32,
     px: Vec<Sample>,
     pub(crate) times: BandTimes,
+    /// The pool thread that drew the band last (statistics only).
+    pub(crate) thread: usize,
 }
 
 impl Band {
