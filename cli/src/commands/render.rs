@@ -12,8 +12,8 @@ use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
 use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, Projection, RenderError, RenderMode,
-    RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, OcclusionStats, Projection, RenderError,
+    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
 use super::frame_bench::{bench, BenchReport};
@@ -472,6 +472,8 @@ struct StatsFile<'a> {
     overlap_cells_trimmable: u64,
     camera: CameraJson,
     shortcuts: ShortcutCosts,
+    /// How much of the frame's drawing ends up hidden.
+    occlusion: OcclusionStats,
 }
 
 /// The `details` of the `--json` report.
@@ -580,6 +582,7 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
             overlap_cells_trimmable: overlaps.0.trimmed_cells(),
             camera: CameraJson::of(&camera),
             shortcuts,
+            occlusion: renderer.occlusion(),
         };
         let mut text = serde_json::to_string_pretty(&file).context("statistics")?;
         text.push('\n');

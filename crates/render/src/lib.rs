@@ -84,6 +84,7 @@ mod test_rng;
 pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use error::{CameraProblem, RenderError};
 pub use frame::image::{encode_rgba_png, RenderedImage};
+pub use frame::occlusion::OcclusionStats;
 pub use frame::render::{rasterize_triangles, render, RenderOutput, Renderer};
 pub use frame::shortcuts::{measure_shortcuts, ShortcutCost, ShortcutCosts};
 pub use frame::stats::{BandStats, RenderStats, StageTimes};

@@ -15,6 +15,7 @@ use crate::camera::{Camera, View};
 use crate::error::RenderError;
 use crate::fixed::{attr_from_bits, attr_to_bits};
 use crate::frame::image::RenderedImage;
+use crate::frame::occlusion::{self, Frame, OcclusionStats};
 use crate::frame::schedule::{run_in_order, BandOrder};
 use crate::frame::stats::{BandStats, RenderStats};
 use crate::frame::tiles::{render_band, BandJob, Bins};
@@ -340,6 +341,24 @@ impl Renderer {
         stats.covered_pixels = image.covered_count() as u64;
         stats.options = Some(*options);
         Ok(RenderOutput { image, stats })
+    }
+
+    /// How much of the last frame's drawing ends up hidden
+    /// ([`crate::frame::occlusion`]): its pieces drawn again one at a time.
+    /// Zero counts before the first frame.
+    pub fn occlusion(&self) -> OcclusionStats {
+        let Some(band) = self.bands.first() else {
+            return OcclusionStats::default();
+        };
+        let frame = Frame {
+            chunks: &self.chunks,
+            bins: &self.bins,
+            cells: self.options.cells,
+            width: band.width,
+            height: self.bands.iter().map(|b| b.rows).sum(),
+            tile_rows: self.options.tile_rows as i32,
+        };
+        occlusion::measure(&frame)
     }
 
     /// Rows, work and time of each band of the last frame.

@@ -235,6 +235,12 @@ impl Band {
         self.times = BandTimes::default();
     }
 
+    /// Clears rows `rows` of the band (counted from its first row).
+    pub(crate) fn clear_rows(&mut self, rows: std::ops::Range<usize>) {
+        let w = self.width as usize;
+        self.px[rows.start * w..rows.end * w].fill(Sample::EMPTY);
+    }
+
     /// The buffers for drawing.
     pub(crate) fn target(&mut self) -> BandTarget<'_> {
         BandTarget {
