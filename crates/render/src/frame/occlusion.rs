@@ -163,9 +163,11 @@ mod tests {
         let prepared = PreparedScene::new(&scene);
         let camera = prepared.auto_camera(120, 120).expect("camera");
         for (culling, behind) in [(Culling::Back, 0.0..15.0), (Culling::None, 40.0..65.0)] {
-            let mut options = RenderOptions::default();
-            options.culling = culling;
-            options.threads = 2;
+            let options = RenderOptions {
+                culling,
+                threads: 2,
+                ..Default::default()
+            };
             let mut renderer = Renderer::new(options).expect("renderer");
             assert_eq!(renderer.occlusion().fragments, 0);
             let out = renderer.render(&prepared, &camera).expect("frame");

@@ -344,8 +344,8 @@ impl Renderer {
     }
 
     /// How much of the last frame's drawing ends up hidden
-    /// ([`crate::frame::occlusion`]): its pieces drawn again one at a time.
-    /// Zero counts before the first frame.
+    /// ([`OcclusionStats`]): its pieces drawn again one at a time, each
+    /// merged with the depth test. Zero counts before the first frame.
     pub fn occlusion(&self) -> OcclusionStats {
         let Some(band) = self.bands.first() else {
             return OcclusionStats::default();
