@@ -226,7 +226,8 @@ pub(crate) struct RenderArgs {
     depth_format: Option<DepthFormatArg>,
     /// Also write statistics as JSON, with the cost of the shortcuts
     /// (trilinear vs exact, bilinear vs smooth, trimmed vs kept overlaps:
-    /// time and PSNR).
+    /// time and PSNR), each band's work and time, and how much of the
+    /// drawing ends up hidden (occlusion).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
     /// Render N frames after a warm-up and print median and min ms per
