@@ -12,8 +12,8 @@ use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
 use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, Projection, RenderError, RenderMode,
-    RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, OcclusionStats, Projection, RenderError,
+    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
 use super::frame_bench::{bench, BenchReport};
@@ -226,7 +226,8 @@ pub(crate) struct RenderArgs {
     depth_format: Option<DepthFormatArg>,
     /// Also write statistics as JSON, with the cost of the shortcuts
     /// (trilinear vs exact, bilinear vs smooth, trimmed vs kept overlaps:
-    /// time and PSNR).
+    /// time and PSNR), each band's work and time, and how much of the
+    /// drawing ends up hidden (occlusion).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
     /// Render N frames after a warm-up and print median and min ms per
@@ -472,6 +473,8 @@ struct StatsFile<'a> {
     overlap_cells_trimmable: u64,
     camera: CameraJson,
     shortcuts: ShortcutCosts,
+    /// How much of the frame's drawing ends up hidden.
+    occlusion: OcclusionStats,
 }
 
 /// The `details` of the `--json` report.
@@ -580,6 +583,7 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
             overlap_cells_trimmable: overlaps.0.trimmed_cells(),
             camera: CameraJson::of(&camera),
             shortcuts,
+            occlusion: renderer.occlusion(),
         };
         let mut text = serde_json::to_string_pretty(&file).context("statistics")?;
         text.push('\n');

@@ -65,6 +65,15 @@ fn renders_png_depth_and_stats() {
     assert_eq!(stats["overlap_cells_trimmed"], 0);
     let trim = &shortcuts["trimmed_vs_kept_overlaps"];
     assert!(trim["shortcut_ms"].as_f64().unwrap() > 0.0, "{trim}");
+    // The bands cover the image's rows once; the occlusion counts leave
+    // the covered pixels visible.
+    let bands = stats["bands"].as_array().unwrap();
+    assert_eq!(bands.len(), stats["tiles"].as_u64().unwrap() as usize);
+    let rows: u64 = bands.iter().map(|b| b["rows"].as_u64().unwrap()).sum();
+    assert_eq!(rows, 90);
+    let o = &stats["occlusion"];
+    let visible = o["fragments"].as_u64().unwrap() - o["hidden_fragments"].as_u64().unwrap();
+    assert_eq!(visible, stats["covered_pixels"].as_u64().unwrap(), "{o}");
 }
 
 #[test]

@@ -1,10 +1,13 @@
 //! The frame driver: a frame planned on chunks of patches, binned into
 //! bands, rasterized and resolved on the thread pool, assembled into the
 //! image with its statistics. In use order: the image, the
-//! bins and bands, the statistics, the renderer, the shortcuts' costs.
+//! bins and bands, the statistics, the renderer, the bands' order, the occlusion
+//! counts, the shortcuts' costs.
 
 pub(crate) mod image;
+pub(crate) mod occlusion;
 pub(crate) mod render;
+pub(crate) mod schedule;
 pub(crate) mod shortcuts;
 pub(crate) mod stats;
 pub(crate) mod tiles;

@@ -15,7 +15,9 @@ use crate::camera::{Camera, View};
 use crate::error::RenderError;
 use crate::fixed::{attr_from_bits, attr_to_bits};
 use crate::frame::image::RenderedImage;
-use crate::frame::stats::RenderStats;
+use crate::frame::occlusion::{self, Frame, OcclusionStats};
+use crate::frame::schedule::{run_in_order, BandOrder};
+use crate::frame::stats::{BandStats, RenderStats};
 use crate::frame::tiles::{render_band, BandJob, Bins};
 use crate::isa::Isa;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
@@ -51,6 +53,7 @@ pub struct Renderer {
     pool: rayon::ThreadPool,
     chunks: Vec<ChunkWork>,
     frames: Vec<ShadeFrame>,
+    order: BandOrder,
     bins: Bins,
     bands: Vec<Band>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
@@ -85,6 +88,7 @@ impl Renderer {
             pool,
             chunks: Vec::new(),
             frames: Vec::new(),
+            order: BandOrder::default(),
             bins: Bins::default(),
             bands: Vec::new(),
             spare: None,
@@ -227,10 +231,11 @@ impl Renderer {
         let tile_rows = options.tile_rows;
         let band_count = view.height.div_ceil(tile_rows) as usize;
         self.bins.fill(&self.chunks, tile_rows, band_count);
+        let size = (view.width, view.height);
+        (self.order).plan(&self.chunks, size, tile_rows, band_count);
         let bin_wall = bin_start.elapsed();
 
         let raster_start = Instant::now();
-        self.bands.resize_with(band_count, Band::default);
         let phong = PhongItems::new(
             options.shading,
             &self.bins.all_items,
@@ -263,7 +268,7 @@ impl Renderer {
                 far: view.far as f32,
             },
         };
-        let (width, height) = (view.width as i32, view.height as i32);
+        let width = view.width as i32;
         let pixels = (view.width * view.height) as usize;
         // Every pixel is written by its band, so recycled buffers need no
         // clearing and fresh ones are zero-filled (cheap to allocate).
@@ -271,24 +276,31 @@ impl Renderer {
             Some((rgba, depth)) if rgba.len() == pixels && depth.len() == pixels => (rgba, depth),
             _ => (vec![[0u8; 4]; pixels], vec![0f32; pixels]),
         };
-        let band_pixels = (tile_rows * view.width) as usize;
-        let bands = &mut self.bands;
+        let tasks = band_tasks(
+            &mut self.bands,
+            band_count,
+            tile_rows,
+            size,
+            &mut rgba,
+            &mut eye_depth,
+        );
         let isa = self.isa;
-        self.pool.install(|| {
-            bands
-                .par_iter_mut()
-                .zip(rgba.par_chunks_mut(band_pixels))
-                .zip(eye_depth.par_chunks_mut(band_pixels))
-                .enumerate()
-                .for_each(|(b, ((band, rgba), eye_depth))| {
-                    let y0 = b as i32 * tile_rows as i32;
-                    band.reset(y0, (height - y0).min(tile_rows as i32), width);
-                    isa.run(
-                        #[inline(always)]
-                        || render_band(band, b, &job, rgba, eye_depth),
-                    );
-                });
-        });
+        let draw = |BandTask {
+                        index,
+                        band,
+                        rgba,
+                        eye_depth,
+                        y0,
+                        rows,
+                    }: BandTask<'_>| {
+            band.reset(y0, rows, width);
+            band.thread = rayon::current_thread_index().unwrap_or(0);
+            isa.run(
+                #[inline(always)]
+                || render_band(band, index, &job, rgba, eye_depth),
+            );
+        };
+        run_in_order(&self.pool, tasks, &self.order.order, draw);
         let raster_wall = raster_start.elapsed();
 
         let gather_start = Instant::now();
@@ -325,10 +337,88 @@ impl Renderer {
         stats.threads = self.pool.current_num_threads();
         stats.kernels = self.isa.name();
         stats.tiles = band_count;
+        stats.bands = self.band_stats();
         stats.covered_pixels = image.covered_count() as u64;
         stats.options = Some(*options);
         Ok(RenderOutput { image, stats })
     }
+
+    /// How much of the last frame's drawing ends up hidden
+    /// ([`OcclusionStats`]): its pieces drawn again one at a time, each
+    /// merged with the depth test. Zero counts before the first frame.
+    pub fn occlusion(&self) -> OcclusionStats {
+        let Some(band) = self.bands.first() else {
+            return OcclusionStats::default();
+        };
+        let frame = Frame {
+            chunks: &self.chunks,
+            bins: &self.bins,
+            cells: self.options.cells,
+            width: band.width,
+            height: self.bands.iter().map(|b| b.rows).sum(),
+            tile_rows: self.options.tile_rows as i32,
+        };
+        occlusion::measure(&frame)
+    }
+
+    /// Rows, work and time of each band of the last frame.
+    fn band_stats(&self) -> Vec<BandStats> {
+        let ms = |ns: u64| ns as f64 / 1e6;
+        (0..self.bands.len())
+            .map(|b| {
+                let band = &self.bands[b];
+                let (items, triangles) = self.bins.counts(b);
+                let t = band.times;
+                BandStats {
+                    y0: band.y0 as u32,
+                    rows: band.rows as u32,
+                    items,
+                    triangles,
+                    work: self.order.work[b],
+                    ms: ms(t.cells + t.triangles + t.resolve),
+                    thread: band.thread,
+                }
+            })
+            .collect()
+    }
+}
+
+/// One band's buffers and its rows of the image, handed to a thread.
+struct BandTask<'a> {
+    index: usize,
+    band: &'a mut Band,
+    rgba: &'a mut [[u8; 4]],
+    eye_depth: &'a mut [f32],
+    y0: i32,
+    rows: i32,
+}
+
+/// Pairs each of `count` bands of `tile_rows` rows of a `width × height`
+/// image with its rows of the image buffers.
+fn band_tasks<'a>(
+    bands: &'a mut Vec<Band>,
+    count: usize,
+    tile_rows: u32,
+    (width, height): (u32, u32),
+    rgba: &'a mut [[u8; 4]],
+    eye_depth: &'a mut [f32],
+) -> Vec<BandTask<'a>> {
+    bands.resize_with(count, Band::default);
+    let n = (tile_rows * width) as usize;
+    let rows = rgba.chunks_mut(n).zip(eye_depth.chunks_mut(n));
+    (bands.iter_mut().zip(rows).enumerate())
+        .map(|(index, (band, (rgba, eye_depth)))| {
+            let y0 = index as u32 * tile_rows;
+            BandTask {
+                index,
+                band,
+                rgba,
+                eye_depth,
+                y0: y0 as i32,
+                rows: (height - y0).min(tile_rows) as i32,
+            }
+        })
+        .collect()
 }
 
 /// Renders `scene` once (prepares it, builds a thread pool). For repeated

@@ -44,6 +44,27 @@ pub struct StageTimes {
     pub total_wall: f64,
 }
 
+/// One band of rows of the framebuffer: where it lies, what was binned to
+/// it and how long its thread took over it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct BandStats {
+    /// First row (internal resolution).
+    pub y0: u32,
+    /// Rows.
+    pub rows: u32,
+    /// Draw items (pieces) binned to the band.
+    pub items: u32,
+    /// Triangles binned to the band.
+    pub triangles: u32,
+    /// The planned work that decides the order in which threads take the
+    /// bands (heaviest first), in estimated samples.
+    pub work: f64,
+    /// Drawing and resolving the band, milliseconds (one thread).
+    pub ms: f64,
+    /// Index of the pool thread that drew it (varies from run to run).
+    pub thread: usize,
+}
+
 /// What one frame did (see the module header).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct RenderStats {
@@ -61,6 +82,8 @@ pub struct RenderStats {
     pub kernels: &'static str,
     /// Tiles (bands of rows) rendered.
     pub tiles: usize,
+    /// Each band, top to bottom.
+    pub bands: Vec<BandStats>,
     /// Patches considered (with at least one drawable cell).
     pub patches: u64,
     /// Patches outside the view frustum.

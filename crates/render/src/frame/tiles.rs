@@ -125,10 +125,18 @@ impl Bins {
     }
 
     /// Indices into `all_items` of the items touching `band`.
-    fn items_of(&self, band: usize) -> impl Iterator<Item = &u32> + '_ {
+    pub(crate) fn items_of(&self, band: usize) -> impl Iterator<Item = &u32> + '_ {
         self.items[self.item_starts[band] as usize..self.item_starts[band + 1] as usize]
             .iter()
             .map(|(_, id)| id)
+    }
+
+    /// Items and triangles binned to `band`.
+    pub(crate) fn counts(&self, band: usize) -> (u32, u32) {
+        (
+            self.item_starts[band + 1] - self.item_starts[band],
+            self.tri_starts[band + 1] - self.tri_starts[band],
+        )
     }
 
     fn tris_of(&self, band: usize) -> &[(u32, u32)] {
@@ -151,7 +159,13 @@ pub(crate) struct BandJob<'a> {
 }
 
 #[inline(always)]
-fn draw_item(t: &mut BandTarget<'_>, chunk: &ChunkWork, item: &Item, id: u32, cells: CellScheme) {
+pub(crate) fn draw_item(
+    t: &mut BandTarget<'_>,
+    chunk: &ChunkWork,
+    item: &Item,
+    id: u32,
+    cells: CellScheme,
+) {
     let (cols, rows) = (item.cols as usize, item.rows as usize);
     let first = item.first as usize;
     let nodes = &chunk.nodes[first..first + cols * rows];

@@ -208,6 +208,8 @@ pub(crate) struct Band {
     pub(crate) width: i32,
     px: Vec<Sample>,
     pub(crate) times: BandTimes,
+    /// The pool thread that drew the band last (statistics only).
+    pub(crate) thread: usize,
 }
 
 impl Band {
@@ -231,6 +233,12 @@ impl Band {
             self.px.resize(n, Sample::EMPTY);
         }
         self.times = BandTimes::default();
+    }
+
+    /// Clears rows `rows` of the band (counted from its first row).
+    pub(crate) fn clear_rows(&mut self, rows: std::ops::Range<usize>) {
+        let w = self.width as usize;
+        self.px[rows.start * w..rows.end * w].fill(Sample::EMPTY);
     }
 
     /// The buffers for drawing.
