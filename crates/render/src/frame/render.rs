@@ -113,16 +113,18 @@ impl Renderer {
         self.pool.current_num_threads()
     }
 
-    /// Prepares `scene` on this renderer's threads ([`PreparedScene::new`]).
+    /// Prepares `scene` on this renderer's threads and with its instruction
+    /// set ([`PreparedScene::new`]).
     pub fn prepare(&self, scene: &Scene) -> PreparedScene {
-        self.pool.install(|| PreparedScene::new(scene))
+        self.pool
+            .install(|| PreparedScene::prepare(scene, false, self.isa))
     }
 
     /// Prepares `scene` with its overlaps trimmed, on this renderer's
     /// threads ([`PreparedScene::trimming_overlaps`]).
     pub fn prepare_trimming_overlaps(&self, scene: &Scene) -> PreparedScene {
         self.pool
-            .install(|| PreparedScene::trimming_overlaps(scene))
+            .install(|| PreparedScene::prepare(scene, true, self.isa))
     }
 
     fn setup<'a>(&self, view: &'a View, options: &'a RenderOptions) -> FrameSetup<'a> {

@@ -47,7 +47,7 @@ pub struct PreparedScene {
 impl PreparedScene {
     /// Prepares `scene`. Patches without a drawable cell are left out.
     pub fn new(scene: &Scene) -> Self {
-        Self::prepare(scene, false)
+        Self::prepare(scene, false, Isa::detect(true))
     }
 
     /// Prepares `scene` and trims the level-0 cells that an earlier patch
@@ -56,9 +56,12 @@ impl PreparedScene {
     /// sphere: 98,559 of 348,672 cells, 13 % of the instructions of a 500²
     /// frame, for about 40 ms more with 2 threads).
     pub fn trimming_overlaps(scene: &Scene) -> Self {
-        Self::prepare(scene, true)
+        Self::prepare(scene, true, Isa::detect(true))
     }
 
+    /// Prepares with the lanes of `isa` (the renderer's, so `--no-simd`
+    /// keeps preparation portable too); the lazily built levels use it.
+    ///
     /// Why in parallel: every patch is prepared on its own (its pyramid,
     /// cone and box), and preparation was most of a one-frame render (the
     /// perfect sphere: ≈ 320 M instructions against ≈ 80 M for a 500²
@@ -66,9 +69,8 @@ impl PreparedScene {
     /// current rayon pool
     /// ([`crate::Renderer::prepare`] uses the renderer's); the result does
     /// not depend on the number of threads.
-    fn prepare(scene: &Scene, trim: bool) -> Self {
+    pub(crate) fn prepare(scene: &Scene, trim: bool, isa: Isa) -> Self {
         let offset = scene.offset();
-        let isa = Isa::detect(true);
         let built: Vec<Option<(PreparedPatch, [DVec3; 8])>> = scene
             .patches()
             .par_iter()
