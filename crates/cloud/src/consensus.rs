@@ -34,6 +34,11 @@ use crate::normals::VoxelPlanes;
 /// Fewest points in a block for its plane to move points.
 pub const CONSENSUS_MIN_POINTS: u32 = 8;
 
+/// Fewest points seen from each side of a block's plane for the block to hold both sides of
+/// a thin part (when the points' scanners are known): its points are neither moved onto the
+/// plane nor used to align the scans.
+pub const TWO_SIDED_MIN_POINTS: u32 = 4;
+
 /// Limits of the consensus projection, in the positions' unit.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ConsensusLimits {
@@ -50,6 +55,7 @@ pub(crate) fn project_to_consensus(
     positions: &mut [Vec3],
     planes: &VoxelPlanes,
     limits: ConsensusLimits,
+    two_sided: Option<&[bool]>,
 ) -> usize {
     positions
         .par_iter_mut()
@@ -59,6 +65,7 @@ pub(crate) fn project_to_consensus(
             if plane.count < CONSENSUS_MIN_POINTS
                 || plane.normal == Vec3::ZERO
                 || plane.spread > limits.max_spread
+                || two_sided.is_some_and(|t| t[planes.point_voxel[i] as usize])
             {
                 return 0;
             }
@@ -95,7 +102,7 @@ mod tests {
             max_move: 2.0,
         };
         let mut moved = points.clone();
-        let count = project_to_consensus(&mut moved, &planes, limits);
+        let count = project_to_consensus(&mut moved, &planes, limits, None);
         assert_eq!(count, points.len());
         // Away from the grid's border, where the shifted layers' extents differ.
         let interior = |p: &Vec3| (3.0..36.0).contains(&p.x) && (3.0..36.0).contains(&p.y);
@@ -120,7 +127,7 @@ mod tests {
             max_move: 2.0,
         };
         let mut moved = points.clone();
-        project_to_consensus(&mut moved, &planes, limits);
+        project_to_consensus(&mut moved, &planes, limits, None);
         // (At the sheet's corners a block is narrower than thick and may slide points
         // sideways; no point leaves its side.)
         for (p, q) in points.iter().zip(&moved) {

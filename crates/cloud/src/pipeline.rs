@@ -42,7 +42,7 @@
 use std::borrow::Cow;
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
@@ -55,7 +55,7 @@ use crate::morton_order::{morton_order, PointOrder};
 use crate::normals::{estimate_planes, VoxelPlanes};
 use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
 use crate::range_image::{ImageGeometry, PointColumns};
-use crate::scan_shifts::align_scans;
+use crate::scan_shifts::{align_scans, shift_scans, Sights};
 use crate::scanners::PointScans;
 use crate::spacing::estimate_spacing;
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
@@ -194,21 +194,20 @@ fn convert_cloud(
     clock.lap(Stage::Spacing);
 
     let sights = scans.as_ref().zip(options.scanners.as_ref());
-    let scan_shift = match sights.filter(|_| options.consensus && options.align_scans) {
-        Some((scans, scanners)) => align_scans(
-            &mut cloud.positions,
-            scans,
-            scanners.runs.len(),
-            options.normal_voxel * spacing,
-            consensus_limits(spacing),
-        ),
-        None => 0.0,
+    let scan_shifts = match sights.filter(|_| options.consensus && options.align_scans) {
+        Some(sights) => move_scans((&mut cloud.positions, cloud.origin), sights, options, spacing)?,
+        None => Vec::new(),
     };
     let surface = estimate_surface(&cloud, options, spacing, sights)?;
     drop(scans);
     clock.lap(Stage::Normals);
 
-    let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
+    let consensus_points = apply_consensus(
+        &mut cloud.positions,
+        (surface.planes, surface.two_sided.as_deref()),
+        options,
+        spacing,
+    );
     let positions: &[Vec3] = &cloud.positions;
     clock.lap(Stage::Consensus);
 
@@ -264,7 +263,8 @@ fn convert_cloud(
         tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
             .then_some(grid.size),
         consensus_points,
-        scan_shift,
+        scan_shift: scan_shifts.iter().map(|t| t.length()).fold(0.0, f64::max),
+        scan_shifts: scan_shifts.iter().map(|t| t.to_array()).collect(),
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
         smoothed: options.smooth.is_some(),
@@ -292,6 +292,37 @@ fn measure_spacing(positions: &[Vec3], options: &CloudOptions) -> Result<(f32, f
     })
 }
 
+/// The scan alignment: each scan moved by its translation, given
+/// ([`CloudOptions::scan_shifts`]) or computed (`scan_shifts.rs`); gives the translations.
+fn move_scans(
+    (positions, origin): (&mut [Vec3], DVec3),
+    (scans, scanners): (&PointScans, &Scanners),
+    options: &CloudOptions,
+    spacing: f32,
+) -> Result<Vec<DVec3>, CloudError> {
+    let count = scanners.runs.len();
+    match &options.scan_shifts {
+        Some(given) if given.len() != count => Err(CloudError::InvalidOption {
+            option: "scan_shifts",
+            reason: "must hold one translation per scan",
+        }),
+        Some(given) => {
+            shift_scans(positions, scans, given);
+            Ok(given.clone())
+        }
+        None => Ok(align_scans(
+            positions,
+            &Sights {
+                origin,
+                scans,
+                scanners,
+            },
+            options.normal_voxel * spacing,
+            consensus_limits(spacing),
+        )),
+    }
+}
+
 /// The report's name for normals turned toward the points' scanners.
 const SIGHT_SOURCE: &str = "pca+sight";
 
@@ -304,6 +335,9 @@ struct Surface {
     source: &'static str,
     /// The blocks' planes, when computed.
     planes: Option<VoxelPlanes>,
+    /// With the points' scanners and the consensus: per voxel, whether its block holds both
+    /// sides of a thin part (`scan_shifts.rs`, [`Sights::two_sided_blocks`]).
+    two_sided: Option<Vec<bool>>,
 }
 
 /// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks,
@@ -337,10 +371,22 @@ fn estimate_surface(
             })
         }
     };
+    let two_sided = match (&planes, sights) {
+        (Some(planes), Some((scans, scanners))) if options.consensus => {
+            let sights = Sights {
+                origin: cloud.origin,
+                scans,
+                scanners,
+            };
+            Some(sights.two_sided_blocks(planes, &cloud.positions))
+        }
+        _ => None,
+    };
     Ok(Surface {
         normals,
         source,
         planes,
+        two_sided,
     })
 }
 
@@ -373,18 +419,20 @@ fn turn_to_sight(
 /// and gives how many moved.
 fn apply_consensus(
     positions: &mut [Vec3],
-    planes: Option<VoxelPlanes>,
+    (planes, two_sided): (Option<VoxelPlanes>, Option<&[bool]>),
     options: &CloudOptions,
     spacing: f32,
 ) -> usize {
     match (&planes, options.consensus) {
-        (Some(planes), true) => project_to_consensus(positions, planes, consensus_limits(spacing)),
+        (Some(planes), true) => {
+            project_to_consensus(positions, planes, consensus_limits(spacing), two_sided)
+        }
         _ => 0,
     }
 }
 
 /// The consensus limits for points of spacing `spacing`.
-fn consensus_limits(spacing: f32) -> ConsensusLimits {
+pub(crate) fn consensus_limits(spacing: f32) -> ConsensusLimits {
     ConsensusLimits {
         max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
         max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
