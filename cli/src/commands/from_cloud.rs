@@ -427,7 +427,13 @@ fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Resul
                 spacing: args.spacing,
                 pixel_factor: args.pixel_factor,
             };
-            run_all(input, PlanSource::Make(plan), &args.output, &options, &scans)
+            run_all(
+                input,
+                PlanSource::Make(plan),
+                &args.output,
+                &options,
+                &scans,
+            )
         }
         (None, _, None) => anyhow::bail!("--plan or --plan-tile is needed"),
     }

@@ -192,7 +192,10 @@ pub(crate) fn run_all(
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
     let (mut plan, made) = match plan {
         PlanSource::File(path) => (Plan::read(path).map_err(anyhow::Error::msg)?, false),
-        PlanSource::Make(options) => (make_plan(input, &options).map_err(anyhow::Error::msg)?, true),
+        PlanSource::Make(options) => (
+            make_plan(input, &options).map_err(anyhow::Error::msg)?,
+            true,
+        ),
     };
     let spill_dir = dir.join(".spill");
     let spill_started = Instant::now();
@@ -249,7 +252,11 @@ fn add_scan_shifts(
 
 /// `spatch plan` of a scan set: the plan's scan shifts (with the default options), from a
 /// spill into the folder `spill_dir`, removed afterwards.
-pub(crate) fn plan_scan_shifts(input: &Path, plan: &mut Plan, spill_dir: &Path) -> anyhow::Result<()> {
+pub(crate) fn plan_scan_shifts(
+    input: &Path,
+    plan: &mut Plan,
+    spill_dir: &Path,
+) -> anyhow::Result<()> {
     let scans = PlanScans::of(input, &spatch_scan::ScanOptions::default())?;
     let mut options = CloudOptions::default();
     options.consensus = scans.count > 1;

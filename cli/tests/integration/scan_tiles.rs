@@ -86,7 +86,9 @@ fn tiles_of_a_structured_scan_set_keep_the_sides_of_a_thin_sheet_apart() {
 
 /// The `[x, y, z]` shifts of a JSON array of arrays.
 fn shifts(value: &serde_json::Value) -> Vec<[f64; 3]> {
-    let all = value.as_array().unwrap_or_else(|| panic!("no shifts: {value}"));
+    let all = value
+        .as_array()
+        .unwrap_or_else(|| panic!("no shifts: {value}"));
     all.iter()
         .map(|s| [0, 1, 2].map(|k| s[k].as_f64().unwrap()))
         .collect()
@@ -111,20 +113,37 @@ fn tiles_move_each_scan_by_the_shift_of_the_whole_set() {
     let planned = shifts(&plan["scan_shifts"]);
     assert_eq!(planned.len(), 2);
     for (a, b) in whole.iter().zip(&planned) {
-        assert!((a[2] - b[2]).abs() < 0.03e-3, "untiled {a:?}, planned {b:?}");
+        assert!(
+            (a[2] - b[2]).abs() < 0.03e-3,
+            "untiled {a:?}, planned {b:?}"
+        );
     }
     assert!((planned[0][2] - 0.3e-3).abs() < 0.1e-3, "{planned:?}");
     assert!((planned[1][2] + 0.3e-3).abs() < 0.1e-3, "{planned:?}");
 
     // --plan-tile computes the same shifts into its own plan.json.
-    let args = ["from-cloud", "pair.conf", "--plan-tile", "0.07", "-o", "made"];
+    let args = [
+        "from-cloud",
+        "pair.conf",
+        "--plan-tile",
+        "0.07",
+        "-o",
+        "made",
+    ];
     t.run(&args).success();
     let made: serde_json::Value = t.json("made/plan.json");
     assert_eq!(made["scan_shifts"], plan["scan_shifts"]);
 
     // Every tile takes the plan's shifts: each converted alone is the local run's file.
-    t.run(&["from-cloud", "pair.conf", "--plan", "plan.json", "-o", "out"])
-        .success();
+    t.run(&[
+        "from-cloud",
+        "pair.conf",
+        "--plan",
+        "plan.json",
+        "-o",
+        "out",
+    ])
+    .success();
     let tiles = plan["tiles"].as_array().unwrap().len();
     assert!(tiles >= 4, "{tiles} tiles");
     for k in 0..tiles {
@@ -138,8 +157,15 @@ fn tiles_move_each_scan_by_the_shift_of_the_whole_set() {
     }
     // Aligned, the two layers 0.6 mm apart become one surface near both.
     let aligned = tiled_rms(&t, "pair.conf", "out");
-    let args = ["from-cloud", "pair.conf", "--plan", "plan.json", "--align-scans"];
-    t.run(&[&args[..], &["off", "-o", "plain"]].concat()).success();
+    let args = [
+        "from-cloud",
+        "pair.conf",
+        "--plan",
+        "plan.json",
+        "--align-scans",
+    ];
+    t.run(&[&args[..], &["off", "-o", "plain"]].concat())
+        .success();
     let plain = tiled_rms(&t, "pair.conf", "plain");
     eprintln!("tiled rms: aligned {aligned:.2e}, not aligned {plain:.2e}");
 }

@@ -35,8 +35,8 @@ use crate::normals::VoxelPlanes;
 pub const CONSENSUS_MIN_POINTS: u32 = 8;
 
 /// Fewest points seen from each side of a block's plane for the block to hold both sides of
-/// a thin part (when the points' scanners are known): its points are neither moved onto the
-/// plane nor used to align the scans.
+/// a thin part (when the points' scanners are known): its points are left out of the scan
+/// alignment.
 pub const TWO_SIDED_MIN_POINTS: u32 = 4;
 
 /// Limits of the consensus projection, in the positions' unit.
@@ -48,6 +48,23 @@ pub(crate) struct ConsensusLimits {
     pub(crate) max_move: f32,
 }
 
+/// The blocks that hold both sides of a thin part, for the scan alignment: per point its
+/// side, per voxel the offsets of its sides' planes (`scan_shifts.rs`, `Sights`).
+pub(crate) struct SidePlanes {
+    /// Per point: seen from the front of its block's plane, the back, or grazing (`None`).
+    pub(crate) sides: Vec<Option<bool>>,
+    /// Per voxel: for a two-sided block, the `[front, back]` planes' distances from the
+    /// block's centre along its normal (`VoxelPlanes::side_offsets`); `None` otherwise.
+    pub(crate) offsets: Vec<Option<[f32; 2]>>,
+}
+
+impl SidePlanes {
+    /// Whether point `i`'s block holds both sides of a thin part.
+    pub(crate) fn two_sided(&self, planes: &VoxelPlanes, i: usize) -> bool {
+        self.offsets[planes.point_voxel[i] as usize].is_some()
+    }
+}
+
 /// Moves `positions` onto their block planes in place, and gives how many moved (see the
 /// module docs). In place: a moved copy beside the sorted positions was the memory peak of
 /// scan sets (12 bytes a point, plus 16 while it was collected).
@@ -55,7 +72,6 @@ pub(crate) fn project_to_consensus(
     positions: &mut [Vec3],
     planes: &VoxelPlanes,
     limits: ConsensusLimits,
-    two_sided: Option<&[bool]>,
 ) -> usize {
     positions
         .par_iter_mut()
@@ -65,7 +81,6 @@ pub(crate) fn project_to_consensus(
             if plane.count < CONSENSUS_MIN_POINTS
                 || plane.normal == Vec3::ZERO
                 || plane.spread > limits.max_spread
-                || two_sided.is_some_and(|t| t[planes.point_voxel[i] as usize])
             {
                 return 0;
             }
@@ -102,7 +117,7 @@ mod tests {
             max_move: 2.0,
         };
         let mut moved = points.clone();
-        let count = project_to_consensus(&mut moved, &planes, limits, None);
+        let count = project_to_consensus(&mut moved, &planes, limits);
         assert_eq!(count, points.len());
         // Away from the grid's border, where the shifted layers' extents differ.
         let interior = |p: &Vec3| (3.0..36.0).contains(&p.x) && (3.0..36.0).contains(&p.y);
@@ -127,7 +142,7 @@ mod tests {
             max_move: 2.0,
         };
         let mut moved = points.clone();
-        project_to_consensus(&mut moved, &planes, limits, None);
+        project_to_consensus(&mut moved, &planes, limits);
         // (At the sheet's corners a block is narrower than thick and may slide points
         // sideways; no point leaves its side.)
         for (p, q) in points.iter().zip(&moved) {

@@ -116,10 +116,11 @@ impl BlockSum for Moments {
     }
 }
 
-impl BlockSum for [u32; 2] {
+impl BlockSum for [f64; 8] {
     fn add_to(&mut self, other: &Self) {
-        self[0] += other[0];
-        self[1] += other[1];
+        for (a, b) in self.iter_mut().zip(other) {
+            *a += b;
+        }
     }
 }
 
@@ -155,21 +156,49 @@ impl VoxelPlanes {
         &self.planes[self.point_voxel[i] as usize]
     }
 
-    /// Per voxel, whether its 3×3×3 block holds at least `min` points on each side of its
-    /// plane, `front[i]` telling the side of point `i` (seen from its scanner): both sides
-    /// of a part thinner than a block, which one plane would pull together.
-    pub(crate) fn two_sided_blocks(&self, front: &[bool], min: u32) -> Vec<bool> {
+    /// Per voxel whose 3×3×3 block holds at least `min` points on each side of its plane
+    /// (both sides of a part thinner than a block, which one plane would pull together):
+    /// the signed distances along the plane's normal from its centre to the centroid of
+    /// the block's points of each side, `[front, back]`; `None` for the other voxels.
+    /// `sides[i]` tells the side of point `i` (seen from its scanner; `None`: no vote);
+    /// `positions` are the ones the planes were fitted to.
+    pub(crate) fn side_offsets(
+        &self,
+        positions: &[Vec3],
+        sides: &[Option<bool>],
+        min: u32,
+    ) -> Vec<Option<[f32; 2]>> {
         let Some(grid) = &self.grid else {
-            return vec![false; self.planes.len()];
+            return vec![None; self.planes.len()];
         };
-        let mut counts = vec![[0u32; 2]; self.planes.len()];
-        for (&v, &f) in self.point_voxel.iter().zip(front) {
-            counts[v as usize][usize::from(!f)] += 1;
+        // Per voxel and side: the count and the sum of positions (relative to the origin).
+        let mut sums = vec![[0.0f64; 8]; self.planes.len()];
+        for ((&v, &side), p) in self.point_voxel.iter().zip(sides).zip(positions) {
+            if let Some(front) = side {
+                let at = if front { 0 } else { 4 };
+                let q = p.as_dvec3() - self.origin;
+                let sum = &mut sums[v as usize][at..at + 4];
+                sum[0] += 1.0;
+                sum[1] += q.x;
+                sum[2] += q.y;
+                sum[3] += q.z;
+            }
         }
-        let mut two_sided = vec![false; self.planes.len()];
-        let both = |c: &[u32; 2]| c[0] >= min && c[1] >= min;
-        grid.fold_all(&counts, &mut two_sided, both);
-        two_sided
+        let mut offsets = vec![None; self.planes.len()];
+        let min = f64::from(min);
+        grid.fold_all(&sums, &mut offsets, |v, block| {
+            if block[0] < min || block[4] < min {
+                return None;
+            }
+            let plane = &self.planes[v];
+            let n = plane.normal.as_dvec3();
+            let offset = |at: usize| {
+                let centroid = DVec3::new(block[at + 1], block[at + 2], block[at + 3]) / block[at];
+                (centroid - plane.centre).dot(n) as f32
+            };
+            Some([offset(0), offset(4)])
+        });
+        offsets
     }
 }
 
@@ -196,9 +225,10 @@ impl VoxelColumns {
         self.starts[c] as usize..self.starts[c + 1] as usize
     }
 
-    /// `finish` of the sum of `values` (one per voxel) over the 3×3×3 block around every
-    /// voxel of columns `range`, written to `out` (one slot per voxel of those columns, in
-    /// voxel order): the block planes of the voxels' moments, or their side counts.
+    /// `finish` of each voxel's index and the sum of `values` (one per voxel) over its
+    /// 3×3×3 block, for every voxel of columns `range`, written to `out` (one slot per voxel
+    /// of those columns, in voxel order): the block planes of the voxels' moments, or their
+    /// sides' centroids.
     ///
     /// The nine neighbour columns of a column are found by three cursors (one per `dx`) that
     /// only move forward, since the neighbour keys grow with the column key; this replaces 27
@@ -208,7 +238,7 @@ impl VoxelColumns {
         range: std::ops::Range<usize>,
         values: &[T],
         out: &mut [U],
-        finish: impl Fn(&T) -> U,
+        finish: impl Fn(usize, &T) -> U,
     ) {
         let mut slots = out.iter_mut();
         let (y_mask, z_mask) = ((1u64 << self.y_bits) - 1, (1u64 << self.z_bits) - 1);
@@ -250,10 +280,7 @@ impl VoxelColumns {
                     let voxels = self.column(n);
                     let keys = &self.keys[voxels.clone()];
                     let from = keys.partition_point(|&k| (k & z_mask) + 1 < z);
-                    for (k, m) in keys[from..]
-                        .iter()
-                        .zip(&values[voxels.start + from..])
-                    {
+                    for (k, m) in keys[from..].iter().zip(&values[voxels.start + from..]) {
                         if (k & z_mask) > z + 1 {
                             break;
                         }
@@ -261,7 +288,7 @@ impl VoxelColumns {
                     }
                 }
                 if let Some(slot) = slots.next() {
-                    *slot = finish(&block);
+                    *slot = finish(v, &block);
                 }
             }
         }
@@ -273,7 +300,7 @@ impl VoxelColumns {
         &self,
         values: &[T],
         out: &mut [U],
-        finish: impl Fn(&T) -> U + Sync,
+        finish: impl Fn(usize, &T) -> U + Sync,
     ) {
         let mut slices = Vec::new();
         let mut rest = out;
@@ -382,7 +409,7 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     // them twice at the peak of this stage.
     let mut planes = vec![BlockPlane::default(); grid.keys.len()];
     let moments = std::mem::take(&mut grid.moments);
-    grid.fold_all(&moments, &mut planes, Moments::plane);
+    grid.fold_all(&moments, &mut planes, |_, m| m.plane());
     drop(moments);
     VoxelPlanes {
         origin,

@@ -195,19 +195,19 @@ fn convert_cloud(
 
     let sights = scans.as_ref().zip(options.scanners.as_ref());
     let scan_shifts = match sights.filter(|_| options.consensus && options.align_scans) {
-        Some(sights) => move_scans((&mut cloud.positions, cloud.origin), sights, options, spacing)?,
+        Some(sights) => move_scans(
+            (&mut cloud.positions, cloud.origin),
+            sights,
+            options,
+            spacing,
+        )?,
         None => Vec::new(),
     };
     let surface = estimate_surface(&cloud, options, spacing, sights)?;
     drop(scans);
     clock.lap(Stage::Normals);
 
-    let consensus_points = apply_consensus(
-        &mut cloud.positions,
-        (surface.planes, surface.two_sided.as_deref()),
-        options,
-        spacing,
-    );
+    let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
     let positions: &[Vec3] = &cloud.positions;
     clock.lap(Stage::Consensus);
 
@@ -335,9 +335,6 @@ struct Surface {
     source: &'static str,
     /// The blocks' planes, when computed.
     planes: Option<VoxelPlanes>,
-    /// With the points' scanners and the consensus: per voxel, whether its block holds both
-    /// sides of a thin part (`scan_shifts.rs`, [`Sights::two_sided_blocks`]).
-    two_sided: Option<Vec<bool>>,
 }
 
 /// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks,
@@ -371,22 +368,10 @@ fn estimate_surface(
             })
         }
     };
-    let two_sided = match (&planes, sights) {
-        (Some(planes), Some((scans, scanners))) if options.consensus => {
-            let sights = Sights {
-                origin: cloud.origin,
-                scans,
-                scanners,
-            };
-            Some(sights.two_sided_blocks(planes, &cloud.positions))
-        }
-        _ => None,
-    };
     Ok(Surface {
         normals,
         source,
         planes,
-        two_sided,
     })
 }
 
@@ -419,14 +404,12 @@ fn turn_to_sight(
 /// and gives how many moved.
 fn apply_consensus(
     positions: &mut [Vec3],
-    (planes, two_sided): (Option<VoxelPlanes>, Option<&[bool]>),
+    planes: Option<VoxelPlanes>,
     options: &CloudOptions,
     spacing: f32,
 ) -> usize {
     match (&planes, options.consensus) {
-        (Some(planes), true) => {
-            project_to_consensus(positions, planes, consensus_limits(spacing), two_sided)
-        }
+        (Some(planes), true) => project_to_consensus(positions, planes, consensus_limits(spacing)),
         _ => 0,
     }
 }

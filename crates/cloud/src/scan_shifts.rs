@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use spatch_mesh::PointCloud;
 
-use crate::consensus::{ConsensusLimits, CONSENSUS_MIN_POINTS, TWO_SIDED_MIN_POINTS};
+use crate::consensus::{ConsensusLimits, SidePlanes, CONSENSUS_MIN_POINTS, TWO_SIDED_MIN_POINTS};
 use crate::normals::VoxelPlanes;
 use crate::scanners::PointScans;
 use crate::{CloudError, CloudOptions, Scanners};
@@ -104,7 +104,7 @@ fn scan_equations(
     scans: &PointScans,
     scan_count: usize,
     limits: ConsensusLimits,
-    two_sided: &[bool],
+    sides: &SidePlanes,
     include: &(dyn Fn(usize) -> bool + Sync),
 ) -> Vec<Equations> {
     let chunks: Vec<Vec<Equations>> = positions
@@ -118,7 +118,7 @@ fn scan_equations(
                 if plane.count < CONSENSUS_MIN_POINTS
                     || plane.normal == Vec3::ZERO
                     || plane.spread > limits.max_spread
-                    || two_sided[planes.point_voxel[i] as usize]
+                    || sides.two_sided(planes, i)
                     || !include(i)
                 {
                     continue;
@@ -208,7 +208,7 @@ pub fn scan_shift_sums(
         scans: &scans,
         scanners,
     };
-    let two_sided = sights.two_sided_blocks(&planes, &cloud.positions);
+    let sides = sights.side_planes(&planes, &cloud.positions);
     let include = |i: usize| own(cloud.world_position(i));
     let equations = scan_equations(
         &cloud.positions,
@@ -216,7 +216,7 @@ pub fn scan_shift_sums(
         &scans,
         scanners.runs.len(),
         limits,
-        &two_sided,
+        &sides,
         &include,
     );
     Ok(ScanShiftSums { equations })
@@ -241,16 +241,31 @@ pub(crate) fn align_scans(
     limits: ConsensusLimits,
 ) -> Vec<DVec3> {
     let planes = crate::normals::estimate_planes(positions, voxel);
-    let two_sided = sights.two_sided_blocks(&planes, positions);
+    let sides = sights.side_planes(&planes, positions);
     let count = sights.scanners.runs.len();
     let all = |_| true;
-    let sums = scan_equations(positions, &planes, sights.scans, count, limits, &two_sided, &all);
+    let sums = scan_equations(
+        positions,
+        &planes,
+        sights.scans,
+        count,
+        limits,
+        &sides,
+        &all,
+    );
     drop(planes);
     let max_move = f64::from(limits.max_move);
     let shifts: Vec<DVec3> = sums.iter().map(|e| e.translation(max_move)).collect();
     shift_scans(positions, sights.scans, &shifts);
     shifts
 }
+
+/// Smallest |cosine| between a point's sight line and its block's plane normal for the point
+/// to tell the plane's side (60°): grazing samples tip to either side with the plane's
+/// noise (counting every sample put half the mannequin's covering scan set in blocks "of
+/// both sides"); a thin part seen from both sides is seen nearly head-on by each side's
+/// scans (docs/algorithms/cloud.md, "Two-sided blocks").
+pub(crate) const SIDE_MIN_COSINE: f32 = 0.5;
 
 /// Where each point of a cloud was seen from: its scan and the scans' scanners.
 pub(crate) struct Sights<'a> {
@@ -263,28 +278,32 @@ pub(crate) struct Sights<'a> {
 }
 
 impl Sights<'_> {
-    /// Per point, whether its block plane's normal faces its scanner (which side of the
-    /// plane it was seen from; `true` where the block has no plane).
-    pub(crate) fn facing(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> Vec<bool> {
+    /// Per point, which side of its block's plane it was seen from: `Some(true)` when the
+    /// plane's normal faces its scanner, `Some(false)` when it faces away, `None` when the
+    /// sight line is within [`SIDE_MIN_COSINE`] of the plane (a grazing sample, or no plane):
+    /// grazing samples of one side tip either way with the plane's noise and do not vote.
+    pub(crate) fn sides(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> Vec<Option<bool>> {
         positions
             .par_iter()
             .enumerate()
             .map(|(i, &p)| {
                 let scanner = self.scanners.runs[self.scans.scan(i)].0;
-                planes.of_point(i).normal.dot(scanner.sight_line(self.origin, p)) >= 0.0
+                let cosine = planes
+                    .of_point(i)
+                    .normal
+                    .dot(scanner.sight_line(self.origin, p));
+                (cosine.abs() >= SIDE_MIN_COSINE).then_some(cosine > 0.0)
             })
             .collect()
     }
 
-    /// Per voxel of `planes`, whether its block holds both sides of a thin part
-    /// ([`TWO_SIDED_MIN_POINTS`] points or more seen from each side of its plane): the
-    /// alignment leaves their points out and the consensus leaves them where they are, so
-    /// that the two sides are not pulled onto one plane.
-    pub(crate) fn two_sided_blocks(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> Vec<bool> {
-        if std::env::var_os("SPATCH_TMP_NO_TWO_SIDED").is_some() {
-            return vec![false; planes.planes.len()];
-        }
-        let front = self.facing(planes, positions);
-        planes.two_sided_blocks(&front, TWO_SIDED_MIN_POINTS)
+    /// The blocks of `planes` that hold both sides of a thin part
+    /// ([`TWO_SIDED_MIN_POINTS`] points or more seen from each side of the block's plane):
+    /// the alignment leaves their points out, so that the two sides do not pull their scans
+    /// into each other (one plane fitted across both sides would).
+    pub(crate) fn side_planes(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> SidePlanes {
+        let sides = self.sides(planes, positions);
+        let offsets = planes.side_offsets(positions, &sides, TWO_SIDED_MIN_POINTS);
+        SidePlanes { sides, offsets }
     }
 }

@@ -155,8 +155,12 @@ mod tests {
             }
         );
         let options = ScanOptions::default();
-        let turned = Pose::new(glam::DQuat::from_rotation_x(std::f64::consts::PI), DVec3::X).unwrap();
-        let conf = write("set.conf", "bmesh grid.ply 0 0 0 0 0 0 1\nbmesh grid.ply 1 0 0 1 0 0 0\n");
+        let turned =
+            Pose::new(glam::DQuat::from_rotation_x(std::f64::consts::PI), DVec3::X).unwrap();
+        let conf = write(
+            "set.conf",
+            "bmesh grid.ply 0 0 0 0 0 0 1\nbmesh grid.ply 1 0 0 1 0 0 0\n",
+        );
         let found = scan_viewpoints(&conf, &options).unwrap();
         assert_eq!(found.len(), 2);
         assert_eq!(found[0], Some(Viewpoint::Direction(DVec3::Z)));
@@ -166,12 +170,24 @@ mod tests {
         assert!((d - turned.apply_vector(DVec3::Z)).length() < 1e-12, "{d}");
 
         // Normals of its own, or no grid: no viewpoints for the set.
-        let normals = grid.replace("property float z\n", "property float z\nproperty float nx\n");
+        let normals = grid.replace(
+            "property float z\n",
+            "property float z\nproperty float nx\n",
+        );
         write("normals.ply", &normals);
-        let mixed = write("mixed.conf", "bmesh grid.ply 0 0 0 0 0 0 1\nbmesh normals.ply 0 0 0 0 0 0 1\n");
+        let mixed = write(
+            "mixed.conf",
+            "bmesh grid.ply 0 0 0 0 0 0 1\nbmesh normals.ply 0 0 0 0 0 0 1\n",
+        );
         let mixed = scan_viewpoints(&mixed, &options).unwrap();
         assert_eq!(mixed, [Some(Viewpoint::Direction(DVec3::Z)), None]);
-        let plain = write("plain.ply", &grid.replace("element range_grid 1\nproperty list uchar int vertex_indices\n", ""));
+        let plain = write(
+            "plain.ply",
+            &grid.replace(
+                "element range_grid 1\nproperty list uchar int vertex_indices\n",
+                "",
+            ),
+        );
         assert_eq!(scan_viewpoints(&plain, &options).unwrap(), [None]);
         let mut off = options.clone();
         off.ignore_range_grids = true;
