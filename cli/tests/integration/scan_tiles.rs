@@ -155,17 +155,4 @@ fn tiles_move_each_scan_by_the_shift_of_the_whole_set() {
         let local = std::fs::read(t.path(&format!("out/tile_{k:05}.spatch"))).unwrap();
         assert!(one == local, "tile {k} differs from the local run's");
     }
-    // Aligned, the two layers 0.6 mm apart become one surface near both.
-    let aligned = tiled_rms(&t, "pair.conf", "out");
-    let args = [
-        "from-cloud",
-        "pair.conf",
-        "--plan",
-        "plan.json",
-        "--align-scans",
-    ];
-    t.run(&[&args[..], &["off", "-o", "plain"]].concat())
-        .success();
-    let plain = tiled_rms(&t, "pair.conf", "plain");
-    eprintln!("tiled rms: aligned {aligned:.2e}, not aligned {plain:.2e}");
 }

@@ -48,23 +48,6 @@ pub(crate) struct ConsensusLimits {
     pub(crate) max_move: f32,
 }
 
-/// The blocks that hold both sides of a thin part, for the scan alignment: per point its
-/// side, per voxel the offsets of its sides' planes (`scan_shifts.rs`, `Sights`).
-pub(crate) struct SidePlanes {
-    /// Per point: seen from the front of its block's plane, the back, or grazing (`None`).
-    pub(crate) sides: Vec<Option<bool>>,
-    /// Per voxel: for a two-sided block, the `[front, back]` planes' distances from the
-    /// block's centre along its normal (`VoxelPlanes::side_offsets`); `None` otherwise.
-    pub(crate) offsets: Vec<Option<[f32; 2]>>,
-}
-
-impl SidePlanes {
-    /// Whether point `i`'s block holds both sides of a thin part.
-    pub(crate) fn two_sided(&self, planes: &VoxelPlanes, i: usize) -> bool {
-        self.offsets[planes.point_voxel[i] as usize].is_some()
-    }
-}
-
 /// Moves `positions` onto their block planes in place, and gives how many moved (see the
 /// module docs). In place: a moved copy beside the sorted positions was the memory peak of
 /// scan sets (12 bytes a point, plus 16 while it was collected).

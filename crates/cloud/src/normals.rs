@@ -116,11 +116,10 @@ impl BlockSum for Moments {
     }
 }
 
-impl BlockSum for [f64; 8] {
+impl BlockSum for [u32; 2] {
     fn add_to(&mut self, other: &Self) {
-        for (a, b) in self.iter_mut().zip(other) {
-            *a += b;
-        }
+        self[0] += other[0];
+        self[1] += other[1];
     }
 }
 
@@ -156,49 +155,23 @@ impl VoxelPlanes {
         &self.planes[self.point_voxel[i] as usize]
     }
 
-    /// Per voxel whose 3×3×3 block holds at least `min` points on each side of its plane
-    /// (both sides of a part thinner than a block, which one plane would pull together):
-    /// the signed distances along the plane's normal from its centre to the centroid of
-    /// the block's points of each side, `[front, back]`; `None` for the other voxels.
-    /// `sides[i]` tells the side of point `i` (seen from its scanner; `None`: no vote);
-    /// `positions` are the ones the planes were fitted to.
-    pub(crate) fn side_offsets(
-        &self,
-        positions: &[Vec3],
-        sides: &[Option<bool>],
-        min: u32,
-    ) -> Vec<Option<[f32; 2]>> {
+    /// Per voxel, whether its 3×3×3 block holds at least `min` points on each side of its
+    /// plane (both sides of a part thinner than a block, which one plane would pull
+    /// together), `sides[i]` telling the side of point `i` (seen from its scanner; `None`:
+    /// no vote).
+    pub(crate) fn two_sided_blocks(&self, sides: &[Option<bool>], min: u32) -> Vec<bool> {
         let Some(grid) = &self.grid else {
-            return vec![None; self.planes.len()];
+            return vec![false; self.planes.len()];
         };
-        // Per voxel and side: the count and the sum of positions (relative to the origin).
-        let mut sums = vec![[0.0f64; 8]; self.planes.len()];
-        for ((&v, &side), p) in self.point_voxel.iter().zip(sides).zip(positions) {
+        let mut counts = vec![[0u32; 2]; self.planes.len()];
+        for (&v, &side) in self.point_voxel.iter().zip(sides) {
             if let Some(front) = side {
-                let at = if front { 0 } else { 4 };
-                let q = p.as_dvec3() - self.origin;
-                let sum = &mut sums[v as usize][at..at + 4];
-                sum[0] += 1.0;
-                sum[1] += q.x;
-                sum[2] += q.y;
-                sum[3] += q.z;
+                counts[v as usize][usize::from(!front)] += 1;
             }
         }
-        let mut offsets = vec![None; self.planes.len()];
-        let min = f64::from(min);
-        grid.fold_all(&sums, &mut offsets, |v, block| {
-            if block[0] < min || block[4] < min {
-                return None;
-            }
-            let plane = &self.planes[v];
-            let n = plane.normal.as_dvec3();
-            let offset = |at: usize| {
-                let centroid = DVec3::new(block[at + 1], block[at + 2], block[at + 3]) / block[at];
-                (centroid - plane.centre).dot(n) as f32
-            };
-            Some([offset(0), offset(4)])
-        });
-        offsets
+        let mut two_sided = vec![false; self.planes.len()];
+        grid.fold_all(&counts, &mut two_sided, |_, c| c[0] >= min && c[1] >= min);
+        two_sided
     }
 }
 
@@ -228,7 +201,7 @@ impl VoxelColumns {
     /// `finish` of each voxel's index and the sum of `values` (one per voxel) over its
     /// 3×3×3 block, for every voxel of columns `range`, written to `out` (one slot per voxel
     /// of those columns, in voxel order): the block planes of the voxels' moments, or their
-    /// sides' centroids.
+    /// counts of points seen from each side.
     ///
     /// The nine neighbour columns of a column are found by three cursors (one per `dx`) that
     /// only move forward, since the neighbour keys grow with the column key; this replaces 27

@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use spatch_mesh::PointCloud;
 
-use crate::consensus::{ConsensusLimits, SidePlanes, CONSENSUS_MIN_POINTS, TWO_SIDED_MIN_POINTS};
+use crate::consensus::{ConsensusLimits, CONSENSUS_MIN_POINTS, TWO_SIDED_MIN_POINTS};
 use crate::normals::VoxelPlanes;
 use crate::scanners::PointScans;
 use crate::{CloudError, CloudOptions, Scanners};
@@ -104,7 +104,7 @@ fn scan_equations(
     scans: &PointScans,
     scan_count: usize,
     limits: ConsensusLimits,
-    sides: &SidePlanes,
+    two_sided: &[bool],
     include: &(dyn Fn(usize) -> bool + Sync),
 ) -> Vec<Equations> {
     let chunks: Vec<Vec<Equations>> = positions
@@ -118,7 +118,7 @@ fn scan_equations(
                 if plane.count < CONSENSUS_MIN_POINTS
                     || plane.normal == Vec3::ZERO
                     || plane.spread > limits.max_spread
-                    || sides.two_sided(planes, i)
+                    || two_sided[planes.point_voxel[i] as usize]
                     || !include(i)
                 {
                     continue;
@@ -208,7 +208,7 @@ pub fn scan_shift_sums(
         scans: &scans,
         scanners,
     };
-    let sides = sights.side_planes(&planes, &cloud.positions);
+    let two_sided = sights.two_sided_blocks(&planes, &cloud.positions);
     let include = |i: usize| own(cloud.world_position(i));
     let equations = scan_equations(
         &cloud.positions,
@@ -216,7 +216,7 @@ pub fn scan_shift_sums(
         &scans,
         scanners.runs.len(),
         limits,
-        &sides,
+        &two_sided,
         &include,
     );
     Ok(ScanShiftSums { equations })
@@ -241,7 +241,7 @@ pub(crate) fn align_scans(
     limits: ConsensusLimits,
 ) -> Vec<DVec3> {
     let planes = crate::normals::estimate_planes(positions, voxel);
-    let sides = sights.side_planes(&planes, positions);
+    let two_sided = sights.two_sided_blocks(&planes, positions);
     let count = sights.scanners.runs.len();
     let all = |_| true;
     let sums = scan_equations(
@@ -250,7 +250,7 @@ pub(crate) fn align_scans(
         sights.scans,
         count,
         limits,
-        &sides,
+        &two_sided,
         &all,
     );
     drop(planes);
@@ -301,9 +301,8 @@ impl Sights<'_> {
     /// ([`TWO_SIDED_MIN_POINTS`] points or more seen from each side of the block's plane):
     /// the alignment leaves their points out, so that the two sides do not pull their scans
     /// into each other (one plane fitted across both sides would).
-    pub(crate) fn side_planes(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> SidePlanes {
+    pub(crate) fn two_sided_blocks(&self, planes: &VoxelPlanes, positions: &[Vec3]) -> Vec<bool> {
         let sides = self.sides(planes, positions);
-        let offsets = planes.side_offsets(positions, &sides, TWO_SIDED_MIN_POINTS);
-        SidePlanes { sides, offsets }
+        planes.two_sided_blocks(&sides, TWO_SIDED_MIN_POINTS)
     }
 }
