@@ -155,6 +155,13 @@ impl VoxelPlanes {
         &self.planes[self.point_voxel[i] as usize]
     }
 
+    /// The planes without the voxels' layout (kept only for [`VoxelPlanes::two_sided_blocks`]:
+    /// about 8 bytes a voxel).
+    pub(crate) fn without_layout(mut self) -> VoxelPlanes {
+        self.grid = None;
+        self
+    }
+
     /// Per voxel, whether its 3×3×3 block holds at least `min` points on each side of its
     /// plane (both sides of a part thinner than a block, which one plane would pull
     /// together), `sides[i]` telling the side of point `i` (seen from its scanner; `None`:

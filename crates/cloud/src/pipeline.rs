@@ -346,8 +346,9 @@ fn estimate_surface(
     spacing: f32,
     sights: Option<(&PointScans, &Scanners)>,
 ) -> Result<Surface, CloudError> {
-    let planes = (options.consensus || cloud.normals.is_none())
-        .then(|| estimate_planes(&cloud.positions, options.normal_voxel * spacing));
+    let planes = (options.consensus || cloud.normals.is_none()).then(|| {
+        estimate_planes(&cloud.positions, options.normal_voxel * spacing).without_layout()
+    });
     let (normals, source) = match (&cloud.normals, &planes, sights) {
         (None, Some(planes), Some(sights)) => (turn_to_sight(planes, cloud, sights), SIGHT_SOURCE),
         (Some(given), _, _) => (
