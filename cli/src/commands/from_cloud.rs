@@ -40,6 +40,25 @@ pub(crate) enum Switch {
     Off,
 }
 
+/// Which points `spatch from-cloud` measures its error against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum ErrorAgainst {
+    /// The points as read from the inputs.
+    Given,
+    /// The points with each scan moved by its alignment shift.
+    Aligned,
+}
+
+impl ErrorAgainst {
+    /// The report's name.
+    fn name(self) -> &'static str {
+        match self {
+            ErrorAgainst::Given => "given",
+            ErrorAgainst::Aligned => "aligned",
+        }
+    }
+}
+
 /// Arguments of `spatch from-cloud`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct FromCloudArgs {
@@ -140,6 +159,12 @@ pub(crate) struct FromCloudArgs {
     /// `off` merges the scans as registered.
     #[arg(long, value_enum, value_name = "WHEN", default_value_t = Switch::On)]
     align_scans: Switch,
+    /// Which points the error (--report, --error) is measured against when the scans were
+    /// aligned: `given`, the points as read (their misregistration counts as error), or
+    /// `aligned`, each scan moved by its translation (the report's `scan_shifts`), the
+    /// surface the patches were made from.
+    #[arg(long, value_enum, value_name = "POINTS", default_value_t = ErrorAgainst::Given)]
+    error_against: ErrorAgainst,
     /// Compress node data (grid prediction + range coding).
     #[arg(long)]
     compress: bool,
@@ -245,7 +270,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         ..
     } = loaded;
     // Without an error to measure, the loaded cloud is not needed after its sorted copy.
-    let (converted, kept) = if measure {
+    let (converted, mut kept) = if measure {
         (
             cloud_to_scene_with_progress(&cloud, &options, &on_progress),
             Some(cloud),
@@ -288,8 +313,11 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         seconds: write_seconds,
     });
     report.seconds = report.stages.iter().map(|s| s.seconds).sum();
-    if let Some(cloud) = &kept {
+    if let Some(cloud) = &mut kept {
         progress.step("measuring error");
+        if args.error_against == ErrorAgainst::Aligned {
+            shift_loaded_scans(cloud, &scans, &report.scan_shifts);
+        }
         let order = conversion.point_order.as_ref();
         let error = measure_cloud_error_in_order(cloud, &conversion.scene, report.spacing, order)
             .with_context(|| format!("{label}: measuring the error"))?;
@@ -359,8 +387,8 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         ));
         let n = &error.node_to_cloud;
         text.push_str(&format!(
-            "  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s)\n",
-            n.rms, n.max, n.p95, error.seconds
+            "  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s, against the {} points)\n",
+            n.rms, n.max, n.p95, error.seconds, args.error_against.name()
         ));
     }
     if args.report.is_some() || args.json {
@@ -375,14 +403,23 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     print_summary(&text, args.json)
 }
 
-/// `--plan` / `--plan-tile` runs (`tiled.rs`): one input, consensus only when asked.
+/// `--plan` / `--plan-tile` runs (`tiled.rs`): one input; as the untiled run, the consensus
+/// when it holds several scans and sight lines (and the scans aligned once for every tile)
+/// when every scan's scanner is known.
 fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Result<()> {
-    use super::tiled::{run_all, run_one, single_input, PlanSource};
+    use super::tiled::{run_all, run_one, single_input, PlanScans, PlanSource};
     let input = single_input(&args.inputs)?;
-    options.consensus = args.consensus;
+    let scans = PlanScans::of(input, &args.scan_options())?;
+    options.consensus = args.consensus || (!args.no_consensus && scans.count > 1);
     match (&args.plan, args.tile, args.plan_tile) {
-        (Some(plan), Some(tile), _) => run_one(input, plan, tile, &args.output, &options),
-        (Some(plan), None, _) => run_all(input, PlanSource::File(plan), &args.output, &options),
+        (Some(plan), Some(tile), _) => run_one(input, plan, tile, &args.output, &options, &scans),
+        (Some(plan), None, _) => run_all(
+            input,
+            PlanSource::File(plan),
+            &args.output,
+            &options,
+            &scans,
+        ),
         (None, _, Some(size)) => {
             let plan = spatch_tiling::PlanOptions {
                 tile: size,
@@ -390,27 +427,52 @@ fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Resul
                 spacing: args.spacing,
                 pixel_factor: args.pixel_factor,
             };
-            run_all(input, PlanSource::Make(plan), &args.output, &options)
+            run_all(
+                input,
+                PlanSource::Make(plan),
+                &args.output,
+                &options,
+                &scans,
+            )
         }
         (None, _, None) => anyhow::bail!("--plan or --plan-tile is needed"),
+    }
+}
+
+/// The cloud pipeline's scanner for a scan's viewpoint.
+pub(crate) fn scanner_of(viewpoint: spatch_scan::Viewpoint) -> Scanner {
+    match viewpoint {
+        spatch_scan::Viewpoint::Direction(d) => Scanner::Far(d),
+        spatch_scan::Viewpoint::Position(at) => Scanner::At(at),
     }
 }
 
 /// The scanners of scans that all have a viewpoint (`LoadedScans::sight_lines`), with the
 /// run of points each saw.
 fn scanners_of(scans: &[spatch_scan::ScanSummary]) -> Scanners {
-    use spatch_scan::Viewpoint;
     let runs = scans
         .iter()
-        .filter_map(|scan| {
-            let scanner = match scan.viewpoint? {
-                Viewpoint::Direction(d) => Scanner::Far(d),
-                Viewpoint::Position(at) => Scanner::At(at),
-            };
-            Some((scanner, scan.points.len()))
-        })
+        .filter_map(|scan| Some((scanner_of(scan.viewpoint?), scan.points.len())))
         .collect();
     Scanners { runs }
+}
+
+/// Moves the points of each scan of the loaded `cloud` (`scans`, in its order) by its
+/// alignment shift (`shifts`: one per scan, or none when the scans were not moved).
+fn shift_loaded_scans(
+    cloud: &mut spatch_mesh::PointCloud,
+    scans: &[spatch_scan::ScanSummary],
+    shifts: &[[f64; 3]],
+) {
+    if shifts.len() != scans.len() {
+        return;
+    }
+    for (scan, shift) in scans.iter().zip(shifts) {
+        let t = glam::DVec3::from_array(*shift);
+        for p in &mut cloud.positions[scan.points.clone()] {
+            *p = (p.as_dvec3() + t).as_vec3();
+        }
+    }
 }
 
 /// `--columns` as a layout (clap prints the message).
@@ -455,6 +517,7 @@ fn shared_report(
             &json!({
                 "spacing": e.spacing,
                 "share_beyond_2x_spacing": e.cloud_to_patch.share_beyond_2x_spacing,
+                "against": args.error_against.name(),
             }),
         )?;
     }

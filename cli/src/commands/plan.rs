@@ -66,7 +66,11 @@ pub(crate) fn run(args: &PlanArgs) -> anyhow::Result<()> {
     let plan = if mesh {
         super::convert_plan::plan_mesh(&args.input, args.tile, args.buffer, args.spacing)?
     } else {
-        make_plan(&args.input, &args.plan_options()).map_err(anyhow::Error::msg)?
+        let mut plan = make_plan(&args.input, &args.plan_options()).map_err(anyhow::Error::msg)?;
+        // A scan set whose scanners are known: its scans aligned once, for every tile.
+        let spill = args.output.with_extension("spill");
+        super::tiled::plan_scan_shifts(&args.input, &mut plan, &spill)?;
+        plan
     };
     write_output(&args.output, plan.to_json().as_bytes())?;
     let most = plan.tiles.iter().map(|t| t.points).max().unwrap_or(0);

@@ -21,6 +21,8 @@
 //!   (LAZ, XYZ, PTS), `--columns`, malformed scan files.
 //! - `range_grid`: `--range-grid on/off` on a thin sheet scanned from both sides; `--align-scans`.
 //! - `scan_plan`: a `.conf` scan set planned and converted tile by tile (issue 18).
+//! - `scan_tiles`: structured scan sets through tiles keep their scanners and are aligned
+//!   once for every tile (issue 19).
 //! - `report_schema`: every command's JSON report parses into the shared shape.
 //! - `stability`: the stiff and extreme cases of issue #8, one test per case (see its
 //!   module docs).
@@ -58,6 +60,7 @@ mod render;
 mod report_schema;
 mod scan_inputs;
 mod scan_plan;
+mod scan_tiles;
 mod sphere;
 mod stability;
 mod stats;

@@ -118,3 +118,37 @@ fn align_scans_moves_each_structured_scan_by_its_offset() {
     assert_eq!(run.code, 2);
     assert!(!t.path("y.spatch").exists());
 }
+
+#[test]
+fn the_error_is_measured_against_the_given_or_the_aligned_points() {
+    let t = TestCommand::new();
+    // Two scans of one flat sheet, the second 0.6 mm too high: aligned, both become one
+    // surface, 0.3 mm from each scan as given and on the scans as moved.
+    write_sheet_scan(&t.path("side.ply"), 0.0);
+    std::fs::write(
+        t.path("pair.conf"),
+        "bmesh side.ply 0 0 0 0 0 0 1\nbmesh side.ply 0 0 0.0006 0 0 0 1\n",
+    )
+    .unwrap();
+    let rms = |against: &str| {
+        let report = format!("{against}.json");
+        t.run(&[
+            "from-cloud",
+            "pair.conf",
+            "--error-against",
+            against,
+            "-o",
+            &format!("{against}.spatch"),
+            "--report",
+            &report,
+        ])
+        .success();
+        let report: serde_json::Value = t.json(&report);
+        assert_eq!(report["details"]["cloud_error"]["against"], against);
+        report["error"]["cloud_to_patch"]["rms"].as_f64().unwrap()
+    };
+    let (given, aligned) = (rms("given"), rms("aligned"));
+    eprintln!("cloud→patch rms: against the given points {given:.2e}, the aligned {aligned:.2e}");
+    assert!((0.2e-3..0.4e-3).contains(&given), "{given}");
+    assert!(aligned < 0.05e-3, "{aligned}");
+}

@@ -34,6 +34,11 @@ use crate::normals::VoxelPlanes;
 /// Fewest points in a block for its plane to move points.
 pub const CONSENSUS_MIN_POINTS: u32 = 8;
 
+/// Fewest points seen from each side of a block's plane for the block to hold both sides of
+/// a thin part (when the points' scanners are known): its points are left out of the scan
+/// alignment.
+pub const TWO_SIDED_MIN_POINTS: u32 = 4;
+
 /// Limits of the consensus projection, in the positions' unit.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ConsensusLimits {

@@ -79,7 +79,7 @@ mod tile_convert;
 mod tiles;
 mod warning;
 
-pub use consensus::CONSENSUS_MIN_POINTS;
+pub use consensus::{CONSENSUS_MIN_POINTS, TWO_SIDED_MIN_POINTS};
 pub use directions::{view_directions, ViewBasis};
 pub use error::CloudError;
 pub use error_metrics::{
@@ -98,6 +98,7 @@ pub use pipeline::{
 pub use progress::{Progress, ProgressFn, Stage};
 pub use quad_distance::{bilinear, distance_to_quad, Quad};
 pub use report::{CloudReport, Counts, StageTime};
+pub use scan_shifts::{scan_shift_sums, ScanShiftSums};
 pub use scanners::{Scanner, Scanners, MAX_SCANS};
 pub use spacing::{
     estimate_spacing, PointTree, SpacingEstimate, SPACING_NEIGHBOURS, SPACING_SAMPLES,

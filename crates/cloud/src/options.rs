@@ -159,6 +159,12 @@ pub struct CloudOptions {
     /// consensus (`scan_shifts.rs`): removes the rigid part of the scans' misregistration.
     /// Default on.
     pub align_scans: bool,
+    /// With [`CloudOptions::align_scans`] (and the scanners and the consensus), the
+    /// translation of each scan of [`CloudOptions::scanners`] (in their order), used instead
+    /// of computing it from this cloud: a tiled run's, computed once over every tile with
+    /// [`scan_shift_sums`](crate::scan_shift_sums) so that the tiles agree at their seams.
+    /// Default `None` (computed).
+    pub scan_shifts: Option<Vec<glam::DVec3>>,
 }
 
 impl CloudOptions {
@@ -304,6 +310,7 @@ impl Default for CloudOptions {
             allow_coarsening: false,
             scanners: None,
             align_scans: true,
+            scan_shifts: None,
         }
     }
 }

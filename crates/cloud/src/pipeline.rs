@@ -42,7 +42,7 @@
 use std::borrow::Cow;
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
@@ -55,7 +55,7 @@ use crate::morton_order::{morton_order, PointOrder};
 use crate::normals::{estimate_planes, VoxelPlanes};
 use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
 use crate::range_image::{ImageGeometry, PointColumns};
-use crate::scan_shifts::align_scans;
+use crate::scan_shifts::{align_scans, shift_scans, Sights};
 use crate::scanners::PointScans;
 use crate::spacing::estimate_spacing;
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
@@ -194,15 +194,14 @@ fn convert_cloud(
     clock.lap(Stage::Spacing);
 
     let sights = scans.as_ref().zip(options.scanners.as_ref());
-    let scan_shift = match sights.filter(|_| options.consensus && options.align_scans) {
-        Some((scans, scanners)) => align_scans(
-            &mut cloud.positions,
-            scans,
-            scanners.runs.len(),
-            options.normal_voxel * spacing,
-            consensus_limits(spacing),
-        ),
-        None => 0.0,
+    let scan_shifts = match sights.filter(|_| options.consensus && options.align_scans) {
+        Some(sights) => move_scans(
+            (&mut cloud.positions, cloud.origin),
+            sights,
+            options,
+            spacing,
+        )?,
+        None => Vec::new(),
     };
     let surface = estimate_surface(&cloud, options, spacing, sights)?;
     drop(scans);
@@ -264,7 +263,8 @@ fn convert_cloud(
         tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
             .then_some(grid.size),
         consensus_points,
-        scan_shift,
+        scan_shift: scan_shifts.iter().map(|t| t.length()).fold(0.0, f64::max),
+        scan_shifts: scan_shifts.iter().map(|t| t.to_array()).collect(),
         split_tiles: tiled.counts.split_tiles,
         wide_patches: tiled.counts.wide_patches,
         smoothed: options.smooth.is_some(),
@@ -292,6 +292,37 @@ fn measure_spacing(positions: &[Vec3], options: &CloudOptions) -> Result<(f32, f
     })
 }
 
+/// The scan alignment: each scan moved by its translation, given
+/// ([`CloudOptions::scan_shifts`]) or computed (`scan_shifts.rs`); gives the translations.
+fn move_scans(
+    (positions, origin): (&mut [Vec3], DVec3),
+    (scans, scanners): (&PointScans, &Scanners),
+    options: &CloudOptions,
+    spacing: f32,
+) -> Result<Vec<DVec3>, CloudError> {
+    let count = scanners.runs.len();
+    match &options.scan_shifts {
+        Some(given) if given.len() != count => Err(CloudError::InvalidOption {
+            option: "scan_shifts",
+            reason: "must hold one translation per scan",
+        }),
+        Some(given) => {
+            shift_scans(positions, scans, given);
+            Ok(given.clone())
+        }
+        None => Ok(align_scans(
+            positions,
+            &Sights {
+                origin,
+                scans,
+                scanners,
+            },
+            options.normal_voxel * spacing,
+            consensus_limits(spacing),
+        )),
+    }
+}
+
 /// The report's name for normals turned toward the points' scanners.
 const SIGHT_SOURCE: &str = "pca+sight";
 
@@ -315,8 +346,9 @@ fn estimate_surface(
     spacing: f32,
     sights: Option<(&PointScans, &Scanners)>,
 ) -> Result<Surface, CloudError> {
-    let planes = (options.consensus || cloud.normals.is_none())
-        .then(|| estimate_planes(&cloud.positions, options.normal_voxel * spacing));
+    let planes = (options.consensus || cloud.normals.is_none()).then(|| {
+        estimate_planes(&cloud.positions, options.normal_voxel * spacing).without_layout()
+    });
     let (normals, source) = match (&cloud.normals, &planes, sights) {
         (None, Some(planes), Some(sights)) => (turn_to_sight(planes, cloud, sights), SIGHT_SOURCE),
         (Some(given), _, _) => (
@@ -384,7 +416,7 @@ fn apply_consensus(
 }
 
 /// The consensus limits for points of spacing `spacing`.
-fn consensus_limits(spacing: f32) -> ConsensusLimits {
+pub(crate) fn consensus_limits(spacing: f32) -> ConsensusLimits {
     ConsensusLimits {
         max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
         max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,

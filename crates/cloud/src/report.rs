@@ -57,6 +57,11 @@ pub struct CloudReport {
     /// ([`CloudOptions::align_scans`](crate::CloudOptions::align_scans)); 0 when no scan
     /// was moved.
     pub scan_shift: f64,
+    /// The translation of every scan (one per scan of
+    /// [`CloudOptions::scanners`](crate::CloudOptions::scanners), in their order), when the
+    /// scans were aligned: computed, or as given in
+    /// [`CloudOptions::scan_shifts`](crate::CloudOptions::scan_shifts). Empty otherwise.
+    pub scan_shifts: Vec<[f64; 3]>,
     /// Patches with 16-bit displacements.
     pub wide_patches: usize,
     /// Whether the range images were smoothed.

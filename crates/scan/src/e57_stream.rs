@@ -35,6 +35,9 @@ pub struct E57Chunk<'a> {
 pub struct E57Streamed {
     /// Points handed out (finite, valid Cartesian positions).
     pub points: u64,
+    /// Scans (point clouds) in the file, empty ones included: the next file's scans are
+    /// numbered from here in a set of several.
+    pub scans: usize,
     /// Points dropped: no valid Cartesian position, or a non-finite one.
     pub dropped_non_finite: u64,
     /// One [`ScanWarning::IntensityAsGrey`] per scan whose intensity became its colour.
@@ -63,7 +66,9 @@ pub fn stream_e57<E: From<ScanError>>(
     let mut reader = e57::E57Reader::new(std::io::BufReader::new(file)).map_err(refuse)?;
     let mut streamed = E57Streamed::default();
     let chunk_points = chunk_points.max(1);
-    for (index, pc) in reader.pointclouds().into_iter().enumerate() {
+    let pointclouds = reader.pointclouds();
+    streamed.scans = pointclouds.len();
+    for (index, pc) in pointclouds.into_iter().enumerate() {
         let pose = scan_pose(path, &pc)?;
         let grey = !pc.has_color() && pc.has_intensity();
         let mut chunk = ChunkBuffer {

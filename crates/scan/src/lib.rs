@@ -11,6 +11,7 @@
 //!   its pose; [`stream_e57`] a chunk at a time), text clouds through [`parse_columns`] and `spatch_mesh::load::xyz`;
 //! - [`Viewpoint`]: where a structured scan's scanner was (PLY `range_grid` scans, E57 scans
 //!   with row and column indices), giving each point its sight line when merged;
+//!   [`scan_viewpoints`] gives them from the headers alone, for streamed runs;
 //! - [`measure_alignment`] → [`ScanAlignment`]: how well the scans of a set line up;
 //! - [`ScanError`] (the one error type) and [`ScanWarning`].
 //!
@@ -42,6 +43,7 @@ mod las;
 mod load;
 mod pose;
 mod scan_set;
+mod set_viewpoints;
 mod viewpoint;
 mod warning;
 
@@ -55,5 +57,6 @@ pub use las::{intensity_to_grey, read_las, rgb16_to_bytes, LAS_CHUNK};
 pub use load::{is_scan_set, load_scans, LoadedScans, ScanOptions};
 pub use pose::{Pose, PoseProblem};
 pub use scan_set::{merge_scans, sight_lines_of, PosedScan, ScanSummary, MAX_POINTS};
+pub use set_viewpoints::scan_viewpoints;
 pub use viewpoint::Viewpoint;
 pub use warning::ScanWarning;

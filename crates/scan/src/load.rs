@@ -22,6 +22,7 @@ use spatch_mesh::load::xyz::{load_xyz_columns, XyzLayout};
 use spatch_mesh::{load_point_cloud, LoadedPointCloud, PointCloud};
 
 use crate::e57::read_e57_scans;
+use crate::set_viewpoints::read_ply_scan_header;
 use crate::{
     merge_scans, read_conf, read_las, sight_lines_of, Pose, PosedScan, ScanError, ScanSummary,
     ScanWarning, Viewpoint,
@@ -138,7 +139,7 @@ pub fn is_scan_set(path: &Path) -> bool {
 }
 
 /// The lower-case extension of `path`.
-fn extension(path: &Path) -> Option<String> {
+pub(crate) fn extension(path: &Path) -> Option<String> {
     Some(path.extension()?.to_str()?.to_ascii_lowercase())
 }
 
@@ -153,8 +154,11 @@ fn read_scan_file(
     let (mut scans, warnings) = match extension(path).as_deref() {
         Some("ply") => {
             let (mut scans, warnings) = from_mesh_loader(path, load_point_cloud(path)?);
-            for scan in scans.iter_mut().filter(|s| grids && s.normals.is_none()) {
-                if declares_range_grid(path)? {
+            // The header is read once more for its `range_grid` (the mesh loader skips it),
+            // only when it can matter.
+            let unnormalled = scans.iter().any(|s| s.normals.is_none());
+            if grids && unnormalled && read_ply_scan_header(path)?.range_grid {
+                for scan in scans.iter_mut().filter(|s| s.normals.is_none()) {
                     scan.viewpoint = Some(Viewpoint::Direction(DVec3::Z));
                 }
             }
@@ -211,30 +215,4 @@ fn posed_from_cloud(path: &Path, cloud: PointCloud, dropped: u64) -> PosedScan {
         pose: Pose::IDENTITY,
         dropped_non_finite: dropped,
     }
-}
-
-/// Bytes of a PLY file searched for its header's `element range_grid` line.
-const GRID_HEADER_PEEK: usize = 64 * 1024;
-
-/// Whether the PLY header at `path` declares a `range_grid` element: the file is a raw
-/// range scan in its scanner's frame, the scanner far along +z (`viewpoint.rs`).
-fn declares_range_grid(path: &Path) -> Result<bool, ScanError> {
-    use std::io::Read;
-    let io = |source| ScanError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut head = Vec::with_capacity(GRID_HEADER_PEEK);
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(GRID_HEADER_PEEK as u64)
-        .read_to_end(&mut head)
-        .map_err(io)?;
-    let end = head
-        .windows(10)
-        .position(|w| w == b"end_header")
-        .unwrap_or(head.len());
-    Ok(head[..end]
-        .windows(19)
-        .any(|w| w == b"\nelement range_grid"))
 }

@@ -9,7 +9,9 @@
 //! opens tile by tile ([`ViewPyramid`] decides which), with a coarse level of the whole
 //! scene in one file ([`coarse_scene`]). The readers ([`stream_points`]) hand out
 //! chunks and never load a whole input; a `.conf` scan set or an E57 file streams its
-//! scans, each chunk moved by its scan's pose.
+//! scans, each chunk moved by its scan's pose and numbered by its scan, so that each tile
+//! knows its points' scanners and the scans are aligned once for every tile
+//! ([`spilled_scan_shifts`], kept in the plan).
 //!
 //! Meshes are tiled by face ([`make_mesh_plan`], or [`census_mesh_file`] streamed from a
 //! PLY or plain OBJ; [`mesh_tile`], [`read_mesh_tile`]; a tile segments the faces
@@ -30,6 +32,7 @@ mod obj_stream;
 mod plan;
 mod ply_faces;
 mod ply_stream;
+mod scan_align;
 mod scan_stream;
 mod select;
 mod spill;
@@ -46,7 +49,8 @@ pub use mesh_plan::{census_mesh, census_mesh_file, make_mesh_plan, MeshCensus};
 pub use mesh_stream::{can_stream_mesh, read_mesh_tile};
 pub use mesh_tiles::{mesh_tile, owns, patch_anchor, TileOwner};
 pub use plan::{make_plan, Plan, PlanGrid, PlanOptions, PlanTile, WorldBox, PLAN_VERSION};
-pub use select::{is_member, read_tile_points};
+pub use scan_align::{spilled_scan_shifts, tile_scanners};
+pub use select::{is_member, read_tile, read_tile_points, TileCloud};
 pub use spill::{read_spilled_tile, spill_tiles, Spill, SpillLayout, SpilledTile, SPILL_BUDGET};
 pub use stream::{stream_points, PointChunk, Visit, CHUNK_POINTS};
 pub use view::ViewPyramid;

@@ -152,6 +152,7 @@ impl MeshCensus {
                 buffer,
             },
             tiles: tiles_of_counts(&self.counts, &self.grid, buffer),
+            scan_shifts: None,
         })
     }
 }

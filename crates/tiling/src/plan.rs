@@ -103,6 +103,13 @@ pub struct Plan {
     pub grid: PlanGrid,
     /// Occupied tiles in key order (z, then y, then x).
     pub tiles: Vec<PlanTile>,
+    /// For a scan set whose scanners are known (`spatch_scan::scan_viewpoints`): the
+    /// translation of each scan (in stream order) that aligns it with the others, computed
+    /// once over every tile so that the tiles agree at their seams; every tile's conversion
+    /// moves its points of scan `k` by `scan_shifts[k]`. Absent (`null` or missing) for other
+    /// inputs and plans made without it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scan_shifts: Option<Vec<[f64; 3]>>,
 }
 
 /// What a plan is made from.
@@ -165,6 +172,7 @@ pub fn make_plan(input: &Path, options: &PlanOptions) -> Result<Plan, TilingErro
             buffer: grid.buffer,
         },
         tiles,
+        scan_shifts: None,
     })
 }
 

@@ -204,6 +204,7 @@ impl Fields {
             positions: Vec::with_capacity(CHUNK_POINTS),
             colours: self.colour.map(|_| Vec::with_capacity(CHUNK_POINTS)),
             normals: self.normal.map(|_| Vec::with_capacity(CHUNK_POINTS)),
+            scan: 0,
         }
     }
 

@@ -7,7 +7,9 @@
 //! chunk moved by its scan's own pose (then by the `.conf`'s pose, for a `.conf` that lists
 //! E57 scans). The chunks of a set carry
 //! colours (and normals) exactly when its first scan does; a later scan that differs is
-//! refused, so that chunks concatenate.
+//! refused, so that chunks concatenate. Each chunk carries its scan's index over the set
+//! (`PointChunk::scan`: the `.conf`'s entries in order, an E57 entry counting each of its
+//! scans), the order of `spatch_scan::scan_viewpoints`.
 
 use std::path::Path;
 
@@ -43,17 +45,26 @@ pub(crate) fn stream_conf(path: &Path, visit: &mut Visit<'_>) -> Result<u64, Til
     let set = read_conf(path).map_err(|e| TilingError::malformed(path, e.to_string()))?;
     let mut attributes = Attributes::default();
     let mut read = 0;
+    // The first scan of the entry being streamed, counted over the set.
+    let mut first = 0;
     for entry in &set.scans {
-        let mut posed = |chunk: &PointChunk| {
-            let moved = posed_chunk(chunk, &entry.pose);
-            attributes.check(path, &moved)?;
-            visit(&moved)
+        let mut check = |chunk: &PointChunk| {
+            attributes.check(path, chunk)?;
+            visit(chunk)
         };
-        read += if is_e57(&entry.path) {
-            stream_e57_posed(&entry.path, &entry.pose, &mut posed)?
+        let (points, scans) = if is_e57(&entry.path) {
+            // Posed once, by each scan's pose then the entry's.
+            stream_e57_posed(&entry.path, &entry.pose, first, &mut check)?
         } else {
-            stream_points(&entry.path, &mut posed)?
+            let mut posed = |chunk: &PointChunk| {
+                let mut moved = posed_chunk(chunk, &entry.pose);
+                moved.scan += first;
+                check(&moved)
+            };
+            (stream_points(&entry.path, &mut posed)?, 1)
         };
+        read += points;
+        first += scans;
     }
     Ok(read)
 }
@@ -61,10 +72,11 @@ pub(crate) fn stream_conf(path: &Path, visit: &mut Visit<'_>) -> Result<u64, Til
 /// Streams the scans of the E57 file at `path`, each by its own pose.
 pub(crate) fn stream_e57(path: &Path, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
     let mut attributes = Attributes::default();
-    stream_e57_posed(path, &Pose::IDENTITY, &mut |chunk: &PointChunk| {
+    let (points, _) = stream_e57_posed(path, &Pose::IDENTITY, 0, &mut |chunk: &PointChunk| {
         attributes.check(path, chunk)?;
         visit(chunk)
-    })
+    })?;
+    Ok(points)
 }
 
 /// Whether `path` is an E57 file (by extension).
@@ -75,8 +87,14 @@ fn is_e57(path: &Path) -> bool {
 }
 
 /// The scans of an E57 file, each moved by its own pose and then by `pose`, streamed a
-/// chunk at a time by [`spatch_scan::stream_e57`].
-fn stream_e57_posed(path: &Path, pose: &Pose, visit: &mut Visit<'_>) -> Result<u64, TilingError> {
+/// chunk at a time by [`spatch_scan::stream_e57`], the scans numbered from `first`; gives
+/// the points read and the file's scans.
+fn stream_e57_posed(
+    path: &Path,
+    pose: &Pose,
+    first: usize,
+    visit: &mut Visit<'_>,
+) -> Result<(u64, usize), TilingError> {
     let streamed = spatch_scan::stream_e57(path, CHUNK_POINTS, &mut |chunk: &E57Chunk<'_>| {
         let total = pose.after(chunk.pose);
         visit(&PointChunk {
@@ -87,9 +105,10 @@ fn stream_e57_posed(path: &Path, pose: &Pose, visit: &mut Visit<'_>) -> Result<u
                 .collect(),
             colours: chunk.colours.map(<[[u8; 4]]>::to_vec),
             normals: None,
+            scan: first + chunk.scan,
         })
     })?;
-    Ok(streamed.points)
+    Ok((streamed.points, streamed.scans))
 }
 
 /// `chunk` moved by `pose` (positions, and normals by its rotation).
@@ -106,5 +125,6 @@ fn posed_chunk(chunk: &PointChunk, pose: &Pose) -> PointChunk {
                 .map(|v| pose.apply_vector(v.as_dvec3()).as_vec3())
                 .collect()
         }),
+        scan: chunk.scan,
     }
 }

@@ -44,7 +44,28 @@ pub fn read_tile_points(
     grid: &TileGrid,
     key: [i64; 3],
 ) -> Result<(PointCloud, u64), TilingError> {
+    read_tile(input, grid, key).map(|t| (t.cloud, t.own))
+}
+
+/// One tile's points as [`read_tile`] gives them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileCloud {
+    /// Its own and buffer points, placed at the tile's lowest corner.
+    pub cloud: PointCloud,
+    /// How many of them it owns.
+    pub own: u64,
+    /// Its points of each scan of the input (`PointChunk::scan`), indexed by scan; they are
+    /// consecutive runs of the cloud in scan order.
+    pub scan_points: Vec<u64>,
+}
+
+/// [`read_tile_points`] with the tile's points counted per scan (for scan sets whose
+/// scanners are known: the runs of `spatch_cloud::Scanners`).
+///
+/// Errors: the readers' errors.
+pub fn read_tile(input: &Path, grid: &TileGrid, key: [i64; 3]) -> Result<TileCloud, TilingError> {
     let (origin, _) = grid.bounds_of(key);
+    let mut scan_points = Vec::new();
     let mut cloud = PointCloud {
         origin,
         positions: Vec::new(),
@@ -58,6 +79,7 @@ pub fn read_tile_points(
                 continue;
             }
             own += u64::from(grid.key_of(*p) == key);
+            crate::spill::count_scan(&mut scan_points, chunk.scan);
             cloud.positions.push((*p - origin).as_vec3());
             if let Some(c) = &chunk.colours {
                 cloud.colours.get_or_insert_with(Vec::new).push(c[i]);
@@ -68,5 +90,9 @@ pub fn read_tile_points(
         }
         Ok(())
     })?;
-    Ok((cloud, own))
+    Ok(TileCloud {
+        cloud,
+        own,
+        scan_points,
+    })
 }

@@ -57,6 +57,10 @@ pub struct SpilledTile {
     pub points: u64,
     /// Of these, the points it owns.
     pub own: u64,
+    /// Its records of each scan of the input (`PointChunk::scan`), indexed by scan: the
+    /// file holds them as consecutive runs in scan order (scans stream in order, and a
+    /// tile keeps file order).
+    pub scan_points: Vec<u64>,
 }
 
 /// What a spill wrote.
@@ -106,6 +110,7 @@ pub fn spill_tiles(
                 path: dir.join(format!("spill_{i:05}.bin")),
                 points: 0,
                 own: 0,
+                scan_points: Vec::new(),
             })
             .collect(),
         buffers: vec![Vec::new(); keys.len()],
@@ -184,6 +189,7 @@ impl Spiller {
         let tile = &mut self.tiles[slot];
         tile.points += 1;
         tile.own += u64::from(own);
+        count_scan(&mut tile.scan_points, chunk.scan);
     }
 
     /// Appends every non-empty buffer to its file.
@@ -213,6 +219,14 @@ impl Spiller {
         self.buffered = 0;
         Ok(())
     }
+}
+
+/// Counts one point of scan `scan` in `scan_points` (one count per scan, grown as needed).
+pub(crate) fn count_scan(scan_points: &mut Vec<u64>, scan: usize) {
+    if scan_points.len() <= scan {
+        scan_points.resize(scan + 1, 0);
+    }
+    scan_points[scan] += 1;
 }
 
 /// Removes a spill file left by an earlier run at `path`, if any.

@@ -25,6 +25,9 @@ pub struct PointChunk {
     pub colours: Option<Vec<[u8; 4]>>,
     /// Normals as given, when the file has them.
     pub normals: Option<Vec<Vec3>>,
+    /// The scan its points belong to, counted from 0 over the input in stream order
+    /// (always 0 for a single-scan file; a chunk never spans two scans).
+    pub scan: usize,
 }
 
 impl PointChunk {

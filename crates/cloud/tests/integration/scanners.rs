@@ -108,3 +108,30 @@ fn each_scan_moves_by_its_offset_before_the_consensus() {
     let plain = cloud_to_scene(&input, &options).unwrap();
     assert_eq!(plain.report.scan_shift, 0.0);
 }
+
+#[test]
+fn the_sides_of_a_thin_sheet_do_not_pull_their_scans_together() {
+    // 1.5 spacings thick, each side scanned from its own side: one plane per block would
+    // pull the two scans into each other (the alignment moved them by its 2-spacing cap
+    // before stop 33). With one plane per scanner side the scans stay where they are.
+    let (points, scanners) = sheet(0.75 * STEP);
+    let input = cloud(DVec3::ZERO, points);
+    let mut options = CloudOptions::default();
+    options.consensus = true;
+    options.scanners = Some(scanners);
+    let aligned = cloud_to_scene(&input, &options).unwrap();
+    let spacing = aligned.report.spacing;
+    let shift = aligned.report.scan_shift / f64::from(spacing);
+    eprintln!("longest shift {shift:.3} s");
+    assert!(
+        shift < 0.05,
+        "the sides pulled their scans by {shift} spacings"
+    );
+    assert_eq!(aligned.report.scan_shifts.len(), 2);
+    // The sheet keeps its thickness without the consensus, aligned or not.
+    options.consensus = false;
+    let kept = cloud_to_scene(&input, &options).unwrap();
+    let e = measure_cloud_error(&input, &kept.scene, spacing).unwrap();
+    let rms = e.cloud_to_patch.distance.rms / f64::from(spacing);
+    assert!(rms < 0.2, "rms {rms} spacings: the sides were merged");
+}

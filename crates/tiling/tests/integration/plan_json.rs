@@ -60,6 +60,7 @@ fn a_plan_read_back_has_bit_identical_bounds() {
             buffer: 0.1 + 0.2,
         },
         tiles,
+        scan_shifts: Some(vec![[1.0 / 3.0, -2e-7, 0.0], [0.0, 0.25, -1e-300]]),
     };
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plan.json");

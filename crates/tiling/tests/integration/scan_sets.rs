@@ -175,3 +175,64 @@ fn an_e57_tile_streams_the_points_the_whole_read_gives() {
         assert_eq!(own, tile.points, "tile {}", tile.index);
     }
 }
+
+#[test]
+fn a_conf_listing_an_e57_numbers_every_scan_and_poses_it_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let text: String = sheet(1600, 0.0)
+        .iter()
+        .map(|p| format!("{} {} {}\n", p[0], p[1], p[2]))
+        .collect();
+    std::fs::write(dir.path().join("a.xyz"), text).unwrap();
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    let scans = [
+        (sheet(1200, 0.0), [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        (sheet(1200, 0.0), [half, 0.0, 0.0, half], [0.0, 2.5, 0.0]),
+    ];
+    write_e57(&dir.path().join("b.e57"), &scans);
+    // The E57's scans are moved by their own poses, then by the entry's (3 along x).
+    let conf = dir.path().join("set.conf");
+    let text = "bmesh a.xyz 0 0 0 0 0 0 1\nbmesh b.e57 3 0 0 0 0 0 1\n";
+    std::fs::write(&conf, text).unwrap();
+    // The same points as the untiled loader gives (posed once), in order.
+    check(&conf, 4000);
+    let mut per_scan = Vec::new();
+    stream_points(&conf, &mut |chunk| {
+        if per_scan.len() <= chunk.scan {
+            per_scan.resize(chunk.scan + 1, 0);
+        }
+        per_scan[chunk.scan] += chunk.len();
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(per_scan, [1600, 1200, 1200]);
+
+    // Each tile's points are runs of their scans, counted alike by the spill and by a
+    // tile read alone.
+    let options = PlanOptions {
+        tile: 1.0,
+        buffer: Some(0.2),
+        spacing: Some(0.05),
+        pixel_factor: spatch_cloud::CloudOptions::DEFAULT_PIXEL_FACTOR,
+    };
+    let plan = make_plan(&conf, &options).unwrap();
+    let grid = plan.grid.tile_grid().unwrap();
+    let keys: Vec<_> = plan.tiles.iter().map(|t| t.key).collect();
+    let spill_dir = tempfile::tempdir().unwrap();
+    let spill = spatch_tiling::spill_tiles(&conf, &grid, &keys, spill_dir.path(), 1 << 20).unwrap();
+    let mut total = vec![0u64; 3];
+    for (i, tile) in plan.tiles.iter().enumerate() {
+        let alone = spatch_tiling::read_tile(&conf, &grid, tile.key).unwrap();
+        assert_eq!(spill.tiles[i].scan_points, alone.scan_points, "tile {i}");
+        let sum: u64 = alone.scan_points.iter().sum();
+        assert_eq!(sum, alone.cloud.len() as u64, "tile {i}");
+        for (t, n) in total.iter_mut().zip(&alone.scan_points) {
+            *t += n;
+        }
+    }
+    // Buffer points count in every tile that reads them: at least each scan's points.
+    assert!(
+        total[0] >= 1600 && total[1] >= 1200 && total[2] >= 1200,
+        "{total:?}"
+    );
+}
