@@ -44,7 +44,7 @@ pub(crate) const CENTRE_STEPS: u32 = 16;
 /// undrawn cell or past the piece) are pushed out. Why: two patches'
 /// borders do not quite meet everywhere, which the sub-nodes' half-pixel
 /// reach closed; with no margin the bunny's eval counted 0.22 % holes.
-pub(crate) const OUTLINE_MARGIN_PX: f64 = 0.35;
+pub(crate) const OUTLINE_MARGIN_PX: f64 = 0.5;
 
 /// Outline sides of a cell (bits of [`Cell::new`]'s `outline`).
 const BOTTOM: u8 = 1;
@@ -110,18 +110,12 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
 }
 
 /// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
-/// whose sub-word of `(0, 0)` is `sub0`: the pixel centres of its box,
-/// each tested against its two triangles. Why one function with the
-/// five edge functions written out (a hot kernel): the cell is set up
-/// only when its box holds a pixel centre, and a centre costs three cross
-/// products from the first corner plus two with a constant.
+/// whose sub-word of `(0, 0)` is `sub0`, its `outline` sides pushed out:
+/// the pixel centres of its box, each tested against its two triangles.
+/// Why set up only when the box holds a pixel centre: most cells of a
+/// coarse-enough level hold one or two, finer ones often none.
 #[inline(always)]
 pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
-    let outline = if folded(c) {
-        BOTTOM | RIGHT | TOP | LEFT
-    } else {
-        outline
-    };
     let grow = if outline != 0 { MARGIN } else { 0 };
     let x_lo = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) - grow;
     let x_hi = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) + grow;
@@ -138,7 +132,7 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
     let cell = Cell::new(c, outline);
     let (ox, oy) = (c[0][0] as i64, c[0][1] as i64);
     // Why exclusive ranges: an inclusive one costs a flag and a branch
-    // per step (callgrind: the loops cost more than the cells).
+    // per step (callgrind).
     for py in py0..py1 + 1 {
         let row = ((py - t.y0) * t.width) as usize;
         let y = ((py as i64) << XY_FRAC_BITS) + HALF as i64 - oy;
@@ -157,154 +151,154 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
     }
 }
 
-/// True when the cell's corners turn both ways on screen (or one turn is
-/// flat): the surface folds inside the cell, where its bilinear outline
-/// reaches past the two triangles, so every side is pushed out.
-#[inline(always)]
-fn folded(c: [&Node; 4]) -> bool {
-    let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
-    let (p1, p2, p3) = (rel(c[1]), rel(c[2]), rel(c[3]));
-    let turns = [
-        cross(p1, p2),
-        cross(p1, p3),
-        cross(p3, p2),
-        cross(
-            [p3[0] - p1[0], p3[1] - p1[1]],
-            [p2[0] - p1[0], p2[1] - p1[1]],
-        ),
-    ];
-    let positive = turns.iter().filter(|&&t| t > 0).count();
-    positive != 0 && positive != 4
-}
-
 /// The cross product `a × b` (twice the signed area of `(0, a, b)`).
 #[inline(always)]
 fn cross(a: [i64; 2], b: [i64; 2]) -> i64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// Whether a pixel centre on a side (edge function 0) belongs to the
-/// triangle that walks the side in direction `d`, turned by `sign` (the
-/// triangle's orientation): the top-left rule, which gives a side to
-/// exactly one of its two directions.
-#[inline(always)]
-fn owns(d: [i64; 2], sign: i64) -> bool {
-    let (dx, dy) = (d[0] * sign, d[1] * sign);
-    dy > 0 || (dy == 0 && dx < 0)
-}
-
-/// Inside test of one edge function `e` of a triangle of orientation
-/// `sign` whose side runs in direction `d`, pushed out by `grow`.
-#[inline(always)]
-fn inside(e: i64, sign: i64, d: [i64; 2], grow: i64) -> bool {
-    let v = e * sign + grow;
-    v > 0 || (v == 0 && owns(d, sign))
-}
-
 /// [`OUTLINE_MARGIN_PX`] in position units.
 const MARGIN: i32 = (OUTLINE_MARGIN_PX * (1 << XY_FRAC_BITS) as f64) as i32;
 
-/// The edge-function margin of a side `d` pushed out when `on`: the
-/// pixel centres whose pixel square reaches within [`OUTLINE_MARGIN_PX`]
-/// of a pixel's half-width of the side (`(|dx| + |dy|)` times the margin,
-/// no square root), else 0.
-#[inline(always)]
-fn margin(d: [i64; 2], on: bool) -> i64 {
-    if !on {
-        return 0;
+/// One side of a triangle as an oriented edge function `a x + b y + c`
+/// (positions relative to the cell's first corner): a pixel centre is on
+/// the triangle's side of it when the value is `>= 0`. `c` includes the
+/// outline margin and the top-left rule's bias; `k` is what they added,
+/// so `value - k` is the plain edge function (the barycentric weight
+/// times the area).
+#[derive(Clone, Copy)]
+struct Edge {
+    a: i64,
+    b: i64,
+    c: i64,
+    k: i64,
+}
+
+impl Edge {
+    /// The side from `p` in direction `d` of a triangle of orientation
+    /// `sign` (±1; 0 for a flat triangle, which covers nothing), pushed
+    /// out when `grow`.
+    #[inline(always)]
+    fn new(p: [i64; 2], d: [i64; 2], sign: i64, grow: bool) -> Edge {
+        if sign == 0 {
+            return Edge {
+                a: 0,
+                b: 0,
+                c: -1,
+                k: 0,
+            };
+        }
+        let (dx, dy) = (d[0] * sign, d[1] * sign);
+        // Top-left: a centre exactly on the side belongs to the direction
+        // pointing down (or left when level), so to exactly one of the two
+        // triangles that share it.
+        let bias = !(dy > 0 || (dy == 0 && dx < 0)) as i64;
+        // Outline sides take every pixel whose square reaches within the
+        // margin of the side: `(|dx| + |dy|)` times it, no square root.
+        let margin = if grow {
+            (dx.abs() + dy.abs()) * MARGIN as i64
+        } else {
+            0
+        };
+        let k = margin - bias;
+        Edge {
+            a: -dy,
+            b: dx,
+            c: dy * p[0] - dx * p[1] + k,
+            k,
+        }
     }
-    (d[0].abs() + d[1].abs()) * MARGIN as i64
+
+    #[inline(always)]
+    fn at(&self, x: i64, y: i64) -> i64 {
+        self.a * x + self.b * y + self.c
+    }
 }
 
 /// A cell set up for pixel-centre tests, positions relative to its first
 /// corner `c00`: the lower triangle `(c00, c10, c11)` and the upper one
 /// `(c00, c11, c01)`, sharing the diagonal.
 struct Cell {
-    /// `c10`, `c01`, `c11` relative to `c00`.
-    p1: [i64; 2],
-    p2: [i64; 2],
-    p3: [i64; 2],
-    /// The sides `c10 → c11` and `c11 → c01`, and their edge functions'
-    /// constants (`e = d × q - k`).
-    d1: [i64; 2],
-    d3: [i64; 2],
-    k1: i64,
-    k3: i64,
-    /// Twice the signed areas of the lower and upper triangles.
-    area: [i64; 2],
-    /// Their orientations (±1).
-    sign: [i64; 2],
+    /// Lower: `c00 → c10`, `c10 → c11`, `c11 → c00`; upper: `c00 → c11`,
+    /// `c11 → c01`, `c01 → c00` (each oriented by its triangle).
+    lower: [Edge; 3],
+    upper: [Edge; 3],
+    /// `1 / |area|` of the lower and upper triangles (twice their areas).
+    inv: [f32; 2],
+    /// The triangles turn the same way (then the diagonal alone decides
+    /// which one a centre may be in).
+    same: bool,
     /// Depth of `c00`, and `c10`, `c01`, `c11` minus it.
     z0: i32,
     dz: [f32; 3],
-    /// Edge-function margins of the bottom, right, top and left sides
-    /// (0 inside the piece, see [`OUTLINE_MARGIN_PX`]).
-    grow: [i64; 4],
 }
 
 impl Cell {
+    /// The cell of corners `c` with its `outline` sides pushed out; a cell
+    /// whose triangles turn opposite ways (a fold) pushes out every side.
     #[inline(always)]
     fn new(c: [&Node; 4], outline: u8) -> Cell {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (p1, p2, p3) = (rel(c[1]), rel(c[2]), rel(c[3]));
-        let d1 = [p3[0] - p1[0], p3[1] - p1[1]];
-        let d3 = [p2[0] - p3[0], p2[1] - p3[1]];
         let area = [cross(p1, p3), cross(p3, p2)];
+        let [sl, su] = area.map(i64::signum);
+        let same = sl == su;
+        let outline = if same {
+            outline
+        } else {
+            BOTTOM | RIGHT | TOP | LEFT
+        };
+        let o = [0, 0];
+        let neg = |d: [i64; 2]| [-d[0], -d[1]];
+        let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
         let z0 = c[0][2];
+        let inv = |a: i64| if a != 0 { 1.0 / a.abs() as f32 } else { 0.0 };
         Cell {
-            p1,
-            p2,
-            p3,
-            d1,
-            d3,
-            k1: cross(d1, p1),
-            k3: cross(d3, p3),
-            area,
-            sign: area.map(i64::signum),
+            lower: [
+                Edge::new(o, p1, sl, outline & BOTTOM != 0),
+                Edge::new(p1, sub(p3, p1), sl, outline & RIGHT != 0),
+                Edge::new(p3, neg(p3), sl, false),
+            ],
+            upper: [
+                Edge::new(o, p3, su, false),
+                Edge::new(p3, sub(p2, p3), su, outline & TOP != 0),
+                Edge::new(p2, neg(p2), su, outline & LEFT != 0),
+            ],
+            inv: [inv(area[0]), inv(area[1])],
+            same,
             z0,
             dz: [c[1], c[2], c[3]].map(|n| (n[2] - z0) as f32),
-            grow: [
-                margin(p1, outline & BOTTOM != 0),
-                margin(d1, outline & RIGHT != 0),
-                margin(d3, outline & TOP != 0),
-                margin(p2, outline & LEFT != 0),
-            ],
         }
     }
 
-    /// Depth and recorded place `(a, b)` at the pixel centre `q` (relative
-    /// to `c00`) when the cell holds it.
+    /// Depth and recorded place `(a, b)` at the pixel centre `(x, y)`
+    /// (relative to `c00`) when the cell holds it.
     #[inline(always)]
     fn at(&self, x: i64, y: i64) -> Option<(i32, u32, u32)> {
-        let q = [x, y];
-        let [p1, p2, p3] = [self.p1, self.p2, self.p3];
-        // Edge functions: c00 → c10, c11 → c00 (the lower triangle's
-        // diagonal; the upper one walks it back), c01 → c00.
-        let e0 = cross(p1, q);
-        let e2 = -cross(p3, q);
-        let e4 = -cross(p2, q);
-        let [sl, su] = self.sign;
-        let neg = |d: [i64; 2]| [-d[0], -d[1]];
-        let g = self.grow;
-        if sl != 0
-            && inside(e0, sl, p1, g[0])
-            && inside(e2, sl, neg(p3), 0)
-            && inside(cross(self.d1, q) - self.k1, sl, self.d1, g[1])
-        {
-            // Weights of c10 and c11: e2 / area, e0 / area.
-            let inv = 1.0 / self.area[0] as f32;
-            let (w1, w3) = (e2 as f32 * inv, e0 as f32 * inv);
-            let z = self.z0 + (w1 * self.dz[0] + w3 * self.dz[2]) as i32;
-            return Some((z, place(w1 + w3), place(w3)));
+        let [l0, l1, l2] = self.lower;
+        let [u0, u1, u2] = self.upper;
+        let d = l2.at(x, y);
+        // Of two triangles turning the same way, the diagonal's side
+        // decides which one may hold the centre (the top-left rule gives a
+        // centre on it to one of them).
+        if d >= 0 || !self.same {
+            let (e0, e1) = (l0.at(x, y), l1.at(x, y));
+            if d >= 0 && e0 >= 0 && e1 >= 0 {
+                // Weights of c10 and c11: the diagonal's and the bottom's.
+                let w1 = (d - l2.k) as f32 * self.inv[0];
+                let w3 = (e0 - l0.k) as f32 * self.inv[0];
+                let z = self.z0 + (w1 * self.dz[0] + w3 * self.dz[2]) as i32;
+                return Some((z, place(w1 + w3), place(w3)));
+            }
+            if self.same {
+                return None;
+            }
         }
-        if su != 0
-            && inside(-e2, su, p3, 0)
-            && inside(e4, su, neg(p2), g[3])
-            && inside(cross(self.d3, q) - self.k3, su, self.d3, g[2])
-        {
-            // Weights of c11 and c01: e4 / area, -e2 / area.
-            let inv = 1.0 / self.area[1] as f32;
-            let (w3, w2) = (e4 as f32 * inv, -e2 as f32 * inv);
+        let (d, e1, e2) = (u0.at(x, y), u1.at(x, y), u2.at(x, y));
+        if d >= 0 && e1 >= 0 && e2 >= 0 {
+            // Weights of c11 and c01: the left side's and the diagonal's.
+            let w3 = (e2 - u2.k) as f32 * self.inv[1];
+            let w2 = (d - u0.k) as f32 * self.inv[1];
             let z = self.z0 + (w2 * self.dz[1] + w3 * self.dz[2]) as i32;
             return Some((z, place(w3), place(w3 + w2)));
         }
