@@ -231,6 +231,8 @@ struct Cell {
     /// Depth of `c00`, and `c10`, `c01`, `c11` minus it.
     z0: i32,
     dz: [f32; 3],
+    /// The corners' nearest and farthest depths.
+    z_range: [i32; 2],
 }
 
 impl Cell {
@@ -268,7 +270,20 @@ impl Cell {
             same,
             z0,
             dz: [c[1], c[2], c[3]].map(|n| (n[2] - z0) as f32),
+            z_range: [
+                z0.min(c[1][2]).min(c[2][2]).min(c[3][2]),
+                z0.max(c[1][2]).max(c[2][2]).max(c[3][2]),
+            ],
         }
+    }
+
+    /// The depth `z0 + dz`, within the corners' depths. Why: a sliver
+    /// triangle's weights may be far off 0..=1 at a centre its margin
+    /// takes (an area of a few units), and the sum overflowed.
+    #[inline(always)]
+    fn depth(&self, dz: f32) -> i32 {
+        let [lo, hi] = self.z_range;
+        self.z0.saturating_add(dz as i32).clamp(lo, hi)
     }
 
     /// Depth and recorded place `(a, b)` at the pixel centre `(x, y)`
@@ -287,7 +302,7 @@ impl Cell {
                 // Weights of c10 and c11: the diagonal's and the bottom's.
                 let w1 = (d - l2.k) as f32 * self.inv[0];
                 let w3 = (e0 - l0.k) as f32 * self.inv[0];
-                let z = self.z0 + (w1 * self.dz[0] + w3 * self.dz[2]) as i32;
+                let z = self.depth(w1 * self.dz[0] + w3 * self.dz[2]);
                 return Some((z, place(w1 + w3), place(w3)));
             }
             if self.same {
@@ -299,7 +314,7 @@ impl Cell {
             // Weights of c11 and c01: the left side's and the diagonal's.
             let w3 = (e2 - u2.k) as f32 * self.inv[1];
             let w2 = (d - u0.k) as f32 * self.inv[1];
-            let z = self.z0 + (w2 * self.dz[1] + w3 * self.dz[2]) as i32;
+            let z = self.depth(w2 * self.dz[1] + w3 * self.dz[2]);
             return Some((z, place(w3), place(w3 + w2)));
         }
         None
@@ -404,6 +419,47 @@ mod tests {
             }
         }
         assert!(checked > 20_000 && on_lines > 3_000, "{checked} {on_lines}");
+    }
+
+    #[test]
+    fn sliver_cells_on_an_outline_keep_their_depth_within_their_corners() {
+        // Cells with a corner a few position units off a side (triangles
+        // of an area of a few units), every side pushed out: the margin
+        // takes centres where the weights are huge; depths stay within
+        // the corners' (they overflowed before).
+        let mut rng = XorShift(0x5117e5);
+        let w = 16usize;
+        let mut written = 0;
+        for _ in 0..400 {
+            let (x, y) = (4.0 + 4.0 * rng.unit(), 4.0 + 4.0 * rng.unit());
+            let len = 1.0 + 3.0 * rng.unit();
+            let mut c = [
+                node(x, y),
+                node(x + len, y),
+                node(x, y + len),
+                node(x + len, y + len),
+            ];
+            // c11 onto the diagonal c00-c10 extended, a unit or two off.
+            c[3][0] = c[1][0] + (c[1][0] - c[0][0]);
+            c[3][1] = c[0][1] + rng.below(3) as i32;
+            for (k, n) in c.iter_mut().enumerate() {
+                n[2] = 1000 + 100_000 * k as i32;
+            }
+            let mut px = band(w);
+            let all = BOTTOM | RIGHT | TOP | LEFT;
+            draw_cell(
+                &mut target(&mut px, w),
+                [&c[0], &c[1], &c[2], &c[3]],
+                all,
+                0,
+                PATCH_SAMPLE,
+            );
+            for s in px.iter().filter(|s| s.depth < Z_FAR) {
+                assert!((1000..=301_000).contains(&s.depth), "{}", s.depth);
+                written += 1;
+            }
+        }
+        assert!(written > 1_000, "{written}");
     }
 
     #[test]
