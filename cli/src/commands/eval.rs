@@ -85,6 +85,10 @@ pub(crate) struct EvalArgs {
     /// `spatch render --geometry-tolerance`; 0 = none, the default).
     #[arg(long, value_name = "T", default_value_t = RenderOptions::DEFAULT_GEOMETRY_TOLERANCE, conflicts_with = "sweep")]
     geometry_tolerance: f32,
+    /// Centre limit of the patch renders in pixels (see `spatch render
+    /// --centre-limit`; 0 = off; not with --sweep).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_CENTRE_LIMIT, conflicts_with = "sweep")]
+    centre_limit: f32,
     /// Skip the image error (geometric error only).
     #[arg(long, conflicts_with = "sweep")]
     no_images: bool,
@@ -162,6 +166,7 @@ impl EvalArgs {
         render.splat_limit = self.splat_limit;
         render.geometry_limit = self.geometry_limit;
         render.geometry_tolerance = self.geometry_tolerance;
+        render.centre_limit = self.centre_limit;
         render
     }
 

@@ -188,6 +188,13 @@ pub(crate) struct RenderArgs {
     /// 1.7 dB lower PSNR, specks on thin rims). 0 (default): off.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_GEOMETRY_LIMIT)]
     geometry_limit: f32,
+    /// Draw bilinear cells up to PX pixels (0.5..=4) by pixel-centre
+    /// coverage (two triangles per cell, the resolve interpolating the
+    /// cell's corners at each pixel centre) instead of sub-nodes, and take
+    /// mip levels whose cells stay below PX: no sub-nodes for pixel-sized
+    /// cells, exact outlines. 0: off (sub-nodes).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_CENTRE_LIMIT)]
+    centre_limit: f32,
     /// With --geometry-limit, coarsen only patches whose shading-level
     /// nodes all lie within T of their own node spacing of the coarser
     /// level's bilinear surface (measured once per scene): rough parts of
@@ -350,6 +357,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;
     o.geometry_tolerance = args.geometry_tolerance;
+    o.centre_limit = args.centre_limit;
     o.guard_band = args.guard_band;
     o.tile_rows = args.tile_rows;
     if let Some(bg) = args.background {

@@ -279,6 +279,57 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
 }
 
 #[test]
+fn centre_limit_draws_pixel_sized_cells_by_pixel_centres() {
+    // The default sphere at 200²: cells of about a pixel are cut into
+    // sub-nodes by default and drawn by pixel-centre coverage with
+    // --centre-limit 2 (some at the next mip level), which places next to
+    // no sub-nodes and covers the same disc within its outline margin.
+    let t = TestCommand::new();
+    t.run(&["sphere", "-o", "big.spatch"]).success();
+    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
+        let args = [
+            "render",
+            "big.spatch",
+            "-o",
+            "s.png",
+            "--width",
+            "200",
+            "--height",
+            "200",
+            "--stats",
+            name,
+        ];
+        t.run(&[&args[..], extra].concat()).success();
+        t.json(name)
+    };
+    let off = stats(&[], "off.json");
+    let on = stats(&["--centre-limit", "2"], "on.json");
+    let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
+    assert!(count(&off, "interpolated_nodes") > 100_000, "{off}");
+    assert!(
+        count(&on, "interpolated_nodes") * 10 < count(&off, "interpolated_nodes"),
+        "{on}"
+    );
+    assert!(
+        count(&on, "patch_nodes") < count(&off, "patch_nodes"),
+        "{on}"
+    );
+    let (a, b) = (count(&off, "covered_pixels"), count(&on, "covered_pixels"));
+    assert!(a.abs_diff(b) * 200 < a, "{a} against {b}");
+    let run = t.run(&[
+        "render",
+        "big.spatch",
+        "-o",
+        "bad.png",
+        "--centre-limit",
+        "9",
+    ]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert!(run.stderr.starts_with("spatch: error:") && run.stderr.contains("centre_limit"));
+    assert!(!t.path("bad.png").exists());
+}
+
+#[test]
 fn bad_input_gives_one_line_exit_2_and_no_output() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");

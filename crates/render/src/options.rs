@@ -206,6 +206,15 @@ pub struct RenderOptions {
     /// times the frame's cost on coloured scenes (Spot 5.8×, mannequin
     /// 1.4× and more); see docs/algorithms/render.md.
     pub exact_outlines: bool,
+    /// Cell size (pixels) up to which bilinear cells are drawn by
+    /// pixel-centre coverage instead of sub-nodes, 0 (off) or 0.5..=4; with
+    /// `mip`, a whole patch then takes the coarsest level whose estimated
+    /// cell extent stays below this (or `mip_limit`, the larger). Each such
+    /// cell writes exactly the pixel centres its two triangles hold and the
+    /// resolve interpolates its corners there, so pixel-sized cells need no
+    /// sub-nodes (see docs/algorithms/render.md, "Pixel-centre cells").
+    /// Bilinear cells only, not with `splat_limit`.
+    pub centre_limit: f32,
 }
 
 impl RenderOptions {
@@ -221,6 +230,8 @@ impl RenderOptions {
     pub const DEFAULT_GEOMETRY_LIMIT: f32 = 0.0;
     /// Default geometry tolerance: none (every whole patch may coarsen).
     pub const DEFAULT_GEOMETRY_TOLERANCE: f32 = 0.0;
+    /// Default centre limit (pixels of cell extent; 0: off).
+    pub const DEFAULT_CENTRE_LIMIT: f32 = 0.0;
     /// Largest supersampling factor.
     pub const MAX_SSAA: u32 = 4;
 
@@ -250,6 +261,10 @@ impl RenderOptions {
                 "geometry_tolerance",
                 "must be 0 (none) or in 0.001..=16 node spacings",
             );
+        }
+        let c = self.centre_limit;
+        if !(c.is_finite() && (c == 0.0 || (0.5..=4.0).contains(&c))) {
+            return bad("centre_limit", "must be 0 (off) or in 0.5..=4 pixels");
         }
         if !(4..=256).contains(&self.tile_rows) {
             return bad("tile_rows", "must be in 4..=256");
@@ -297,6 +312,7 @@ impl Default for RenderOptions {
             lighting: Lighting::default(),
             simd: true,
             exact_outlines: false,
+            centre_limit: Self::DEFAULT_CENTRE_LIMIT,
         }
     }
 }

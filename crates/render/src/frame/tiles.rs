@@ -20,6 +20,7 @@ use crate::raster::band::{
     PhongPayload, PATCH_SAMPLE,
 };
 use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
+use crate::raster::cell_centres::draw_cells_centres;
 use crate::raster::cell_edges::draw_cells_open;
 use crate::raster::cell_smooth::draw_cells_smooth;
 use crate::raster::splat::{draw_splats, SplatPiece};
@@ -198,7 +199,9 @@ pub(crate) fn draw_item(
             rows,
             inside_columns: item.inside_columns,
         };
-        if item.open_sides {
+        if item.centres {
+            draw_cells_centres(t, &piece, id);
+        } else if item.open_sides {
             draw_cells_open(t, &piece, nu, nv, id);
         } else {
             draw_cells_bilinear(t, &piece, nu, nv, id);

@@ -31,6 +31,7 @@ use crate::plan::project::{level_map, project_nodes_exact, project_nodes_triline
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
+use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
@@ -68,6 +69,8 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         // still land within that reach needs no subdivision.
         let limit = if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
             opts.mip_limit.max(2.0 * opts.splat_limit)
+        } else if centre_cells(opts) {
+            opts.mip_limit.max(opts.centre_limit)
         } else {
             opts.mip_limit
         };
@@ -177,9 +180,11 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     // folds away (see `open_sides` and `raster::cell_edges`); the cells of
     // coloured patches by pixel-centre coverage (`raster::cell_exact`).
     let bilinear = !smooth && splat[0] == 0;
-    let exact = bilinear && opts.exact_outlines && (nu, nv) != (1, 1) && exact_outlines(level);
-    let open_sides =
-        exact || (bilinear && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0);
+    let centres = bilinear && centre_cells(opts) && (nu, nv) != (1, 1) && nu.max(nv) <= CENTRE_CUT;
+    let exact =
+        bilinear && !centres && opts.exact_outlines && (nu, nv) != (1, 1) && exact_outlines(level);
+    let open_sides = exact
+        || (bilinear && !centres && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0);
     if exact {
         mark_exact_cells(&mut work.cell_flags[flags..]);
     } else if open_sides {
@@ -202,11 +207,20 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         work.counters.splatted += 1;
     } else if (nu, nv) == (1, 1) {
         work.counters.optimized += 1;
+    } else if centres {
+        work.counters.interpolated += 1;
     } else {
         work.counters.interpolated += 1;
         let refined = measure.refined_nodes(nu as u64, nv as u64);
         work.counters.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
     }
+    // Pixel-centre cells record their pixels' places on a grid of
+    // `CENTRE_STEPS` per side, which the resolve reads as a cut.
+    let (nu, nv) = if centres {
+        (CENTRE_STEPS, CENTRE_STEPS)
+    } else {
+        (nu, nv)
+    };
     work.items.push(Item {
         first: first as u32,
         cols: cols as u16,
@@ -226,8 +240,20 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
         splat,
         open_sides,
+        centres,
     });
 }
+
+/// Whether pixel-sized bilinear cells are drawn by pixel-centre coverage
+/// ([`RenderOptions::centre_limit`]; not with splats or smooth cells).
+fn centre_cells(opts: &RenderOptions) -> bool {
+    opts.centre_limit > 0.0 && opts.cells == CellScheme::Bilinear && opts.splat_limit == 0.0
+}
+
+/// Largest cut per side (of the sub-node path) of pieces drawn by
+/// pixel-centre coverage when [`RenderOptions::centre_limit`] is on:
+/// cells of up to about 4 px; larger cells keep sub-nodes.
+const CENTRE_CUT: u32 = 4;
 
 /// Whether whole patches may draw the level above their shading level
 /// ([`RenderOptions::geometry_limit`]): Phong (the resolve pass

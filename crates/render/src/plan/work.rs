@@ -63,6 +63,10 @@ pub(crate) struct Item {
     pub(crate) splat: [i32; 2],
     /// Some cell has an open side ([`crate::plan::open_sides`]).
     pub(crate) open_sides: bool,
+    /// The cells are drawn by pixel-centre coverage
+    /// ([`crate::raster::cell_centres`]); `nu × nv` is then the resolve's
+    /// grid of recorded places, not a cut.
+    pub(crate) centres: bool,
 }
 
 /// Everything about the frame that planning needs.

@@ -7,6 +7,7 @@
 
 pub(crate) mod band;
 pub(crate) mod cell_bilinear;
+pub(crate) mod cell_centres;
 pub(crate) mod cell_edges;
 pub(crate) mod cell_exact;
 pub(crate) mod cell_smooth;

@@ -1,0 +1,513 @@
+//! Pixel-sized bilinear cells drawn by pixel-centre coverage, cheaply:
+//! each drawn cell is two triangles `(c00, c10, c11)` and `(c00, c11, c01)`
+//! on the piece's 16-fractional-bit node positions, and writes exactly the
+//! pixel centres they hold (integer edge functions, top-left rule), with
+//! its place in the cell for the resolve.
+//!
+//! Why: the sub-node path ([`crate::raster::cell_bilinear`]) must keep its
+//! lattice under a pixel in each axis, so cells of 0.6–2 px are cut 2–3
+//! per side and a pixel takes about ten samples (bunny 500²: 746k nodes
+//! and sub-nodes for 69k covered pixels). Here a cell costs one box test
+//! and, when its box holds a pixel centre (about one in two at level 0,
+//! always above 1 px), the set-up of two triangles; a pixel costs its
+//! edge functions. The planner pairs this path with a coarser mip level
+//! ([`crate::RenderOptions::centre_limit`]), so cells of 1–2 px draw
+//! without sub-nodes.
+//!
+//! Coverage: two cells of a piece share their corner nodes bit for bit, so
+//! a shared side is the same integer line in both, walked in opposite
+//! directions; the top-left rule (a centre exactly on a side belongs to
+//! the side whose direction points down, or left when level) gives it to
+//! exactly one. Triangles turning the other way on screen (mirrored
+//! patches, folds) are turned round first. So the cells of a piece write
+//! every pixel centre inside them once (tested on jittered lattices).
+//!
+//! Interpolation: a pixel records the point of its cell it shows, `(u, v)`
+//! from the triangle's barycentric weights (which the edge functions give
+//! up to one reciprocal of the area per triangle), rounded to
+//! [`CENTRE_STEPS`] steps per side; the draw item says its cut is
+//! `CENTRE_STEPS × CENTRE_STEPS`, so the resolve pass interpolates the
+//! cell's corners bilinearly there as it does at a sub-node, unchanged.
+//! Depth is interpolated at the pixel centre from the triangle's corners.
+
+use crate::fixed::{Node, XY_FRAC_BITS};
+use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
+use crate::raster::band::BandTarget;
+use crate::raster::cell_bilinear::{sub_word, BilinearPiece};
+
+/// Steps per cell side of the recorded place `(u, v)` of a pixel centre
+/// (the `nu × nv` the resolve's weight table reads): at most half a step
+/// (1/32 of a cell, 0.05 px in a 1.5 px cell) from the exact place.
+pub(crate) const CENTRE_STEPS: u32 = 16;
+
+/// How far (pixels) a cell's sides on the piece's outline (toward an
+/// undrawn cell or past the piece) are pushed out. Why: two patches'
+/// borders do not quite meet everywhere, which the sub-nodes' half-pixel
+/// reach closed; with no margin the bunny's eval counted 0.22 % holes.
+pub(crate) const OUTLINE_MARGIN_PX: f64 = 0.5;
+
+/// Outline sides of a cell (bits of [`Cell::new`]'s `outline`).
+const BOTTOM: u8 = 1;
+const RIGHT: u8 = 2;
+const TOP: u8 = 4;
+const LEFT: u8 = 8;
+
+/// Half a pixel in position units (a pixel centre's fraction).
+const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
+
+/// Draws the drawn cells of a piece (flags as
+/// [`crate::plan::measure::measure_cells`] sets them; closing flags are
+/// not needed: every cell reaches its own sides) by pixel-centre coverage.
+#[inline(always)]
+pub(crate) fn draw_cells_centres(t: &mut BandTarget<'_>, piece: &BilinearPiece<'_>, item: u32) {
+    let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
+    let (cols, nodes) = (piece.cols, piece.nodes);
+    let rows_of_cells = piece.flags.chunks_exact(cols - 1).zip(piece.spans);
+    for (j, (row_flags, &[lo, hi])) in rows_of_cells.take(piece.rows - 1).enumerate() {
+        // The row's span covers its used nodes, hence its cells.
+        if hi < y_lo || lo >= y_hi {
+            continue;
+        }
+        let below = &nodes[j * cols..(j + 1) * cols];
+        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
+        let under = j
+            .checked_sub(1)
+            .map(|k| &piece.flags[k * (cols - 1)..(k + 1) * (cols - 1)]);
+        let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
+        let mut left_drawn = false;
+        for (i, ((&f, b), a)) in cells.enumerate() {
+            let drawn = f & CELL_DRAW != 0;
+            if drawn {
+                let outline = outline(f, left_drawn, under.map(|u| u[i]));
+                let c = [&b[0], &b[1], &a[0], &a[1]];
+                draw_cell(t, c, outline, sub_word(i, j, 0, 0), item);
+            }
+            left_drawn = drawn;
+        }
+    }
+}
+
+/// The outline sides of a drawn cell with flags `f`: its right and top
+/// ones from the closing flags, its left one when the cell before it is
+/// not drawn, its bottom one when the cell under it (flags `under`, none
+/// in the first row) is not.
+#[inline(always)]
+fn outline(f: u8, left_drawn: bool, under: Option<u8>) -> u8 {
+    let bottom = under.is_none_or(|u| u & CELL_DRAW == 0);
+    (bottom as u8 * BOTTOM)
+        | ((f & CELL_RIGHT != 0) as u8 * RIGHT)
+        | ((f & CELL_TOP != 0) as u8 * TOP)
+        | (!left_drawn as u8 * LEFT)
+}
+
+/// The first and last pixel (inclusive) whose centre lies in `[lo, hi]`
+/// (position units), clamped to `[min, max]`.
+#[inline(always)]
+fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
+    let first = (lo - HALF + (1 << XY_FRAC_BITS) - 1) >> XY_FRAC_BITS;
+    let last = (hi - HALF) >> XY_FRAC_BITS;
+    (first.max(min), last.min(max))
+}
+
+/// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
+/// whose sub-word of `(0, 0)` is `sub0`, its `outline` sides pushed out:
+/// the pixel centres of its box, each tested against its two triangles.
+/// Why set up only when the box holds a pixel centre: most cells of a
+/// coarse-enough level hold one or two, finer ones often none.
+#[inline(always)]
+pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
+    let grow = if outline != 0 { MARGIN } else { 0 };
+    let x_lo = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) - grow;
+    let x_hi = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) + grow;
+    let (px0, px1) = centre_span(x_lo, x_hi, 0, t.width - 1);
+    if px0 > px1 {
+        return;
+    }
+    let y_lo = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) - grow;
+    let y_hi = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) + grow;
+    let (py0, py1) = centre_span(y_lo, y_hi, t.y0, t.y0 + t.rows - 1);
+    if py0 > py1 {
+        return;
+    }
+    let cell = Cell::new(c, outline);
+    let (ox, oy) = (c[0][0] as i64, c[0][1] as i64);
+    // Why exclusive ranges: an inclusive one costs a flag and a branch
+    // per step (callgrind).
+    for py in py0..py1 + 1 {
+        let row = ((py - t.y0) * t.width) as usize;
+        let y = ((py as i64) << XY_FRAC_BITS) + HALF as i64 - oy;
+        for px in px0..px1 + 1 {
+            let x = ((px as i64) << XY_FRAC_BITS) + HALF as i64 - ox;
+            let Some((z, a, b)) = cell.at(x, y) else {
+                continue;
+            };
+            let s = &mut t.px[row + px as usize];
+            if z < s.depth {
+                s.depth = z;
+                s.w0 = sub0 + (a << 8) + b;
+                s.w2 = item;
+            }
+        }
+    }
+}
+
+/// The cross product `a × b` (twice the signed area of `(0, a, b)`).
+#[inline(always)]
+fn cross(a: [i64; 2], b: [i64; 2]) -> i64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// [`OUTLINE_MARGIN_PX`] in position units.
+const MARGIN: i32 = (OUTLINE_MARGIN_PX * (1 << XY_FRAC_BITS) as f64) as i32;
+
+/// One side of a triangle as an oriented edge function `a x + b y + c`
+/// (positions relative to the cell's first corner): a pixel centre is on
+/// the triangle's side of it when the value is `>= 0`. `c` includes the
+/// outline margin and the top-left rule's bias; `k` is what they added,
+/// so `value - k` is the plain edge function (the barycentric weight
+/// times the area).
+#[derive(Clone, Copy)]
+struct Edge {
+    a: i64,
+    b: i64,
+    c: i64,
+    k: i64,
+}
+
+impl Edge {
+    /// The side from `p` in direction `d` of a triangle of orientation
+    /// `sign` (±1; 0 for a flat triangle, which covers nothing), pushed
+    /// out when `grow`.
+    #[inline(always)]
+    fn new(p: [i64; 2], d: [i64; 2], sign: i64, grow: bool) -> Edge {
+        if sign == 0 {
+            return Edge {
+                a: 0,
+                b: 0,
+                c: -1,
+                k: 0,
+            };
+        }
+        let (dx, dy) = (d[0] * sign, d[1] * sign);
+        // Top-left: a centre exactly on the side belongs to the direction
+        // pointing down (or left when level), so to exactly one of the two
+        // triangles that share it.
+        let bias = !(dy > 0 || (dy == 0 && dx < 0)) as i64;
+        // Outline sides take every pixel whose square reaches within the
+        // margin of the side: `(|dx| + |dy|)` times it, no square root.
+        let margin = if grow {
+            (dx.abs() + dy.abs()) * MARGIN as i64
+        } else {
+            0
+        };
+        let k = margin - bias;
+        Edge {
+            a: -dy,
+            b: dx,
+            c: dy * p[0] - dx * p[1] + k,
+            k,
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, x: i64, y: i64) -> i64 {
+        self.a * x + self.b * y + self.c
+    }
+}
+
+/// A cell set up for pixel-centre tests, positions relative to its first
+/// corner `c00`: the lower triangle `(c00, c10, c11)` and the upper one
+/// `(c00, c11, c01)`, sharing the diagonal.
+struct Cell {
+    /// Lower: `c00 → c10`, `c10 → c11`, `c11 → c00`; upper: `c00 → c11`,
+    /// `c11 → c01`, `c01 → c00` (each oriented by its triangle).
+    lower: [Edge; 3],
+    upper: [Edge; 3],
+    /// `1 / |area|` of the lower and upper triangles (twice their areas).
+    inv: [f32; 2],
+    /// The triangles turn the same way (then the diagonal alone decides
+    /// which one a centre may be in).
+    same: bool,
+    /// Depth of `c00`, and `c10`, `c01`, `c11` minus it.
+    z0: i32,
+    dz: [f32; 3],
+    /// The corners' nearest and farthest depths.
+    z_range: [i32; 2],
+}
+
+impl Cell {
+    /// The cell of corners `c` with its `outline` sides pushed out; a cell
+    /// whose triangles turn opposite ways (a fold) pushes out every side.
+    #[inline(always)]
+    fn new(c: [&Node; 4], outline: u8) -> Cell {
+        let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
+        let (p1, p2, p3) = (rel(c[1]), rel(c[2]), rel(c[3]));
+        let area = [cross(p1, p3), cross(p3, p2)];
+        let [sl, su] = area.map(i64::signum);
+        let same = sl == su;
+        let outline = if same {
+            outline
+        } else {
+            BOTTOM | RIGHT | TOP | LEFT
+        };
+        let o = [0, 0];
+        let neg = |d: [i64; 2]| [-d[0], -d[1]];
+        let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
+        let z0 = c[0][2];
+        let inv = |a: i64| if a != 0 { 1.0 / a.abs() as f32 } else { 0.0 };
+        Cell {
+            lower: [
+                Edge::new(o, p1, sl, outline & BOTTOM != 0),
+                Edge::new(p1, sub(p3, p1), sl, outline & RIGHT != 0),
+                Edge::new(p3, neg(p3), sl, false),
+            ],
+            upper: [
+                Edge::new(o, p3, su, false),
+                Edge::new(p3, sub(p2, p3), su, outline & TOP != 0),
+                Edge::new(p2, neg(p2), su, outline & LEFT != 0),
+            ],
+            inv: [inv(area[0]), inv(area[1])],
+            same,
+            z0,
+            dz: [c[1], c[2], c[3]].map(|n| (n[2] - z0) as f32),
+            z_range: [
+                z0.min(c[1][2]).min(c[2][2]).min(c[3][2]),
+                z0.max(c[1][2]).max(c[2][2]).max(c[3][2]),
+            ],
+        }
+    }
+
+    /// The depth `z0 + dz`, within the corners' depths. Why: a sliver
+    /// triangle's weights may be far off 0..=1 at a centre its margin
+    /// takes (an area of a few units), and the sum overflowed.
+    #[inline(always)]
+    fn depth(&self, dz: f32) -> i32 {
+        let [lo, hi] = self.z_range;
+        self.z0.saturating_add(dz as i32).clamp(lo, hi)
+    }
+
+    /// Depth and recorded place `(a, b)` at the pixel centre `(x, y)`
+    /// (relative to `c00`) when the cell holds it.
+    #[inline(always)]
+    fn at(&self, x: i64, y: i64) -> Option<(i32, u32, u32)> {
+        let [l0, l1, l2] = self.lower;
+        let [u0, u1, u2] = self.upper;
+        let d = l2.at(x, y);
+        // Of two triangles turning the same way, the diagonal's side
+        // decides which one may hold the centre (the top-left rule gives a
+        // centre on it to one of them).
+        if d >= 0 || !self.same {
+            let (e0, e1) = (l0.at(x, y), l1.at(x, y));
+            if d >= 0 && e0 >= 0 && e1 >= 0 {
+                // Weights of c10 and c11: the diagonal's and the bottom's.
+                let w1 = (d - l2.k) as f32 * self.inv[0];
+                let w3 = (e0 - l0.k) as f32 * self.inv[0];
+                let z = self.depth(w1 * self.dz[0] + w3 * self.dz[2]);
+                return Some((z, place(w1 + w3), place(w3)));
+            }
+            if self.same {
+                return None;
+            }
+        }
+        let (d, e1, e2) = (u0.at(x, y), u1.at(x, y), u2.at(x, y));
+        if d >= 0 && e1 >= 0 && e2 >= 0 {
+            // Weights of c11 and c01: the left side's and the diagonal's.
+            let w3 = (e2 - u2.k) as f32 * self.inv[1];
+            let w2 = (d - u0.k) as f32 * self.inv[1];
+            let z = self.depth(w2 * self.dz[1] + w3 * self.dz[2]);
+            return Some((z, place(w3), place(w3 + w2)));
+        }
+        None
+    }
+}
+
+/// A place in the cell (0..=1) in [`CENTRE_STEPS`], rounded.
+#[inline(always)]
+fn place(s: f32) -> u32 {
+    ((s * CENTRE_STEPS as f32 + 0.5) as u32).min(CENTRE_STEPS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixed::{test_node as node, Z_FAR};
+    use crate::raster::band::{Sample, PATCH_SAMPLE};
+    use crate::test_rng::XorShift;
+
+    /// A `w × w` band of empty samples.
+    fn band(w: usize) -> Vec<Sample> {
+        vec![Sample::EMPTY; w * w]
+    }
+
+    fn target(px: &mut [Sample], w: usize) -> BandTarget<'_> {
+        BandTarget {
+            width: w as i32,
+            y0: 0,
+            rows: w as i32,
+            px,
+        }
+    }
+
+    #[test]
+    fn a_jittered_lattice_of_cells_writes_every_pixel_centre_inside_once() {
+        // Lattices of cells of 0.4–3 px with corners jittered by up to a
+        // fifth of a cell, some on exact pixel centres and lines, some
+        // mirrored: each cell drawn alone, the writes counted per pixel.
+        let mut rng = XorShift(0xce17_7e55);
+        let w = 40usize;
+        let (mut checked, mut on_lines) = (0, 0);
+        for round in 0..300 {
+            let n = 3 + rng.below(10) as usize;
+            let mirror = round % 3 == 0;
+            let snap = round % 4 == 0;
+            // Snapped lattices take cells of 2-3 px, so that neither the
+            // jitter nor the snap folds a cell.
+            let step = if snap {
+                2.0 + rng.unit()
+            } else {
+                0.4 + 2.6 * rng.unit()
+            };
+            let pos = |i: usize, j: usize, r: &mut XorShift| {
+                let jit = |r: &mut XorShift| step * 0.4 * (r.unit() - 0.5);
+                let (mut x, mut y) = (
+                    2.0 + step * i as f32 + jit(r),
+                    2.0 + step * j as f32 + jit(r),
+                );
+                if snap {
+                    // On pixel centres and pixel lines, in halves.
+                    (x, y) = ((x * 2.0).round() / 2.0, (y * 2.0).round() / 2.0);
+                }
+                if mirror {
+                    x = 38.0 - x;
+                }
+                node(x, y)
+            };
+            let nodes: Vec<Node> = (0..(n + 1) * (n + 1))
+                .map(|k| pos(k % (n + 1), k / (n + 1), &mut rng))
+                .collect();
+            let mut count = vec![0u32; w * w];
+            for j in 0..n {
+                for i in 0..n {
+                    let k = j * (n + 1) + i;
+                    let c = [
+                        &nodes[k],
+                        &nodes[k + 1],
+                        &nodes[k + n + 1],
+                        &nodes[k + n + 2],
+                    ];
+                    let mut px = band(w);
+                    draw_cell(&mut target(&mut px, w), c, 0, 0, PATCH_SAMPLE);
+                    for (n, s) in count.iter_mut().zip(&px) {
+                        *n += (s.depth < Z_FAR) as u32;
+                    }
+                }
+            }
+            // Inside the lattice's outline (its border nodes' inner hull,
+            // shrunk by the jitter), every centre is written exactly once.
+            let (lo, hi) = (2.0 + step * 0.3, 2.0 + step * (n as f32 - 0.3));
+            for y in 0..w {
+                for x in 0..w {
+                    let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+                    let cx = if mirror { 38.0 - cx } else { cx };
+                    if cx > lo && cx < hi && cy > lo && cy < hi {
+                        checked += 1;
+                        on_lines += snap as usize;
+                        assert_eq!(count[y * w + x], 1, "pixel {x},{y} round {round}");
+                    }
+                    assert!(count[y * w + x] <= 1, "double write {x},{y} round {round}");
+                }
+            }
+        }
+        assert!(checked > 20_000 && on_lines > 3_000, "{checked} {on_lines}");
+    }
+
+    #[test]
+    fn sliver_cells_on_an_outline_keep_their_depth_within_their_corners() {
+        // Cells with a corner a few position units off a side (triangles
+        // of an area of a few units), every side pushed out: the margin
+        // takes centres where the weights are huge; depths stay within
+        // the corners' (they overflowed before).
+        let mut rng = XorShift(0x5117e5);
+        let w = 16usize;
+        let mut written = 0;
+        for _ in 0..400 {
+            let (x, y) = (4.0 + 4.0 * rng.unit(), 4.0 + 4.0 * rng.unit());
+            let len = 1.0 + 3.0 * rng.unit();
+            let mut c = [
+                node(x, y),
+                node(x + len, y),
+                node(x, y + len),
+                node(x + len, y + len),
+            ];
+            // c11 onto the diagonal c00-c10 extended, a unit or two off.
+            c[3][0] = c[1][0] + (c[1][0] - c[0][0]);
+            c[3][1] = c[0][1] + rng.below(3) as i32;
+            for (k, n) in c.iter_mut().enumerate() {
+                n[2] = 1000 + 100_000 * k as i32;
+            }
+            let mut px = band(w);
+            let all = BOTTOM | RIGHT | TOP | LEFT;
+            draw_cell(
+                &mut target(&mut px, w),
+                [&c[0], &c[1], &c[2], &c[3]],
+                all,
+                0,
+                PATCH_SAMPLE,
+            );
+            for s in px.iter().filter(|s| s.depth < Z_FAR) {
+                assert!((1000..=301_000).contains(&s.depth), "{}", s.depth);
+                written += 1;
+            }
+        }
+        assert!(written > 1_000, "{written}");
+    }
+
+    #[test]
+    fn a_pixel_records_its_place_in_the_cell_within_half_a_step() {
+        // Parallelograms: the bilinear map is affine, so the place of a
+        // pixel centre is known exactly; the depth too.
+        let mut rng = XorShift(0x91ace5);
+        let w = 24usize;
+        let mut written = 0;
+        for _ in 0..600 {
+            let o = (4.0 + 8.0 * rng.unit(), 4.0 + 8.0 * rng.unit());
+            let u = (0.5 + 3.0 * rng.unit(), 2.0 * (rng.unit() - 0.5));
+            let v = (2.0 * (rng.unit() - 0.5), 0.5 + 3.0 * rng.unit());
+            let mut c = [
+                node(o.0, o.1),
+                node(o.0 + u.0, o.1 + u.1),
+                node(o.0 + v.0, o.1 + v.1),
+                node(o.0 + u.0 + v.0, o.1 + u.1 + v.1),
+            ];
+            let z = [1000, 50_000, 90_000, 139_000];
+            for k in 0..4 {
+                c[k][2] = z[k];
+            }
+            let mut px = band(w);
+            draw_cell(
+                &mut target(&mut px, w),
+                [&c[0], &c[1], &c[2], &c[3]],
+                0,
+                0,
+                PATCH_SAMPLE,
+            );
+            // Inverse of the affine map, from the nodes as drawn.
+            let f = |n: &Node| (n[0] as f32 / 65536.0, n[1] as f32 / 65536.0);
+            let (p0, p1, p2) = (f(&c[0]), f(&c[1]), f(&c[2]));
+            let (ux, uy, vx, vy) = (p1.0 - p0.0, p1.1 - p0.1, p2.0 - p0.0, p2.1 - p0.1);
+            let det = ux * vy - uy * vx;
+            for (k, s) in px.iter().enumerate().filter(|(_, s)| s.depth < Z_FAR) {
+                let (dx, dy) = ((k % w) as f32 + 0.5 - p0.0, (k / w) as f32 + 0.5 - p0.1);
+                let (su, sv) = ((dx * vy - dy * vx) / det, (ux * dy - uy * dx) / det);
+                let steps = CENTRE_STEPS as f32;
+                let (a, b) = (((s.w0 >> 8) & 255) as f32, (s.w0 & 255) as f32);
+                assert!((a - su * steps).abs() < 0.52, "u {su} recorded {a}");
+                assert!((b - sv * steps).abs() < 0.52, "v {sv} recorded {b}");
+                let depth = 1000.0 + 49_000.0 * su + 89_000.0 * sv;
+                assert!((s.depth as f32 - depth).abs() < 8.0, "{} {depth}", s.depth);
+                written += 1;
+            }
+        }
+        assert!(written > 2_000, "{written}");
+    }
+}
