@@ -13,7 +13,7 @@
 //! Cost: O(nodes) time; about 1.4× the patch's node memory, plus 16 bytes
 //! per node of every level drawn so far for the normals (32 with colours).
 
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
@@ -24,7 +24,7 @@ use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{grid_differences, table_slot, unit_normals};
+use crate::prepare::normals::{grid_differences, unit_normals};
 use crate::prepare::wide::{Portable, Wide, LANES};
 
 /// One patch ready to draw.
@@ -49,9 +49,9 @@ pub(crate) struct PreparedPatch {
     /// ([`crate::prepare::cone::ConeScan::d_range`]), so building level 0
     /// need not find it again.
     d_range: (u16, u16),
-    /// Level 0's displacements and colours, from which [`Self::level`]
-    /// builds level 0.
-    nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
+    /// Level 0's displacements and colours, which [`Self::level`] takes to
+    /// build level 0.
+    nodes: BaseNodes,
     /// The patch's colour grid (albedo finer than its nodes), read by the
     /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
     pub(crate) colour_grid: Option<ColourGrid>,
@@ -63,6 +63,28 @@ pub(crate) struct PreparedPatch {
     /// The instruction set the preparation kernels run with, here and on
     /// first use ([`Self::level`], [`Self::shading`]).
     isa: Isa,
+}
+
+/// A patch's level-0 nodes until level 0 is built: the build takes them
+/// (empty after). Why taken, not copied: a copy of every drawn patch's
+/// nodes (an allocation, a copy and a free each) was 0.5 M instructions of
+/// a one-frame bunny render (callgrind, `spatch render bunny.spatch -o
+/// out.png --threads 1`).
+#[derive(Debug, Default)]
+struct BaseNodes(Mutex<(Vec<u16>, Option<Vec<[u8; 4]>>)>);
+
+impl BaseNodes {
+    /// The nodes, leaving none.
+    fn take(&self) -> (Vec<u16>, Option<Vec<[u8; 4]>>) {
+        std::mem::take(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
+    }
+}
+
+impl Clone for BaseNodes {
+    fn clone(&self) -> Self {
+        let nodes = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        Self(Mutex::new(nodes.clone()))
+    }
 }
 
 /// What a prepared patch builds of one mip level on first use.
@@ -108,40 +130,56 @@ impl LevelShading {
     /// normals are the buffer's bit for bit (the same operations in the
     /// same order).
     #[inline(always)]
-    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32)) -> Self {
+    fn new<W: Wide>(
+        w: W,
+        level: &MipLevel,
+        ratios: (f32, f32),
+        (gi, gj): (&mut Vec<i32>, &mut Vec<i32>),
+    ) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let (gi, gj) = grid_differences(d, cols, rows, EMPTY);
+        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
         let mut slots = SlotSetBuilder::default();
-        for ((&u, &gi), &gj) in level.used.iter().zip(&gi).zip(&gj) {
-            if u {
-                slots.add(table_slot(gi, gj));
-            }
-        }
-        let normals = rounded_unit_normals(w, (gi, gj), d, ratios);
-        let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
-            c.iter()
-                .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
-                .collect()
-        });
+        slots.add_used(&level.used, gi, gj);
         Self {
-            normals,
-            colours,
+            normals: rounded_unit_normals(w, (gi, gj), d, ratios),
+            colours: level_colours(level),
             slots: slots.finish(),
         }
     }
 
     /// [`Self::new`] with the lanes of `isa`.
     fn with_isa(isa: Isa, level: &MipLevel, ratios: (f32, f32)) -> Self {
-        match isa {
-            Isa::Base => Self::new(Portable, level, ratios),
+        // The scratch is borrowed outside the lanes' function: a closure
+        // inside it is compiled without its instruction set.
+        DIFFERENCES.with_borrow_mut(|(gi, gj)| match isa {
+            Isa::Base => Self::new(Portable, level, ratios, (gi, gj)),
             #[cfg(target_arch = "x86_64")]
             Isa::V3(v3) => v3.vectorize(
                 #[inline(always)]
-                || Self::new(v3, level, ratios),
+                || Self::new(v3, level, ratios, (gi, gj)),
             ),
-        }
+        })
     }
+}
+
+thread_local! {
+    /// Room for a level's displacement differences `(gi, gj)`, kept per
+    /// thread. Why: two fresh vectors per level were allocated and freed
+    /// (the shading inputs of 1,988 levels in a one-frame bunny render).
+    static DIFFERENCES: std::cell::RefCell<(Vec<i32>, Vec<i32>)> = const {
+        std::cell::RefCell::new((Vec::new(), Vec::new()))
+    };
+}
+
+/// The albedos of `level`'s nodes as [`LevelShading::colours`] keeps them
+/// (empty without colours).
+fn level_colours(level: &MipLevel) -> Vec<Vec4> {
+    level.colours.as_ref().map_or_else(Vec::new, |c| {
+        c.iter()
+            .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
+            .collect()
+    })
 }
 
 /// The unit normals of nodes with differences `(gi, gj)` and
@@ -157,7 +195,7 @@ impl LevelShading {
 #[inline(always)]
 fn rounded_unit_normals<W: Wide>(
     w: W,
-    (mut gi, mut gj): (Vec<i32>, Vec<i32>),
+    (gi, gj): (&mut Vec<i32>, &mut Vec<i32>),
     d: &[u16],
     ratios: (f32, f32),
 ) -> Vec<Vec4> {
@@ -197,10 +235,12 @@ impl PreparedPatch {
         let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
         let displacements = patch.displacements();
         let frame = patch.frame();
-        let axes = frame.axes().map(|a| a.as_dvec3());
-        let units = frame.unit_axes().map(|a| a.as_dvec3());
+        // `Frame::axes` is the unit axes times the lengths: found once.
+        let (units, lengths) = (frame.unit_axes(), frame.lengths());
+        let axes: [DVec3; 3] = std::array::from_fn(|k| (units[k] * lengths[k]).as_dvec3());
+        let units = units.map(|a| a.as_dvec3());
         let rotation = DMat3::from_cols(units[0], units[1], units[2]);
-        let [lx, ly, lz] = frame.lengths();
+        let [lx, ly, lz] = lengths;
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
         let scan = compute_normal_cone(displacements, size[0], ratios, &rotation, isa)?;
@@ -230,7 +270,10 @@ impl PreparedPatch {
             sides: patch.sides(),
             grid: size,
             d_range: scan.d_range,
-            nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
+            nodes: BaseNodes(Mutex::new((
+                displacements.to_vec(),
+                patch.colours().map(<[_]>::to_vec),
+            ))),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
             isa,
@@ -252,7 +295,7 @@ impl PreparedPatch {
         self.levels[m].level.get_or_init(|| match m {
             0 => (self.isa).run(
                 #[inline(always)]
-                || level_zero(self.grid, self.nodes.clone(), Some(self.d_range)),
+                || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
             ),
             _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
         })
