@@ -134,15 +134,16 @@ impl LevelShading {
         w: W,
         level: &MipLevel,
         ratios: (f32, f32),
-        (gi, gj): (&mut Vec<i32>, &mut Vec<i32>),
+        scratch: &mut NodeScratch,
     ) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
+        let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
         grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
         let mut slots = SlotSetBuilder::default();
         slots.add_used(&level.used, gi, gj);
         Self {
-            normals: rounded_unit_normals(w, (gi, gj), d, ratios),
+            normals: rounded_unit_normals(w, scratch, d, ratios),
             colours: level_colours(level),
             slots: slots.finish(),
         }
@@ -152,23 +153,37 @@ impl LevelShading {
     fn with_isa(isa: Isa, level: &MipLevel, ratios: (f32, f32)) -> Self {
         // The scratch is borrowed outside the lanes' function: a closure
         // inside it is compiled without its instruction set.
-        DIFFERENCES.with_borrow_mut(|(gi, gj)| match isa {
-            Isa::Base => Self::new(Portable, level, ratios, (gi, gj)),
+        SCRATCH.with_borrow_mut(|scratch| match isa {
+            Isa::Base => Self::new(Portable, level, ratios, scratch),
             #[cfg(target_arch = "x86_64")]
             Isa::V3(v3) => v3.vectorize(
                 #[inline(always)]
-                || Self::new(v3, level, ratios, (gi, gj)),
+                || Self::new(v3, level, ratios, scratch),
             ),
         })
     }
 }
 
+/// Per-node lanes inputs of one level's shading, their room reused.
+struct NodeScratch {
+    /// Displacement differences across rows and columns
+    /// ([`grid_differences`]).
+    gi: Vec<i32>,
+    gj: Vec<i32>,
+    /// 1 for a filled node, 0 for an empty node or padding.
+    filled: Vec<i32>,
+}
+
 thread_local! {
-    /// Room for a level's displacement differences `(gi, gj)`, kept per
-    /// thread. Why: two fresh vectors per level were allocated and freed
-    /// (the shading inputs of 1,988 levels in a one-frame bunny render).
-    static DIFFERENCES: std::cell::RefCell<(Vec<i32>, Vec<i32>)> = const {
-        std::cell::RefCell::new((Vec::new(), Vec::new()))
+    /// The room for a level's [`NodeScratch`], kept per thread. Why: fresh
+    /// vectors per level were allocated and freed (the shading inputs of
+    /// 1,988 levels in a one-frame bunny render).
+    static SCRATCH: std::cell::RefCell<NodeScratch> = const {
+        std::cell::RefCell::new(NodeScratch {
+            gi: Vec::new(),
+            gj: Vec::new(),
+            filled: Vec::new(),
+        })
     };
 }
 
@@ -182,8 +197,8 @@ fn level_colours(level: &MipLevel) -> Vec<Vec4> {
     })
 }
 
-/// The unit normals of nodes with differences `(gi, gj)` and
-/// displacements `d`, rounded as projected nodes carry them
+/// The unit normals of nodes with differences `scratch.gi`, `scratch.gj`
+/// and displacements `d`, rounded as projected nodes carry them
 /// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why eight nodes
 /// at a time in lanes ([`unit_normals`], the rounding by [`Wide::trunc`],
 /// which truncates as `as i32` does for these values, and a transpose to
@@ -191,36 +206,37 @@ fn level_colours(level: &MipLevel) -> Vec<Vec4> {
 /// were most of the cost. Why collected by whole groups of eight (the
 /// differences padded), then cut to length: appending four at a time
 /// checked the vector's room at each append (3.8 M of a one-frame bunny
-/// render; callgrind).
+/// render; callgrind). Why empty nodes zeroed by a lane select on a
+/// filled flag: a test per node after the lanes cost 0.75 M of that
+/// render (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
 #[inline(always)]
 fn rounded_unit_normals<W: Wide>(
     w: W,
-    (gi, gj): (&mut Vec<i32>, &mut Vec<i32>),
+    scratch: &mut NodeScratch,
     d: &[u16],
     ratios: (f32, f32),
 ) -> Vec<Vec4> {
-    let n = d.len();
-    gi.resize(n.next_multiple_of(LANES), 0);
-    gj.resize(n.next_multiple_of(LANES), 0);
+    let (n, room) = (d.len(), d.len().next_multiple_of(LANES));
+    let NodeScratch { gi, gj, filled } = scratch;
+    gi.resize(room, 0);
+    gj.resize(room, 0);
+    filled.clear();
+    filled.extend(d.iter().map(|&v| i32::from(v != EMPTY)));
+    filled.resize(room, 0);
     let negated = (w.splat(-ratios.0), w.splat(-ratios.1));
     let (scale, unscale) = (w.splat(ATTR_ONE), w.splat(1.0 / ATTR_ONE));
     let round = |v| w.mul(w.trunc(w.mul(v, scale)), unscale);
+    let (zero, half) = (w.splat(0.0), w.splat(0.5));
+    // An empty node's lanes (`filled` 0) are zero.
+    let keep = |v, filled| w.select_lt(filled, half, zero, v);
     // A loop, not an iterator's `collect`: the fold it called was left out
     // of line, without the caller's instruction set.
-    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(n.div_ceil(LANES));
-    for ((gi, gj), d) in gi
-        .chunks_exact(LANES)
-        .zip(gj.chunks_exact(LANES))
-        .zip(d.chunks(LANES))
-    {
+    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(room / LANES);
+    let groups = gi.chunks_exact(LANES).zip(gj.chunks_exact(LANES));
+    for ((gi, gj), filled) in groups.zip(filled.chunks_exact(LANES)) {
         let [x, y, z] = unit_normals(w, w.load_i32(gi), w.load_i32(gj), negated);
-        let mut group = w.columns([round(x), round(y), round(z)]);
-        for (l, node) in group.iter_mut().enumerate() {
-            if d.get(l).is_none_or(|&v| v == EMPTY) {
-                *node = Vec4::ZERO;
-            }
-        }
-        nodes.push(group);
+        let f = w.load_i32(filled);
+        nodes.push(w.columns([keep(round(x), f), keep(round(y), f), keep(round(z), f)]));
     }
     let mut nodes = nodes.into_flattened();
     nodes.truncate(n);
