@@ -218,7 +218,9 @@ fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<u8> {
     // the last row of cells has no k + cols + 1: it closes its row).
     let (m, d) = (crows * cols - 1, displacements);
     let quads = d[..m].iter().zip(&d[1..=m]);
-    let quads = quads.zip(&d[cols..cols + m]).zip(&d[cols + 1..cols + 1 + m]);
+    let quads = quads
+        .zip(&d[cols..cols + m])
+        .zip(&d[cols + 1..cols + 1 + m]);
     let largest = |(((&a, &b), &c), &e): (((&u16, &u16), &u16), &u16)| a.max(b).max(c.max(e));
     let mut drawn: Vec<u8> = quads
         .map(|q| u8::from(largest(q) != EMPTY) * CELL_DRAW)

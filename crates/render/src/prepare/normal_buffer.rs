@@ -140,7 +140,10 @@ impl SlotSetBuilder {
     pub(crate) fn add_used(&mut self, used: &[bool], gi: &[i32], gj: &[i32]) {
         const BLOCK: usize = 64;
         let mut slots = [0u16; BLOCK];
-        let blocks = used.chunks(BLOCK).zip(gi.chunks(BLOCK)).zip(gj.chunks(BLOCK));
+        let blocks = used
+            .chunks(BLOCK)
+            .zip(gi.chunks(BLOCK))
+            .zip(gj.chunks(BLOCK));
         for ((used, gi), gj) in blocks {
             let (mut nodes, mut outside) = (0u32, 0u32);
             for (((s, &u), &gi), &gj) in slots.iter_mut().zip(used).zip(gi).zip(gj) {
@@ -172,7 +175,11 @@ impl SlotSetBuilder {
         let bits = &self.bits[..WORDS];
         let filled = bits.iter().filter(|&&w| w != 0).count();
         let mut words: Vec<(u16, u64)> = Vec::with_capacity(filled);
-        words.extend((0..WORDS as u16).zip(bits.iter().copied()).filter(|&(_, w)| w != 0));
+        words.extend(
+            (0..WORDS as u16)
+                .zip(bits.iter().copied())
+                .filter(|&(_, w)| w != 0),
+        );
         SlotSet {
             slots: words.iter().map(|&(_, w)| w.count_ones()).sum(),
             words,
@@ -433,7 +440,9 @@ mod tests {
             let gj: Vec<i32> = (0..n).map(|_| diff(&mut rng)).collect();
             let mut all = SlotSetBuilder::default();
             all.add_used(&used, &gi, &gj);
-            let one = (0..n).filter(|&k| used[k]).map(|k| table_slot(gi[k], gj[k]));
+            let one = (0..n)
+                .filter(|&k| used[k])
+                .map(|k| table_slot(gi[k], gj[k]));
             assert_eq!(all.finish(), SlotSet::new(one), "case {case}");
         }
     }

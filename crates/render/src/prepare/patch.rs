@@ -130,12 +130,7 @@ impl LevelShading {
     /// normals are the buffer's bit for bit (the same operations in the
     /// same order).
     #[inline(always)]
-    fn new<W: Wide>(
-        w: W,
-        level: &MipLevel,
-        ratios: (f32, f32),
-        scratch: &mut NodeScratch,
-    ) -> Self {
+    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32), scratch: &mut NodeScratch) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
         let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
