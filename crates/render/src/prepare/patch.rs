@@ -71,11 +71,14 @@ pub(crate) struct PreparedPatch {
 /// a one-frame bunny render (callgrind, `spatch render bunny.spatch -o
 /// out.png --threads 1`).
 #[derive(Debug, Default)]
-struct BaseNodes(Mutex<(Vec<u16>, Option<Vec<[u8; 4]>>)>);
+struct BaseNodes(Mutex<Nodes>);
+
+/// A level's displacements and colours, as [`level_zero`] takes them.
+type Nodes = (Vec<u16>, Option<Vec<[u8; 4]>>);
 
 impl BaseNodes {
     /// The nodes, leaving none.
-    fn take(&self) -> (Vec<u16>, Option<Vec<[u8; 4]>>) {
+    fn take(&self) -> Nodes {
         std::mem::take(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
     }
 }
