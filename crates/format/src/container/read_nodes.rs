@@ -47,10 +47,20 @@ pub(super) fn read_displacements(
                 .collect()
         };
         at += n * layout.bytes_per_code;
-        filled += codes.iter().filter(|&&d| d != EMPTY).count();
+        filled += n - count_empty(&codes);
         per_patch.push(codes);
     }
     Ok(Codes { per_patch, filled })
+}
+
+/// The [`EMPTY`] codes in `codes`. Why a sum of comparisons rather than a
+/// filtered count: the compiler runs the sum in vector lanes and left the
+/// count scalar (1.9 M of the 3.3 M instructions reading the bunny's DISP;
+/// callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
+/// Why in `u32`: eight lanes of 16-bit compares widen to two vectors, not
+/// four (a grid has at most 257² nodes).
+fn count_empty(codes: &[u16]) -> usize {
+    codes.iter().map(|&d| u32::from(d == EMPTY)).sum::<u32>() as usize
 }
 
 /// Reads COLR when the scene stores per-node colour: `filled` colours of
@@ -64,11 +74,12 @@ pub(super) fn read_colours(
     match (fields.colour_storage, section) {
         (ColourStorage::PerNode, Some(section)) => {
             let raw_len = filled * bytes_per_colour;
-            Ok(Some(node_data_payload(
-                section,
-                raw_len,
-                |coded, buffer| decode_colours(coded, bytes_per_colour, raw_len, buffer).ok(),
-            )?))
+            Ok(Some(
+                node_data_payload(section, raw_len, |coded, buffer| {
+                    decode_colours(coded, bytes_per_colour, raw_len, buffer).ok()
+                })?
+                .into_owned(),
+            ))
         }
         (ColourStorage::PerNode, None) => Err(FormatError::MissingSection("COLR")),
         (_, Some(section)) => Err(section.corrupt(Corruption::UnexpectedColours)),

@@ -92,7 +92,8 @@ pub(crate) fn node_differences(
 /// The table slot ([`table_slot`]) of every node of a `cols × rows` grid,
 /// row-major: [`node_differences`] at each node (by [`grid_differences`]).
 pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec<u16> {
-    let (gi, gj) = grid_differences(d, cols, rows, empty);
+    let (mut gi, mut gj) = (Vec::new(), Vec::new());
+    grid_differences(d, cols, rows, empty, (&mut gi, &mut gj));
     gi.iter()
         .zip(&gj)
         .map(|(&gi, &gj)| table_slot(gi, gj))
@@ -101,7 +102,8 @@ pub(crate) fn grid_slots(d: &[u16], cols: usize, rows: usize, empty: u16) -> Vec
 
 /// The differences `(gi, gj)` of [`node_differences`] of every node of a
 /// `cols × rows` grid `d` whose empty code is `empty`, row-major
-/// (meaningless for empty nodes). Why the whole grid in two flat passes,
+/// (meaningless for empty nodes), written over `gi` and `gj` (their room
+/// reused). Why the whole grid in two flat passes,
 /// every node by one branch-free rule ([`difference`]), the rows outside
 /// the grid read as empty codes and each row's first and last node
 /// corrected after: the loops run in vector lanes over the whole grid; a
@@ -115,7 +117,8 @@ pub(crate) fn grid_differences(
     cols: usize,
     rows: usize,
     empty: u16,
-) -> (Vec<i32>, Vec<i32>) {
+    (gi, gj): (&mut Vec<i32>, &mut Vec<i32>),
+) {
     let n = cols * rows;
     let d = &d[..n];
     let across = |below: &[u16], centre: &[u16], above: &[u16], out: &mut Vec<i32>| {
@@ -135,25 +138,23 @@ pub(crate) fn grid_differences(
     // Room for whole groups of eight, which the shading inputs pad them to
     // ([`crate::prepare::patch`]).
     let room = n.next_multiple_of(8);
-    let mut gj = Vec::with_capacity(room);
+    gj.clear();
+    gj.reserve(room);
     if rows == 1 {
-        across(outside, d, outside, &mut gj);
+        across(outside, d, outside, gj);
     } else {
-        across(outside, &d[..cols], &d[cols..2 * cols], &mut gj);
-        across(
-            &d[..n - 2 * cols],
-            &d[cols..n - cols],
-            &d[2 * cols..],
-            &mut gj,
-        );
-        across(&d[n - 2 * cols..n - cols], &d[n - cols..], outside, &mut gj);
+        across(outside, &d[..cols], &d[cols..2 * cols], gj);
+        across(&d[..n - 2 * cols], &d[cols..n - cols], &d[2 * cols..], gj);
+        across(&d[n - 2 * cols..n - cols], &d[n - cols..], outside, gj);
     }
+    gi.clear();
+    gi.reserve(room);
     if cols == 1 {
-        return (vec![0; n], gj);
+        gi.resize(n, 0);
+        return;
     }
-    let mut gi = Vec::with_capacity(room);
     gi.push(difference(empty, d[0], d[1], empty));
-    across(&d[..n - 2], &d[1..n - 1], &d[2..], &mut gi);
+    across(&d[..n - 2], &d[1..n - 1], &d[2..], gi);
     gi.push(difference(d[n - 2], d[n - 1], empty, empty));
     // Each row's ends read past the row: neither neighbour there exists.
     for row in 0..rows {
@@ -161,7 +162,6 @@ pub(crate) fn grid_differences(
         gi[first] = difference(empty, d[first], d[first + 1], empty);
         gi[last] = difference(d[last - 1], d[last], empty, empty);
     }
-    (gi, gj)
 }
 
 /// The difference across a node `centre` from its neighbours `prev` and
@@ -250,7 +250,10 @@ mod tests {
     fn grid_differences_are_each_nodes_differences() {
         // Grids from 1 × 1 up (single rows and columns included), empty
         // codes from none to most, steps in and beyond the table.
+        // The same two vectors for every grid, so a grid's differences
+        // must overwrite the last grid's.
         let mut rng = crate::test_rng::XorShift(0xd1ff_5eed);
+        let (mut gi, mut gj) = (vec![-7; 50], vec![-7; 50]);
         for case in 0..600 {
             let (cols, rows) = (1 + rng.below(20) as usize, 1 + rng.below(20) as usize);
             let empties = [1000, 10, 3][case % 3];
@@ -260,7 +263,8 @@ mod tests {
                     _ => 100 + rng.below(300) as u16,
                 })
                 .collect();
-            let (gi, gj) = grid_differences(&d, cols, rows, 9);
+            grid_differences(&d, cols, rows, 9, (&mut gi, &mut gj));
+            assert_eq!((gi.len(), gj.len()), (cols * rows, cols * rows));
             for j in 0..rows {
                 for i in 0..cols {
                     let k = j * cols + i;

@@ -13,7 +13,7 @@
 //! Cost: O(nodes) time; about 1.4× the patch's node memory, plus 16 bytes
 //! per node of every level drawn so far for the normals (32 with colours).
 
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
@@ -24,7 +24,7 @@ use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{grid_differences, table_slot, unit_normals};
+use crate::prepare::normals::{grid_differences, unit_normals};
 use crate::prepare::wide::{Portable, Wide, LANES};
 
 /// One patch ready to draw.
@@ -49,9 +49,9 @@ pub(crate) struct PreparedPatch {
     /// ([`crate::prepare::cone::ConeScan::d_range`]), so building level 0
     /// need not find it again.
     d_range: (u16, u16),
-    /// Level 0's displacements and colours, from which [`Self::level`]
-    /// builds level 0.
-    nodes: (Vec<u16>, Option<Vec<[u8; 4]>>),
+    /// Level 0's displacements and colours, which [`Self::level`] takes to
+    /// build level 0.
+    nodes: BaseNodes,
     /// The patch's colour grid (albedo finer than its nodes), read by the
     /// resolve pass at each pixel's position ([`crate::shade::colour_grid`]).
     pub(crate) colour_grid: Option<ColourGrid>,
@@ -63,6 +63,31 @@ pub(crate) struct PreparedPatch {
     /// The instruction set the preparation kernels run with, here and on
     /// first use ([`Self::level`], [`Self::shading`]).
     isa: Isa,
+}
+
+/// A patch's level-0 nodes until level 0 is built: the build takes them
+/// (empty after). Why taken, not copied: a copy of every drawn patch's
+/// nodes (an allocation, a copy and a free each) was 0.5 M instructions of
+/// a one-frame bunny render (callgrind, `spatch render bunny.spatch -o
+/// out.png --threads 1`).
+#[derive(Debug, Default)]
+struct BaseNodes(Mutex<Nodes>);
+
+/// A level's displacements and colours, as [`level_zero`] takes them.
+type Nodes = (Vec<u16>, Option<Vec<[u8; 4]>>);
+
+impl BaseNodes {
+    /// The nodes, leaving none.
+    fn take(&self) -> Nodes {
+        std::mem::take(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
+    }
+}
+
+impl Clone for BaseNodes {
+    fn clone(&self) -> Self {
+        let nodes = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        Self(Mutex::new(nodes.clone()))
+    }
 }
 
 /// What a prepared patch builds of one mip level on first use.
@@ -108,44 +133,70 @@ impl LevelShading {
     /// normals are the buffer's bit for bit (the same operations in the
     /// same order).
     #[inline(always)]
-    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32)) -> Self {
+    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32), scratch: &mut NodeScratch) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
-        let (gi, gj) = grid_differences(d, cols, rows, EMPTY);
+        let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
+        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
         let mut slots = SlotSetBuilder::default();
-        for ((&u, &gi), &gj) in level.used.iter().zip(&gi).zip(&gj) {
-            if u {
-                slots.add(table_slot(gi, gj));
-            }
-        }
-        let normals = rounded_unit_normals(w, (gi, gj), d, ratios);
-        let colours = level.colours.as_ref().map_or_else(Vec::new, |c| {
-            c.iter()
-                .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
-                .collect()
-        });
+        slots.add_used(&level.used, gi, gj);
         Self {
-            normals,
-            colours,
+            normals: rounded_unit_normals(w, scratch, d, ratios),
+            colours: level_colours(level),
             slots: slots.finish(),
         }
     }
 
     /// [`Self::new`] with the lanes of `isa`.
     fn with_isa(isa: Isa, level: &MipLevel, ratios: (f32, f32)) -> Self {
-        match isa {
-            Isa::Base => Self::new(Portable, level, ratios),
+        // The scratch is borrowed outside the lanes' function: a closure
+        // inside it is compiled without its instruction set.
+        SCRATCH.with_borrow_mut(|scratch| match isa {
+            Isa::Base => Self::new(Portable, level, ratios, scratch),
             #[cfg(target_arch = "x86_64")]
             Isa::V3(v3) => v3.vectorize(
                 #[inline(always)]
-                || Self::new(v3, level, ratios),
+                || Self::new(v3, level, ratios, scratch),
             ),
-        }
+        })
     }
 }
 
-/// The unit normals of nodes with differences `(gi, gj)` and
-/// displacements `d`, rounded as projected nodes carry them
+/// Per-node lanes inputs of one level's shading, their room reused.
+struct NodeScratch {
+    /// Displacement differences across rows and columns
+    /// ([`grid_differences`]).
+    gi: Vec<i32>,
+    gj: Vec<i32>,
+    /// 1 for a filled node, 0 for an empty node or padding.
+    filled: Vec<i32>,
+}
+
+thread_local! {
+    /// The room for a level's [`NodeScratch`], kept per thread. Why: fresh
+    /// vectors per level were allocated and freed (the shading inputs of
+    /// 1,988 levels in a one-frame bunny render).
+    static SCRATCH: std::cell::RefCell<NodeScratch> = const {
+        std::cell::RefCell::new(NodeScratch {
+            gi: Vec::new(),
+            gj: Vec::new(),
+            filled: Vec::new(),
+        })
+    };
+}
+
+/// The albedos of `level`'s nodes as [`LevelShading::colours`] keeps them
+/// (empty without colours).
+fn level_colours(level: &MipLevel) -> Vec<Vec4> {
+    level.colours.as_ref().map_or_else(Vec::new, |c| {
+        c.iter()
+            .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
+            .collect()
+    })
+}
+
+/// The unit normals of nodes with differences `scratch.gi`, `scratch.gj`
+/// and displacements `d`, rounded as projected nodes carry them
 /// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why eight nodes
 /// at a time in lanes ([`unit_normals`], the rounding by [`Wide::trunc`],
 /// which truncates as `as i32` does for these values, and a transpose to
@@ -153,36 +204,37 @@ impl LevelShading {
 /// were most of the cost. Why collected by whole groups of eight (the
 /// differences padded), then cut to length: appending four at a time
 /// checked the vector's room at each append (3.8 M of a one-frame bunny
-/// render; callgrind).
+/// render; callgrind). Why empty nodes zeroed by a lane select on a
+/// filled flag: a test per node after the lanes cost 0.75 M of that
+/// render (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
 #[inline(always)]
 fn rounded_unit_normals<W: Wide>(
     w: W,
-    (mut gi, mut gj): (Vec<i32>, Vec<i32>),
+    scratch: &mut NodeScratch,
     d: &[u16],
     ratios: (f32, f32),
 ) -> Vec<Vec4> {
-    let n = d.len();
-    gi.resize(n.next_multiple_of(LANES), 0);
-    gj.resize(n.next_multiple_of(LANES), 0);
+    let (n, room) = (d.len(), d.len().next_multiple_of(LANES));
+    let NodeScratch { gi, gj, filled } = scratch;
+    gi.resize(room, 0);
+    gj.resize(room, 0);
+    filled.clear();
+    filled.extend(d.iter().map(|&v| i32::from(v != EMPTY)));
+    filled.resize(room, 0);
     let negated = (w.splat(-ratios.0), w.splat(-ratios.1));
     let (scale, unscale) = (w.splat(ATTR_ONE), w.splat(1.0 / ATTR_ONE));
     let round = |v| w.mul(w.trunc(w.mul(v, scale)), unscale);
+    let (zero, half) = (w.splat(0.0), w.splat(0.5));
+    // An empty node's lanes (`filled` 0) are zero.
+    let keep = |v, filled| w.select_lt(filled, half, zero, v);
     // A loop, not an iterator's `collect`: the fold it called was left out
     // of line, without the caller's instruction set.
-    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(n.div_ceil(LANES));
-    for ((gi, gj), d) in gi
-        .chunks_exact(LANES)
-        .zip(gj.chunks_exact(LANES))
-        .zip(d.chunks(LANES))
-    {
+    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(room / LANES);
+    let groups = gi.chunks_exact(LANES).zip(gj.chunks_exact(LANES));
+    for ((gi, gj), filled) in groups.zip(filled.chunks_exact(LANES)) {
         let [x, y, z] = unit_normals(w, w.load_i32(gi), w.load_i32(gj), negated);
-        let mut group = w.columns([round(x), round(y), round(z)]);
-        for (l, node) in group.iter_mut().enumerate() {
-            if d.get(l).is_none_or(|&v| v == EMPTY) {
-                *node = Vec4::ZERO;
-            }
-        }
-        nodes.push(group);
+        let f = w.load_i32(filled);
+        nodes.push(w.columns([keep(round(x), f), keep(round(y), f), keep(round(z), f)]));
     }
     let mut nodes = nodes.into_flattened();
     nodes.truncate(n);
@@ -197,10 +249,12 @@ impl PreparedPatch {
         let size = [patch.grid().cols() as usize, patch.grid().rows() as usize];
         let displacements = patch.displacements();
         let frame = patch.frame();
-        let axes = frame.axes().map(|a| a.as_dvec3());
-        let units = frame.unit_axes().map(|a| a.as_dvec3());
+        // `Frame::axes` is the unit axes times the lengths: found once.
+        let (units, lengths) = (frame.unit_axes(), frame.lengths());
+        let axes: [DVec3; 3] = std::array::from_fn(|k| (units[k] * lengths[k]).as_dvec3());
+        let units = units.map(|a| a.as_dvec3());
         let rotation = DMat3::from_cols(units[0], units[1], units[2]);
-        let [lx, ly, lz] = frame.lengths();
+        let [lx, ly, lz] = lengths;
         let ratios = (lz / lx, lz / ly);
         let origin = offset + frame.precise_origin();
         let scan = compute_normal_cone(displacements, size[0], ratios, &rotation, isa)?;
@@ -230,7 +284,10 @@ impl PreparedPatch {
             sides: patch.sides(),
             grid: size,
             d_range: scan.d_range,
-            nodes: (displacements.to_vec(), patch.colours().map(<[_]>::to_vec)),
+            nodes: BaseNodes(Mutex::new((
+                displacements.to_vec(),
+                patch.colours().map(<[_]>::to_vec),
+            ))),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
             isa,
@@ -252,7 +309,7 @@ impl PreparedPatch {
         self.levels[m].level.get_or_init(|| match m {
             0 => (self.isa).run(
                 #[inline(always)]
-                || level_zero(self.grid, self.nodes.clone(), Some(self.d_range)),
+                || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
             ),
             _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
         })
