@@ -156,6 +156,7 @@ mod tests {
             inside_columns: true,
             splat: [0, 0],
             open_sides: false,
+            centres: false,
         }
     }
 
