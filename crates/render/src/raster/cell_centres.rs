@@ -113,7 +113,9 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
 /// whose sub-word of `(0, 0)` is `sub0`, its `outline` sides pushed out:
 /// the pixel centres of its box, each tested against its two triangles.
 /// Why set up only when the box holds a pixel centre: most cells of a
-/// coarse-enough level hold one or two, finer ones often none.
+/// coarse-enough level hold one or two, finer ones often none. Interior
+/// cells that do not fold (most of them) take [`Interior`]: no margins,
+/// only the edges a centre needs.
 #[inline(always)]
 pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
     let grow = if outline != 0 { MARGIN } else { 0 };
@@ -129,14 +131,50 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
     if py0 > py1 {
         return;
     }
-    let cell = Cell::new(c, outline);
+    let span = CentreBox { px0, px1, py0, py1 };
+    if outline == 0 {
+        if let Some(cell) = Interior::new(c) {
+            return draw_centres(t, c, span, sub0, item, &cell);
+        }
+    }
+    draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
+}
+
+/// The pixel centres `px0..=px1 × py0..=py1` of a cell's box.
+#[derive(Clone, Copy)]
+struct CentreBox {
+    px0: i32,
+    px1: i32,
+    py0: i32,
+    py1: i32,
+}
+
+/// A cell set up for pixel-centre tests.
+trait CentreTest {
+    /// Depth and recorded place `(a, b)` at the pixel centre `(x, y)`
+    /// (relative to `c00`) when the cell holds it.
+    fn at(&self, x: i64, y: i64) -> Option<(i32, u32, u32)>;
+}
+
+/// Writes the centres of `span` that `cell` takes and the depth test
+/// passes. Why a trait, not a closure: the closure was not inlined, a
+/// call per centre (bunny 500² `--centre-limit 2`: 2.3 M per frame).
+#[inline(always)]
+fn draw_centres<C: CentreTest>(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    span: CentreBox,
+    sub0: u32,
+    item: u32,
+    cell: &C,
+) {
     let (ox, oy) = (c[0][0] as i64, c[0][1] as i64);
     // Why exclusive ranges: an inclusive one costs a flag and a branch
     // per step (callgrind).
-    for py in py0..py1 + 1 {
+    for py in span.py0..span.py1 + 1 {
         let row = ((py - t.y0) * t.width) as usize;
         let y = ((py as i64) << XY_FRAC_BITS) + HALF as i64 - oy;
-        for px in px0..px1 + 1 {
+        for px in span.px0..span.px1 + 1 {
             let x = ((px as i64) << XY_FRAC_BITS) + HALF as i64 - ox;
             let Some((z, a, b)) = cell.at(x, y) else {
                 continue;
@@ -148,6 +186,133 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
                 s.w2 = item;
             }
         }
+    }
+}
+
+/// Draws one cell as [`draw_cell`] does but always through the general
+/// set-up of six edge functions ([`Cell`]): the reference the interior
+/// fast path is tested against.
+#[cfg(test)]
+fn draw_cell_general(t: &mut BandTarget<'_>, c: [&Node; 4], sub0: u32, item: u32) {
+    let x_lo = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]);
+    let x_hi = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]);
+    let y_lo = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]);
+    let y_hi = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]);
+    let (px0, px1) = centre_span(x_lo, x_hi, 0, t.width - 1);
+    let (py0, py1) = centre_span(y_lo, y_hi, t.y0, t.y0 + t.rows - 1);
+    let span = CentreBox { px0, px1, py0, py1 };
+    draw_centres(t, c, span, sub0, item, &Cell::new(c, 0));
+}
+
+/// Whether a centre exactly on a side of direction `d` (oriented by its
+/// triangle) belongs to it: the top-left rule, the side pointing down, or
+/// left when level.
+#[inline(always)]
+fn owns(d: [i64; 2]) -> bool {
+    d[1] > 0 || (d[1] == 0 && d[0] < 0)
+}
+
+/// Whether the oriented edge value `v` of a side of direction `d` takes
+/// its centre. Why test the tie apart: it is rare, so the top-left rule
+/// costs nothing on most centres.
+#[inline(always)]
+fn holds(v: i64, d: [i64; 2]) -> bool {
+    v > 0 || (v == 0 && owns(d))
+}
+
+/// An interior cell (no outline side) whose two triangles turn the same
+/// way, set up lazily: corners relative to `c00` with the orientation
+/// folded in, so that each edge value is one cross product computed only
+/// when a centre needs it (the diagonal, then the two other sides of the
+/// triangle on its side). Gives the same pixels as [`Cell`] with no
+/// outline (tested).
+struct Interior {
+    /// `c10`, `c11`, `c01` relative to `c00`, times the orientation.
+    p1: [i64; 2],
+    p3: [i64; 2],
+    p2: [i64; 2],
+    /// Twice the lower and upper triangles' areas, positive.
+    area: [i64; 2],
+    /// The unoriented corners (edge values are taken at unoriented
+    /// offsets and oriented directions).
+    q1: [i64; 2],
+    q3: [i64; 2],
+    /// Depth of `c00`, and `c10`, `c01`, `c11` minus it.
+    z0: i32,
+    dz: [f32; 3],
+}
+
+impl Interior {
+    /// The cell of corners `c`, or `None` when its triangles do not turn
+    /// the same way (a fold) or both are flat.
+    #[inline(always)]
+    fn new(c: [&Node; 4]) -> Option<Interior> {
+        let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
+        let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
+        let (al, au) = (cross(q1, q3), cross(q3, q2));
+        let s = al.signum();
+        if s == 0 || au.signum() != s {
+            return None;
+        }
+        let or = |p: [i64; 2]| [p[0] * s, p[1] * s];
+        let z0 = c[0][2];
+        Some(Interior {
+            p1: or(q1),
+            p3: or(q3),
+            p2: or(q2),
+            area: [al * s, au * s],
+            q1,
+            q3,
+            z0,
+            dz: [c[1], c[2], c[3]].map(|n| (n[2] - z0) as f32),
+        })
+    }
+
+    /// The depth `z0 + dz` (weights within 0..=1 here: no clamp needed).
+    #[inline(always)]
+    fn depth(&self, dz: f32) -> i32 {
+        self.z0.saturating_add(dz as i32)
+    }
+}
+
+impl CentreTest for Interior {
+    /// The oriented edge values are cross products of a side's direction
+    /// and `q` minus its start.
+    #[inline(always)]
+    fn at(&self, x: i64, y: i64) -> Option<(i32, u32, u32)> {
+        let q = [x, y];
+        let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
+        let neg = |d: [i64; 2]| [-d[0], -d[1]];
+        // The upper triangle's diagonal c00 -> c11; the lower one walks it
+        // back, with the opposite value.
+        let d = cross(self.p3, q);
+        if holds(-d, neg(self.p3)) {
+            // Lower: bottom c00 -> c10, right c10 -> c11.
+            let e0 = cross(self.p1, q);
+            let right = sub(self.p3, self.p1);
+            if !holds(e0, self.p1) || !holds(cross(right, sub(q, self.q1)), right) {
+                return None;
+            }
+            // Weights of c10 and c11: the diagonal's and the bottom's.
+            let inv = 1.0 / self.area[0] as f32;
+            let (w1, w3) = (-d as f32 * inv, e0 as f32 * inv);
+            let z = self.depth(w1 * self.dz[0] + w3 * self.dz[2]);
+            return Some((z, place(w1 + w3), place(w3)));
+        }
+        // Else the upper triangle's diagonal holds the centre: of `d` and
+        // `-d` one is positive, or both zero and the top-left rule gives
+        // the centre to exactly one (the diagonal is not a point: area).
+        // Upper: top c11 -> c01, left c01 -> c00.
+        let top = sub(self.p2, self.p3);
+        let e2 = -cross(self.p2, q);
+        if !holds(e2, neg(self.p2)) || !holds(cross(top, sub(q, self.q3)), top) {
+            return None;
+        }
+        // Weights of c11 and c01: the left side's and the diagonal's.
+        let inv = 1.0 / self.area[1] as f32;
+        let (w3, w2) = (e2 as f32 * inv, d as f32 * inv);
+        let z = self.depth(w2 * self.dz[1] + w3 * self.dz[2]);
+        Some((z, place(w3), place(w3 + w2)))
     }
 }
 
@@ -285,13 +450,13 @@ impl Cell {
         let [lo, hi] = self.z_range;
         self.z0.saturating_add(dz as i32).clamp(lo, hi)
     }
+}
 
-    /// Depth and recorded place `(a, b)` at the pixel centre `(x, y)`
-    /// (relative to `c00`) when the cell holds it.
+impl CentreTest for Cell {
     #[inline(always)]
     fn at(&self, x: i64, y: i64) -> Option<(i32, u32, u32)> {
-        let [l0, l1, l2] = self.lower;
-        let [u0, u1, u2] = self.upper;
+        let [l0, l1, l2] = &self.lower;
+        let [u0, u1, u2] = &self.upper;
         let d = l2.at(x, y);
         // Of two triangles turning the same way, the diagonal's side
         // decides which one may hold the centre (the top-left rule gives a
@@ -419,6 +584,52 @@ mod tests {
             }
         }
         assert!(checked > 20_000 && on_lines > 3_000, "{checked} {on_lines}");
+    }
+
+    #[test]
+    fn interior_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
+        // Jittered cells of 0.3-3 px, some snapped to pixel centres and
+        // lines (ties for the top-left rule), some mirrored, some folded
+        // (those take the general path in both): the interior fast path
+        // writes the same pixel set with the same places as the plain
+        // per-centre test of six set-up edges, depths within a unit.
+        let mut rng = XorShift(0x1a7e_c0de);
+        let w = 16usize;
+        let (mut written, mut cells) = (0, 0);
+        for round in 0..4000 {
+            let len = 0.3 + 2.7 * rng.unit();
+            let (x, y) = (5.0 + 4.0 * rng.unit(), 5.0 + 4.0 * rng.unit());
+            let mut pos = |i: f32, j: f32| {
+                let jit = |r: &mut XorShift| len * 0.6 * (r.unit() - 0.5);
+                let (mut px, mut py) = (x + len * i + jit(&mut rng), y + len * j + jit(&mut rng));
+                if round % 3 == 0 {
+                    (px, py) = ((px * 2.0).round() / 2.0, (py * 2.0).round() / 2.0);
+                }
+                if round % 4 == 1 {
+                    px = 20.0 - px;
+                }
+                node(px, py)
+            };
+            let mut c = [pos(0.0, 0.0), pos(1.0, 0.0), pos(0.0, 1.0), pos(1.0, 1.0)];
+            for (k, n) in c.iter_mut().enumerate() {
+                n[2] = 5000 + 7919 * k as i32 + rng.below(3000) as i32;
+            }
+            let c = [&c[0], &c[1], &c[2], &c[3]];
+            let (mut fast, mut plain) = (band(w), band(w));
+            draw_cell(&mut target(&mut fast, w), c, 0, 0, PATCH_SAMPLE);
+            draw_cell_general(&mut target(&mut plain, w), c, 0, PATCH_SAMPLE);
+            for (k, (f, p)) in fast.iter().zip(&plain).enumerate() {
+                let at = (k % w, k / w, round);
+                assert_eq!(f.depth < Z_FAR, p.depth < Z_FAR, "pixel set {at:?}");
+                if f.depth < Z_FAR {
+                    assert_eq!(f.w0, p.w0, "place {at:?}");
+                    assert!((f.depth - p.depth).abs() <= 1, "depth {at:?}");
+                    written += 1;
+                }
+            }
+            cells += Interior::new(c).is_some() as usize;
+        }
+        assert!(written > 5_000 && cells > 2_500, "{written} {cells}");
     }
 
     #[test]
