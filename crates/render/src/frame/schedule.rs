@@ -159,6 +159,7 @@ mod tests {
             inside_columns: true,
             splat: [0, 0],
             open_sides: false,
+            centres: false,
         }
     }
 
