@@ -168,6 +168,13 @@ pub(crate) struct RenderArgs {
     /// cost on coloured scenes.
     #[arg(long)]
     exact_outlines: bool,
+    /// Leave out pieces already hidden behind the pixels drawn before them
+    /// in their band (8 x 8 tiles' farthest depths against a piece's
+    /// nearest): the same image bit for bit; bunny 500²: 1 % fewer
+    /// instructions per frame, 1000²: 3 %; the sphere and the mannequin,
+    /// which hide little: about 1 % more.
+    #[arg(long)]
+    occlusion_skip: bool,
     /// Take the coarsest mip level whose projected cells stay below PX
     /// pixels, 0.1..=16. The default keeps every visible detail; larger
     /// values trade detail for speed (coarser grids, magnified).
@@ -353,6 +360,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.mip = !args.no_mip;
     o.simd = !args.no_simd;
     o.exact_outlines = args.exact_outlines;
+    o.occlusion_skip = args.occlusion_skip;
     o.mip_limit = args.mip_limit;
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;

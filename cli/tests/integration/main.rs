@@ -8,6 +8,8 @@
 //!   the in-memory merge's bytes; a tiled-scene index merges into one file.
 //! - `mesh_tiles`: a mesh tiled by face joins with no duplicate and covers the surface.
 //! - `render`: PNG, depth and stats outputs, camera flags, `--bench`, bad input.
+//! - `occlusion_skip`: the same PNG bytes with and without `--occlusion-skip` (sphere,
+//!   bunny, mannequin; several drawing paths), skipped pieces counted and all hidden.
 //! - `convert`: `spatch convert` report keys, determinism, bad input; `spatch demo`.
 //! - `from_cloud`: `spatch from-cloud` scene, report keys and error targets, determinism,
 //!   bad clouds.
@@ -53,6 +55,7 @@ mod golden;
 mod issue_22_thin;
 mod merge;
 mod mesh_tiles;
+mod occlusion_skip;
 mod output_safety;
 mod range_grid;
 mod readme_tour;

@@ -206,6 +206,13 @@ pub struct RenderOptions {
     /// times the frame's cost on coloured scenes (Spot 5.8×, mannequin
     /// 1.4× and more); see docs/algorithms/render.md.
     pub exact_outlines: bool,
+    /// Skip a piece when every 8 × 8 tile its screen box touches is
+    /// already drawn nearer than the piece's nearest depth
+    /// ([`crate::frame::occlusion_skip`]). Default false. The image is the
+    /// same bit for bit either way; per 500² frame it saves 1-3 % of the
+    /// bunny's instructions and costs about 1 % on the mannequin and the
+    /// sphere, which hide little (docs/algorithms/render.md).
+    pub occlusion_skip: bool,
     /// Cell size (pixels) up to which bilinear cells are drawn by
     /// pixel-centre coverage instead of sub-nodes, 0 (off) or 0.5..=4; with
     /// `mip`, a whole patch then takes the coarsest level whose estimated
@@ -312,6 +319,7 @@ impl Default for RenderOptions {
             lighting: Lighting::default(),
             simd: true,
             exact_outlines: false,
+            occlusion_skip: false,
             centre_limit: Self::DEFAULT_CENTRE_LIMIT,
         }
     }

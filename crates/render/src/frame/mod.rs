@@ -2,10 +2,11 @@
 //! bands, rasterized and resolved on the thread pool, assembled into the
 //! image with its statistics. In use order: the image, the
 //! bins and bands, the statistics, the renderer, the bands' order, the occlusion
-//! counts, the shortcuts' costs.
+//! skip and counts, the shortcuts' costs.
 
 pub(crate) mod image;
 pub(crate) mod occlusion;
+pub(crate) mod occlusion_skip;
 pub(crate) mod render;
 pub(crate) mod schedule;
 pub(crate) mod shortcuts;

@@ -11,6 +11,10 @@
 //! (a piece's nearest depth against a band's or tile's farthest) could skip
 //! there.
 //!
+//! With the occlusion skip ([`crate::frame::occlusion_skip`]), the same
+//! test picks the pieces the frame skipped; their fragments are counted
+//! (all must be hidden).
+//!
 //! For `--stats` only (it redraws the frame piece by piece); triangles are
 //! not counted.
 //!
@@ -19,6 +23,7 @@
 use serde::Serialize;
 
 use crate::fixed::Z_FAR;
+use crate::frame::occlusion_skip::SkipTiles;
 use crate::frame::tiles::{draw_item, Bins};
 use crate::options::CellScheme;
 use crate::plan::work::ChunkWork;
@@ -44,6 +49,15 @@ pub struct OcclusionStats {
     pub piece_bands_hidden: u64,
     /// Fragments of the pairs hidden in the band, in % of the fragments.
     pub hidden_piece_fragments_percent: f64,
+    /// (piece, band) pairs the occlusion skip left out (0 without it).
+    pub skipped_pieces: u64,
+    /// Fragments of those pairs: drawn here, left out by the frame.
+    pub skipped_fragments: u64,
+    /// Skipped fragments in % of the fragments.
+    pub skipped_fragments_percent: f64,
+    /// Skipped fragments that would have shown when drawn: 0 (else the
+    /// skip test is wrong; the tests check it).
+    pub skipped_fragments_shown: u64,
 }
 
 /// Depth gap, in fixed-point depth units (1/256 of the near-far range),
@@ -58,6 +72,8 @@ pub(crate) struct Frame<'a> {
     pub(crate) width: i32,
     pub(crate) height: i32,
     pub(crate) tile_rows: i32,
+    /// The frame drew with the occlusion skip.
+    pub(crate) skip: bool,
 }
 
 /// Per band: the pixels so far and what each piece wrote.
@@ -70,6 +86,8 @@ struct Scratch {
     owner: Vec<u32>,
     /// Per piece of the band: fragments, and pixels it still shows.
     written: Vec<(u64, u64)>,
+    /// The occlusion skip's tiles, as the band drew them.
+    skip: SkipTiles,
 }
 
 /// Counts the occlusion of `frame` (see the module header).
@@ -87,10 +105,12 @@ pub(crate) fn measure(frame: &Frame<'_>) -> OcclusionStats {
         s.owner.clear();
         s.owner.resize((rows * frame.width) as usize, u32::MAX);
         s.written.clear();
+        s.skip.begin(y0, rows, frame.width);
         for &id in frame.bins.items_of(b as usize) {
             let (c, k) = frame.bins.all_items[id as usize];
             let chunk = &frame.chunks[c as usize];
             let item = &chunk.items[k as usize];
+            let skipped = frame.skip && s.skip.hidden(s.merged.samples(), item);
             // The piece's rows in the band.
             let r0 = (item.y0 - y0).clamp(0, rows) as usize;
             let r1 = (item.y1 + 1 - y0).clamp(0, rows) as usize;
@@ -98,6 +118,14 @@ pub(crate) fn measure(frame: &Frame<'_>) -> OcclusionStats {
             let span = r0 * frame.width as usize..r1 * frame.width as usize;
             behind += merge_piece(&mut s, span, &mut counts);
             s.piece.clear_rows(r0..r1);
+            if skipped {
+                let (fragments, shown) = s.written[s.written.len() - 1];
+                counts.skipped_pieces += 1;
+                counts.skipped_fragments += fragments;
+                counts.skipped_fragments_shown += shown;
+            } else if frame.skip {
+                s.skip.drawn(item);
+            }
         }
         for &(fragments, shown) in &s.written {
             counts.piece_bands += u64::from(fragments > 0);
@@ -111,6 +139,7 @@ pub(crate) fn measure(frame: &Frame<'_>) -> OcclusionStats {
     counts.hidden_percent = pct(counts.hidden_fragments);
     counts.hidden_behind_percent = pct(behind);
     counts.hidden_piece_fragments_percent = pct(hidden_piece_fragments);
+    counts.skipped_fragments_percent = pct(counts.skipped_fragments);
     counts
 }
 

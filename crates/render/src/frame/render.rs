@@ -16,6 +16,7 @@ use crate::error::RenderError;
 use crate::fixed::{attr_from_bits, attr_to_bits};
 use crate::frame::image::RenderedImage;
 use crate::frame::occlusion::{self, Frame, OcclusionStats};
+use crate::frame::occlusion_skip::SkipTiles;
 use crate::frame::schedule::{run_in_order, BandOrder};
 use crate::frame::stats::{BandStats, RenderStats};
 use crate::frame::tiles::{render_band, BandJob, Bins};
@@ -56,6 +57,8 @@ pub struct Renderer {
     order: BandOrder,
     bins: Bins,
     bands: Vec<Band>,
+    /// Each band's occlusion-skip tiles.
+    skips: Vec<SkipTiles>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
     spare: Option<(Vec<[u8; 4]>, Vec<f32>)>,
 }
@@ -91,6 +94,7 @@ impl Renderer {
             order: BandOrder::default(),
             bins: Bins::default(),
             bands: Vec::new(),
+            skips: Vec::new(),
             spare: None,
         })
     }
@@ -250,6 +254,7 @@ impl Renderer {
             bins: &self.bins,
             shading: options.shading,
             cells: options.cells,
+            occlusion_skip: options.occlusion_skip,
             depth_map: (setup.z_scale, setup.z_offset),
             has_grids: patches.iter().any(|p| p.colour_grid.is_some()),
             resolve: Resolve {
@@ -278,8 +283,9 @@ impl Renderer {
             Some((rgba, depth)) if rgba.len() == pixels && depth.len() == pixels => (rgba, depth),
             _ => (vec![[0u8; 4]; pixels], vec![0f32; pixels]),
         };
+        self.skips.resize_with(band_count, SkipTiles::default);
         let tasks = band_tasks(
-            &mut self.bands,
+            (&mut self.bands, &mut self.skips),
             band_count,
             tile_rows,
             size,
@@ -290,6 +296,7 @@ impl Renderer {
         let draw = |BandTask {
                         index,
                         band,
+                        skip,
                         rgba,
                         eye_depth,
                         y0,
@@ -299,7 +306,7 @@ impl Renderer {
             band.thread = rayon::current_thread_index().unwrap_or(0);
             isa.run(
                 #[inline(always)]
-                || render_band(band, index, &job, rgba, eye_depth),
+                || render_band((band, skip), index, &job, rgba, eye_depth),
             );
         };
         run_in_order(&self.pool, tasks, &self.order.order, draw);
@@ -341,6 +348,7 @@ impl Renderer {
         stats.tiles = band_count;
         stats.bands = self.band_stats();
         stats.covered_pixels = image.covered_count() as u64;
+        stats.pieces_skipped_hidden = self.skips.iter().map(|s| s.skipped).sum();
         stats.options = Some(*options);
         Ok(RenderOutput { image, stats })
     }
@@ -359,6 +367,7 @@ impl Renderer {
             width: band.width,
             height: self.bands.iter().map(|b| b.rows).sum(),
             tile_rows: self.options.tile_rows as i32,
+            skip: self.options.occlusion_skip,
         };
         occlusion::measure(&frame)
     }
@@ -389,6 +398,7 @@ impl Renderer {
 struct BandTask<'a> {
     index: usize,
     band: &'a mut Band,
+    skip: &'a mut SkipTiles,
     rgba: &'a mut [[u8; 4]],
     eye_depth: &'a mut [f32],
     y0: i32,
@@ -398,7 +408,7 @@ struct BandTask<'a> {
 /// Pairs each of `count` bands of `tile_rows` rows of a `width × height`
 /// image with its rows of the image buffers.
 fn band_tasks<'a>(
-    bands: &'a mut Vec<Band>,
+    (bands, skips): (&'a mut Vec<Band>, &'a mut [SkipTiles]),
     count: usize,
     tile_rows: u32,
     (width, height): (u32, u32),
@@ -408,12 +418,13 @@ fn band_tasks<'a>(
     bands.resize_with(count, Band::default);
     let n = (tile_rows * width) as usize;
     let rows = rgba.chunks_mut(n).zip(eye_depth.chunks_mut(n));
-    (bands.iter_mut().zip(rows).enumerate())
-        .map(|(index, (band, (rgba, eye_depth)))| {
+    (bands.iter_mut().zip(skips).zip(rows).enumerate())
+        .map(|(index, ((band, skip), (rgba, eye_depth)))| {
             let y0 = index as u32 * tile_rows;
             BandTask {
                 index,
                 band,
+                skip,
                 rgba,
                 eye_depth,
                 y0: y0 as i32,

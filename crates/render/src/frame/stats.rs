@@ -131,6 +131,10 @@ pub struct RenderStats {
     pub triangles_culled: u64,
     /// Pixels showing a surface.
     pub covered_pixels: u64,
+    /// Pieces (in (piece, band) pairs) left out by the occlusion skip:
+    /// hidden behind the pixels already drawn in their band
+    /// ([`RenderOptions::occlusion_skip`]).
+    pub pieces_skipped_hidden: u64,
     /// Time per stage.
     pub times_ms: StageTimes,
     /// The options used.

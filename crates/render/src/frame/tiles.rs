@@ -13,6 +13,7 @@
 
 use std::time::Instant;
 
+use crate::frame::occlusion_skip::SkipTiles;
 use crate::options::{CellScheme, Shading};
 use crate::plan::work::{ChunkWork, Item};
 use crate::raster::band::{
@@ -152,6 +153,9 @@ pub(crate) struct BandJob<'a> {
     pub(crate) bins: &'a Bins,
     pub(crate) shading: Shading,
     pub(crate) cells: CellScheme,
+    /// Skip the pieces hidden by those drawn before them
+    /// ([`crate::frame::occlusion_skip`]).
+    pub(crate) occlusion_skip: bool,
     pub(crate) depth_map: (f32, f32),
     /// Some patch of the frame has a colour grid (its cell triangles read
     /// it: [`draw_grid_triangles`]).
@@ -252,18 +256,41 @@ fn draw_grid_triangles(t: &mut BandTarget<'_>, job: &BandJob<'_>, refs: &[(u32, 
     }
 }
 
+/// Draws the pieces of band number `index` in planning order, leaving out
+/// those the pixels already drawn hide ([`crate::frame::occlusion_skip`]).
+#[inline(always)]
+fn draw_unhidden_pieces(
+    t: &mut BandTarget<'_>,
+    index: usize,
+    job: &BandJob<'_>,
+    skip: &mut SkipTiles,
+) {
+    skip.begin(t.y0, t.rows, t.width);
+    for &id in job.bins.items_of(index) {
+        let (c, i) = job.bins.all_items[id as usize];
+        let chunk = &job.chunks[c as usize];
+        let item = &chunk.items[i as usize];
+        if !skip.hidden(t.px, item) {
+            draw_item(t, chunk, item, id, job.cells);
+            skip.drawn(item);
+        }
+    }
+}
+
 /// Draws band number `index` and resolves it into its rows of the image
 /// (`rgba`, `eye_depth`).
 #[inline(always)]
 pub(crate) fn render_band(
-    band: &mut Band,
+    (band, skip): (&mut Band, &mut SkipTiles),
     index: usize,
     job: &BandJob<'_>,
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
     let start = Instant::now();
-    {
+    if job.occlusion_skip {
+        draw_unhidden_pieces(&mut band.target(), index, job, skip);
+    } else {
         let mut t = band.target();
         for &id in job.bins.items_of(index) {
             let (c, k) = job.bins.all_items[id as usize];

@@ -27,7 +27,9 @@ use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::counters::nanos_since;
 use crate::plan::measure::measure_cells;
 use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides, OPEN_SIDE_CUT};
-use crate::plan::project::{level_map, project_nodes_exact, project_nodes_trilinear, Projector};
+use crate::plan::project::{
+    level_map, nearest_box_depth, project_nodes_exact, project_nodes_trilinear, Projector,
+};
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
@@ -160,6 +162,11 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     } else {
         (splat[1] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
     };
+    let pad_x = if smooth {
+        2
+    } else {
+        (splat[0] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
+    };
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
@@ -237,6 +244,13 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         j0: range.j0 as u16,
         y0: y0 - pad,
         y1: y1 + pad,
+        x0: x0 - pad_x,
+        x1: x1 + pad_x,
+        z_near: if smooth || !opts.occlusion_skip {
+            i32::MIN
+        } else {
+            nearest_box_depth(range, d, &proj)
+        },
         inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
         splat,
         open_sides,

@@ -296,6 +296,27 @@ impl PieceLanes<'_> {
     }
 }
 
+/// Depth units (fixed point) by which a node's depth may come out nearer
+/// than its box's nearest corner: `f32` rounding of the corners and of the
+/// node lanes (a few units at depths up to 2^28) and the forward
+/// differencing of sub-nodes (one unit per step, fewer than 1024 steps).
+const BOX_DEPTH_SLACK: i32 = 1 << 12;
+
+/// A lower bound (fixed point) of the depth of every node of `range`
+/// over displacements `d`, and of every sample drawn between them: the
+/// nearest corner of the piece's box, less [`BOX_DEPTH_SLACK`]. Depth is
+/// linear in the local position, so no point of the box is nearer than
+/// its nearest corner, whether nodes are projected exactly or trilinearly
+/// (trilinear nodes are convex combinations of the corners).
+pub(crate) fn nearest_box_depth(range: NodeRange, d: (u16, u16), p: &Projector) -> i32 {
+    let corners = projected_box_corners(range, d, p);
+    let near = corners
+        .iter()
+        .flatten()
+        .fold(f32::INFINITY, |m, c| m.min(c.z));
+    depth_to_fixed(near).saturating_sub(BOX_DEPTH_SLACK)
+}
+
 /// The screen corners of a piece's box over displacements `d`:
 /// `[bottom i0, bottom i1]` at `j0` and at `j1` (low `d`), then the same
 /// at high `d`.

@@ -55,6 +55,14 @@ pub(crate) struct Item {
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
+    /// Pixel columns spanned (inclusive; like the rows, footprints
+    /// included).
+    pub(crate) x0: i32,
+    pub(crate) x1: i32,
+    /// A lower bound of the depth of every sample the piece places (fixed
+    /// point; `i32::MIN` when none is known): the occlusion skip's key
+    /// ([`crate::frame::occlusion_skip`]).
+    pub(crate) z_near: i32,
     /// Every used node lies in the image's columns `1..width - 1`, so a
     /// row of cells inside a band needs no clipping at all.
     pub(crate) inside_columns: bool,
