@@ -131,28 +131,12 @@ mod tests {
 
     fn item(x: [i32; 2], y: [i32; 2], z_near: i32) -> Item {
         Item {
-            first: 0,
-            cols: 2,
-            rows: 2,
-            nu: 1,
-            nv: 1,
-            frame: 0,
-            flags: 0,
-            spans: 0,
-            uniform_albedo: true,
-            level: 0,
-            shade_shift: 0,
-            i0: 0,
-            j0: 0,
             y0: y[0],
             y1: y[1],
             x0: x[0],
             x1: x[1],
             z_near,
-            inside_columns: true,
-            splat: [0, 0],
-            open_sides: false,
-            centres: false,
+            ..Item::for_tests()
         }
     }
 

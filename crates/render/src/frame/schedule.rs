@@ -138,28 +138,11 @@ mod tests {
 
     fn item(y0: i32, y1: i32, cols: u16, rows: u16) -> Item {
         Item {
-            first: 0,
             cols,
             rows,
-            nu: 1,
-            nv: 1,
-            frame: 0,
-            flags: 0,
-            spans: 0,
-            uniform_albedo: true,
-            level: 0,
-            shade_shift: 0,
-            i0: 0,
-            j0: 0,
             y0,
             y1,
-            x0: 0,
-            x1: 0,
-            z_near: i32::MIN,
-            inside_columns: true,
-            splat: [0, 0],
-            open_sides: false,
-            centres: false,
+            ..Item::for_tests()
         }
     }
 

@@ -77,6 +77,38 @@ pub(crate) struct Item {
     pub(crate) centres: bool,
 }
 
+#[cfg(test)]
+impl Item {
+    /// A 2 × 2-node piece of frame 0 at the origin, drawn by its nodes alone and
+    /// covering nothing: tests set the fields they are about.
+    pub(crate) fn for_tests() -> Self {
+        Item {
+            first: 0,
+            cols: 2,
+            rows: 2,
+            nu: 1,
+            nv: 1,
+            frame: 0,
+            flags: 0,
+            spans: 0,
+            uniform_albedo: true,
+            level: 0,
+            shade_shift: 0,
+            i0: 0,
+            j0: 0,
+            y0: 0,
+            y1: 0,
+            x0: 0,
+            x1: 0,
+            z_near: i32::MIN,
+            inside_columns: true,
+            splat: [0, 0],
+            open_sides: false,
+            centres: false,
+        }
+    }
+}
+
 /// Everything about the frame that planning needs.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FrameSetup<'a> {
