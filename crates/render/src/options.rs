@@ -208,7 +208,7 @@ pub struct RenderOptions {
     pub exact_outlines: bool,
     /// Skip a piece when every 8 × 8 tile its screen box touches is
     /// already drawn nearer than the piece's nearest depth
-    /// ([`crate::frame::occlusion_skip`]). Default false. The image is the
+    /// (`frame/occlusion_skip.rs`). Default false. The image is the
     /// same bit for bit either way; per 500² frame it saves 1-3 % of the
     /// bunny's instructions and costs about 1 % on the mannequin and the
     /// sphere, which hide little (docs/algorithms/render.md).
