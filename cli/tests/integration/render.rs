@@ -215,17 +215,24 @@ fn no_simd_keeps_the_portable_kernels_and_the_same_image() {
     assert!(fast == "base" || fast == "x86-64-v3", "{fast}");
 }
 
+/// Image size arguments for the 200² renders below.
+const AT_200: [&str; 4] = ["--width", "200", "--height", "200"];
+
+/// Renders `big.spatch` with `extra` arguments and reads the `--stats` it
+/// wrote to `name`.
+fn render_stats(t: &TestCommand, extra: &[&str], name: &str) -> serde_json::Value {
+    let args = ["render", "big.spatch", "-o", "s.png", "--stats", name];
+    t.run(&[&args[..], extra].concat()).success();
+    t.json(name)
+}
+
 #[test]
 fn splat_limit_splats_the_pieces_subdivision_would_cut() {
     // The default sphere at 500²: cells of 1.3-1.9 px are cut without
     // splats and splatted with them; the disc is as covered either way.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
-        let args = ["render", "big.spatch", "-o", "s.png", "--stats", name];
-        t.run(&[&args[..], extra].concat()).success();
-        t.json(name)
-    };
+    let stats = |extra: &[&str], name: &str| render_stats(&t, extra, name);
     let off = stats(&[], "off.json");
     let on = stats(&["--splat-limit", "1.5"], "on.json");
     assert_eq!(off["patches_splatted"], 0);
@@ -247,22 +254,7 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
     // and cover about the pixels the default covers.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
-        let args = [
-            "render",
-            "big.spatch",
-            "-o",
-            "s.png",
-            "--width",
-            "200",
-            "--height",
-            "200",
-            "--stats",
-            name,
-        ];
-        t.run(&[&args[..], extra].concat()).success();
-        t.json(name)
-    };
+    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&AT_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--geometry-limit", "3.6"], "on.json");
     let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
@@ -286,22 +278,7 @@ fn centre_limit_draws_pixel_sized_cells_by_pixel_centres() {
     // no sub-nodes and covers the same disc within its outline margin.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let stats = |extra: &[&str], name: &str| -> serde_json::Value {
-        let args = [
-            "render",
-            "big.spatch",
-            "-o",
-            "s.png",
-            "--width",
-            "200",
-            "--height",
-            "200",
-            "--stats",
-            name,
-        ];
-        t.run(&[&args[..], extra].concat()).success();
-        t.json(name)
-    };
+    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&AT_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--centre-limit", "2"], "on.json");
     let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
