@@ -51,6 +51,7 @@ mod covered_pieces;
 mod edge_patch;
 mod error;
 mod generate;
+mod joined_pieces;
 mod lattice_cast;
 mod lattice_raster;
 mod options;
