@@ -14,7 +14,9 @@
 //! within `s_e` of each other on every face), and at most [`FOLD_CELL`] `× s_e / k` for the
 //! sharpest fold (`k`: how much its faces' gradients differ in the patch's view), clamped to
 //! `[0.1, 1] × s_e`. No row follows a crease, as a piece's does, so its cells must be fine
-//! enough not to cut a fold's tip.
+//! enough not to cut a fold's tip. Nodes farther than `w + s_e` (in the view) from every
+//! segment of the group stay empty, as they were for the pieces' own patches: the rest of the
+//! box lies on faces away from the creases or bridges over the silhouette.
 //!
 //! **Accepted only when nothing is lost.** Two groups that share a crease vertex are joined
 //! when the joined patch, with the surface patches and every other group's patch (the two
@@ -32,14 +34,14 @@
 
 use std::collections::HashSet;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use spatch_format::Patch;
 use spatch_mesh::{FaceAdjacency, FaceId, VertexId};
 
 use crate::coverage::{SurfaceCoverage, MAX_FACING_ANGLE_DEG};
 use crate::covered_pieces::piece_covered;
 use crate::edge_patch::{nodes_over, EdgePiece, MIN_FORESHORTENING};
-use crate::lattice_cast::{cast_lattice, faces_near, CastJob, NodeLattice};
+use crate::lattice_cast::{cast_lattice_within, faces_near, CastJob, NodeLattice};
 use crate::sharp_edges::SharpEdges;
 use crate::EdgeError;
 
@@ -265,7 +267,23 @@ fn join_patch(
     if lattice.cols * lattice.rows > 4 * MAX_NODE_RATIO * nodes {
         return Ok(None);
     }
-    let patch = cast_lattice(job.cast, &lattice, &faces, 0)?;
+    // Only the nodes near the pieces, as their own patches had: the rest of the box may lie
+    // on faces far from any crease, or bridge over the model's silhouette.
+    let reach = job.strip + job.edge_spacing;
+    let flat: Vec<[Vec2; 2]> = piece
+        .segments
+        .iter()
+        .map(|s| [s.a, s.b].map(|p| Vec2::new(p.dot(lattice.x), p.dot(lattice.y))))
+        .collect();
+    let within = |i: usize, j: usize| {
+        let q = Vec2::new(
+            lattice.start[0] + i as f32 * lattice.spacing[0],
+            lattice.start[1] + j as f32 * lattice.spacing[1],
+        );
+        flat.iter()
+            .any(|&[a, b]| distance_to_segment(q, a, b) <= reach)
+    };
+    let patch = cast_lattice_within(job.cast, &lattice, &faces, &within, 0)?;
     Ok(patch.filter(|p| p.grid().node_count() <= MAX_NODE_RATIO * nodes))
 }
 
@@ -313,7 +331,7 @@ fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, 
             let c = &sharp.creases[s.crease as usize];
             let g = c.normals.map(|n| {
                 let nz = n.dot(z).max(min_facing);
-                glam::Vec2::new(n.dot(x), n.dot(y)) / nz
+                Vec2::new(n.dot(x), n.dot(y)) / nz
             });
             (g[0] - g[1]).length()
         })
@@ -370,4 +388,15 @@ fn widest_direction(points: &[Vec3], z: Vec3) -> Option<Vec3> {
     }
     let x = best.1.normalize_or_zero();
     (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+}
+
+/// Distance from `q` to the segment from `a` to `b`.
+fn distance_to_segment(q: Vec2, a: Vec2, b: Vec2) -> f32 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 {
+        ((q - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    q.distance(a + ab * t)
 }
