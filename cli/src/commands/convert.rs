@@ -117,6 +117,10 @@ pub(crate) struct PipelineArgs {
     /// other edge patches already cover (by default those are dropped, shortest first).
     #[arg(long)]
     pub(crate) keep_covered_pieces: bool,
+    /// Give every edge piece a patch of its own (by default pieces that meet at a crease
+    /// vertex share one patch where it covers them all: fewer patches, a few more nodes).
+    #[arg(long)]
+    pub(crate) separate_pieces: bool,
     /// Node spacing of textured regions in texels of their texture (0 = off: textures are
     /// sampled at the mesh's spacing). Smaller keeps finer texture detail for more nodes,
     /// within --texture-budget.
@@ -290,6 +294,7 @@ impl PipelineArgs {
             edges.soft_crease_deg = self.soft_crease;
             edges.only_gaps = !self.all_creases;
             edges.drop_covered_pieces = !self.keep_covered_pieces;
+            edges.join_pieces = !self.separate_pieces;
             edges
         });
         options

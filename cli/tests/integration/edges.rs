@@ -168,3 +168,39 @@ fn covered_pieces_are_dropped_unless_kept() {
         "{dropped} vs {kept}"
     );
 }
+
+/// Pieces that meet at a crease vertex share a patch by default; `--separate-pieces` gives
+/// each its own (fuze.obj, skipped when the shared data is missing).
+#[test]
+fn pieces_are_joined_unless_separate() {
+    let Some(fuze) = spatch_fixtures::shared_data("textured_obj/fuze/fuze.obj") else {
+        return;
+    };
+    let t = TestCommand::new();
+    let fuze = fuze.to_str().unwrap();
+    let stats = |extra: &[&str]| {
+        let mut args = vec![
+            "convert",
+            fuze,
+            "-o",
+            "fuze.spatch",
+            "--report",
+            "fuze.json",
+            "--no-error",
+        ];
+        args.extend_from_slice(extra);
+        t.run(&args).success();
+        let report: serde_json::Value = t.json("fuze.json");
+        report["details"]["edges"].clone()
+    };
+    let count = |v: &serde_json::Value, key: &str| v[key].as_u64().unwrap();
+    let joined = stats(&[]);
+    let separate = stats(&["--separate-pieces"]);
+    assert_eq!(count(&separate, "joined_pieces"), 0, "{separate}");
+    assert!(count(&joined, "joined_pieces") > 0, "{joined}");
+    assert_eq!(count(&joined, "pieces"), count(&separate, "pieces"));
+    assert!(
+        count(&joined, "edge_patches") < count(&separate, "edge_patches"),
+        "{joined} vs {separate}"
+    );
+}

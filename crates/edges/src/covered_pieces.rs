@@ -19,6 +19,7 @@
 //! Cost: O(pieces × probes per piece × patches per index cell), plus the passes that take
 //! pieces back (rarely more than one). Deterministic: no parallelism, a total order.
 
+use glam::Vec3;
 use spatch_format::Patch;
 use spatch_mesh::TriangleMesh;
 
@@ -39,7 +40,7 @@ pub(crate) fn covered_pieces(
     mesh: &TriangleMesh,
     sharp: &SharpEdges,
     surface: &[Patch],
-    made: &[(&EdgePiece, Patch)],
+    made: &[(EdgePiece, Patch)],
     spacing: f32,
     soft_crease_deg: f32,
 ) -> Vec<bool> {
@@ -47,19 +48,8 @@ pub(crate) fn covered_pieces(
     let mut coverage = SurfaceCoverage::new(all, spacing);
     let first = surface.len();
     let covered = |coverage: &SurfaceCoverage<'_>, piece: &EdgePiece| {
-        piece.segments.iter().all(|s| {
-            let crease = &sharp.creases[s.crease as usize];
-            let tolerance = crease_tolerance(crease, soft_crease_deg).min(COVER_TOLERANCE);
-            span_probes(
-                mesh,
-                crease,
-                [s.a, s.b],
-                spacing,
-                &PIECE_PROBE_OFFSETS,
-                true,
-            )
-            .all(|(p, n)| coverage.covers(p, n, tolerance))
-        })
+        let covers = |p, n, tolerance| coverage.covers(p, n, tolerance);
+        piece_covered(mesh, sharp, piece, spacing, soft_crease_deg, &covers)
     };
     let mut order: Vec<usize> = (0..made.len()).collect();
     let length = |k: usize| -> f32 { made[k].0.segments.iter().map(|s| s.a.distance(s.b)).sum() };
@@ -68,7 +58,7 @@ pub(crate) fn covered_pieces(
     let mut dropped = vec![false; made.len()];
     for &k in &order {
         coverage.set_enabled(first + k, false);
-        if covered(&coverage, made[k].0) {
+        if covered(&coverage, &made[k].0) {
             dropped[k] = true;
         } else {
             coverage.set_enabled(first + k, true);
@@ -77,7 +67,7 @@ pub(crate) fn covered_pieces(
     loop {
         let mut taken_back = false;
         for &k in &order {
-            if dropped[k] && !covered(&coverage, made[k].0) {
+            if dropped[k] && !covered(&coverage, &made[k].0) {
                 dropped[k] = false;
                 coverage.set_enabled(first + k, true);
                 taken_back = true;
@@ -89,9 +79,35 @@ pub(crate) fn covered_pieces(
     }
 }
 
+/// Whether `covers` (a point, its face's unit normal, a tolerance in cells) holds for every
+/// probe of `piece`: both faces of each segment, every half `spacing` along it and at both
+/// ends, on the crease and at [`PROBE_OFFSETS`] spacings across, within the crease's
+/// tolerance and never more than [`COVER_TOLERANCE`] cells.
+pub(crate) fn piece_covered(
+    mesh: &TriangleMesh,
+    sharp: &SharpEdges,
+    piece: &EdgePiece,
+    spacing: f32,
+    soft_crease_deg: f32,
+    covers: &dyn Fn(Vec3, Vec3, f32) -> bool,
+) -> bool {
+    piece.segments.iter().all(|s| {
+        let crease = &sharp.creases[s.crease as usize];
+        let tolerance = crease_tolerance(crease, soft_crease_deg).min(COVER_TOLERANCE);
+        span_probes(
+            mesh,
+            crease,
+            [s.a, s.b],
+            spacing,
+            &PIECE_PROBE_OFFSETS,
+            true,
+        )
+        .all(|(p, n)| covers(p, n, tolerance))
+    })
+}
+
 #[cfg(test)]
 mod tests {
-    use glam::Vec3;
     use spatch_mesh::build_face_adjacency;
 
     use super::*;
@@ -146,13 +162,16 @@ mod tests {
         let patch = cast_lattice(&job, &lattice, &faces, 0).unwrap().unwrap();
 
         // Alone, nothing else covers the crease: kept.
-        let one = [(&piece, patch.clone())];
+        let one = [(piece.clone(), patch.clone())];
         assert_eq!(
             covered_pieces(&mesh, &sharp, &[], &one, spacing, 50.0),
             [false]
         );
         // Twice over, either covers the other: one is dropped, never both.
-        let two = [(&piece, patch.clone()), (&piece, patch.clone())];
+        let two = [
+            (piece.clone(), patch.clone()),
+            (piece.clone(), patch.clone()),
+        ];
         assert_eq!(
             covered_pieces(&mesh, &sharp, &[], &two, spacing, 50.0),
             [true, false]

@@ -53,7 +53,7 @@ use crate::lattice_cast::{faces_near, NodeLattice};
 use crate::sharp_edges::{CreaseChain, SharpEdges};
 
 /// Smallest foreshortening used to space rows (a face nearly edge-on to the patch).
-const MIN_FORESHORTENING: f32 = 0.1;
+pub(crate) const MIN_FORESHORTENING: f32 = 0.1;
 
 /// One straight piece of a segment of a chain.
 #[derive(Debug, Clone, Copy)]

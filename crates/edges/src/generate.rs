@@ -8,10 +8,12 @@
 //!    into pieces around the covered creases, one lattice per piece (`edge_patch`);
 //! 4. every piece's lattice cast against the source and quantized into a patch
 //!    (`lattice_cast`);
-//! 5. with [`EdgeOptions::only_gaps`] and [`EdgeOptions::drop_covered_pieces`], the pieces
+//! 5. with [`EdgeOptions::only_gaps`] and [`EdgeOptions::join_pieces`], pieces that meet at
+//!    a crease vertex joined into one patch wherever it covers them all (`joined_pieces`);
+//! 6. with [`EdgeOptions::only_gaps`] and [`EdgeOptions::drop_covered_pieces`], the pieces
 //!    that the surface patches and the other edge patches already cover dropped
 //!    (`covered_pieces`);
-//! 6. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
+//! 7. when [`EdgeOptions::corners`] is on, one lattice per corner that an uncovered crease
 //!    reaches and (with `only_gaps`) that the surface and edge patches leave open
 //!    (`corner_patch`), cast the same way.
 //!
@@ -31,6 +33,7 @@ use crate::corner_patch::corner_lattice;
 use crate::coverage::{covered_corner, covered_creases, SurfaceCoverage};
 use crate::covered_pieces::covered_pieces;
 use crate::edge_patch::{cut_pieces, piece_lattice, EdgePiece, PieceLimits, WIDE_TURN};
+use crate::joined_pieces::{join_pieces, JoinJob};
 use crate::lattice_cast::{cast_lattice, CastJob, NodeLattice};
 use crate::part::{drop_unowned_corners, skip_unowned, OwnsPoint};
 use crate::sharp_edges::{detect_sharp_edges, SharpEdges};
@@ -57,6 +60,8 @@ pub struct EdgeStats {
     pub non_manifold_edges: usize,
     /// Pieces the chains were cut into.
     pub pieces: usize,
+    /// Pieces joined into another piece's patch ([`EdgeOptions::join_pieces`]).
+    pub joined_pieces: usize,
     /// Of their patches, those dropped because the surface patches and the other edge
     /// patches already cover their piece ([`EdgeOptions::drop_covered_pieces`]).
     pub covered_pieces: usize,
@@ -176,6 +181,25 @@ pub fn generate_part_edge_patches(
         .zip(cast_each(&job, &lattices, 0)?)
         .filter_map(|(piece, patch)| patch.map(|patch| (piece, patch)))
         .collect();
+    let made = if options.only_gaps && options.join_pieces {
+        let join = JoinJob {
+            cast: &job,
+            adjacency,
+            sharp: &sharp,
+            surface,
+            spacing: surface_spacing,
+            edge_spacing,
+            strip,
+            soft_crease_deg: options.soft_crease_deg,
+        };
+        let (groups, joined) = join_pieces(&join, made)?;
+        stats.joined_pieces = joined;
+        groups
+    } else {
+        made.into_iter()
+            .map(|(piece, patch)| (piece.clone(), patch))
+            .collect()
+    };
     let dropped = if options.only_gaps && options.drop_covered_pieces {
         let soft = options.soft_crease_deg;
         covered_pieces(mesh, &sharp, surface, &made, surface_spacing, soft)

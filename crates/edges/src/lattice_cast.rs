@@ -73,8 +73,25 @@ pub(crate) fn cast_lattice(
     allowed: &[FaceId],
     index: usize,
 ) -> Result<Option<Patch>, EdgeError> {
+    cast_lattice_within(job, lattice, allowed, &|_, _| true, index)
+}
+
+/// [`cast_lattice`] keeping only the hits of the nodes `(i, j)` for which `within` holds;
+/// the others stay empty.
+pub(crate) fn cast_lattice_within(
+    job: &CastJob<'_>,
+    lattice: &NodeLattice,
+    allowed: &[FaceId],
+    within: &dyn Fn(usize, usize) -> bool,
+    index: usize,
+) -> Result<Option<Patch>, EdgeError> {
     let mesh = job.mesh;
-    let hits = raster_hits(mesh, lattice, allowed);
+    let mut hits = raster_hits(mesh, lattice, allowed);
+    for (k, hit) in hits.iter_mut().enumerate() {
+        if !within(k % lattice.cols, k / lattice.cols) {
+            *hit = None;
+        }
+    }
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
     for h in hits.iter().flatten() {
         h_min = h_min.min(h.height);

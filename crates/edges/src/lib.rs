@@ -13,8 +13,9 @@
 //!   crease inside a region, or one a fitted rectangle ends on exactly), the other creases'
 //!   chains cut into nearly straight pieces; one patch per
 //!   piece with x along the edge and z along the bisector of the two faces' normals, covering
-//!   a strip on both faces at `resolution` times the surface node density; one patch per
-//!   corner; nodes ray-cast against the source and quantized and coloured as the fitter does
+//!   a strip on both faces at `resolution` times the surface node density; pieces meeting
+//!   at a crease vertex joined into one patch where it covers all they covered; one patch
+//!   per corner; nodes ray-cast against the source and quantized and coloured as the fitter does
 //!   (`spatch-fit`). [`EdgeStats`] counts what was found and made;
 //! - [`generate_part_edge_patches`]: the same for one tile of a tiled mesh, making only the
 //!   creases and corners the tile owns, so that every crease is covered by one tile.
@@ -51,6 +52,7 @@ mod covered_pieces;
 mod edge_patch;
 mod error;
 mod generate;
+mod joined_pieces;
 mod lattice_cast;
 mod lattice_raster;
 mod options;

@@ -105,6 +105,12 @@ pub struct EdgeOptions {
     /// shortest pieces first, every dropped piece still covered by what is kept). Default
     /// `true`. Off: one patch per piece, as before (more patches, the same probed coverage).
     pub drop_covered_pieces: bool,
+    /// With [`EdgeOptions::only_gaps`], whether to join pieces that meet at a crease vertex
+    /// into one patch wherever that patch, with the others, covers every probe of the pieces
+    /// (`joined_pieces`: seen along their mean bisector, at most twice the nodes of the two
+    /// patches it replaces). Default `true`: fewer patches (a frame and per-patch work each)
+    /// for a few more nodes. Off: one patch per piece.
+    pub join_pieces: bool,
 }
 
 impl Default for EdgeOptions {
@@ -122,6 +128,7 @@ impl Default for EdgeOptions {
             colour: true,
             only_gaps: true,
             drop_covered_pieces: true,
+            join_pieces: true,
         }
     }
 }
