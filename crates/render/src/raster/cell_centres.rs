@@ -30,6 +30,8 @@
 //! cell's corners bilinearly there as it does at a sub-node, unchanged.
 //! Depth is interpolated at the pixel centre from the triangle's corners.
 
+use std::hint::black_box;
+
 use crate::fixed::{Node, XY_FRAC_BITS};
 use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::raster::band::BandTarget;
@@ -140,9 +142,19 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
         if let Some(cell) = Lazy::<false>::new(c, 0) {
             return draw_centres(t, c, span, sub0, item, &cell);
         }
+    } else if (span.px1 - span.px0 + 1) * (span.py1 - span.py0 + 1) <= LAZY_OUTLINE_CENTRES {
+        if let Some(cell) = Lazy::<true>::new(c, outline) {
+            return draw_centres_unstepped(t, c, span, sub0, item, &cell);
+        }
     }
     draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
 }
+
+/// Most centres in the box of an outline cell that is tested lazily and
+/// unstepped ([`draw_centres_unstepped`]): below that, the six edges'
+/// set-up (about 275 instructions) costs more than the lazy tests (about
+/// 35 each against 12 stepped).
+const LAZY_OUTLINE_CENTRES: i32 = 6;
 
 /// The pixel centres of the band that the box of a cell with corners `c`
 /// holds, grown at the ends of its `outline` sides; `None` when empty.
@@ -236,6 +248,29 @@ fn draw_centres<C: CentreTest>(
     // per step (callgrind).
     for py in span.py0..span.py1 + 1 {
         for px in span.px0..span.px1 + 1 {
+            draw_centre(t, cell, px, py, o, sub0, item);
+        }
+    }
+}
+
+/// Writes the centres of `span` that `cell` takes, as [`draw_centres`]
+/// does, but tests each centre afresh. Why `black_box`: without it the
+/// compiler steps every edge function along the box, and the set-up of
+/// that stepping (hoisted out of the loops) costs more than the few
+/// tests of a small box.
+#[inline(always)]
+fn draw_centres_unstepped<C: CentreTest>(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    span: CentreBox,
+    sub0: u32,
+    item: u32,
+    cell: &C,
+) {
+    let o = (c[0][0], c[0][1]);
+    for py in span.py0..span.py1 + 1 {
+        for px in span.px0..span.px1 + 1 {
+            let (px, py) = black_box((px, py));
             draw_centre(t, cell, px, py, o, sub0, item);
         }
     }
