@@ -62,8 +62,9 @@ const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
 /// not needed: every cell reaches its own sides) by pixel-centre coverage.
 /// Why out of line (one call per piece): inlined into the band's function
 /// its loops spilled more registers (bunny 500² `--centre-limit 2`:
-/// 118.45 M per frame against 117.73 M). It is scalar code, so
-/// the portable copy loses nothing (scalar code, no lanes).
+/// 118.45 M per frame against 117.73 M). It is scalar code (no lanes),
+/// so the portable copy loses nothing.
+#[inline(never)]
 pub(crate) fn draw_cells_centres(t: &mut BandTarget<'_>, piece: &BilinearPiece<'_>, item: u32) {
     let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
     let (cols, nodes) = (piece.cols, piece.nodes);
