@@ -30,6 +30,8 @@
 //! cell's corners bilinearly there as it does at a sub-node, unchanged.
 //! Depth is interpolated at the pixel centre from the triangle's corners.
 
+use std::hint::black_box;
+
 use crate::fixed::{Node, XY_FRAC_BITS};
 use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::raster::band::BandTarget;
@@ -58,7 +60,11 @@ const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
 /// Draws the drawn cells of a piece (flags as
 /// [`crate::plan::measure::measure_cells`] sets them; closing flags are
 /// not needed: every cell reaches its own sides) by pixel-centre coverage.
-#[inline(always)]
+/// Why out of line (one call per piece): inlined into the band's function
+/// its loops spilled more registers (bunny 500² `--centre-limit 2`:
+/// 118.45 M per frame against 117.73 M). It is scalar code (no lanes),
+/// so the portable copy loses nothing.
+#[inline(never)]
 pub(crate) fn draw_cells_centres(t: &mut BandTarget<'_>, piece: &BilinearPiece<'_>, item: u32) {
     let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
     let (cols, nodes) = (piece.cols, piece.nodes);
@@ -113,31 +119,104 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
 /// whose sub-word of `(0, 0)` is `sub0`, its `outline` sides pushed out:
 /// the pixel centres of its box, each tested against its two triangles.
 /// Why set up only when the box holds a pixel centre: most cells of a
-/// coarse-enough level hold one or two, finer ones often none. Interior
-/// cells that do not fold (most of them) take [`Interior`]: no margins,
-/// only the edges a centre needs.
+/// coarse-enough level hold one or two, finer ones often none. Cells that
+/// do not fold (most of them) take [`Lazy`]: only the edges a centre
+/// needs, and interior ones no margins.
 #[inline(always)]
 pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
-    let grow = if outline != 0 { MARGIN } else { 0 };
-    let x_lo = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]) - grow;
-    let x_hi = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]) + grow;
-    let (px0, px1) = centre_span(x_lo, x_hi, 0, t.width - 1);
-    if px0 > px1 {
+    let Some(span) = cell_box(t, c, outline) else {
         return;
+    };
+    let o = (c[0][0], c[0][1]);
+    // Why a box of one centre apart: it is the most common at the levels
+    // this path draws, and a lazy set-up tested once costs the least;
+    // bigger boxes step precomputed edges along their centres instead.
+    if span.px0 == span.px1 && span.py0 == span.py1 {
+        let (px, py) = (span.px0, span.py0);
+        if outline == 0 {
+            if let Some(cell) = Lazy::<false>::new(c, 0) {
+                return draw_centre(t, &cell, px, py, o, sub0, item);
+            }
+        } else if let Some(cell) = Lazy::<true>::new(c, outline) {
+            return draw_centre(t, &cell, px, py, o, sub0, item);
+        }
+        return draw_centre(t, &Cell::new(c, outline), px, py, o, sub0, item);
     }
-    let y_lo = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]) - grow;
-    let y_hi = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]) + grow;
-    let (py0, py1) = centre_span(y_lo, y_hi, t.y0, t.y0 + t.rows - 1);
-    if py0 > py1 {
-        return;
-    }
-    let span = CentreBox { px0, px1, py0, py1 };
     if outline == 0 {
-        if let Some(cell) = Interior::new(c) {
+        if let Some(cell) = Lazy::<false>::new(c, 0) {
             return draw_centres(t, c, span, sub0, item, &cell);
+        }
+    } else if (span.px1 - span.px0 + 1) * (span.py1 - span.py0 + 1) <= LAZY_OUTLINE_CENTRES {
+        if let Some(cell) = Lazy::<true>::new(c, outline) {
+            return draw_centres_unstepped(t, c, span, sub0, item, &cell);
         }
     }
     draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
+}
+
+/// Most centres in the box of an outline cell that is tested lazily and
+/// unstepped ([`draw_centres_unstepped`]): below that, the six edges'
+/// set-up (about 275 instructions) costs more than the lazy tests (about
+/// 35 each against 12 stepped).
+const LAZY_OUTLINE_CENTRES: i32 = 6;
+
+/// The pixel centres of the band that the box of a cell with corners `c`
+/// holds, grown at the ends of its `outline` sides; `None` when empty.
+/// Why two copies: an interior cell's box needs no growth, and most
+/// drawn cells are interior.
+#[inline(always)]
+fn cell_box(t: &BandTarget<'_>, c: [&Node; 4], outline: u8) -> Option<CentreBox> {
+    if outline == 0 {
+        grown_box(t, c, [0; 4])
+    } else {
+        grown_box(t, c, corner_growth(outline))
+    }
+}
+
+/// The pixel centres of the band that the box of the corners `c`, each
+/// grown by `g` (position units), holds; `None` when empty.
+#[inline(always)]
+fn grown_box(t: &BandTarget<'_>, c: [&Node; 4], g: [i32; 4]) -> Option<CentreBox> {
+    let x_lo = (c[0][0] - g[0])
+        .min(c[1][0] - g[1])
+        .min(c[2][0] - g[2])
+        .min(c[3][0] - g[3]);
+    let x_hi = (c[0][0] + g[0])
+        .max(c[1][0] + g[1])
+        .max(c[2][0] + g[2])
+        .max(c[3][0] + g[3]);
+    let (px0, px1) = centre_span(x_lo, x_hi, 0, t.width - 1);
+    if px0 > px1 {
+        return None;
+    }
+    let y_lo = (c[0][1] - g[0])
+        .min(c[1][1] - g[1])
+        .min(c[2][1] - g[2])
+        .min(c[3][1] - g[3]);
+    let y_hi = (c[0][1] + g[0])
+        .max(c[1][1] + g[1])
+        .max(c[2][1] + g[2])
+        .max(c[3][1] + g[3]);
+    let (py0, py1) = centre_span(y_lo, y_hi, t.y0, t.y0 + t.rows - 1);
+    (py0 <= py1).then_some(CentreBox { px0, px1, py0, py1 })
+}
+
+/// How far (position units) the box of a cell with `outline` sides grows
+/// around each corner (`c00`, `c10`, `c01`, `c11`): [`MARGIN`] at the
+/// ends of an outline side, 0 elsewhere. Why not the whole box: an
+/// outline side's pushed-out pixels lie within the margin of that side,
+/// so a box grown on every side held about four centres per outline cell
+/// where it needs about two (bunny 500² `--centre-limit 2`: 259k centre
+/// tests in outline cells per frame before).
+#[inline(always)]
+fn corner_growth(outline: u8) -> [i32; 4] {
+    let at = |sides: u8| if outline & sides != 0 { MARGIN } else { 0 };
+    [
+        at(BOTTOM | LEFT),
+        at(BOTTOM | RIGHT),
+        at(TOP | LEFT),
+        at(TOP | RIGHT),
+    ]
 }
 
 /// The pixel centres `px0..=px1 × py0..=py1` of a cell's box.
@@ -168,40 +247,72 @@ fn draw_centres<C: CentreTest>(
     item: u32,
     cell: &C,
 ) {
-    let (ox, oy) = (c[0][0] as i64, c[0][1] as i64);
+    let o = (c[0][0], c[0][1]);
     // Why exclusive ranges: an inclusive one costs a flag and a branch
     // per step (callgrind).
     for py in span.py0..span.py1 + 1 {
-        let row = ((py - t.y0) * t.width) as usize;
-        let y = ((py as i64) << XY_FRAC_BITS) + HALF as i64 - oy;
         for px in span.px0..span.px1 + 1 {
-            let x = ((px as i64) << XY_FRAC_BITS) + HALF as i64 - ox;
-            let Some((z, a, b)) = cell.at(x, y) else {
-                continue;
-            };
-            let s = &mut t.px[row + px as usize];
-            if z < s.depth {
-                s.depth = z;
-                s.w0 = sub0 + (a << 8) + b;
-                s.w2 = item;
-            }
+            draw_centre(t, cell, px, py, o, sub0, item);
         }
     }
 }
 
+/// Writes the centres of `span` that `cell` takes, as [`draw_centres`]
+/// does, but tests each centre afresh. Why `black_box`: without it the
+/// compiler steps every edge function along the box, and the set-up of
+/// that stepping (hoisted out of the loops) costs more than the few
+/// tests of a small box.
+#[inline(always)]
+fn draw_centres_unstepped<C: CentreTest>(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    span: CentreBox,
+    sub0: u32,
+    item: u32,
+    cell: &C,
+) {
+    let o = (c[0][0], c[0][1]);
+    for py in span.py0..span.py1 + 1 {
+        for px in span.px0..span.px1 + 1 {
+            let (px, py) = black_box((px, py));
+            draw_centre(t, cell, px, py, o, sub0, item);
+        }
+    }
+}
+
+/// Writes the pixel `(px, py)` when `cell` (first corner at `o`) takes
+/// its centre and the depth test passes.
+#[inline(always)]
+fn draw_centre<C: CentreTest>(
+    t: &mut BandTarget<'_>,
+    cell: &C,
+    px: i32,
+    py: i32,
+    o: (i32, i32),
+    sub0: u32,
+    item: u32,
+) {
+    let x = ((px as i64) << XY_FRAC_BITS) + HALF as i64 - o.0 as i64;
+    let y = ((py as i64) << XY_FRAC_BITS) + HALF as i64 - o.1 as i64;
+    let Some((z, a, b)) = cell.at(x, y) else {
+        return;
+    };
+    let s = &mut t.px[((py - t.y0) * t.width + px) as usize];
+    if z < s.depth {
+        s.depth = z;
+        s.w0 = sub0 + (a << 8) + b;
+        s.w2 = item;
+    }
+}
+
 /// Draws one cell as [`draw_cell`] does but always through the general
-/// set-up of six edge functions ([`Cell`]): the reference the interior
-/// fast path is tested against.
+/// set-up of six edge functions ([`Cell`]): the reference the lazy set-up
+/// is tested against.
 #[cfg(test)]
-fn draw_cell_general(t: &mut BandTarget<'_>, c: [&Node; 4], sub0: u32, item: u32) {
-    let x_lo = c[0][0].min(c[1][0]).min(c[2][0]).min(c[3][0]);
-    let x_hi = c[0][0].max(c[1][0]).max(c[2][0]).max(c[3][0]);
-    let y_lo = c[0][1].min(c[1][1]).min(c[2][1]).min(c[3][1]);
-    let y_hi = c[0][1].max(c[1][1]).max(c[2][1]).max(c[3][1]);
-    let (px0, px1) = centre_span(x_lo, x_hi, 0, t.width - 1);
-    let (py0, py1) = centre_span(y_lo, y_hi, t.y0, t.y0 + t.rows - 1);
-    let span = CentreBox { px0, px1, py0, py1 };
-    draw_centres(t, c, span, sub0, item, &Cell::new(c, 0));
+fn draw_cell_general(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
+    if let Some(span) = cell_box(t, c, outline) {
+        draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
+    }
 }
 
 /// Whether a centre exactly on a side of direction `d` (oriented by its
@@ -220,13 +331,15 @@ fn holds(v: i64, d: [i64; 2]) -> bool {
     v > 0 || (v == 0 && owns(d))
 }
 
-/// An interior cell (no outline side) whose two triangles turn the same
-/// way, set up lazily: corners relative to `c00` with the orientation
-/// folded in, so that each edge value is one cross product computed only
-/// when a centre needs it (the diagonal, then the two other sides of the
-/// triangle on its side). Gives the same pixels as [`Cell`] with no
-/// outline (tested).
-struct Interior {
+/// A cell whose two triangles turn the same way, set up lazily: corners
+/// relative to `c00` with the orientation folded in, so that each edge
+/// value is one cross product computed only when a centre needs it (the
+/// diagonal, then the two other sides of the triangle on its side). With
+/// `GROW` its outline sides are pushed out by their margins and depths
+/// are kept within the corners' (as [`Cell`] does); without, it is an
+/// interior cell and needs neither. Gives the same pixels as [`Cell`]
+/// (tested).
+struct Lazy<const GROW: bool> {
     /// `c10`, `c11`, `c01` relative to `c00`, times the orientation.
     p1: [i64; 2],
     p3: [i64; 2],
@@ -237,16 +350,22 @@ struct Interior {
     /// offsets and oriented directions).
     q1: [i64; 2],
     q3: [i64; 2],
+    /// With `GROW`, the margins of the bottom, right, top and left sides
+    /// (0 where the side is not on the outline).
+    grow: [i64; 4],
     /// Depth of `c00`, and `c10`, `c01`, `c11` minus it.
     z0: i32,
     dz: [f32; 3],
+    /// With `GROW`, the corners' nearest and farthest depths.
+    z_range: [i32; 2],
 }
 
-impl Interior {
-    /// The cell of corners `c`, or `None` when its triangles do not turn
-    /// the same way (a fold) or both are flat.
+impl<const GROW: bool> Lazy<GROW> {
+    /// The cell of corners `c` with its `outline` sides pushed out (only
+    /// with `GROW`), or `None` when its triangles do not turn the same way
+    /// (a fold) or both are flat.
     #[inline(always)]
-    fn new(c: [&Node; 4]) -> Option<Interior> {
+    fn new(c: [&Node; 4], outline: u8) -> Option<Self> {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
         let (al, au) = (cross(q1, q3), cross(q3, q2));
@@ -256,26 +375,63 @@ impl Interior {
         }
         let or = |p: [i64; 2]| [p[0] * s, p[1] * s];
         let z0 = c[0][2];
-        Some(Interior {
+        let (mut grow, mut z_range) = ([0; 4], [0; 2]);
+        if GROW {
+            // As [`Edge::new`]: `(|dx| + |dy|)` times the margin.
+            let side = |d: [i64; 2], bit: u8| {
+                (outline & bit != 0) as i64 * (d[0].abs() + d[1].abs()) * MARGIN as i64
+            };
+            let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
+            grow = [
+                side(q1, BOTTOM),
+                side(sub(q3, q1), RIGHT),
+                side(sub(q2, q3), TOP),
+                side(q2, LEFT),
+            ];
+            z_range = [
+                z0.min(c[1][2]).min(c[2][2]).min(c[3][2]),
+                z0.max(c[1][2]).max(c[2][2]).max(c[3][2]),
+            ];
+        }
+        Some(Lazy {
             p1: or(q1),
             p3: or(q3),
             p2: or(q2),
             area: [al * s, au * s],
             q1,
             q3,
+            grow,
             z0,
             dz: [c[1], c[2], c[3]].map(|n| (n[2] - z0) as f32),
+            z_range,
         })
     }
 
-    /// The depth `z0 + dz` (weights within 0..=1 here: no clamp needed).
+    /// The depth `z0 + dz`; with `GROW` within the corners' depths (see
+    /// [`Cell::depth`]), without the weights are within 0..=1.
     #[inline(always)]
     fn depth(&self, dz: f32) -> i32 {
-        self.z0.saturating_add(dz as i32)
+        let z = self.z0.saturating_add(dz as i32);
+        if GROW {
+            z.clamp(self.z_range[0], self.z_range[1])
+        } else {
+            z
+        }
+    }
+
+    /// The edge value `v` of side `k` (bottom, right, top, left) with its
+    /// margin.
+    #[inline(always)]
+    fn grown(&self, v: i64, k: usize) -> i64 {
+        if GROW {
+            v + self.grow[k]
+        } else {
+            v
+        }
     }
 }
 
-impl CentreTest for Interior {
+impl<const GROW: bool> CentreTest for Lazy<GROW> {
     /// The oriented edge values are cross products of a side's direction
     /// and `q` minus its start.
     #[inline(always)]
@@ -284,13 +440,14 @@ impl CentreTest for Interior {
         let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
         let neg = |d: [i64; 2]| [-d[0], -d[1]];
         // The upper triangle's diagonal c00 -> c11; the lower one walks it
-        // back, with the opposite value.
+        // back, with the opposite value. The diagonal is never pushed out.
         let d = cross(self.p3, q);
         if holds(-d, neg(self.p3)) {
             // Lower: bottom c00 -> c10, right c10 -> c11.
             let e0 = cross(self.p1, q);
             let right = sub(self.p3, self.p1);
-            if !holds(e0, self.p1) || !holds(cross(right, sub(q, self.q1)), right) {
+            let e1 = cross(right, sub(q, self.q1));
+            if !holds(self.grown(e0, 0), self.p1) || !holds(self.grown(e1, 1), right) {
                 return None;
             }
             // Weights of c10 and c11: the diagonal's and the bottom's.
@@ -305,7 +462,8 @@ impl CentreTest for Interior {
         // Upper: top c11 -> c01, left c01 -> c00.
         let top = sub(self.p2, self.p3);
         let e2 = -cross(self.p2, q);
-        if !holds(e2, neg(self.p2)) || !holds(cross(top, sub(q, self.q3)), top) {
+        let e1 = cross(top, sub(q, self.q3));
+        if !holds(self.grown(e2, 3), neg(self.p2)) || !holds(self.grown(e1, 2), top) {
             return None;
         }
         // Weights of c11 and c01: the left side's and the diagonal's.
@@ -587,15 +745,16 @@ mod tests {
     }
 
     #[test]
-    fn interior_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
+    fn lazy_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
         // Jittered cells of 0.3-3 px, some snapped to pixel centres and
         // lines (ties for the top-left rule), some mirrored, some folded
-        // (those take the general path in both): the interior fast path
-        // writes the same pixel set with the same places as the plain
-        // per-centre test of six set-up edges, depths within a unit.
+        // (those take the general path in both), one in two with random
+        // outline sides: the lazy set-up writes the same pixel set with
+        // the same places as the plain per-centre test of six set-up
+        // edges, depths within a unit.
         let mut rng = XorShift(0x1a7e_c0de);
         let w = 16usize;
-        let (mut written, mut cells) = (0, 0);
+        let (mut written, mut cells, mut grown) = (0, 0, 0);
         for round in 0..4000 {
             let len = 0.3 + 2.7 * rng.unit();
             let (x, y) = (5.0 + 4.0 * rng.unit(), 5.0 + 4.0 * rng.unit());
@@ -615,9 +774,14 @@ mod tests {
                 n[2] = 5000 + 7919 * k as i32 + rng.below(3000) as i32;
             }
             let c = [&c[0], &c[1], &c[2], &c[3]];
+            let outline = if round % 2 == 0 {
+                rng.below(16) as u8
+            } else {
+                0
+            };
             let (mut fast, mut plain) = (band(w), band(w));
-            draw_cell(&mut target(&mut fast, w), c, 0, 0, PATCH_SAMPLE);
-            draw_cell_general(&mut target(&mut plain, w), c, 0, PATCH_SAMPLE);
+            draw_cell(&mut target(&mut fast, w), c, outline, 0, PATCH_SAMPLE);
+            draw_cell_general(&mut target(&mut plain, w), c, outline, 0, PATCH_SAMPLE);
             for (k, (f, p)) in fast.iter().zip(&plain).enumerate() {
                 let at = (k % w, k / w, round);
                 assert_eq!(f.depth < Z_FAR, p.depth < Z_FAR, "pixel set {at:?}");
@@ -627,9 +791,13 @@ mod tests {
                     written += 1;
                 }
             }
-            cells += Interior::new(c).is_some() as usize;
+            cells += Lazy::<true>::new(c, outline).is_some() as usize;
+            grown += (outline != 0) as usize;
         }
-        assert!(written > 5_000 && cells > 2_500, "{written} {cells}");
+        assert!(
+            written > 5_000 && cells > 2_500 && grown > 1_500,
+            "{written} {cells} {grown}"
+        );
     }
 
     #[test]
