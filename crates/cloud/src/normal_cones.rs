@@ -29,7 +29,7 @@ use crate::range_image::MIN_POINT_COSINE;
 
 /// Consecutive points in one cone: small enough that a block's normals stay close on
 /// curved surfaces, large enough that the projection loop runs over long slices.
-pub(crate) const CONE_BLOCK: usize = 128;
+pub(crate) const CONE_BLOCK: usize = 32;
 
 /// How far (in cosine) a block's bound must stay below [`MIN_POINT_COSINE`] to be skipped:
 /// the bound and the projection's `n · d` each round by under `1e-6`.
