@@ -31,8 +31,7 @@ use spatch_mesh::Aabb;
 use crate::directions::ViewBasis;
 use crate::extract::{
     absorb_border_points, cut_view, extract_view, CellMarks, ExtractCounts, ExtractSettings,
-    PassLimits,
-    ViewState,
+    PassLimits, ViewState,
 };
 use crate::gap_fill::fill_gaps;
 use crate::patch_cut::CutSettings;
