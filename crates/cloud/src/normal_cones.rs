@@ -80,7 +80,7 @@ impl NormalCones {
 
 /// The centre and radius of one block's normals.
 fn block_cone(normals: &[Vec3]) -> (Vec3, f32) {
-    if normals.iter().any(|&n| n == Vec3::ZERO) {
+    if normals.contains(&Vec3::ZERO) {
         return (Vec3::ZERO, f32::INFINITY);
     }
     let centre = normals.iter().sum::<Vec3>() / normals.len() as f32;
