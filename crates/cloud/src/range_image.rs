@@ -17,6 +17,8 @@
 //!    first computes each point's pixel and carried height without branches over the
 //!    coordinate arrays of a [`PointColumns`] (so it compiles to SIMD); the second, scalar,
 //!    updates the z-buffer.
+//!    Blocks of consecutive points whose normals all face away from the view (their
+//!    normal cones, `normal_cones.rs`) are skipped in this pass and the next.
 //! 2. Every drawn point whose height at the pixel centre lies within `band` of the pixel's
 //!    front-most height is averaged into the pixel (depth and colour). This averages the
 //!    front surface layer (noise drops by √count) and ignores surfaces behind it.
@@ -45,6 +47,7 @@ use glam::Vec3;
 use spatch_mesh::Aabb;
 
 use crate::directions::ViewBasis;
+use crate::normal_cones::NormalCones;
 
 /// The height of an empty pixel.
 pub(crate) const EMPTY_DEPTH: f32 = f32::NEG_INFINITY;
@@ -176,7 +179,8 @@ impl RangeImage {
 
 /// Positions and normals as one array per coordinate (structure of arrays), so that the
 /// projection loop of [`flush_points`], which runs once per view over every point, compiles
-/// to SIMD instructions.
+/// to SIMD instructions; and the normals' cones, so that it skips the blocks of points
+/// facing away from a view.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PointColumns {
     x: Vec<f32>,
@@ -185,6 +189,7 @@ pub(crate) struct PointColumns {
     nx: Vec<f32>,
     ny: Vec<f32>,
     nz: Vec<f32>,
+    cones: NormalCones,
 }
 
 impl PointColumns {
@@ -198,6 +203,7 @@ impl PointColumns {
             nx: normals.iter().map(|n| n.x).collect(),
             ny: normals.iter().map(|n| n.y).collect(),
             nz: normals.iter().map(|n| n.z).collect(),
+            cones: NormalCones::new(normals),
         }
     }
 
@@ -403,10 +409,18 @@ pub(crate) fn flush_points(
     let pixels = geometry.pixel_count();
     let n = input.points.len();
     let projector = Projector::new(&geometry);
+    // Only the blocks of points that may face the view, at most a chunk at a time.
+    let runs = input
+        .points
+        .cones
+        .drawn_runs(geometry.basis.direction, input.oriented, n);
     let chunks = || {
-        (0..n)
-            .step_by(FLUSH_CHUNK)
-            .map(move |a| a..(a + FLUSH_CHUNK).min(n))
+        runs.iter().flat_map(|run| {
+            let end = run.end;
+            run.clone()
+                .step_by(FLUSH_CHUNK)
+                .map(move |a| a..(a + FLUSH_CHUNK).min(end))
+        })
     };
     // Pass 1: the front-most height per pixel, a chunk of points at a time.
     let mut front = vec![EMPTY_DEPTH; pixels];

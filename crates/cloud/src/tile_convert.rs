@@ -30,8 +30,8 @@ use spatch_mesh::Aabb;
 
 use crate::directions::ViewBasis;
 use crate::extract::{
-    absorb_border_points, cut_view, extract_view, ExtractCounts, ExtractSettings, PassLimits,
-    ViewState,
+    absorb_border_points, cut_view, extract_view, CellMarks, ExtractCounts, ExtractSettings,
+    PassLimits, ViewState,
 };
 use crate::gap_fill::fill_gaps;
 use crate::patch_cut::CutSettings;
@@ -231,6 +231,7 @@ fn extract_passes(
         ..relaxed
     };
     let mut patches = Vec::new();
+    let mut marks = CellMarks::default();
     for (index, pass) in [preferred, relaxed, last].iter().enumerate() {
         if index == 2 {
             // Before small patches are made for the last points, let those at the border of
@@ -247,7 +248,7 @@ fn extract_passes(
         }
         for view in views.iter_mut() {
             if !uncovered.is_empty() {
-                extract_view(view, points, uncovered, pass, settings, counts)?;
+                extract_view(view, points, uncovered, pass, settings, counts, &mut marks)?;
             }
             context.views_done.step();
         }
