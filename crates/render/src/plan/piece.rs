@@ -188,8 +188,8 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     // coloured patches by pixel-centre coverage (`raster::cell_exact`).
     let bilinear = !smooth && splat[0] == 0;
     let centres = bilinear && centre_cells(opts) && (nu, nv) != (1, 1) && nu.max(nv) <= CENTRE_CUT;
-    let exact =
-        bilinear && !centres && opts.exact_outlines && (nu, nv) != (1, 1) && exact_outlines(level);
+    let asked = opts.exact_outlines || (opts.exact_grid_outlines && p.colour_grid.is_some());
+    let exact = bilinear && !centres && asked && (nu, nv) != (1, 1) && exact_outlines(level);
     let open_sides = exact
         || (bilinear && !centres && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0);
     if exact {
