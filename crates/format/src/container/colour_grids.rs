@@ -98,20 +98,6 @@ fn prediction(values: &[[u8; 4]], same: &[bool], cols: usize, k: usize) -> ([u8;
     (p, context)
 }
 
-#[cfg(test)] // 1.3 writers write CGRX; kept to test the 1.2 reader
-/// The CGRD section of the patches' `grids` as `(codec, raw length, payload)`: coded
-/// (codec 1) whatever compression the writer was asked for, unless raw is smaller (colour
-/// grids are large raw and code to a few percent: docs/format.md §6.6).
-pub(crate) fn grids_section(grids: &[Option<&ColourGrid>], bytes: usize) -> (u8, usize, Vec<u8>) {
-    let raw = colour_grids_raw(grids, bytes);
-    let coded = encode_colour_grids(grids, bytes);
-    if coded.len() < raw.len() {
-        (CODEC_PREDICTIVE, raw.len(), coded)
-    } else {
-        (CODEC_RAW, raw.len(), raw)
-    }
-}
-
 /// The bytes of the colour grid section (CGRX since 1.3) `encode_scene` writes for `patches` in a scene of `channel`
 /// (payload and its 20-byte header; 0 when no patch has a colour grid).
 pub fn colour_grid_section_len(patches: &[Patch], channel: crate::ColourChannel) -> usize {
