@@ -165,7 +165,8 @@ pub(crate) struct RenderArgs {
     /// triangle rasterizer does, instead of letting them reach about half a
     /// pixel past the outline: sharper coloured silhouettes (fuze, unlit:
     /// 27.9 -> 30.7 dB against its source) for several times the frame's
-    /// cost on coloured scenes.
+    /// cost on coloured scenes. Patches with a colour grid do so by default
+    /// (see --no-exact-grid-outlines).
     #[arg(long)]
     exact_outlines: bool,
     /// Let the cells of patches with a colour grid reach about half a pixel

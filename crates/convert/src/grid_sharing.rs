@@ -30,8 +30,8 @@ pub(crate) const OUTLIER_FRACTION: f64 = 0.01;
 fn mean_colour(grid: &ColourGrid) -> [f64; 4] {
     let mut sum = [0.0f64; 4];
     for s in grid.samples() {
-        for ch in 0..4 {
-            sum[ch] += f64::from(s[ch]);
+        for (total, &v) in sum.iter_mut().zip(s) {
+            *total += f64::from(v);
         }
     }
     let n = grid.samples().len().max(1) as f64;
@@ -49,8 +49,8 @@ fn same_picture(a: &ColourGrid, b: &ColourGrid) -> bool {
     let (mut outliers, mut squares) = (0usize, 0.0f64);
     for (x, y) in a.samples().iter().zip(b.samples()) {
         let mut worst = 0u8;
-        for ch in 0..4 {
-            let d = x[ch].abs_diff(y[ch]);
+        for (&u, &v) in x.iter().zip(y) {
+            let d = u.abs_diff(v);
             worst = worst.max(d);
             squares += f64::from(d) * f64::from(d);
         }

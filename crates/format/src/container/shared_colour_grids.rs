@@ -390,8 +390,8 @@ fn decode_shared_grids(
                         .map_err(ended)?;
                 }
                 let r = correlate(coded);
-                for ch in 0..bytes {
-                    v[ch] = p[ch].wrapping_add(r[ch]);
+                for (ch, value) in v.iter_mut().enumerate().take(bytes) {
+                    *value = p[ch].wrapping_add(r[ch]);
                 }
             }
             same.push(differs == 0);
