@@ -177,45 +177,6 @@ fn write_checker_quad(t: &TestCommand) -> String {
 }
 
 #[test]
-fn two_quads_with_the_same_texture_store_one_colour_grid() {
-    let t = TestCommand::new();
-    write_checker_quad(&t);
-    // The quad of `write_checker_quad` and a copy 3 units away, mirrored in x (its texture
-    // is the first quad's, turned): two patches, one grid stored.
-    let obj = "mtllib quad.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n\
-               v 4 0 0\nv 3 0 0\nv 4 1 0\nv 3 1 0\n\
-               vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nf 1/1 2/2 3/3\nf 3/3 2/2 4/4\n\
-               f 5/1 7/3 6/2\nf 7/3 8/4 6/2\n";
-    std::fs::write(t.path("two.obj"), obj).unwrap();
-    let args = [
-        "convert",
-        "two.obj",
-        "-o",
-        "two.spatch",
-        "--spacing",
-        "0.1",
-        "--texels-per-node",
-        "0",
-        "--no-error",
-        "--report",
-        "report.json",
-    ];
-    t.run(&args).success();
-    let report: serde_json::Value = t.json("report.json");
-    let grids = &report["details"]["colour_grids"];
-    assert_eq!(grids["patches"], 2, "{grids}");
-    assert_eq!(grids["shared"], 1, "{grids}");
-    let scene = read_scene(&t.path("two.spatch")).unwrap();
-    let g: Vec<_> = scene
-        .patches()
-        .iter()
-        .filter_map(|p| p.colour_grid())
-        .collect();
-    assert_eq!(g.len(), 2);
-    assert!((0..8).any(|o| g[0].oriented(o) == *g[1]));
-}
-
-#[test]
 fn colour_grids_are_written_reported_and_budgeted() {
     let t = TestCommand::new();
     let obj = write_checker_quad(&t);
