@@ -133,14 +133,15 @@ pub(crate) struct PipelineArgs {
     pub(crate) texture_budget: TextureBudget,
     /// Texels per sample of the colour grids (0 = none; 1 = one sample per texel, the
     /// default): a textured patch whose nodes are 1.5 samples apart or more gets colour
-    /// samples finer than its nodes (2 to 64 per cell side, container 1.2), read by the
+    /// samples finer than its nodes (2 to 64 per cell side, container 1.2; 1.3 shares them), read by the
     /// renderer at each pixel. Smaller: sharper texture, more bytes, within --colour-budget,
     /// and a slower fit.
     #[arg(long, value_name = "TEXELS", default_value_t = FitOptions::DEFAULT_COLOUR_GRID_TEXELS, value_parser = non_negative_f32)]
     pub(crate) colour_grid: f32,
-    /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them,
-    /// or a size in bytes (`20000`, `500k`, `2M`). Over it, the finest grids are resampled
-    /// coarser until the grids fit.
+    /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them
+    /// (at least 4 KiB when N > 0), or a size in bytes (`20000`, `500k`, `2M`). Patches that
+    /// show the same picture share one grid (stored once, container 1.3). Over the budget,
+    /// the finest grids are resampled coarser until the grids fit.
     #[arg(long, value_name = "Nx|BYTES", default_value = "1x", value_parser = colour_budget)]
     pub(crate) colour_budget: ColourBudget,
     /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
@@ -614,8 +615,9 @@ pub(crate) fn summary(
     }
     if let Some(g) = &r.colour_grids {
         text.push_str(&format!(
-            "  colour grids: {} patches, {} samples, up to {}x{} per cell (asked {}){}, {} bytes (budget {})\n",
+            "  colour grids: {} patches ({} sharing another's), {} samples, up to {}x{} per cell (asked {}){}, {} bytes (budget {})\n",
             g.patches,
+            g.shared,
             g.samples,
             g.max_factor,
             g.max_factor,

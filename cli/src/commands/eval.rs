@@ -73,6 +73,13 @@ pub(crate) struct EvalArgs {
     /// render --exact-outlines`.
     #[arg(long, conflicts_with = "sweep")]
     exact_outlines: bool,
+    /// Let the cells of patches with a colour grid reach about half a pixel
+    /// past the outline (sub-nodes) instead of the default pixel-centre
+    /// coverage: fuze, unlit, 30.3 -> 27.9 dB against its source, for a
+    /// cheaper frame on textured scenes. Scenes without colour grids draw the
+    /// same either way.
+    #[arg(long)]
+    no_exact_grid_outlines: bool,
     /// Splat limit of the patch renders in pixels (see `spatch render
     /// --splat-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
@@ -162,6 +169,7 @@ impl EvalArgs {
         };
         self.shading.apply(&mut render);
         render.exact_outlines = self.exact_outlines;
+        render.exact_grid_outlines = !self.no_exact_grid_outlines;
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render.geometry_limit = self.geometry_limit;

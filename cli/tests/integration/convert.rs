@@ -208,9 +208,10 @@ fn colour_grids_are_written_reported_and_budgeted() {
     assert_eq!(report["details"]["colour_grids"]["budget_limited"], false);
     assert_eq!(
         std::fs::read(t.path("grid.spatch")).unwrap()[7],
-        2,
-        "version 1.2"
+        3,
+        "version 1.3 (CGRX)"
     );
+    assert_eq!(report["details"]["colour_grids"]["shared"], 0);
     // A budget below the full grid lowers it; 0 bytes leaves node colours only.
     let full = report["details"]["colour_grids"]["bytes"].as_u64().unwrap();
     let (scene, report) = run(
@@ -226,9 +227,8 @@ fn colour_grids_are_written_reported_and_budgeted() {
     assert!(scene.patches()[0]
         .colour_grid()
         .is_none_or(|g| g.factor() < 7));
-    // Grids are on by default (one sample per texel; this quad's full grid needs more
-    // than the default 1x budget, which leaves it node colours) and `--colour-grid 0`
-    // turns them off.
+    // Grids are on by default (one sample per texel, within the default 1x budget of at
+    // least 4 KiB) and `--colour-grid 0` turns them off.
     let (scene, report) = run("default.spatch", &["--colour-budget", "1M"]);
     assert_eq!(
         scene.patches()[0].colour_grid().expect("a grid").factor(),

@@ -28,6 +28,7 @@
 mod budget;
 mod colour_budget;
 mod error;
+mod grid_sharing;
 mod options;
 mod owned;
 mod pipeline;

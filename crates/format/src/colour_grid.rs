@@ -114,6 +114,42 @@ impl ColourGrid {
         ColourGrid::new(grid, factor, samples).ok()
     }
 
+    /// Number of orientations of a grid of samples (the symmetries of a square).
+    pub const ORIENTATIONS: u8 = 8;
+
+    /// This grid turned or mirrored by `orientation` (0..[`Self::ORIENTATIONS`]; higher bits
+    /// are ignored): sample `(s, t)` of the result is this grid's sample `(u, v)` where
+    /// `(u, v) = (t, s)` when bit 2 is set, else `(s, t)`, then `u` is mirrored
+    /// (`cols − 1 − u`) when bit 0 is set and `v` (`rows − 1 − v`) when bit 1 is
+    /// (docs/format.md §6.7). With bit 2 the result is `rows` samples wide and `cols` tall.
+    pub fn oriented(&self, orientation: u8) -> ColourGrid {
+        let transpose = orientation & 4 != 0;
+        let (cols, rows) = if transpose {
+            (self.rows, self.cols)
+        } else {
+            (self.cols, self.rows)
+        };
+        let mut samples = Vec::with_capacity(self.samples.len());
+        for t in 0..rows {
+            for s in 0..cols {
+                let (mut u, mut v) = if transpose { (t, s) } else { (s, t) };
+                if orientation & 1 != 0 {
+                    u = self.cols - 1 - u;
+                }
+                if orientation & 2 != 0 {
+                    v = self.rows - 1 - v;
+                }
+                samples.push(self.samples[v * self.cols + u]);
+            }
+        }
+        ColourGrid {
+            factor: self.factor,
+            cols,
+            rows,
+            samples,
+        }
+    }
+
     /// The albedo (RGB in 0..=255) at patch grid position `(x, y)`: the samples around
     /// `(x·factor, y·factor)` interpolated bilinearly. Positions outside the grid are clamped
     /// to it.
@@ -163,5 +199,29 @@ mod tests {
         assert!(g.resampled(grid, 4).is_none() && g.resampled(grid, 1).is_none());
         assert!(ColourGrid::new(grid, 1, vec![[0; 4]; 6]).is_err());
         assert!(ColourGrid::new(grid, 4, vec![[0; 4]; 44]).is_err());
+    }
+
+    #[test]
+    fn the_eight_orientations_are_distinct_and_invert() {
+        let grid = GridSize::new(3, 2).unwrap();
+        let samples: Vec<[u8; 4]> = (0..15).map(|k| [k as u8, 0, 0, 255]).collect();
+        let g = ColourGrid::new(grid, 2, samples).unwrap();
+        let turned: Vec<ColourGrid> = (0..8).map(|o| g.oriented(o)).collect();
+        for (o, a) in turned.iter().enumerate() {
+            for b in &turned[o + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        // Transposed: 3 wide, 5 tall; sample (s, t) is the source's (t, s).
+        let t = g.oriented(4);
+        assert_eq!((t.cols(), t.rows()), (3, 5));
+        assert_eq!(t.samples()[3 + 2][0], g.samples()[2 * 5 + 1][0]);
+        // Mirrors are their own inverse; the transpose too.
+        for o in [0, 1, 2, 3, 4] {
+            assert_eq!(g.oriented(o).oriented(o), g);
+        }
+        // A quarter turn (mirror then transpose) four times is the identity.
+        let quarter = |x: &ColourGrid| x.oriented(1).oriented(4);
+        assert_eq!(quarter(&quarter(&quarter(&quarter(&g)))), g);
     }
 }

@@ -193,6 +193,16 @@ pub enum Corruption {
         /// Stored (coded) length.
         stored: usize,
     },
+    /// A CGRX reference (container 1.3) that cannot stand for a grid.
+    #[error("patch {patch}'s colour grid refers to patch {source_patch}, but {reason}")]
+    GridReference {
+        /// The patch whose grid is a reference.
+        patch: usize,
+        /// The patch it refers to.
+        source_patch: u32,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// The coded stream runs out before the announced raw bytes are decoded.
     #[error("compressed stream ends early")]
     StreamEndsEarly,

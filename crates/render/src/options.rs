@@ -206,6 +206,16 @@ pub struct RenderOptions {
     /// times the frame's cost on coloured scenes (Spot 5.8×, mannequin
     /// 1.4× and more); see docs/algorithms/render.md.
     pub exact_outlines: bool,
+    /// Draw the cells of patches that carry a colour grid by pixel-centre
+    /// coverage, as [`Self::exact_outlines`] does for every coloured patch.
+    /// Default true: a colour grid is texture detail, and at its outline
+    /// the sub-nodes' half-pixel reach drew fuze at 27.9 dB against its
+    /// source (unlit, 14 views) where pixel-centre coverage draws 30.6 dB.
+    /// Pieces cut 4 and more per side. Scenes without colour grids (every
+    /// untextured one) draw the same image either way. Cost (callgrind, one
+    /// render with load): Spot +56 %, fuze 2.3 ×, Duck +30 %
+    /// (docs/algorithms/render.md).
+    pub exact_grid_outlines: bool,
     /// Skip a piece when every 8 × 8 tile its screen box touches is
     /// already drawn nearer than the piece's nearest depth
     /// (`frame/occlusion_skip.rs`). Default false. The image is the
@@ -319,6 +329,7 @@ impl Default for RenderOptions {
             lighting: Lighting::default(),
             simd: true,
             exact_outlines: false,
+            exact_grid_outlines: true,
             occlusion_skip: false,
             centre_limit: Self::DEFAULT_CENTRE_LIMIT,
         }

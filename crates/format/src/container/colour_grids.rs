@@ -16,7 +16,9 @@
 
 use super::bounded::vec_for_count;
 use super::layout::{CODEC_PREDICTIVE, CODEC_RAW};
-use super::range_coder::{ByteModel, Decoder, Encoder, StreamEnded, PROBABILITY_ONE};
+#[cfg(test)]
+use super::range_coder::Encoder;
+use super::range_coder::{ByteModel, Decoder, StreamEnded, PROBABILITY_ONE};
 use super::sections::{require_raw_length, RawSection};
 use crate::{ColourGrid, Corruption, FormatError, GridSize, Patch};
 
@@ -32,6 +34,7 @@ pub(crate) fn grids_of(patches: &[Patch]) -> Vec<Option<&ColourGrid>> {
     patches.iter().map(Patch::colour_grid).collect()
 }
 
+#[cfg(test)] // 1.3 writers write CGRX; kept to test the 1.2 reader
 /// The raw CGRD payload of the patches' `grids` with `bytes` per sample (3 or 4).
 pub(crate) fn colour_grids_raw(grids: &[Option<&ColourGrid>], bytes: usize) -> Vec<u8> {
     let mut out: Vec<u8> = grids
@@ -95,29 +98,19 @@ fn prediction(values: &[[u8; 4]], same: &[bool], cols: usize, k: usize) -> ([u8;
     (p, context)
 }
 
-/// The CGRD section of the patches' `grids` as `(codec, raw length, payload)`: coded
-/// (codec 1) whatever compression the writer was asked for, unless raw is smaller (colour
-/// grids are large raw and code to a few percent: docs/format.md §6.6).
-pub(crate) fn grids_section(grids: &[Option<&ColourGrid>], bytes: usize) -> (u8, usize, Vec<u8>) {
-    let raw = colour_grids_raw(grids, bytes);
-    let coded = encode_colour_grids(grids, bytes);
-    if coded.len() < raw.len() {
-        (CODEC_PREDICTIVE, raw.len(), coded)
-    } else {
-        (CODEC_RAW, raw.len(), raw)
-    }
-}
-
-/// The bytes of the CGRD section `encode_scene` writes for `patches` in a scene of `channel`
+/// The bytes of the colour grid section (CGRX since 1.3) `encode_scene` writes for `patches` in a scene of `channel`
 /// (payload and its 20-byte header; 0 when no patch has a colour grid).
 pub fn colour_grid_section_len(patches: &[Patch], channel: crate::ColourChannel) -> usize {
     let grids = grids_of(patches);
     if grids.iter().all(Option::is_none) {
         return 0;
     }
-    super::layout::SECTION_HEADER_LEN + grids_section(&grids, channel.bytes_per_node()).2.len()
+    let section =
+        super::shared_colour_grids::shared_grids_section(&grids, channel.bytes_per_node());
+    super::layout::SECTION_HEADER_LEN + section.2.len()
 }
 
+#[cfg(test)] // 1.3 writers write CGRX; kept to test the 1.2 reader
 /// Codes the CGRD payload of the patches' `grids` (`bytes` per sample).
 pub(crate) fn encode_colour_grids(grids: &[Option<&ColourGrid>], bytes: usize) -> Vec<u8> {
     let mut encoder = Encoder::new();

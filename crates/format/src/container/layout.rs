@@ -38,6 +38,8 @@ pub(crate) const OPENING_LEN: usize = 32;
 
 /// Per-patch colour grids finer than the nodes (minor version 2).
 pub(crate) const TAG_COLOUR_GRIDS: [u8; 4] = *b"CGRD";
+/// Colour grids that may reuse another patch's (minor version 3; supersedes CGRD).
+pub(crate) const TAG_SHARED_COLOUR_GRIDS: [u8; 4] = *b"CGRX";
 
 pub(crate) const CODEC_RAW: u8 = 0;
 pub(crate) const CODEC_PREDICTIVE: u8 = 1;

@@ -13,11 +13,10 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::colour_grids::grids_section;
 use super::layout::{
     ColourStorage, GridStorage, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN, TAG_COLOURS,
-    TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
-    TAG_SIDES,
+    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::predictive::{ColourEncoder, DisplacementEncoder};
 use super::records::{
@@ -26,6 +25,7 @@ use super::records::{
 };
 use super::scratch::Scratch;
 use super::shape::SceneShape;
+use super::shared_colour_grids::shared_grids_section;
 use super::{write_file_atomically_with, Compression, WriteOptions};
 use crate::scene::{rebase_opening, rebase_patch};
 use crate::{ColourChannel, ColourGrid, FormatError, MergeError, Opening, Scene};
@@ -64,7 +64,7 @@ pub struct MergeWriter {
     /// Patches pushed so far.
     patch_count: usize,
     /// The colour grids of the patches that have one, by patch index (kept in memory:
-    /// CGRD is coded as a whole at the end).
+    /// CGRX is coded as a whole at the end).
     colour_grids: Vec<(usize, ColourGrid)>,
 }
 
@@ -269,8 +269,13 @@ impl MergeWriter {
             for (k, grid) in &self.colour_grids {
                 grids[*k] = Some(grid);
             }
-            let (codec, raw, bytes) = grids_section(&grids, channel.bytes_per_node());
-            payloads.push((TAG_COLOUR_GRIDS, codec, raw as u64, Payload::Bytes(bytes)));
+            let (codec, raw, bytes) = shared_grids_section(&grids, channel.bytes_per_node());
+            payloads.push((
+                TAG_SHARED_COLOUR_GRIDS,
+                codec,
+                raw as u64,
+                Payload::Bytes(bytes),
+            ));
         }
         let sections = payloads
             .into_iter()

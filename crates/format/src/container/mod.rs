@@ -24,6 +24,7 @@ mod records;
 mod scratch;
 mod sections;
 mod shape;
+mod shared_colour_grids;
 mod stream;
 mod write;
 
@@ -39,16 +40,22 @@ pub const MAGIC: [u8; 6] = *b"SPATCH";
 /// The major version this crate writes and reads. Readers refuse other majors.
 pub const VERSION_MAJOR: u8 = 1;
 /// The newest minor version this crate writes: 1 adds the optional `ORGR`,
-/// `SIDE` and `OPEN` sections, 2 the optional `CGRD` (colour grids). A file
+/// `SIDE` and `OPEN` sections, 2 the optional `CGRD` (colour grids), 3 `CGRX` (colour
+/// grids that may reuse another patch's, with a finer context model; writers write it
+/// instead of CGRD). A file
 /// is written with the lowest minor that describes it, so one that needs none
 /// of them is 1.0, byte for byte as before.
 /// Readers accept any minor of their major.
-pub const VERSION_MINOR: u8 = 2;
+pub const VERSION_MINOR: u8 = 3;
 
 /// The lowest minor version that describes a file holding `tags`.
 pub(crate) fn minor_for(tags: &[[u8; 4]]) -> u8 {
-    use layout::{TAG_COLOUR_GRIDS, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SIDES};
-    if tags.contains(&TAG_COLOUR_GRIDS) {
+    use layout::{
+        TAG_COLOUR_GRIDS, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
+    };
+    if tags.contains(&TAG_SHARED_COLOUR_GRIDS) {
+        3
+    } else if tags.contains(&TAG_COLOUR_GRIDS) {
         2
     } else if tags
         .iter()

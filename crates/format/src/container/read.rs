@@ -15,13 +15,14 @@ use glam::DVec3;
 use super::colour_grids::read_colour_grids;
 use super::layout::{
     ColourStorage, SceneFields, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::read_frames::{read_frames, read_residuals};
 use super::read_nodes::{read_colours, read_displacements, ColourSource};
 use super::read_sides::{read_openings, read_sides};
 pub use super::sections::SectionInfo;
 use super::sections::{corrupt, require_raw, split_sections, RawSection};
+use super::shared_colour_grids::read_shared_colour_grids;
 use crate::{ColourChannel, Corruption, FormatError, Patch, Scene, Sides};
 
 /// What a file holds besides the scene itself (for `spatch stats`).
@@ -49,10 +50,11 @@ struct Known<'s, 'a> {
     sides: Option<&'s RawSection<'a>>,
     openings: Option<&'s RawSection<'a>>,
     colour_grids: Option<&'s RawSection<'a>>,
+    shared_colour_grids: Option<&'s RawSection<'a>>,
 }
 
 /// The known tags in the order a file must hold them.
-const KNOWN_TAGS: [[u8; 4]; 8] = [
+const KNOWN_TAGS: [[u8; 4]; 9] = [
     TAG_SCENE,
     TAG_FRAMES,
     TAG_DISPLACEMENTS,
@@ -61,13 +63,14 @@ const KNOWN_TAGS: [[u8; 4]; 8] = [
     TAG_SIDES,
     TAG_OPENINGS,
     TAG_COLOUR_GRIDS,
+    TAG_SHARED_COLOUR_GRIDS,
 ];
 
 /// Finds the known sections, refusing a repeated or out-of-order one and a
 /// missing required one; sections with other tags (a later minor version's)
 /// are skipped.
 fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, FormatError> {
-    let mut found: [Option<&'s RawSection<'a>>; 8] = [None; 8];
+    let mut found: [Option<&'s RawSection<'a>>; 9] = [None; 9];
     let mut last = None;
     for section in sections {
         let Some(k) = KNOWN_TAGS
@@ -82,7 +85,11 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         found[k] = Some(section);
         last = Some(k);
     }
-    let [scene, frames, displacements, colours, residuals, sides, openings, colour_grids] = found;
+    let [scene, frames, displacements, colours, residuals, sides, openings, colour_grids, shared_colour_grids] =
+        found;
+    if let (Some(_), Some(shared)) = (colour_grids, shared_colour_grids) {
+        return Err(shared.corrupt(Corruption::OutOfOrder));
+    }
     Ok(Known {
         scene: scene.ok_or(FormatError::MissingSection("SCNE"))?,
         frames: frames.ok_or(FormatError::MissingSection("FRAM"))?,
@@ -92,6 +99,7 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         sides,
         openings,
         colour_grids,
+        shared_colour_grids,
     })
 }
 
@@ -126,12 +134,16 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         None => Vec::new(),
     };
 
-    let mut grids = match known.colour_grids {
-        Some(section) => {
-            let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
-            read_colour_grids(section, &sizes, bytes_per_colour)?
-        }
-        None => Vec::new(),
+    let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
+    let grid_tag = if known.shared_colour_grids.is_some() {
+        "CGRX"
+    } else {
+        "CGRD"
+    };
+    let mut grids = match (known.colour_grids, known.shared_colour_grids) {
+        (Some(section), _) => read_colour_grids(section, &sizes, bytes_per_colour)?,
+        (None, Some(section)) => read_shared_colour_grids(section, &sizes, bytes_per_colour)?,
+        (None, None) => Vec::new(),
     }
     .into_iter();
     let mut colours = ColourSource::new(&fields, node_colours.as_deref(), bytes_per_colour);
@@ -148,7 +160,7 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         let patch = match grids.next().flatten() {
             Some(g) => patch.with_colour_grid(g).map_err(|e| {
                 corrupt(
-                    "CGRD",
+                    grid_tag,
                     Corruption::Patch {
                         patch: k,
                         error: Box::new(e),

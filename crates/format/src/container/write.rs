@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
-use super::colour_grids::{grids_of, grids_section};
+use super::colour_grids::grids_of;
 use super::layout::{
-    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS,
-    TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SIDES,
+    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES,
+    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::records::{
@@ -16,6 +16,7 @@ use super::records::{
     push_frame_record, push_residual, section_header,
 };
 use super::shape::SceneShape;
+use super::shared_colour_grids::shared_grids_section;
 use super::write_file_atomically;
 use crate::{FormatError, Scene};
 
@@ -132,7 +133,7 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         .map(|(t, _)| *t)
         .collect();
     if colour_grids.is_some() {
-        tags.push(TAG_COLOUR_GRIDS);
+        tags.push(TAG_SHARED_COLOUR_GRIDS);
     }
     let section_count = 3 + u32::from(colr.is_some()) + tags.len() as u32;
     let mut out = file_header(section_count, super::minor_for(&tags)).to_vec();
@@ -155,19 +156,22 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         }
     }
     if let Some((codec, raw_len, payload)) = colour_grids {
-        push_section(&mut out, TAG_COLOUR_GRIDS, codec, raw_len, &payload)?;
+        push_section(&mut out, TAG_SHARED_COLOUR_GRIDS, codec, raw_len, &payload)?;
     }
     Ok(out)
 }
 
-/// The CGRD section of a scene where some patch has a colour grid
-/// ([`grids_section`]).
+/// The CGRX section of a scene where some patch has a colour grid
+/// ([`shared_grids_section`]; writers no longer write CGRD).
 fn encode_grids(scene: &Scene) -> Option<(u8, usize, Vec<u8>)> {
     let grids = grids_of(scene.patches());
     if grids.iter().all(Option::is_none) {
         return None;
     }
-    Some(grids_section(&grids, scene.channel().bytes_per_node()))
+    Some(shared_grids_section(
+        &grids,
+        scene.channel().bytes_per_node(),
+    ))
 }
 
 /// The ORGR payload (every patch's origin residual, 3 × f32), written when some frame
