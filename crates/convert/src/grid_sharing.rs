@@ -62,6 +62,17 @@ fn same_picture(a: &ColourGrid, b: &ColourGrid) -> bool {
     true
 }
 
+/// True when `source` turned by `orientation` has the factor and sides of `grid`. Why:
+/// turning copies a whole grid, and most same-mean candidates differ in size.
+fn turns_to_size_of(source: &ColourGrid, orientation: u8, grid: &ColourGrid) -> bool {
+    let (cols, rows) = if orientation & 4 != 0 {
+        (source.rows(), source.cols())
+    } else {
+        (source.cols(), source.rows())
+    };
+    (source.factor(), cols, rows) == (grid.factor(), grid.cols(), grid.rows())
+}
+
 /// Replaces the colour grid of every patch that shows the same picture as an earlier patch's
 /// (module docs) by that grid turned to fit; returns how many patches now share a grid.
 pub(crate) fn share_colour_grids(patches: &mut [Patch]) -> usize {
@@ -79,6 +90,7 @@ pub(crate) fn share_colour_grids(patches: &mut [Patch]) -> usize {
             .find_map(|&(j, _)| {
                 let source = patches[j].colour_grid()?;
                 (0..ColourGrid::ORIENTATIONS)
+                    .filter(|&o| turns_to_size_of(source, o, grid))
                     .map(|o| source.oriented(o))
                     .find(|turned| same_picture(turned, grid))
             });

@@ -129,7 +129,7 @@ impl ColourGrid {
         } else {
             (self.cols, self.rows)
         };
-        let mut samples = Vec::with_capacity(self.samples.len());
+        let mut samples = Vec::new();
         for t in 0..rows {
             for s in 0..cols {
                 let (mut u, mut v) = if transpose { (t, s) } else { (s, t) };
