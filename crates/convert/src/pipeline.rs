@@ -240,18 +240,27 @@ fn run_pipeline(
     });
 
     let (scene, bytes, edge_bytes, colour_grids) = clock.run(Stage::Encode, || {
-        // What the edge patches add to the file: the same scene encoded without them.
-        let mut edge_bytes = 0;
+        let surface_patches = patches.len();
+        let with_edges = edges.as_ref().is_some_and(|(e, _)| !e.is_empty());
         if let Some((edge_patches, _)) = &edges {
-            if !edge_patches.is_empty() {
-                let surface = Scene::new(mesh.origin, channel, patches.clone())?
-                    .with_openings(sides.openings.clone());
-                edge_bytes = encode_scene(&surface, &options.write)?.len();
-                patches.extend_from_slice(edge_patches);
-                channel = choose_channel(&patches);
-            }
+            patches.extend_from_slice(edge_patches);
+            channel = choose_channel(&patches);
         }
         let grids = hold_grids(&mut patches, channel, options)?;
+        // What the edge patches add to the file: the same scene, colour grids held to their
+        // budget, encoded without them (surface patches come first, so no grid they keep
+        // refers to an edge patch's).
+        let mut edge_bytes = 0;
+        if with_edges {
+            let surface_only = &patches[..surface_patches];
+            let surface = Scene::new(
+                mesh.origin,
+                choose_channel(surface_only),
+                surface_only.to_vec(),
+            )?
+            .with_openings(sides.openings.clone());
+            edge_bytes = encode_scene(&surface, &options.write)?.len();
+        }
         let scene = Scene::new(mesh.origin, channel, patches)?.with_openings(sides.openings);
         let bytes = encode_scene(&scene, &options.write)?;
         if edge_bytes > 0 {

@@ -44,3 +44,17 @@ fn vertex_coloured_scan_keeps_its_colour() {
     let c = run(rel);
     assert_eq!(c.report.colour, "rgb8");
 }
+
+/// fuze has sharp-edge patches and colour grids: what its edge patches add must be measured
+/// with the grids as stored (it read 0 when the edge-less scene kept its full grids).
+#[test]
+fn edge_bytes_of_a_textured_model_are_part_of_its_file() {
+    let rel = "textured_obj/fuze/fuze.obj";
+    let _ = require_shared!(rel);
+    let c = run(rel);
+    let edges = c.report.edges.as_ref().expect("fuze has sharp edges");
+    assert!(edges.edge_patches > 0, "fuze has crease patches");
+    assert!(c.report.colour_grids.is_some(), "fuze has colour grids");
+    let (edge, all) = (c.report.edge_bytes, c.report.counts.bytes);
+    assert!(edge > 0 && edge < all / 2, "edge bytes {edge} of {all}");
+}
