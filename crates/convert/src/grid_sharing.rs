@@ -125,9 +125,9 @@ mod tests {
 
     /// A 21 × 21 picture: a red disc on blue, off centre so that its turns differ.
     fn picture(jitter: u8) -> Vec<[u8; 4]> {
-        (0..21 * 21)
+        (0..21 * 21i32)
             .map(|k| {
-                let (s, t) = ((k % 21) as i32, (k / 21) as i32);
+                let (s, t) = (k % 21, k / 21);
                 let inside = (s - 7).pow(2) + (t - 12).pow(2) < 30;
                 let j = if k % 7 == 0 { jitter } else { 0 };
                 if inside {
