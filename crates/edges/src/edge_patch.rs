@@ -238,15 +238,7 @@ pub(crate) fn piece_lattice(
         }
     }
     let foreshortening = foreshortening.clamp(MIN_FORESHORTENING, 1.0);
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    let (mut box_lo, mut box_hi) = (lo, hi);
-    for &p in &points {
-        let q = Vec3::new(p.dot(x), p.dot(y), p.dot(z));
-        lo = lo.min(q);
-        hi = hi.max(q);
-        box_lo = box_lo.min(p);
-        box_hi = box_hi.max(p);
-    }
+    let ([lo, hi], [box_lo, box_hi]) = frame_and_model_bounds(&points, [x, y, z]);
     // Beyond each end so neighbouring pieces overlap: one column, plus the wedge that opens on
     // the outer side of a turn between two pieces' rectangles (half the strip covers the
     // default 15° turn with room to spare).
@@ -298,6 +290,24 @@ pub(crate) fn nodes_over(length: f32, target: f32) -> (usize, f32) {
         target
     };
     (cells + 1, spacing)
+}
+
+/// The bounds of `points` in the frame with axes `x, y, z` (frame coordinates) and in model
+/// space, each as `[low, high]`.
+pub(crate) fn frame_and_model_bounds(
+    points: &[Vec3],
+    [x, y, z]: [Vec3; 3],
+) -> ([Vec3; 2], [Vec3; 2]) {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    let (mut box_lo, mut box_hi) = (lo, hi);
+    for &p in points {
+        let q = Vec3::new(p.dot(x), p.dot(y), p.dot(z));
+        lo = lo.min(q);
+        hi = hi.max(q);
+        box_lo = box_lo.min(p);
+        box_hi = box_hi.max(p);
+    }
+    ([lo, hi], [box_lo, box_hi])
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@ use spatch_mesh::{FaceAdjacency, FaceId, VertexId};
 
 use crate::coverage::{SurfaceCoverage, MAX_FACING_ANGLE_DEG};
 use crate::covered_pieces::piece_covered;
-use crate::edge_patch::{nodes_over, EdgePiece, MIN_FORESHORTENING};
+use crate::edge_patch::{frame_and_model_bounds, nodes_over, EdgePiece, MIN_FORESHORTENING};
 use crate::lattice_cast::{cast_lattice_within, faces_near, CastJob, NodeLattice};
 use crate::sharp_edges::SharpEdges;
 use crate::EdgeError;
@@ -339,15 +339,7 @@ fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, 
     let fold = (FOLD_CELL / kink.max(1e-3)).min(1.0);
     let shrink = shrink.map(|c| c.min(fold).max(MIN_FORESHORTENING));
     let reach = job.edge_spacing + 0.5 * strip;
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    let (mut box_lo, mut box_hi) = (lo, hi);
-    for &p in &points {
-        let q = Vec3::new(p.dot(x), p.dot(y), p.dot(z));
-        lo = lo.min(q);
-        hi = hi.max(q);
-        box_lo = box_lo.min(p);
-        box_hi = box_hi.max(p);
-    }
+    let ([lo, hi], [box_lo, box_hi]) = frame_and_model_bounds(&points, [x, y, z]);
     let (cols, sx) = nodes_over(hi.x - lo.x + 2.0 * reach, job.edge_spacing * shrink[0]);
     let (rows, sy) = nodes_over(hi.y - lo.y + 2.0 * reach, job.edge_spacing * shrink[1]);
     let pad = Vec3::splat(reach);

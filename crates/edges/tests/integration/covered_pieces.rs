@@ -1,31 +1,20 @@
 //! Pieces the surface patches and the other edge patches already cover lose their patch
 //! (`EdgeOptions::drop_covered_pieces`), and the holes stay where they were.
 
-use spatch_edges::{EdgeOptions, EdgeStats};
-use spatch_eval::{hole_fraction, HoleOptions};
+use spatch_edges::EdgeOptions;
 use spatch_mesh::load_mesh;
 
 use crate::surface::{fit, fit_with_spacing, frustum, Fitted};
-
-/// Hole fraction of `fitted` with edge patches made with `options`, and their stats.
-fn holes_with(fitted: &Fitted, options: &EdgeOptions) -> (f64, EdgeStats) {
-    let (edges, stats) = fitted.edges(options);
-    let mut holes = HoleOptions::default();
-    if cfg!(debug_assertions) {
-        holes.views.truncate(6);
-        holes.size = [300, 300];
-    }
-    let found = hole_fraction(&fitted.scene(&edges), &fitted.mesh, &holes).unwrap();
-    (found.fraction, stats)
-}
 
 /// Drops covered pieces on `fitted` and checks the counts and holes against keeping them;
 /// returns how many were dropped.
 fn check(name: &str, fitted: &Fitted) -> usize {
     let mut keep = EdgeOptions::default();
     keep.drop_covered_pieces = false;
-    let (holes_keep, kept) = holes_with(fitted, &keep);
-    let (holes_drop, dropped) = holes_with(fitted, &EdgeOptions::default());
+    let (found_keep, kept) = fitted.holes_with(&keep);
+    let holes_keep = found_keep.fraction;
+    let (found_drop, dropped) = fitted.holes_with(&EdgeOptions::default());
+    let holes_drop = found_drop.fraction;
     eprintln!(
         "{name}: {} + {} patches, holes {:.4} % keeping every piece; {} + {} ({} dropped), \
          holes {:.4} % dropping the covered ones",
@@ -71,7 +60,7 @@ fn shared_low_poly_models_drop_covered_pieces() {
         let dropped = check(relative, &fitted);
         assert!(dropped > 0, "{relative}: no piece dropped");
         // Under the CAD parts' bound (cad_targets).
-        let (holes, _) = holes_with(&fitted, &EdgeOptions::default());
+        let holes = fitted.holes_with(&EdgeOptions::default()).0.fraction;
         assert!(holes <= 0.0005, "{relative}: hole fraction {holes}");
     }
 }

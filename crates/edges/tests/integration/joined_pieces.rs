@@ -2,30 +2,19 @@
 //! (`EdgeOptions::join_pieces`): fewer edge patches, and the holes stay where they were.
 
 use spatch_edges::{EdgeOptions, EdgeStats};
-use spatch_eval::{hole_fraction, HoleOptions};
 use spatch_mesh::load_mesh;
 
 use crate::surface::{fit, fit_with_spacing, frustum, Fitted};
-
-/// Hole pixels of `fitted` with edge patches made with `options`, and their stats.
-fn holes_with(fitted: &Fitted, options: &EdgeOptions) -> (usize, EdgeStats) {
-    let (edges, stats) = fitted.edges(options);
-    let mut holes = HoleOptions::default();
-    if cfg!(debug_assertions) {
-        holes.views.truncate(6);
-        holes.size = [300, 300];
-    }
-    let found = hole_fraction(&fitted.scene(&edges), &fitted.mesh, &holes).unwrap();
-    (found.hole_pixels, stats)
-}
 
 /// Joins the pieces of `fitted` and checks the counts and holes against one patch per
 /// piece; returns the stats with joining.
 fn check(name: &str, fitted: &Fitted) -> EdgeStats {
     let mut separate = EdgeOptions::default();
     separate.join_pieces = false;
-    let (holes_separate, apart) = holes_with(fitted, &separate);
-    let (holes_joined, joined) = holes_with(fitted, &EdgeOptions::default());
+    let (found_separate, apart) = fitted.holes_with(&separate);
+    let holes_separate = found_separate.hole_pixels;
+    let (found_joined, joined) = fitted.holes_with(&EdgeOptions::default());
+    let holes_joined = found_joined.hole_pixels;
     eprintln!(
         "{name}: {} + {} patches, {holes_separate} hole px separate; {} + {} ({} joined), \
          {holes_joined} hole px joined",

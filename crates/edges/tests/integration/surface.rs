@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 use spatch_edges::{generate_edge_patches, EdgeOptions, EdgeStats};
+use spatch_eval::{hole_fraction, HoleOptions, HoleReport};
 use spatch_fit::{default_spacing, fit_regions, FitOptions, FitRegion};
 use spatch_format::{ColourChannel, Patch, Scene};
 use spatch_mesh::{
@@ -29,6 +30,19 @@ impl Fitted {
             options,
         )
         .unwrap()
+    }
+
+    /// Holes against the source with edge patches made with `options` (six 300² views in
+    /// debug builds, the full set in release), and the edge patches' stats.
+    pub(crate) fn holes_with(&self, options: &EdgeOptions) -> (HoleReport, EdgeStats) {
+        let (edges, stats) = self.edges(options);
+        let mut holes = HoleOptions::default();
+        if cfg!(debug_assertions) {
+            holes.views.truncate(6);
+            holes.size = [300, 300];
+        }
+        let found = hole_fraction(&self.scene(&edges), &self.mesh, &holes).unwrap();
+        (found, stats)
     }
 
     /// The scene of the surface patches, plus `extra`.

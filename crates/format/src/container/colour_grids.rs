@@ -66,9 +66,9 @@ impl Models {
     }
 }
 
-/// The median edge detector of one channel (module docs).
+/// The median edge detector of one channel (module docs; CGRX predicts the same way).
 #[inline]
-fn predict(a: u8, b: u8, c: u8) -> u8 {
+pub(super) fn predict(a: u8, b: u8, c: u8) -> u8 {
     if c >= a.max(b) {
         a.min(b)
     } else if c <= a.min(b) {
@@ -225,7 +225,9 @@ fn check_raw_length(
     Ok(())
 }
 
-fn grid_from(
+/// A grid of `grid`'s size cut `factor` times from decoded samples (alpha 255 when the
+/// scene stores 3 bytes per colour).
+pub(super) fn grid_from(
     grid: GridSize,
     factor: u8,
     mut values: Vec<[u8; 4]>,
@@ -237,6 +239,23 @@ fn grid_from(
     ColourGrid::new(grid, factor, values).map_err(|e| Corruption::Scene(Box::new(e)))
 }
 
+/// The grid of `grid`'s size cut `factor` times whose raw samples (`bytes` each) start
+/// `raw`, and the bytes after them.
+pub(super) fn raw_grid(
+    raw: &[u8],
+    grid: GridSize,
+    factor: u8,
+    bytes: usize,
+) -> Result<(ColourGrid, &[u8]), Corruption> {
+    let (cols, rows) = ColourGrid::sample_size(grid, factor);
+    let (mine, rest) = raw.split_at(cols * rows * bytes);
+    let values = mine
+        .chunks_exact(bytes)
+        .map(|c| [c[0], c[1], c[2], if bytes == 4 { c[3] } else { 255 }])
+        .collect();
+    Ok((grid_from(grid, factor, values, bytes)?, rest))
+}
+
 /// Reads CGRD: each patch's colour grid (`None` for a patch without one). `grids` are the
 /// patches' grid sizes, `bytes` the scene's bytes per colour (0: a scene without colour may
 /// not hold CGRD).
@@ -245,6 +264,40 @@ pub(super) fn read_colour_grids(
     grids: &[GridSize],
     bytes: usize,
 ) -> Result<Vec<Option<ColourGrid>>, FormatError> {
+    let codecs = GridCodecs {
+        raw: read_raw,
+        predictive: decode_colour_grids,
+        what: "colour grid factors",
+    };
+    read_grid_section(section, grids, bytes, codecs)
+}
+
+/// Decoded colour grids, or what is wrong with a payload.
+type GridsOrCorruption = Result<Vec<Option<ColourGrid>>, Corruption>;
+
+/// How a colour grid section (CGRD or CGRX) reads each codec: `raw(payload, grids, bytes)`,
+/// `predictive(payload, grids, bytes, raw_len)`; `what` names its per-patch bytes.
+pub(super) struct GridCodecs {
+    pub(super) raw: fn(&[u8], &[GridSize], usize) -> GridsOrCorruption,
+    pub(super) predictive: fn(&[u8], &[GridSize], usize, usize) -> GridsOrCorruption,
+    pub(super) what: &'static str,
+}
+
+/// The most raw bytes `stored` payload bytes may stand for (docs/format.md §7.5).
+pub(super) fn expansion_limit(stored: usize) -> usize {
+    stored
+        .saturating_mul(GRID_EXPANSION)
+        .saturating_add(GRID_EXPANSION_SLACK)
+}
+
+/// Reads a colour grid section by its codec, after the checks both sections share: colour
+/// in the scene, the raw length (raw) or the expansion bound (codec 1).
+pub(super) fn read_grid_section(
+    section: &RawSection<'_>,
+    grids: &[GridSize],
+    bytes: usize,
+    codecs: GridCodecs,
+) -> Result<Vec<Option<ColourGrid>>, FormatError> {
     if bytes == 0 {
         return Err(section.corrupt(Corruption::UnexpectedColours));
     }
@@ -252,23 +305,19 @@ pub(super) fn read_colour_grids(
     match info.codec {
         CODEC_RAW => {
             require_raw_length(section)?;
-            read_raw(section.payload, grids, bytes).map_err(|k| section.corrupt(k))
+            (codecs.raw)(section.payload, grids, bytes).map_err(|k| section.corrupt(k))
         }
         CODEC_PREDICTIVE => {
-            let limit = info
-                .stored_len
-                .saturating_mul(GRID_EXPANSION)
-                .saturating_add(GRID_EXPANSION_SLACK);
-            if info.raw_len > limit {
+            if info.raw_len > expansion_limit(info.stored_len) {
                 return Err(section.corrupt(Corruption::Expansion {
                     raw: info.raw_len,
                     stored: info.stored_len,
                 }));
             }
             // The samples are allocated per patch as they decode, each bounded by the checked
-            // raw length; the factors by the patches FRAM holds.
-            vec_for_count::<u8>(grids.len(), 1, info.raw_len, "colour grid factors")?;
-            decode_colour_grids(section.payload, grids, bytes, info.raw_len)
+            // raw length; the per-patch bytes by the patches FRAM holds.
+            vec_for_count::<u8>(grids.len(), 1, info.raw_len, codecs.what)?;
+            (codecs.predictive)(section.payload, grids, bytes, info.raw_len)
                 .map_err(|k| section.corrupt(k))
         }
         other => Err(section.corrupt(Corruption::UnknownCodec(other))),
@@ -295,14 +344,9 @@ fn read_raw(
             out.push(None);
             continue;
         }
-        let (cols, rows) = ColourGrid::sample_size(grid, factor);
-        let (mine, tail) = rest.split_at(cols * rows * bytes);
+        let (own, tail) = raw_grid(rest, grid, factor, bytes)?;
         rest = tail;
-        let values = mine
-            .chunks_exact(bytes)
-            .map(|c| [c[0], c[1], c[2], if bytes == 4 { c[3] } else { 255 }])
-            .collect();
-        out.push(Some(grid_from(grid, factor, values, bytes)?));
+        out.push(Some(own));
     }
     Ok(out)
 }

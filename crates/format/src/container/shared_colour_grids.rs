@@ -22,10 +22,12 @@
 use std::collections::HashMap;
 
 use super::bounded::vec_for_count;
-use super::colour_grids::{GRID_EXPANSION, GRID_EXPANSION_SLACK};
+use super::colour_grids::{
+    expansion_limit, grid_from, predict, raw_grid, read_grid_section, GridCodecs,
+};
 use super::layout::{CODEC_PREDICTIVE, CODEC_RAW};
 use super::range_coder::{ByteModel, Decoder, Encoder, StreamEnded, PROBABILITY_ONE};
-use super::sections::{require_raw_length, RawSection};
+use super::sections::RawSection;
 use crate::{ColourGrid, Corruption, FormatError, GridSize};
 
 /// Kind byte of a reference in orientation 0; `REFERENCE + o` for orientation `o`.
@@ -153,18 +155,6 @@ impl Models {
             same: [PROBABILITY_ONE / 2; 4 * CLASSES],
             channels: std::array::from_fn(|_| std::array::from_fn(|_| ByteModel::new())),
         }
-    }
-}
-
-/// The median edge detector of one channel.
-#[inline]
-fn predict(a: u8, b: u8, c: u8) -> u8 {
-    if c >= a.max(b) {
-        a.min(b)
-    } else if c <= a.min(b) {
-        a.max(b)
-    } else {
-        a.wrapping_add(b).wrapping_sub(c)
     }
 }
 
@@ -412,13 +402,6 @@ fn decode_shared_grids(
     resolve_references(grids, &kinds, &sources, own, (bytes, limit))
 }
 
-/// The most raw bytes `stored` payload bytes may stand for (CGRD's bound, docs/format.md §7.5).
-fn expansion_limit(stored: usize) -> usize {
-    stored
-        .saturating_mul(GRID_EXPANSION)
-        .saturating_add(GRID_EXPANSION_SLACK)
-}
-
 /// The raw length the kinds imply must be the section's `raw_len`.
 fn check_raw_length(
     grids: &[GridSize],
@@ -434,18 +417,6 @@ fn check_raw_length(
         });
     }
     Ok(())
-}
-
-fn grid_from(
-    grid: GridSize,
-    factor: u8,
-    mut values: Vec<[u8; 4]>,
-    bytes: usize,
-) -> Result<ColourGrid, Corruption> {
-    if bytes == 3 {
-        values.iter_mut().for_each(|v| v[3] = 255);
-    }
-    ColourGrid::new(grid, factor, values).map_err(|e| Corruption::Scene(Box::new(e)))
 }
 
 /// The grids of a raw CGRX payload.
@@ -476,14 +447,9 @@ fn read_raw(
             own.push(None);
             continue;
         };
-        let (cols, rows) = ColourGrid::sample_size(grid, factor);
-        let (mine, tail) = rest.split_at(cols * rows * bytes);
+        let (grid, tail) = raw_grid(rest, grid, factor, bytes)?;
         rest = tail;
-        let values = mine
-            .chunks_exact(bytes)
-            .map(|c| [c[0], c[1], c[2], if bytes == 4 { c[3] } else { 255 }])
-            .collect();
-        own.push(Some(grid_from(grid, factor, values, bytes)?));
+        own.push(Some(grid));
     }
     let limit = expansion_limit(payload.len());
     resolve_references(grids, kinds, &sources, own, (bytes, limit))
@@ -497,26 +463,10 @@ pub(super) fn read_shared_colour_grids(
     grids: &[GridSize],
     bytes: usize,
 ) -> Result<Vec<Option<ColourGrid>>, FormatError> {
-    if bytes == 0 {
-        return Err(section.corrupt(Corruption::UnexpectedColours));
-    }
-    let info = &section.info;
-    match info.codec {
-        CODEC_RAW => {
-            require_raw_length(section)?;
-            read_raw(section.payload, grids, bytes).map_err(|k| section.corrupt(k))
-        }
-        CODEC_PREDICTIVE => {
-            if info.raw_len > expansion_limit(info.stored_len) {
-                return Err(section.corrupt(Corruption::Expansion {
-                    raw: info.raw_len,
-                    stored: info.stored_len,
-                }));
-            }
-            vec_for_count::<u8>(grids.len(), 1, info.raw_len, "colour grid kinds")?;
-            decode_shared_grids(section.payload, grids, bytes, info.raw_len)
-                .map_err(|k| section.corrupt(k))
-        }
-        other => Err(section.corrupt(Corruption::UnknownCodec(other))),
-    }
+    let codecs = GridCodecs {
+        raw: read_raw,
+        predictive: decode_shared_grids,
+        what: "colour grid kinds",
+    };
+    read_grid_section(section, grids, bytes, codecs)
 }
