@@ -107,7 +107,7 @@ fn the_default_budget_holds_the_quad_within_four_times_its_blind_bytes() {
 }
 
 #[test]
-fn box_textured_keeps_more_detail_within_four_times_the_bytes() {
+fn box_textured_reaches_30_db_within_four_times_its_blind_bytes_plus_the_grid_floor() {
     let path = spatch_fixtures::require_shared!("gltf/BoxTextured.glb");
     let mesh = spatch_mesh::load_mesh(&path).unwrap().mesh;
     let image = unlit(spatch_eval::views_for_count(14).unwrap(), 250);
@@ -117,10 +117,15 @@ fn box_textured_keeps_more_detail_within_four_times_the_bytes() {
     let (off, off_bytes) = albedo(&mesh, &blind, &image);
     let (on, on_bytes) = albedo(&mesh, &ConvertOptions::default(), &image);
     let (off_db, on_db) = (off.psnr_db.unwrap(), on.psnr_db.unwrap());
-    // Measured at 500²: 12.15 dB blind (760 bytes), 15.95 dB by default (1,552 bytes); the
-    // 30 dB target is out of reach within 4× (docs/algorithms/fitter.md has the curve).
-    assert!(on_db >= off_db + 2.0, "{off_db:.2} -> {on_db:.2} dB");
-    assert!(on_bytes <= 4 * off_bytes, "{on_bytes} vs {off_bytes} bytes");
+    // Measured at 500²: 12.15 dB blind (760 bytes), 33.25 dB by default (5,554 bytes: one
+    // shared colour grid of 127² and five references). The nodes stay within 4× the blind
+    // bytes; the grids take at most the scaled colour budget's floor on top.
+    eprintln!(
+        "BoxTextured at 250²: {off_db:.2} dB ({off_bytes} B) -> {on_db:.2} dB ({on_bytes} B)"
+    );
+    assert!(on_db >= 30.0, "{off_db:.2} -> {on_db:.2} dB");
+    let bound = 4 * off_bytes + spatch_convert::ColourBudget::MIN_SCALED_BYTES;
+    assert!(on_bytes <= bound, "{on_bytes} vs {off_bytes} bytes");
 }
 
 #[test]
