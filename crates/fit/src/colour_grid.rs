@@ -38,13 +38,7 @@ pub const COLOUR_GRID_STEP: u8 = 4;
 
 /// `c` with its RGB rounded to the nearest multiple of [`COLOUR_GRID_STEP`] (at most 252).
 pub fn quantize_sample(c: [u8; 4]) -> [u8; 4] {
-    quantize_sample_to(c, COLOUR_GRID_STEP)
-}
-
-/// `c` with its RGB rounded to the nearest multiple of `step` (1..=128; the largest such
-/// multiple up to 255 at most; error at most `step / 2` levels); alpha is kept exact.
-pub fn quantize_sample_to(c: [u8; 4], step: u8) -> [u8; 4] {
-    let step = u16::from(step.max(1));
+    let step = u16::from(COLOUR_GRID_STEP);
     let q = |v: u8| ((((u16::from(v) + step / 2) / step) * step).min(255 - 255 % step)) as u8;
     [q(c[0]), q(c[1]), q(c[2]), c[3]]
 }

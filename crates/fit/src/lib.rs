@@ -60,7 +60,7 @@ mod quantize;
 mod texture_spacing;
 
 pub use colour::{choose_channel, sample_colour};
-pub use colour_grid::{quantize_sample, quantize_sample_to, COLOUR_GRID_STEP};
+pub use colour_grid::{quantize_sample, COLOUR_GRID_STEP};
 pub use error::FitError;
 pub use fit::{
     fit_regions, fit_regions_counted, FitOutput, FitRegion, FitStats, MAX_REFINEMENTS,
