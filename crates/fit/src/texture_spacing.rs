@@ -302,6 +302,22 @@ mod tests {
     }
 
     #[test]
+    fn a_flat_region_keeps_the_mesh_spacing_where_a_grid_carries_its_texture() {
+        // Texel size 0.01 under a spacing of 0.1: a grid of factor 10 at the mesh's spacing.
+        let flat = region(1.0, 1e4);
+        assert!(grid_carries_texture(&flat, 0.1, 0.02, 1.0));
+        let curved = RegionTexels {
+            depth: 0.05,
+            ..flat
+        };
+        assert!(!grid_carries_texture(&curved, 0.1, 0.02, 1.0));
+        assert!(!grid_carries_texture(&flat, 0.1, 0.02, 0.0), "grids off");
+        assert!(!grid_carries_texture(&region(1.0, 0.0), 0.1, 0.02, 1.0));
+        // A texture barely finer than the nodes gets no grid, so its nodes follow it.
+        assert!(!grid_carries_texture(&region(1.0, 100.0), 0.1, 0.02, 1.0));
+    }
+
+    #[test]
     fn the_floor_holds_the_estimate_to_the_budget() {
         let measured = [region(1.0, 1e4), region(1.0, 0.0)];
         let wanted = [0.01, 0.1];

@@ -67,8 +67,10 @@ fn a_checkerboard_survives_with_texture_spacing_and_is_lost_without() {
     blind.fit.texels_per_node = 0.0;
     blind.fit.colour_grid_texels = 0.0;
     let (off, off_bytes) = albedo(&mesh, &blind, &image);
+    // Node spacing alone: with a colour grid the flat quad would keep the blind nodes.
     let mut fine = ConvertOptions::default();
     fine.fit.texture_budget = TextureBudget::Nodes(20_000);
+    fine.fit.colour_grid_texels = 0.0;
     let (on, on_bytes) = albedo(&mesh, &fine, &image);
     let (off_db, on_db) = (off.psnr_covered_db.unwrap(), on.psnr_covered_db.unwrap());
     // At 200² the quad's 64 texels span ~2 px each; both images blur the check edges
@@ -87,7 +89,10 @@ fn the_default_budget_holds_the_quad_within_four_times_its_blind_bytes() {
     blind.fit.texels_per_node = 0.0;
     blind.fit.colour_grid_texels = 0.0;
     let c0 = convert(ConvertInput::Mesh(mesh.clone()), &blind).unwrap();
-    let c = convert(ConvertInput::Mesh(mesh), &ConvertOptions::default()).unwrap();
+    // The texture-aware node spacing serves patches without a grid (`--colour-grid 0`).
+    let mut nodes_only = ConvertOptions::default();
+    nodes_only.fit.colour_grid_texels = 0.0;
+    let c = convert(ConvertInput::Mesh(mesh.clone()), &nodes_only).unwrap();
     let t = c
         .report
         .texture
@@ -102,6 +107,16 @@ fn the_default_budget_holds_the_quad_within_four_times_its_blind_bytes() {
         c.bytes.len() <= 4 * c0.bytes.len(),
         "{} vs {}",
         c.bytes.len(),
+        c0.bytes.len()
+    );
+    // By default the grid carries the flat quad's texture: blind nodes, within 4x too.
+    let d = convert(ConvertInput::Mesh(mesh), &ConvertOptions::default()).unwrap();
+    assert_eq!(d.report.counts.nodes, c0.report.counts.nodes);
+    assert!(d.report.colour_grids.is_some_and(|g| g.patches == 1));
+    assert!(
+        d.bytes.len() <= 4 * c0.bytes.len(),
+        "{} vs {}",
+        d.bytes.len(),
         c0.bytes.len()
     );
 }
