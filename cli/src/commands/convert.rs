@@ -138,12 +138,19 @@ pub(crate) struct PipelineArgs {
     /// and a slower fit.
     #[arg(long, value_name = "TEXELS", default_value_t = FitOptions::DEFAULT_COLOUR_GRID_TEXELS, value_parser = non_negative_f32)]
     pub(crate) colour_grid: f32,
-    /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them
-    /// (at least 4 KiB when N > 0), or a size in bytes (`20000`, `500k`, `2M`). Patches that
-    /// show the same picture share one grid (stored once, container 1.3). Over the budget,
-    /// the finest grids are resampled coarser until the grids fit.
+    /// How many bytes the colour grids may take: `Nx` (N >= 0) times the file without them,
+    /// or a size in bytes (`20000`, `500k`, `2M`). Patches that show the same picture share
+    /// one grid (stored once, container 1.3). Over the budget, the finest grids are resampled
+    /// coarser until the grids fit, down to --colour-floor.
     #[arg(long, value_name = "Nx|BYTES", default_value = "1x", value_parser = colour_budget)]
     pub(crate) colour_budget: ColourBudget,
+    /// The least PSNR in dB, against the grids as sampled from the texture (over all their
+    /// samples), that --colour-budget may lower the colour grids to; the lowering stops at the
+    /// coarsest grids within it, even over the budget (so a small file's texture is not
+    /// starved by a ratio). 0: no floor, the budget alone decides. Higher: sharper texture
+    /// where the budget binds, more bytes.
+    #[arg(long, value_name = "DB", default_value_t = ColourBudget::DEFAULT_FLOOR_DB, value_parser = non_negative_f32)]
+    pub(crate) colour_floor: f32,
     /// Measure the hole fraction over 14 views (500 x 500), with and without the edge
     /// patches (28 renders per scene).
     #[arg(long)]
@@ -283,6 +290,7 @@ impl PipelineArgs {
         options.fit.texture_budget = self.texture_budget;
         options.fit.colour_grid_texels = self.colour_grid;
         options.colour_budget = self.colour_budget;
+        options.colour_floor_db = self.colour_floor;
         options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options.sharp_edges = (!self.no_sharp_edges).then(|| {
@@ -622,7 +630,11 @@ pub(crate) fn summary(
             g.max_factor,
             g.max_factor,
             g.wanted_factor,
-            if g.budget_limited { ", held by the budget" } else { "" },
+            match (g.budget_limited, g.floor_limited) {
+                (_, true) => ", lowered by the budget down to the colour floor",
+                (true, false) => ", held by the budget",
+                _ => "",
+            },
             g.bytes,
             g.budget_bytes,
         ));

@@ -212,23 +212,24 @@ fn colour_grids_are_written_reported_and_budgeted() {
         "version 1.3 (CGRX)"
     );
     assert_eq!(report["details"]["colour_grids"]["shared"], 0);
-    // A budget below the full grid lowers it; 0 bytes leaves node colours only.
+    // Without the colour floor, a budget below the full grid lowers it.
     let full = report["details"]["colour_grids"]["bytes"].as_u64().unwrap();
+    let half = (full / 2).to_string();
     let (scene, report) = run(
         "half.spatch",
-        &[
-            "--colour-grid",
-            "1",
-            "--colour-budget",
-            &(full / 2).to_string(),
-        ],
+        &["--colour-budget", &half, "--colour-floor", "0"],
     );
     assert!(report["details"]["colour_grids"]["bytes"].as_u64().unwrap() <= full / 2);
     assert!(scene.patches()[0]
         .colour_grid()
         .is_none_or(|g| g.factor() < 7));
-    // Grids are on by default (one sample per texel, within the default 1x budget of at
-    // least 4 KiB) and `--colour-grid 0` turns them off.
+    // With it (30 dB by default), even a budget of 0 bytes keeps the checks' grid.
+    let (scene, report) = run("floor.spatch", &["--colour-budget", "0"]);
+    assert_eq!(report["details"]["colour_grids"]["floor_limited"], true);
+    let kept = scene.patches()[0].colour_grid().expect("held by the floor");
+    assert!((2..=7).contains(&kept.factor()), "{}", kept.factor());
+    // Grids are on by default (one sample per texel, within the default 1x budget down to
+    // the colour floor) and `--colour-grid 0` turns them off.
     let (scene, report) = run("default.spatch", &["--colour-budget", "1M"]);
     assert_eq!(
         scene.patches()[0].colour_grid().expect("a grid").factor(),

@@ -27,7 +27,9 @@
 
 mod budget;
 mod colour_budget;
+mod colour_error;
 mod error;
+mod grid_resampling;
 mod grid_sharing;
 mod options;
 mod owned;

@@ -34,6 +34,12 @@ pub struct ConvertOptions {
     /// factors are lowered until they fit. Default [`ColourBudget::DEFAULT_SCALE`] × the file
     /// without them. More: sharper texture, larger files.
     pub colour_budget: ColourBudget,
+    /// The least PSNR (dB, RGB, over every fitted sample of the scene's grids) the colour
+    /// budget may take the colour grids down to; the lowering stops at the coarsest grids
+    /// within it, even over the budget. Default [`ColourBudget::DEFAULT_FLOOR_DB`] (30); `0`:
+    /// no floor, the budget alone decides. Higher: sharper texture on files whose budget
+    /// binds (small files above all), more bytes.
+    pub colour_floor_db: f32,
 }
 
 impl Default for ConvertOptions {
@@ -45,6 +51,7 @@ impl Default for ConvertOptions {
             write: WriteOptions::default(),
             sharp_edges: Some(EdgeOptions::default()),
             colour_budget: ColourBudget::default(),
+            colour_floor_db: ColourBudget::DEFAULT_FLOOR_DB,
         }
     }
 }

@@ -16,7 +16,7 @@ use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, Tr
 use spatch_report::StageClock;
 use spatch_segment::segment;
 
-use crate::colour_budget::hold_colour_budget;
+use crate::colour_budget::{floor_error_levels, hold_colour_budget};
 use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts};
 
 /// What to convert.
@@ -327,7 +327,8 @@ fn hold_grids(
     )?
     .len();
     let budget = options.colour_budget.bytes(base);
-    Ok(hold_colour_budget(patches, channel, budget))
+    let max_error = floor_error_levels(options.colour_floor_db);
+    Ok(hold_colour_budget(patches, channel, budget, max_error))
 }
 
 /// Times stages on the shared [`StageClock`] and announces them.

@@ -117,15 +117,7 @@ pub fn fit_regions_counted(
     };
     let with_colour = options.colour && mesh.has_colour();
     let textured = with_colour
-        .then(|| {
-            texture_spacings(
-                mesh,
-                regions,
-                spacing,
-                options.texels_per_node,
-                options.texture_budget,
-            )
-        })
+        .then(|| texture_spacings(mesh, regions, spacing, options))
         .flatten();
     let (region_spacings, texture) = match textured {
         Some((s, detail)) => (Some(s), Some(detail)),

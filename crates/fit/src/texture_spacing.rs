@@ -20,7 +20,9 @@
 
 use spatch_mesh::{FaceId, TriangleMesh};
 
+use crate::colour_grid::grid_factor;
 use crate::fit::FitRegion;
+use crate::FitOptions;
 
 /// How many nodes the texture may add over the texture-blind fit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,12 +75,14 @@ pub struct TextureDetail {
     pub finest_spacing: f32,
 }
 
-/// Per region: projected area, textured model area and texels.
+/// Per region: projected area, textured model area, texels and depth along its axis.
 #[derive(Debug, Clone, Copy, Default)]
 struct RegionTexels {
     area: f64,
     textured_area: f64,
     texels: f64,
+    /// Extent of the region's corners along its axis (0 for a plane across the axis).
+    depth: f64,
 }
 
 /// The spacing of each region and what detail it keeps, or `None` when no region has a
@@ -87,9 +91,9 @@ pub(crate) fn texture_spacings(
     mesh: &TriangleMesh,
     regions: &[FitRegion<'_>],
     spacing: f32,
-    texels_per_node: f32,
-    budget: TextureBudget,
+    options: &FitOptions,
 ) -> Option<(Vec<f32>, TextureDetail)> {
+    let (texels_per_node, budget) = (options.texels_per_node, options.texture_budget);
     if texels_per_node <= 0.0 || mesh.face_uvs.is_none() {
         return None;
     }
@@ -98,9 +102,16 @@ pub(crate) fn texture_spacings(
         return None;
     }
     let s = f64::from(spacing);
+    let flat_depth = 2.0 * f64::from(options.max_step_error) * s;
     let wanted: Vec<f64> = measured
         .iter()
-        .map(|m| wanted_spacing(m, s, f64::from(texels_per_node)))
+        .map(|m| {
+            if grid_carries_texture(m, spacing, flat_depth, options.colour_grid_texels) {
+                s
+            } else {
+                wanted_spacing(m, s, f64::from(texels_per_node))
+            }
+        })
         .collect();
     let blind: f64 = measured.iter().map(|m| region_nodes(m.area, s)).sum();
     let budget_nodes = match budget {
@@ -134,13 +145,35 @@ pub(crate) fn region_texel_size(mesh: &TriangleMesh, region: &FitRegion<'_>) -> 
     (m.texels > 0.0 && t.is_finite() && t > 0.0).then_some(t)
 }
 
-/// Projected area, textured area and texels of one region.
+/// True when a region keeps the mesh's spacing `s` because a colour grid carries its texture:
+/// it is flat (its corners within `flat_depth` along its axis, so its patch is exact at any
+/// spacing and finer nodes could add colour only) and its texture is fine enough for a grid
+/// at `s` (`colour_grid_texels > 0`, factor 2 or more).
+fn grid_carries_texture(
+    m: &RegionTexels,
+    s: f32,
+    flat_depth: f64,
+    colour_grid_texels: f32,
+) -> bool {
+    if m.texels <= 0.0 || m.depth > flat_depth {
+        return false;
+    }
+    let texel = (m.textured_area / m.texels).sqrt();
+    grid_factor(s, texel, colour_grid_texels).is_some()
+}
+
+/// Projected area, textured area, texels and depth of one region.
 fn region_texels(mesh: &TriangleMesh, region: &FitRegion<'_>) -> RegionTexels {
     let axis = region.axis.normalize_or_zero();
     let mut out = RegionTexels::default();
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
     for &face in region.faces {
         if face.index() >= mesh.face_count() {
             continue; // the fitter reports it
+        }
+        for p in mesh.face_positions(face) {
+            let h = f64::from(p.dot(axis));
+            (low, high) = (low.min(h), high.max(h));
         }
         let area = f64::from(mesh.face_area(face));
         out.area += area * f64::from(mesh.face_normal(face).dot(axis).abs());
@@ -150,6 +183,7 @@ fn region_texels(mesh: &TriangleMesh, region: &FitRegion<'_>) -> RegionTexels {
             out.texels += texels;
         }
     }
+    out.depth = (high - low).max(0.0);
     out
 }
 
@@ -254,6 +288,7 @@ mod tests {
             area,
             textured_area: area,
             texels,
+            depth: 0.0,
         }
     }
 
@@ -264,6 +299,22 @@ mod tests {
         assert!((wanted_spacing(&m, 1.0, 2.0) - 0.02).abs() < 1e-12);
         assert_eq!(wanted_spacing(&m, 0.005, 2.0), 0.005);
         assert_eq!(wanted_spacing(&region(1.0, 0.0), 0.3, 2.0), 0.3);
+    }
+
+    #[test]
+    fn a_flat_region_keeps_the_mesh_spacing_where_a_grid_carries_its_texture() {
+        // Texel size 0.01 under a spacing of 0.1: a grid of factor 10 at the mesh's spacing.
+        let flat = region(1.0, 1e4);
+        assert!(grid_carries_texture(&flat, 0.1, 0.02, 1.0));
+        let curved = RegionTexels {
+            depth: 0.05,
+            ..flat
+        };
+        assert!(!grid_carries_texture(&curved, 0.1, 0.02, 1.0));
+        assert!(!grid_carries_texture(&flat, 0.1, 0.02, 0.0), "grids off");
+        assert!(!grid_carries_texture(&region(1.0, 0.0), 0.1, 0.02, 1.0));
+        // A texture barely finer than the nodes gets no grid, so its nodes follow it.
+        assert!(!grid_carries_texture(&region(1.0, 100.0), 0.1, 0.02, 1.0));
     }
 
     #[test]
