@@ -28,8 +28,9 @@
 //! patch (before quantization, which adds at most half a step); the patches come in the
 //! order of `patch_cut.rs`, so the output is deterministic.
 //!
-//! Parallelism: step 1 is a map over the uncovered points, collected in order; the
-//! emitted marks follow sequentially from `needed`, so the patches and the surviving point
+//! Parallelism: step 1 is a map over the uncovered points, collected in order; the hits in
+//! cells not emitted yet are picked and the uncovered list is shrunk in parallel too (both
+//! keep the point order); the needed and emitted marks follow sequentially from the hits, so the patches and the surviving point
 //! list do not depend on the thread count. The views themselves stay in order, since each
 //! one sees only the points earlier views left.
 //!
@@ -198,10 +199,19 @@ pub(crate) fn extract_view(
         .collect();
     let CellMarks { needed, seen } = marks;
     needed.resize(needed.len().max(cw * ch), false);
+    // The candidates in cells not emitted yet, picked in parallel (in order), so the
+    // sequential marking goes over the hits only, not over every uncovered point.
+    let emitted = &state.emitted;
+    let hits: Vec<u32> = candidate
+        .par_iter()
+        .with_min_len(POINTS_PER_TASK)
+        .copied()
+        .filter(|&c| c != NO_CELL && !emitted[c as usize])
+        .collect();
     let mut needed_list = Vec::new();
-    for &c in &candidate {
+    for c in hits {
         let c = c as usize;
-        if c != NO_CELL as usize && !needed[c] && !state.emitted[c] {
+        if !needed[c] {
             needed[c] = true;
             needed_list.push(c);
         }
@@ -211,11 +221,9 @@ pub(crate) fn extract_view(
         drop_small_regions((needed, seen), &mut needed_list, cw, ch, pass.min_cells);
     }
     let before = uncovered.len();
-    // In place and sequential: a parallel filter and collect cost more than the test.
-    let mut next = candidate.iter();
-    uncovered.retain(|_| {
-        let c = next.next().map_or(NO_CELL, |&c| c) as usize;
-        !(c != NO_CELL as usize && (needed[c] || state.emitted[c]))
+    let covering = &*needed;
+    retain_by_cell(uncovered, &candidate, |c| {
+        c == NO_CELL || !(covering[c as usize] || emitted[c as usize])
     });
     counts.covered += before - uncovered.len();
 
@@ -237,6 +245,36 @@ pub(crate) fn extract_view(
         needed[c] = false;
     }
     Ok(())
+}
+
+/// Keeps the points whose cell passes `keep` (`cells[i]`: the cell of `points[i]`), in order.
+///
+/// In place and in parallel: each block of points is compacted on its own, then the kept
+/// runs are moved down one after the other (a `memmove` each). A sequential `retain` was
+/// 124 M sequential instructions of the evenly spread 1 M scan set (callgrind); a parallel
+/// filter and collect would hold a second list.
+fn retain_by_cell(points: &mut Vec<PointId>, cells: &[u32], keep: impl Fn(u32) -> bool + Sync) {
+    let kept: Vec<usize> = points
+        .par_chunks_mut(POINTS_PER_TASK)
+        .zip(cells.par_chunks(POINTS_PER_TASK))
+        .map(|(block, block_cells)| {
+            let mut n = 0;
+            for (i, &c) in block_cells.iter().enumerate() {
+                if keep(c) {
+                    block[n] = block[i];
+                    n += 1;
+                }
+            }
+            n
+        })
+        .collect();
+    let mut end = 0;
+    for (b, &n) in kept.iter().enumerate() {
+        let start = b * POINTS_PER_TASK;
+        points.copy_within(start..start + n, end);
+        end += n;
+    }
+    points.truncate(end);
 }
 
 /// Per-cell marks of [`extract_view`], kept from call to call and cleared cell by cell
