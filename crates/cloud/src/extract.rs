@@ -199,8 +199,9 @@ pub(crate) fn extract_view(
         .collect();
     let CellMarks { needed, seen } = marks;
     needed.resize(needed.len().max(cw * ch), false);
-    // Sequential, over every candidate: collecting the hits in parallel first held a list of
-    // them (+38 MB peak RSS on the 4 M terrain, whose first view covers nearly every point).
+    // Sequential, over every candidate: collecting the hits in parallel first (a list of up
+    // to 4 bytes a point) took the model only from 4.51 to 4.50 G instructions on the evenly
+    // spread 1 M scan set (sequential −58 M, workers +94 M).
     let emitted = &state.emitted;
     let mut needed_list = Vec::new();
     for &c in &candidate {
