@@ -6,8 +6,8 @@
 //! whole, so equal keys end up in point order), whatever the thread count.
 //!
 //! Method: when the buckets span at most four per pair, one histogram pass and one scatter
-//! pass put every pair in its bucket (in input order), then each bucket of more than one
-//! pair is sorted on its own; otherwise the whole list goes to `sort_unstable`. The pipeline
+//! pass put every pair in its bucket (in input order), then the buckets are sorted on
+//! their own, in parallel; otherwise the whole list goes to `sort_unstable`. The pipeline
 //! uses it twice: on Morton codes (buckets: the top 18 of 48 bits, cells of 1/64 of the
 //! bounding box) and on voxel keys (buckets: the `(x, y)` columns).
 //!
@@ -40,12 +40,35 @@ pub(crate) fn sort_pairs(mut pairs: Vec<(u64, u32)>, shift: u32) -> Vec<(u64, u3
         sorted[*slot] = p;
         *slot += 1;
     }
-    for run in start.windows(2) {
-        if run[1] - run[0] > 1 {
-            sorted[run[0]..run[1]].sort_unstable();
-        }
-    }
+    sort_buckets(&mut sorted, &start, 0);
     sorted
+}
+
+/// Buckets handed to one parallel task by [`sort_buckets`].
+const BUCKETS_PER_TASK: usize = 2048;
+
+/// Sorts each bucket of `pairs` on its own, `bounds` holding the buckets' limits (indices
+/// into the whole list, whose part `pairs` is starts at `first`).
+///
+/// The buckets are disjoint, so halves of them sort in parallel, in place (no memory beyond
+/// the two lists): these sorts were the larger half of the sequential instructions of the
+/// two sorts (0.18 G of 0.38 G on the evenly spread 1 M scan set, callgrind). Rayon's
+/// `par_chunk_by_mut` over the bucket test cost 63 M more instructions than this split.
+fn sort_buckets(pairs: &mut [(u64, u32)], bounds: &[usize], first: usize) {
+    if bounds.len() <= BUCKETS_PER_TASK {
+        for run in bounds.windows(2) {
+            if run[1] - run[0] > 1 {
+                pairs[run[0] - first..run[1] - first].sort_unstable();
+            }
+        }
+        return;
+    }
+    let mid = bounds.len() / 2;
+    let (low, high) = pairs.split_at_mut(bounds[mid] - first);
+    rayon::join(
+        || sort_buckets(low, &bounds[..=mid], first),
+        || sort_buckets(high, &bounds[mid..], bounds[mid]),
+    );
 }
 
 #[cfg(test)]

@@ -245,6 +245,13 @@ pub(crate) struct FlushScratch {
     height_of: Vec<f32>,
 }
 
+impl FlushScratch {
+    /// The pixel and height of the first `n` points of the last projected chunk.
+    fn chunk(&self, n: usize) -> impl Iterator<Item = (&u32, &f32)> {
+        self.pixel_of[..n].iter().zip(&self.height_of[..n])
+    }
+}
+
 /// Marks a point that is not drawn in a view.
 const NOT_DRAWN: u32 = u32::MAX;
 
@@ -296,7 +303,7 @@ impl Projector {
     }
 
     /// Each point of `range`: its pixel (or [`NOT_DRAWN`]) and its height carried to the
-    /// pixel centre, into `scratch` (resized to the range). Branch-free over the columns, so
+    /// pixel centre, into the first `range.len()` entries of `scratch`. Branch-free over the columns, so
     /// it vectorises; the z-buffer is left to the caller.
     fn project(
         &self,
@@ -306,8 +313,13 @@ impl Projector {
         scratch: &mut FlushScratch,
     ) {
         let n = range.len();
-        scratch.pixel_of.resize(n, 0);
-        scratch.height_of.resize(n, 0.0);
+        // Grown to the largest chunk and never shrunk: resizing to each chunk's length
+        // re-zeroed the buffers on every call (memset, 101 M of the 8.31 G instructions of
+        // the evenly spread 1 M scan set, callgrind).
+        if scratch.pixel_of.len() < n {
+            scratch.pixel_of.resize(n, 0);
+            scratch.height_of.resize(n, 0.0);
+        }
         let Projector {
             u,
             w,
@@ -425,8 +437,9 @@ pub(crate) fn flush_points(
     // Pass 1: the front-most height per pixel, a chunk of points at a time.
     let mut front = vec![EMPTY_DEPTH; pixels];
     for range in chunks() {
+        let n = range.len();
         projector.project(input.points, range, input.oriented, scratch);
-        for (&k, &hc) in scratch.pixel_of.iter().zip(&scratch.height_of) {
+        for (&k, &hc) in scratch.chunk(n) {
             if k != NOT_DRAWN {
                 let f = &mut front[k as usize];
                 *f = f.max(hc);
@@ -438,9 +451,9 @@ pub(crate) fn flush_points(
     let mut sum = vec![(0.0f32, 0u32); pixels];
     let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
     for range in chunks() {
-        let first = range.start;
+        let (first, n) = (range.start, range.len());
         projector.project(input.points, range, input.oriented, scratch);
-        for (offset, (&k, &hc)) in scratch.pixel_of.iter().zip(&scratch.height_of).enumerate() {
+        for (offset, (&k, &hc)) in scratch.chunk(n).enumerate() {
             if k == NOT_DRAWN {
                 continue;
             }

@@ -5,11 +5,14 @@
 //! reader ([`load_ply_points`](super::ply::load_ply_points)) gives (same points, origin,
 //! colours, normals, dropped count and warnings), faster for the layout scanners and our own
 //! tools write most:
-//! `format binary_little_endian 1.0`, one `vertex` element and nothing else, with properties
-//! `float x y z`, optionally `float nx ny nz`, optionally `uchar red green blue [alpha]`, in
-//! any order. Such a file is read in one piece and its records decoded in parallel; every
-//! other file (ASCII, big-endian, doubles, other properties or elements, trailing bytes, no
-//! finite point) goes to the general reader, which also gives the errors.
+//! `format binary_little_endian 1.0` or `ascii 1.0`, a `vertex` element first, with
+//! properties `float x y z`, optionally `float nx ny nz`, optionally `uchar red green blue
+//! [alpha]`, in any order, then nothing or other elements (a raw scan's `range_grid`), which
+//! are left unread as the general reader leaves them once it has the vertices. Such a file is
+//! read in one piece and its records decoded in parallel; every other file (big-endian,
+//! doubles, other vertex properties, an element before the vertices, a malformed property
+//! line, a short body, bytes after the vertices of a binary file that declares nothing
+//! after them, no finite point) goes to the general reader, which also gives the errors.
 //!
 //! Why: the general reader (ply-rs-bw) decodes each property through a name lookup and
 //! stores f64 records: 124 ms of the 1.4 s a 1M-point `spatch from-cloud` took, all
@@ -55,7 +58,8 @@ struct RecordLayout {
 /// The body encodings the direct reader takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Encoding {
-    /// `binary_little_endian 1.0`: fixed-size records, nothing after the vertices.
+    /// `binary_little_endian 1.0`: fixed-size records; elements after the vertices (a raw
+    /// scan's `range_grid`) are left unread.
     Binary,
     /// `ascii 1.0`: one line of numbers per vertex; elements after the vertices (a raw
     /// scan's `range_grid`) are left unread.
@@ -74,6 +78,32 @@ struct SimpleHeader {
     tokens: RecordLayout,
     /// Offset of the body.
     start: usize,
+    /// Elements follow the vertices (their bytes are not read).
+    more_elements: bool,
+}
+
+/// Whether `word` names a PLY scalar type (the general reader refuses a header with any
+/// other).
+fn is_scalar_type(word: &str) -> bool {
+    matches!(
+        word,
+        "char"
+            | "uchar"
+            | "short"
+            | "ushort"
+            | "int"
+            | "uint"
+            | "float"
+            | "double"
+            | "int8"
+            | "uint8"
+            | "int16"
+            | "uint16"
+            | "int32"
+            | "uint32"
+            | "float32"
+            | "float64"
+    )
 }
 
 /// The header, when it describes the simple layout; `None` for anything else.
@@ -104,11 +134,13 @@ fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
         match words.as_slice() {
             ["comment", ..] | ["obj_info", ..] => {}
             ["element", "vertex", n] if count.is_none() => count = Some(n.parse::<usize>().ok()?),
-            // Later elements: only an ASCII body can be read without knowing their sizes.
-            ["element", ..] if count.is_some() && encoding == Encoding::Ascii => {
+            // Later elements: left unread, as the general reader leaves them.
+            ["element", _, n] if count.is_some() && n.parse::<usize>().is_ok() => {
                 after_vertices = true;
             }
-            ["property", ..] if after_vertices => {}
+            ["property", ty, _] if after_vertices && is_scalar_type(ty) => {}
+            ["property", "list", a, b, _]
+                if after_vertices && is_scalar_type(a) && is_scalar_type(b) => {}
             ["property", "float", name] if count.is_some() => {
                 floats.push((name, stride, tokens));
                 (stride, tokens) = (stride + 4, tokens + 1);
@@ -130,6 +162,7 @@ fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
         layout,
         tokens,
         start: head_len,
+        more_elements: after_vertices,
     })
 }
 
@@ -202,7 +235,7 @@ pub(crate) fn read_simple_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
         return None;
     }
     let (positions, normals, colours) = match header.encoding {
-        Encoding::Binary => decode_binary(body, count, &header.layout)?,
+        Encoding::Binary => decode_binary(body, count, &header.layout, header.more_elements)?,
         Encoding::Ascii => decode_ascii(body, count, &header.tokens)?,
     };
     finish(count, positions, normals, colours)
@@ -211,11 +244,19 @@ pub(crate) fn read_simple_ply(bytes: &[u8]) -> Option<LoadedPointCloud> {
 /// Positions, normals and colours as the file holds them.
 type Columns = (Vec<Vec3>, Option<Vec<Vec3>>, Option<Vec<[u8; 4]>>);
 
-/// Decodes `count` binary records of `layout`, when the body holds exactly that many.
-fn decode_binary(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Columns> {
-    if body.len() != count.checked_mul(layout.stride)? {
+/// Decodes `count` binary records of `layout`, when the body holds exactly that many (at
+/// least that many when `more_elements` follow them).
+fn decode_binary(
+    body: &[u8],
+    count: usize,
+    layout: &RecordLayout,
+    more_elements: bool,
+) -> Option<Columns> {
+    let size = count.checked_mul(layout.stride)?;
+    if body.len() < size || (body.len() > size && !more_elements) {
         return None;
     }
+    let body = &body[..size];
     let f32_at = |record: &[u8], offset: usize| {
         f32::from_le_bytes([
             record[offset],
@@ -409,13 +450,25 @@ mod tests {
             format!("{xyz}property uchar red\n"),
             format!("{xyz}property float x\n"),
             "property double x\nproperty double y\nproperty double z\n".to_owned(),
-            format!("{xyz}element face 1\nproperty list uchar int vertex_indices\n"),
         ] {
             assert_eq!(parse_simple_header(&header(&other)), None, "{other}");
         }
-        // ASCII takes elements after the vertices (left unread); binary does not.
+        // Elements after the vertices are left unread, when their header lines are well
+        // formed (a mesh's faces too: the general reader reads only its vertices for a cloud).
+        for later in ["range_grid 4", "face 1"] {
+            let scan = format!("{xyz}element {later}\nproperty list uchar int vertex_indices\n");
+            let parsed = parse_simple_header(&header(&scan)).unwrap();
+            let read = (parsed.encoding, parsed.more_elements);
+            assert_eq!(read, (Encoding::Binary, true), "{later}");
+        }
+        for bad in [
+            "element range_grid four\n",
+            "element range_grid 4\nproperty list uchar blob vertex_indices\n",
+            "element range_grid 4\nproperty quad q\n",
+        ] {
+            assert_eq!(parse_simple_header(&header(&format!("{xyz}{bad}"))), None);
+        }
         let scan = format!("{xyz}element range_grid 4\nproperty list uchar int vertex_indices\n");
-        assert_eq!(parse_simple_header(&header(&scan)), None);
         let ascii = String::from_utf8(header(&scan))
             .unwrap()
             .replace("binary_little_endian", "ascii");
@@ -451,8 +504,19 @@ mod tests {
                 Vec3::ZERO
             ]
         );
-        // A body one byte short is left to the general reader.
+        // A body one byte short is left to the general reader, and so are bytes after the
+        // vertices when the header declares nothing after them.
         assert!(read_simple_ply(&bytes[..bytes.len() - 1]).is_none());
+        let mut longer = bytes.clone();
+        longer.push(0);
+        assert!(read_simple_ply(&longer).is_none());
+        // A raw scan's grid after the vertices: its bytes are not read.
+        let grid = b"element range_grid 2\nproperty list uchar int vertex_indices\n";
+        let at = bytes.windows(10).position(|w| w == b"end_header").unwrap();
+        let mut scan = [&bytes[..at], &grid[..], &bytes[at..]].concat();
+        scan.extend_from_slice(&[1, 3, 0, 0, 0, 0]);
+        let with_grid = read_simple_ply(&scan).expect("a binary scan with its grid");
+        assert_eq!(with_grid.cloud, loaded.cloud);
     }
 
     #[test]

@@ -98,6 +98,45 @@ fn binary_layouts_load_exactly_as_the_general_reader_loads_them() {
     }
 }
 
+/// `path`'s file with `header` lines added before `end_header` and `tail` appended.
+fn add_elements(path: &PathBuf, header: &str, tail: &[u8]) {
+    let bytes = std::fs::read(path).expect("the file was written");
+    let at = bytes
+        .windows(10)
+        .position(|w| w == b"end_header")
+        .expect("a header");
+    let mut out = [&bytes[..at], header.as_bytes(), &bytes[at..]].concat();
+    out.extend_from_slice(tail);
+    std::fs::write(path, out).expect("the file is rewritten");
+}
+
+#[test]
+fn binary_scans_with_a_range_grid_load_exactly_as_the_general_reader_loads_them() {
+    use Property::Float;
+    let xyz = [Float("x"), Float("y"), Float("z")];
+    let grid = "element range_grid 3\nproperty list uchar int vertex_indices\n";
+    // A whole grid (one empty entry, two holding a vertex), and one cut short: the general
+    // reader stops once it has the vertices, so neither is read.
+    let whole = [0u8, 1, 7, 0, 0, 0, 1, 9, 0, 0, 0];
+    for (name, tail) in [("grid.ply", &whole[..]), ("grid_cut.ply", &whole[..4])] {
+        let path = write_ply(name, &xyz, 5_000, 60);
+        add_elements(&path, grid, tail);
+        assert_same_as_general_reader(&path);
+    }
+    // A later element the general reader cannot parse: its error.
+    let path = write_ply("grid_bad.ply", &xyz, 50, 61);
+    add_elements(
+        &path,
+        "element range_grid 3\nproperty list uchar blob v\n",
+        &whole,
+    );
+    assert_eq!(
+        load_point_cloud(&path).unwrap_err().to_string(),
+        load_ply_points(&path).unwrap_err().to_string()
+    );
+    std::fs::remove_file(&path).ok();
+}
+
 #[test]
 fn errors_and_other_layouts_come_from_the_general_reader() {
     // No vertices: the general reader's error.
