@@ -22,75 +22,15 @@ pub(crate) enum Encoding {
     Big,
 }
 
-/// A scalar type of a property.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
+/// A property's scalar type (shared with the mesh crate's PLY readers).
+pub(crate) use spatch_mesh::load::PlyScalar as Scalar;
 
-impl Scalar {
-    pub(crate) fn parse(name: &str) -> Option<Scalar> {
-        Some(match name {
-            "char" | "int8" => Scalar::I8,
-            "uchar" | "uint8" => Scalar::U8,
-            "short" | "int16" => Scalar::I16,
-            "ushort" | "uint16" => Scalar::U16,
-            "int" | "int32" => Scalar::I32,
-            "uint" | "uint32" => Scalar::U32,
-            "float" | "float32" => Scalar::F32,
-            "double" | "float64" => Scalar::F64,
-            _ => return None,
-        })
-    }
-
-    pub(crate) fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::F64 => 8,
-        }
-    }
-
-    /// The value at the start of `b`.
-    pub(crate) fn read(self, b: &[u8], big: bool) -> f64 {
-        macro_rules! num {
-            ($t:ty, $n:expr) => {{
-                let mut a = [0u8; $n];
-                a.copy_from_slice(&b[..$n]);
-                f64::from(if big {
-                    <$t>::from_be_bytes(a)
-                } else {
-                    <$t>::from_le_bytes(a)
-                })
-            }};
-        }
-        match self {
-            Scalar::I8 => f64::from(b[0] as i8),
-            Scalar::U8 => f64::from(b[0]),
-            Scalar::I16 => num!(i16, 2),
-            Scalar::U16 => num!(u16, 2),
-            Scalar::I32 => num!(i32, 4),
-            Scalar::U32 => num!(u32, 4),
-            Scalar::F32 => num!(f32, 4),
-            Scalar::F64 => num!(f64, 8),
-        }
-    }
-
-    /// A colour channel value as a byte.
-    fn colour_byte(self, v: f64) -> u8 {
-        match self {
-            Scalar::F32 | Scalar::F64 => (v * 255.0).round().clamp(0.0, 255.0) as u8,
-            Scalar::U16 | Scalar::I16 => (v / 256.0).clamp(0.0, 255.0) as u8,
-            _ => v.clamp(0.0, 255.0) as u8,
-        }
+/// A colour channel value of type `scalar` as a byte.
+fn colour_byte(scalar: Scalar, v: f64) -> u8 {
+    match scalar {
+        Scalar::F32 | Scalar::F64 => (v * 255.0).round().clamp(0.0, 255.0) as u8,
+        Scalar::U16 | Scalar::I16 => (v / 256.0).clamp(0.0, 255.0) as u8,
+        _ => v.clamp(0.0, 255.0) as u8,
     }
 }
 
@@ -218,7 +158,7 @@ impl Fields {
             out.push(Vec3::from_array(v));
         }
         if let (Some(c), Some(out)) = (self.colour, &mut chunk.colours) {
-            let byte = |k: usize| h.properties[k].1.colour_byte(value(k));
+            let byte = |k: usize| colour_byte(h.properties[k].1, value(k));
             let a = self.alpha.map_or(255, byte);
             out.push([byte(c[0]), byte(c[1]), byte(c[2]), a]);
         }

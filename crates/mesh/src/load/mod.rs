@@ -40,6 +40,8 @@ use crate::error::ElementKind;
 use crate::mesh::world_bounds_centre;
 use crate::{LoadWarning, Material, MaterialId, MeshError, PointCloud, TriangleMesh};
 
+pub use ply_scalar::PlyScalar;
+
 pub mod gltf;
 mod gltf_accessor;
 mod gltf_buffers;
@@ -49,6 +51,7 @@ pub mod obj;
 pub mod off;
 pub mod ply;
 mod ply_fast;
+mod ply_scalar;
 pub mod stl;
 mod texture;
 mod tristrips;

@@ -28,6 +28,7 @@
 use std::io::Read;
 use std::path::Path;
 
+use super::PlyScalar;
 use crate::{LoadedPointCloud, PointCloud};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -82,30 +83,6 @@ struct SimpleHeader {
     more_elements: bool,
 }
 
-/// Whether `word` names a PLY scalar type (the general reader refuses a header with any
-/// other).
-fn is_scalar_type(word: &str) -> bool {
-    matches!(
-        word,
-        "char"
-            | "uchar"
-            | "short"
-            | "ushort"
-            | "int"
-            | "uint"
-            | "float"
-            | "double"
-            | "int8"
-            | "uint8"
-            | "int16"
-            | "uint16"
-            | "int32"
-            | "uint32"
-            | "float32"
-            | "float64"
-    )
-}
-
 /// The header, when it describes the simple layout; `None` for anything else.
 fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
     let head_len = bytes
@@ -138,9 +115,11 @@ fn parse_simple_header(bytes: &[u8]) -> Option<SimpleHeader> {
             ["element", _, n] if count.is_some() && n.parse::<usize>().is_ok() => {
                 after_vertices = true;
             }
-            ["property", ty, _] if after_vertices && is_scalar_type(ty) => {}
+            ["property", ty, _] if after_vertices && PlyScalar::parse(ty).is_some() => {}
             ["property", "list", a, b, _]
-                if after_vertices && is_scalar_type(a) && is_scalar_type(b) => {}
+                if after_vertices
+                    && PlyScalar::parse(a).is_some()
+                    && PlyScalar::parse(b).is_some() => {}
             ["property", "float", name] if count.is_some() => {
                 floats.push((name, stride, tokens));
                 (stride, tokens) = (stride + 4, tokens + 1);
