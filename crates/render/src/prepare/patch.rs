@@ -104,6 +104,9 @@ struct LazyLevel {
     /// Above level 0: how far the level below strays from this level's
     /// surface ([`PreparedPatch::coarse_error`]).
     coarse_error: OnceLock<f32>,
+    /// The normal-buffer slots of the level's used nodes
+    /// ([`PreparedPatch::slot_set`]).
+    slots: OnceLock<SlotSet>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -116,9 +119,6 @@ pub(crate) struct LevelShading {
     /// Albedo (`xyz` = RGB in 0..=255, `w` = 0) when the level has colours,
     /// else empty.
     pub(crate) colours: Vec<Vec4>,
-    /// The normal-buffer slots of the used nodes, for counting a frame's
-    /// lookups when the level is drawn whole.
-    pub(crate) slots: SlotSet,
 }
 
 impl LevelShading {
@@ -138,12 +138,9 @@ impl LevelShading {
         let d = &level.displacements;
         let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
         grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
-        let mut slots = SlotSetBuilder::default();
-        slots.add_used(&level.used, gi, gj);
         Self {
             normals: rounded_unit_normals(w, scratch, d, ratios),
             colours: level_colours(level),
-            slots: slots.finish(),
         }
     }
 
@@ -342,6 +339,37 @@ impl PreparedPatch {
             .get_or_init(|| LevelShading::with_isa(self.isa, self.level(m), self.ratios_at(m)))
     }
 
+    /// The normal-buffer slots of level `m`'s used nodes, for counting a
+    /// frame's lookups when it draws the level whole
+    /// ([`crate::prepare::normal_buffer::NormalBuffer::touch_all`]), found
+    /// the first time a frame asks for them (on the thread that asks).
+    /// Why apart from [`Self::shading`]: only the statistics read them, and
+    /// a frame that does not count ([`crate::RenderOptions::normal_counts`])
+    /// skips them: 3 M of the 1,988 levels' shading inputs of a one-frame
+    /// bunny render (callgrind, `spatch render bunny.spatch -o out.png
+    /// --threads 1`).
+    pub(crate) fn slot_set(&self, m: usize) -> &SlotSet {
+        self.levels[m].slots.get_or_init(|| {
+            let level = self.level(m);
+            // The scratch is borrowed outside the lanes' function (as in
+            // `LevelShading::with_isa`); inside it the differences run in
+            // lanes and the AVX2 copy counts a word with `popcnt`.
+            SCRATCH.with_borrow_mut(|scratch| {
+                let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
+                let (d, cols, rows) = (&level.displacements, level.cols, level.rows);
+                (self.isa).run(
+                    #[inline(always)]
+                    || {
+                        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
+                        let mut slots = SlotSetBuilder::default();
+                        slots.add_used(&level.used, gi, gj);
+                        slots.finish()
+                    },
+                )
+            })
+        })
+    }
+
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
     /// level `g` (coarse geometry, [`crate::RenderOptions::geometry_limit`]):
     /// a grid of `2 (cols - 1) + 1` by `2 (rows - 1) + 1` nodes of level
@@ -374,11 +402,7 @@ impl PreparedPatch {
                     }
                 }
             }
-            LevelShading {
-                normals,
-                colours,
-                slots: SlotSet::new(std::iter::empty()),
-            }
+            LevelShading { normals, colours }
         })
     }
 
@@ -453,7 +477,7 @@ mod tests {
             }
             let used = level.used.iter().zip(level.normal_slots());
             let expected = SlotSet::new(used.filter(|&(&u, _)| u).map(|(_, &s)| s));
-            assert_eq!(shading.slots, expected, "level {m}");
+            assert_eq!(*p.slot_set(m), expected, "level {m}");
         }
         checked
     }
