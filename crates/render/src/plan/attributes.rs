@@ -144,8 +144,8 @@ fn fill_phong_attributes(
 ) {
     let level = p.level(m);
     // The level's shading inputs are built here on a frame's first use, on
-    // the planning threads.
-    p.shading(m);
+    // the planning threads (with the slot set the count below reads).
+    p.counted_shading(m);
     let normals = &mut work.normals;
     normals.select(m, p.ratios_at(m));
     if range.i0 == 0 && range.j0 == 0 && range.i1 + 1 == level.cols && range.j1 + 1 == level.rows {
