@@ -249,7 +249,9 @@ pub(crate) struct RenderArgs {
     /// Also write statistics as JSON, with the cost of the shortcuts
     /// (trilinear vs exact, bilinear vs smooth, trimmed vs kept overlaps:
     /// time and PSNR), each band's work and time, and how much of the
-    /// drawing ends up hidden (occlusion).
+    /// drawing ends up hidden (occlusion). Only with --stats or --json does
+    /// a Phong frame count its normal-buffer lookups (`normals_needed`,
+    /// `normals_computed_*`; 0 otherwise).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
     /// Render N frames after a warm-up and print median and min ms per
@@ -377,6 +379,8 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.centre_limit = args.centre_limit;
     o.guard_band = args.guard_band;
     o.tile_rows = args.tile_rows;
+    // Only --stats and --json show the normal-buffer counts.
+    o.normal_counts = args.stats.is_some() || args.json;
     if let Some(bg) = args.background {
         o.background = bg;
     }

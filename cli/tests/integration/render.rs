@@ -51,6 +51,8 @@ fn renders_png_depth_and_stats() {
         assert!(stats.get(key).is_some(), "missing {key}");
     }
     assert_eq!(stats["patches"], 200);
+    // --stats turns on the normal-buffer counts.
+    assert!(stats["normals_needed"].as_u64().unwrap() > 0);
     assert!(stats["covered_pixels"].as_u64().unwrap() > 1000);
     let shortcuts = &stats["shortcuts"];
     assert!(
@@ -181,6 +183,8 @@ fn bench_prints_median_and_min_per_stage() {
     let bench = &v["details"]["bench"];
     assert!(bench["ms"]["frame"]["median_ms"].as_f64().unwrap() > 0.0);
     assert_eq!(bench["frames"], 3);
+    // --json turns on the normal-buffer counts.
+    assert!(v["details"]["stats"]["normals_needed"].as_u64().unwrap() > 0);
 }
 
 #[test]

@@ -232,6 +232,16 @@ pub struct RenderOptions {
     /// sub-nodes (see docs/algorithms/render.md, "Pixel-centre cells").
     /// Bilinear cells only, not with `splat_limit`.
     pub centre_limit: f32,
+    /// Count a Phong frame's normal-buffer lookups for
+    /// [`crate::RenderStats::normals_needed`] and the two
+    /// `normals_computed_*` percentages. Default true. The image is the
+    /// same bit for bit either way; false leaves those three statistics at
+    /// 0 and skips their bookkeeping (the slot set of each level drawn, found
+    /// on first use, and the per-frame counting): 4 M of the bunny's
+    /// one-frame command (docs/algorithms/render.md). Flat and Gouraud
+    /// frames compute their normals through the buffer and count them
+    /// either way.
+    pub normal_counts: bool,
 }
 
 impl RenderOptions {
@@ -332,6 +342,7 @@ impl Default for RenderOptions {
             exact_grid_outlines: true,
             occlusion_skip: false,
             centre_limit: Self::DEFAULT_CENTRE_LIMIT,
+            normal_counts: true,
         }
     }
 }

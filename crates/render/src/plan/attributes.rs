@@ -101,7 +101,13 @@ pub(crate) fn fill_attributes(
 ) {
     let (p, setup) = (ctx.patch, ctx.setup);
     if setup.options.shading == Shading::Phong {
-        fill_phong_attributes(work, p, m, range, first);
+        if setup.options.normal_counts {
+            fill_phong_attributes(work, p, m, range, first);
+        } else {
+            // The level's shading inputs are built here on a frame's first
+            // use, on the planning threads; nothing is counted.
+            p.shading(m);
+        }
         return;
     }
     let level = p.level(m);
@@ -122,9 +128,10 @@ pub(crate) fn fill_attributes(
 /// The Phong attributes of a piece: none. The resolve pass reads the
 /// normals and albedos of the prepared level
 /// ([`crate::prepare::patch::LevelShading`]); this only counts the normal-buffer
-/// lookups the nodes make (the statistics keep their meaning; a level drawn
-/// whole, whose non-empty nodes are its used nodes, is counted from its
-/// prepared slot set). Why: copying three normal words (and the albedo)
+/// lookups the nodes make, when [`crate::RenderOptions::normal_counts`]
+/// asks (the statistics keep their meaning; a level drawn whole, whose
+/// non-empty nodes are its used nodes, is counted from its slot set,
+/// [`PreparedPatch::slot_set`]). Why: copying three normal words (and the albedo)
 /// into every node cost ~50 instructions per node, 7.4 M per 500² sphere
 /// frame (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
@@ -137,13 +144,13 @@ fn fill_phong_attributes(
 ) {
     let level = p.level(m);
     // The level's shading inputs are built here on a frame's first use, on
-    // the planning threads.
-    let shading = p.shading(m);
+    // the planning threads (with the slot set the count below reads).
+    p.counted_shading(m);
     let normals = &mut work.normals;
     normals.select(m, p.ratios_at(m));
     if range.i0 == 0 && range.j0 == 0 && range.i1 + 1 == level.cols && range.j1 + 1 == level.rows {
-        // The whole level: its used nodes, whose slots preparation found.
-        normals.touch_all(m, &shading.slots);
+        // The whole level: its used nodes, whose slots are found once.
+        normals.touch_all(m, p.slot_set(m));
         return;
     }
     let width = range.i1 - range.i0 + 1;

@@ -90,7 +90,9 @@ pub(crate) struct SlotSet {
 }
 
 impl SlotSet {
-    /// The set of the nodes `slots` (each [`OUTSIDE_TABLE`] or a slot).
+    /// The set of the nodes `slots` (each [`OUTSIDE_TABLE`] or a slot): the
+    /// reference [`SlotSetBuilder::add_used`] is tested against.
+    #[cfg(test)]
     pub(crate) fn new(slots: impl Iterator<Item = u16>) -> Self {
         let mut builder = SlotSetBuilder::default();
         slots.for_each(|slot| builder.add(slot));
@@ -119,7 +121,7 @@ impl Default for SlotSetBuilder {
 
 impl SlotSetBuilder {
     /// Adds a node whose slot is `slot` ([`OUTSIDE_TABLE`] or a slot).
-    #[inline(always)]
+    #[cfg(test)]
     pub(crate) fn add(&mut self, slot: u16) {
         self.nodes += 1;
         if slot == OUTSIDE_TABLE {

@@ -104,6 +104,9 @@ struct LazyLevel {
     /// Above level 0: how far the level below strays from this level's
     /// surface ([`PreparedPatch::coarse_error`]).
     coarse_error: OnceLock<f32>,
+    /// The normal-buffer slots of the level's used nodes
+    /// ([`PreparedPatch::slot_set`]).
+    slots: OnceLock<SlotSet>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -116,9 +119,6 @@ pub(crate) struct LevelShading {
     /// Albedo (`xyz` = RGB in 0..=255, `w` = 0) when the level has colours,
     /// else empty.
     pub(crate) colours: Vec<Vec4>,
-    /// The normal-buffer slots of the used nodes, for counting a frame's
-    /// lookups when the level is drawn whole.
-    pub(crate) slots: SlotSet,
 }
 
 impl LevelShading {
@@ -132,31 +132,49 @@ impl LevelShading {
     /// callgrind, `spatch render bunny.spatch -o out.png --threads 1`). The
     /// normals are the buffer's bit for bit (the same operations in the
     /// same order).
+    /// With `slots` (a frame that counts its normal lookups), also sets
+    /// the level's slot set there from the same differences, unless it is
+    /// set already.
     #[inline(always)]
-    fn new<W: Wide>(w: W, level: &MipLevel, ratios: (f32, f32), scratch: &mut NodeScratch) -> Self {
+    fn new<W: Wide>(
+        w: W,
+        level: &MipLevel,
+        ratios: (f32, f32),
+        scratch: &mut NodeScratch,
+        slots: Option<&OnceLock<SlotSet>>,
+    ) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
         let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
         grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
-        let mut slots = SlotSetBuilder::default();
-        slots.add_used(&level.used, gi, gj);
+        if let Some(cell) = slots.filter(|c| c.get().is_none()) {
+            // `set`, not `get_or_init`: a closure would be compiled without
+            // the lanes' instruction set.
+            let mut set = SlotSetBuilder::default();
+            set.add_used(&level.used, gi, gj);
+            let _ = cell.set(set.finish());
+        }
         Self {
             normals: rounded_unit_normals(w, scratch, d, ratios),
             colours: level_colours(level),
-            slots: slots.finish(),
         }
     }
 
     /// [`Self::new`] with the lanes of `isa`.
-    fn with_isa(isa: Isa, level: &MipLevel, ratios: (f32, f32)) -> Self {
+    fn with_isa(
+        isa: Isa,
+        level: &MipLevel,
+        ratios: (f32, f32),
+        slots: Option<&OnceLock<SlotSet>>,
+    ) -> Self {
         // The scratch is borrowed outside the lanes' function: a closure
         // inside it is compiled without its instruction set.
         SCRATCH.with_borrow_mut(|scratch| match isa {
-            Isa::Base => Self::new(Portable, level, ratios, scratch),
+            Isa::Base => Self::new(Portable, level, ratios, scratch, slots),
             #[cfg(target_arch = "x86_64")]
             Isa::V3(v3) => v3.vectorize(
                 #[inline(always)]
-                || Self::new(v3, level, ratios, scratch),
+                || Self::new(v3, level, ratios, scratch, slots),
             ),
         })
     }
@@ -337,9 +355,57 @@ impl PreparedPatch {
     /// one-frame render builds a fraction of them, and flat and Gouraud
     /// frames none (callgrind, `profile_sphere 500 1 1`).
     pub(crate) fn shading(&self, m: usize) -> &LevelShading {
-        self.levels[m]
-            .shading
-            .get_or_init(|| LevelShading::with_isa(self.isa, self.level(m), self.ratios_at(m)))
+        self.build_shading(m, None)
+    }
+
+    /// [`Self::shading`] for a frame that counts its normal lookups: when
+    /// this call builds the shading inputs, it also finds the level's slot
+    /// set ([`Self::slot_set`]) from the same displacement differences.
+    /// Why: found on their own, the slot sets of a counted one-frame bunny
+    /// render cost 3 M instructions more (callgrind, `spatch render
+    /// bunny.spatch -o out.png --threads 1 --json`).
+    pub(crate) fn counted_shading(&self, m: usize) -> &LevelShading {
+        self.build_shading(m, Some(&self.levels[m].slots))
+    }
+
+    /// The shading inputs of level `m`, built with `slots` as
+    /// [`LevelShading::new`] takes it.
+    fn build_shading(&self, m: usize, slots: Option<&OnceLock<SlotSet>>) -> &LevelShading {
+        self.levels[m].shading.get_or_init(|| {
+            LevelShading::with_isa(self.isa, self.level(m), self.ratios_at(m), slots)
+        })
+    }
+
+    /// The normal-buffer slots of level `m`'s used nodes, for counting a
+    /// frame's lookups when it draws the level whole
+    /// ([`crate::prepare::normal_buffer::NormalBuffer::touch_all`]), found
+    /// the first time a frame asks for them (on the thread that asks).
+    /// Why apart from [`Self::shading`]: only the statistics read them, and
+    /// a frame that does not count ([`crate::RenderOptions::normal_counts`])
+    /// skips them: 7.0 M instructions of a one-frame bunny render (the
+    /// 1,988 levels' first-use builds 29.8 → 22.8 M; callgrind, `spatch
+    /// render bunny.spatch -o out.png --threads 1`). A counting frame finds
+    /// them with the shading inputs ([`Self::counted_shading`]).
+    pub(crate) fn slot_set(&self, m: usize) -> &SlotSet {
+        self.levels[m].slots.get_or_init(|| {
+            let level = self.level(m);
+            // The scratch is borrowed outside the lanes' function (as in
+            // `LevelShading::with_isa`); inside it the differences run in
+            // lanes and the AVX2 copy counts a word with `popcnt`.
+            SCRATCH.with_borrow_mut(|scratch| {
+                let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
+                let (d, cols, rows) = (&level.displacements, level.cols, level.rows);
+                (self.isa).run(
+                    #[inline(always)]
+                    || {
+                        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
+                        let mut slots = SlotSetBuilder::default();
+                        slots.add_used(&level.used, gi, gj);
+                        slots.finish()
+                    },
+                )
+            })
+        })
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
@@ -374,11 +440,7 @@ impl PreparedPatch {
                     }
                 }
             }
-            LevelShading {
-                normals,
-                colours,
-                slots: SlotSet::new(std::iter::empty()),
-            }
+            LevelShading { normals, colours }
         })
     }
 
@@ -433,7 +495,12 @@ mod tests {
         let mut checked = 0;
         for m in 0..p.level_count() {
             let level = p.level(m);
-            let shading = p.shading(m);
+            // Both ways of finding the slot set: with the shading inputs
+            // (even levels) and on its own (odd levels).
+            let shading = match m % 2 {
+                0 => p.counted_shading(m),
+                _ => p.shading(m),
+            };
             let (cols, rows, d) = (level.cols, level.rows, &level.displacements);
             for j in 0..rows {
                 for i in 0..cols {
@@ -453,7 +520,7 @@ mod tests {
             }
             let used = level.used.iter().zip(level.normal_slots());
             let expected = SlotSet::new(used.filter(|&(&u, _)| u).map(|(_, &s)| s));
-            assert_eq!(shading.slots, expected, "level {m}");
+            assert_eq!(*p.slot_set(m), expected, "level {m}");
         }
         checked
     }

@@ -59,6 +59,40 @@ fn one_and_many_threads_give_the_same_image() {
 }
 
 #[test]
+fn phong_frames_without_normal_counts_draw_the_same_image() {
+    // A scene whose first frames do not count (no slot set built), then
+    // count: the image never changes, and the counts are those of a scene
+    // that counted from its first frame. A near view (split pieces, whose
+    // nodes are counted one by one) and a far one (levels drawn whole).
+    let scene = spatch_render::PreparedScene::new(sphere_scene());
+    for (distance, size) in [(350.0, 600), (900.0, 300)] {
+        let camera = known_camera(distance, size);
+        let draw = |prepared: &spatch_render::PreparedScene, counts: bool| {
+            let mut o = RenderOptions::default();
+            o.normal_counts = counts;
+            Renderer::new(o).unwrap().render(prepared, &camera).unwrap()
+        };
+        let quiet = draw(&scene, false);
+        assert_eq!(quiet.stats.normals_needed, 0);
+        assert_eq!(quiet.stats.normals_computed_with_buffer_percent, 0.0);
+        let late = draw(&scene, true);
+        let counted = render(RenderOptions::default(), distance, size);
+        assert!(quiet.image == counted.image, "{distance}");
+        assert!(late.image == counted.image, "{distance}");
+        assert!(counted.stats.normals_needed > 0);
+        assert_eq!(late.stats.normals_needed, counted.stats.normals_needed);
+        assert_eq!(
+            late.stats.normals_computed_with_buffer_percent,
+            counted.stats.normals_computed_with_buffer_percent
+        );
+        assert_eq!(
+            late.stats.normals_computed_with_ordering_percent,
+            counted.stats.normals_computed_with_ordering_percent
+        );
+    }
+}
+
+#[test]
 fn the_avx2_kernels_draw_what_the_portable_ones_draw() {
     // Bit for bit, every shading, both modes, the splat and coarse-geometry
     // paths, a view close enough to magnify cells and one far enough to
