@@ -338,7 +338,9 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     // `floor` is a libm call).
     let coordinates = |p: Vec3| {
         let d = (p - lo).as_dvec3() * inv;
-        [d.x, d.y, d.z].map(|v| v.min(max_index) as u64)
+        // Through `u32` (the values are below 2²¹): Rust's saturating `f64 as u64` has no
+        // single x86-64 instruction and took 83 M instructions of the two plane fits.
+        [d.x, d.y, d.z].map(|v| u64::from(v.min(max_index) as u32))
     };
     // Key fields just wide enough for the cloud.
     let bits = coordinates(hi).map(|c| (u64::BITS - c.leading_zeros()).max(1));
@@ -382,18 +384,23 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
             point_voxel[i as usize] = v as u32;
         }
     }
-    // The sorted pairs (16 bytes a point) go before the moments are allocated: this stage is
-    // the peak of the pipeline's memory.
-    drop((order, runs));
-    // Each voxel's moments, relative to the grid corner to keep them small. The points are
-    // added in index order, which is their order within a voxel of the sorted pairs, so the
-    // sums are those of a pass over the pairs; the points are in Morton order, so the
-    // scattered updates stay in the cache.
+    // Each voxel's moments, relative to the grid corner to keep them small, in parallel from
+    // its run of the sorted pairs: its points in index order, so the sums are those of one
+    // pass over the points (0.08 G of sequential instructions on the evenly spread 1 M scan
+    // set before). The pairs (16 bytes a point) live beside the moments here, still less than
+    // the planes beside them below, the peak of this stage.
     let origin = lo.as_dvec3();
-    grid.moments = vec![Moments::default(); grid.keys.len()];
-    for (p, &v) in positions.iter().zip(&point_voxel) {
-        grid.moments[v as usize].add_point(p.as_dvec3() - origin);
-    }
+    grid.moments = runs
+        .par_windows(2)
+        .map(|run| {
+            let mut moments = Moments::default();
+            for &(_, i) in &order[run[0]..run[1]] {
+                moments.add_point(positions[i as usize].as_dvec3() - origin);
+            }
+            moments
+        })
+        .collect();
+    drop((order, runs));
     // Written in place, one slice of voxels per task: collecting the tasks' planes would hold
     // them twice at the peak of this stage.
     let mut planes = vec![BlockPlane::default(); grid.keys.len()];
@@ -482,7 +489,7 @@ fn smallest_root([a00, a01, a02, a11, a12, a22]: [f64; 6]) -> Option<f64> {
             break;
         }
         let next = x - value / d;
-        if !(next > x) {
+        if next.partial_cmp(&x) != Some(std::cmp::Ordering::Greater) {
             break;
         }
         x = next;
