@@ -11,20 +11,22 @@
 //! random samples (`E[r_k²] = k/(πρ)`). The estimate is the median over up to
 //! [`SPACING_SAMPLES`] points taken at a regular stride, so a few outliers or dense clumps do
 //! not move it. The mean distance to the nearest other point is reported too (on random
-//! samples it is about `s/2`).
+//! samples it is about `s/2`). The neighbours come from a grid of cells
+//! (`neighbour_grid.rs`), whose distances equal the kd-tree's to the bit; the kd-tree stays
+//! for the other callers (coverage and error measurements).
 //!
 //! Clouds larger than [`SPACING_SUBSET`] points are thinned first: each point is kept with
 //! probability `f = SPACING_SUBSET / n` (a seeded generator, so deterministic), the spacing
 //! of the thinned cloud is measured, and scaled by `√f` (thinning a surface sample by `f`
-//! divides its density by `f`). This keeps the tree small (the tree over 1M points cost more
-//! than the rest of the estimate) at the price of treating the thinned set as a uniform
+//! divides its density by `f`). This keeps the search small (a tree over 1M points cost
+//! more than the rest of the estimate) at the price of treating the thinned set as a uniform
 //! sample, which slightly raises the estimate for scans on a regular grid (their 12th
 //! neighbour is nearer than a random sample's).
 //!
-//! Invariants: deterministic (seeded thinning, fixed stride, kd-tree built serially).
+//! Invariants: deterministic (seeded thinning, fixed stride, exact neighbour distances).
 //!
-//! Cost: tree build O(m log m) for `m ≤ 200,000` points; O(s log m) for `s ≤ 20,000`
-//! sample queries.
+//! Cost: the grid's sort of `m ≤ 200,000` points; about 27 cells of points for each of
+//! `s ≤ 20,000` sample queries.
 //!
 //! Based on: J. L. Bentley, "Multidimensional binary search trees used for associative
 //! searching", CACM 18(9), 1975 (the kd-tree; the `kiddo` crate implements it).
