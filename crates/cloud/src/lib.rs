@@ -61,6 +61,7 @@ mod finite;
 mod gap_fill;
 mod ids;
 mod morton_order;
+mod neighbour_grid;
 mod normal_cones;
 mod normals;
 mod options;

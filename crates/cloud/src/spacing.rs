@@ -11,20 +11,22 @@
 //! random samples (`E[r_k²] = k/(πρ)`). The estimate is the median over up to
 //! [`SPACING_SAMPLES`] points taken at a regular stride, so a few outliers or dense clumps do
 //! not move it. The mean distance to the nearest other point is reported too (on random
-//! samples it is about `s/2`).
+//! samples it is about `s/2`). The neighbours come from a grid of cells
+//! (`neighbour_grid.rs`), whose distances equal the kd-tree's to the bit; the kd-tree stays
+//! for the other callers (coverage and error measurements).
 //!
 //! Clouds larger than [`SPACING_SUBSET`] points are thinned first: each point is kept with
 //! probability `f = SPACING_SUBSET / n` (a seeded generator, so deterministic), the spacing
 //! of the thinned cloud is measured, and scaled by `√f` (thinning a surface sample by `f`
-//! divides its density by `f`). This keeps the tree small (the tree over 1M points cost more
-//! than the rest of the estimate) at the price of treating the thinned set as a uniform
+//! divides its density by `f`). This keeps the search small (a tree over 1M points cost
+//! more than the rest of the estimate) at the price of treating the thinned set as a uniform
 //! sample, which slightly raises the estimate for scans on a regular grid (their 12th
 //! neighbour is nearer than a random sample's).
 //!
-//! Invariants: deterministic (seeded thinning, fixed stride, kd-tree built serially).
+//! Invariants: deterministic (seeded thinning, fixed stride, exact neighbour distances).
 //!
-//! Cost: tree build O(m log m) for `m ≤ 200,000` points; O(s log m) for `s ≤ 20,000`
-//! sample queries.
+//! Cost: the grid's sort of `m ≤ 200,000` points; about 27 cells of points for each of
+//! `s ≤ 20,000` sample queries.
 //!
 //! Based on: J. L. Bentley, "Multidimensional binary search trees used for associative
 //! searching", CACM 18(9), 1975 (the kd-tree; the `kiddo` crate implements it).
@@ -35,6 +37,7 @@ use glam::Vec3;
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
+use crate::neighbour_grid::NeighbourGrid;
 use crate::{CloudError, PointId};
 
 /// Points sampled for the spacing estimate.
@@ -158,23 +161,25 @@ pub fn estimate_spacing(positions: &[Vec3]) -> Result<SpacingEstimate, CloudErro
             .filter(|_| rng.next_f64() < keep)
             .collect();
         let scale = (thinned.len() as f64 / positions.len() as f64).sqrt() as f32;
-        let tree = PointTree::build(&thinned)?;
-        let estimate = estimate_spacing_with(&thinned, &tree)?;
+        let estimate = estimate_spacing_of(&thinned)?;
         return Ok(SpacingEstimate {
             spacing: estimate.spacing * scale,
             mean_nearest: estimate.mean_nearest * scale,
             samples: estimate.samples,
         });
     }
-    let tree = PointTree::build(positions)?;
-    estimate_spacing_with(positions, &tree)
+    estimate_spacing_of(positions)
 }
 
-/// The spacing of the points of `tree` (`positions` are the tree's points), unthinned.
-fn estimate_spacing_with(
-    positions: &[Vec3],
-    tree: &PointTree,
-) -> Result<SpacingEstimate, CloudError> {
+/// The spacing of `positions`, unthinned. The neighbours come from a grid of cells
+/// (`neighbour_grid.rs`), whose distances are the kd-tree's to the bit; building the kd-tree
+/// was sequential and cost more than the queries.
+fn estimate_spacing_of(positions: &[Vec3]) -> Result<SpacingEstimate, CloudError> {
+    if positions.is_empty() {
+        return Err(CloudError::EmptyCloud {
+            dropped_non_finite: 0,
+        });
+    }
     let n = positions.len();
     if n < 3 {
         return Err(CloudError::TooFewPoints {
@@ -182,7 +187,14 @@ fn estimate_spacing_with(
             needed: 3,
         });
     }
+    if n > u32::MAX as usize - 1 {
+        return Err(CloudError::TooManyPoints {
+            points: n,
+            max: u32::MAX as usize - 1,
+        });
+    }
     let k = SPACING_NEIGHBOURS.min(n - 1);
+    let grid = NeighbourGrid::new(positions, k + 1);
     let scale = (std::f32::consts::PI / k as f32).sqrt();
     let stride = n.div_ceil(SPACING_SAMPLES).max(1);
     // Per sample: (spacing from the k-th neighbour, nearest other point); the queries are
@@ -193,10 +205,10 @@ fn estimate_spacing_with(
         .map_init(
             || Vec::with_capacity(k + 1),
             |neighbours, p| {
-                tree.nearest_k(*p, k + 1, neighbours);
+                grid.nearest_k(*p, k + 1, neighbours);
                 // The first result is the point itself (distance 0) or a duplicate of it.
-                let kth = neighbours.last().map_or(0.0, |r| r.0.sqrt());
-                (kth * scale, neighbours.get(1).map_or(0.0, |r| r.0.sqrt()))
+                let kth = neighbours.last().map_or(0.0, |d: &f32| d.sqrt());
+                (kth * scale, neighbours.get(1).map_or(0.0, |d| d.sqrt()))
             },
         )
         .collect();
