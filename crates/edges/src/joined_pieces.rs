@@ -275,15 +275,8 @@ fn join_patch(
         .iter()
         .map(|s| [s.a, s.b].map(|p| Vec2::new(p.dot(lattice.x), p.dot(lattice.y))))
         .collect();
-    let within = |i: usize, j: usize| {
-        let q = Vec2::new(
-            lattice.start[0] + i as f32 * lattice.spacing[0],
-            lattice.start[1] + j as f32 * lattice.spacing[1],
-        );
-        flat.iter()
-            .any(|&[a, b]| distance_to_segment(q, a, b) <= reach)
-    };
-    let patch = cast_lattice_within(job.cast, &lattice, &faces, &within, 0)?;
+    let within = nodes_near(&lattice, &flat, reach);
+    let patch = cast_lattice_within(job.cast, &lattice, &faces, Some(&within), 0)?;
     Ok(patch.filter(|p| p.grid().node_count() <= MAX_NODE_RATIO * nodes))
 }
 
@@ -380,6 +373,42 @@ fn widest_direction(points: &[Vec3], z: Vec3) -> Option<Vec3> {
     }
     let x = best.1.normalize_or_zero();
     (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+}
+
+/// The nodes of `lattice` (row-major) within `reach` of a segment of `flat` (in the lattice's
+/// plane). Each segment tests only the nodes of its box widened by `reach` and one node, so
+/// the cost is O(nodes near the segments), not O(nodes × segments).
+fn nodes_near(lattice: &NodeLattice, flat: &[[Vec2; 2]], reach: f32) -> Vec<bool> {
+    let (cols, rows) = (lattice.cols, lattice.rows);
+    let mut near = vec![false; cols * rows];
+    let node = |i: usize, j: usize| {
+        Vec2::new(
+            lattice.start[0] + i as f32 * lattice.spacing[0],
+            lattice.start[1] + j as f32 * lattice.spacing[1],
+        )
+    };
+    for &[a, b] in flat {
+        let (lo, hi) = (a.min(b) - Vec2::splat(reach), a.max(b) + Vec2::splat(reach));
+        let span = |k: usize, count: usize| {
+            let first = ((lo[k] - lattice.start[k]) / lattice.spacing[k]).floor() - 1.0;
+            let last = ((hi[k] - lattice.start[k]) / lattice.spacing[k]).ceil() + 1.0;
+            // `as` saturates: below zero (or NaN) is 0.
+            (
+                first.max(0.0) as usize,
+                (last.max(0.0) as usize).min(count - 1),
+            )
+        };
+        let ((i0, i1), (j0, j1)) = (span(0, cols), span(1, rows));
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let k = j * cols + i;
+                if !near[k] && distance_to_segment(node(i, j), a, b) <= reach {
+                    near[k] = true;
+                }
+            }
+        }
+    }
+    near
 }
 
 /// Distance from `q` to the segment from `a` to `b`.

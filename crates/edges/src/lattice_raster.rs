@@ -38,16 +38,19 @@ pub(crate) struct NodeHit {
 }
 
 /// The first hit of each node's ray of `lattice` (row-major) among `allowed` (see the module
-/// docs); faces facing away from z (normal · z at most [`MIN_FACING`]) are never hit.
+/// docs); faces facing away from z (normal · z at most [`MIN_FACING`]) are never hit. With
+/// `mask` (row-major, one flag a node), only the nodes whose flag is set are tested; the
+/// others stay empty.
 pub(crate) fn raster_hits(
     mesh: &TriangleMesh,
     lattice: &NodeLattice,
     allowed: &[FaceId],
+    mask: Option<&[bool]>,
 ) -> Vec<Option<NodeHit>> {
     let mut hits: Vec<Option<NodeHit>> = vec![None; lattice.cols * lattice.rows];
     for &face in allowed {
         if mesh.face_normal(face).dot(lattice.z) > MIN_FACING {
-            raster_face(mesh, lattice, face, &mut hits);
+            raster_face(mesh, lattice, face, mask, &mut hits);
         }
     }
     hits
@@ -58,6 +61,7 @@ fn raster_face(
     mesh: &TriangleMesh,
     lattice: &NodeLattice,
     face: FaceId,
+    mask: Option<&[bool]>,
     hits: &mut [Option<NodeHit>],
 ) {
     let corners = mesh.face_positions(face);
@@ -88,6 +92,9 @@ fn raster_face(
             continue;
         };
         for i in i0..=i1 {
+            if mask.is_some_and(|m| !m[j * lattice.cols + i]) {
+                continue;
+            }
             let p = Vec2::new(i as f32, y);
             let w1 = (p - a).perp_dot(c - a) / area;
             let w2 = (b - a).perp_dot(p - a) / area;
@@ -184,7 +191,7 @@ mod tests {
         )
         .unwrap();
         let faces: Vec<FaceId> = mesh.faces().collect();
-        let hits = raster_hits(&mesh, &lattice(), &faces);
+        let hits = raster_hits(&mesh, &lattice(), &faces, None);
         for (k, hit) in hits.iter().enumerate() {
             let (i, j) = (k % 5, k / 5);
             let hit = hit.expect("every node is over the lower square");
@@ -197,7 +204,7 @@ mod tests {
         // Out of the searched heights: nothing.
         let mut high = lattice();
         high.heights = [5.0, 10.0];
-        assert!(raster_hits(&mesh, &high, &faces)
+        assert!(raster_hits(&mesh, &high, &faces, None)
             .iter()
             .all(Option::is_none));
     }
@@ -215,7 +222,7 @@ mod tests {
         .unwrap();
         let faces: Vec<FaceId> = mesh.faces().collect();
         assert!(mesh.face_normal(faces[0]).z < 0.0);
-        assert!(raster_hits(&mesh, &lattice(), &faces)
+        assert!(raster_hits(&mesh, &lattice(), &faces, None)
             .iter()
             .all(Option::is_none));
     }
