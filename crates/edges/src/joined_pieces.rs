@@ -166,11 +166,11 @@ fn next_join(
             let own = SurfaceCoverage::new([patch], job.spacing);
             let before = SurfaceCoverage::new([&groups[a].patch, &groups[b].patch], job.spacing);
             // Every probe the two patches covered (beyond what the others cover) is covered
-            // by the joined one.
+            // by the joined one. The small indexes are asked first: most probes end there.
             let covers = |p: Vec3, n: Vec3, tolerance: f32| {
-                coverage.covers(p, n, tolerance)
+                !before.covers(p, n, tolerance)
                     || own.covers(p, n, tolerance)
-                    || !before.covers(p, n, tolerance)
+                    || coverage.covers(p, n, tolerance)
             };
             let ok = [&groups[a].piece, &groups[b].piece]
                 .into_iter()
