@@ -362,17 +362,48 @@ fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, 
 /// `z`; `None` when they all project onto one point.
 fn widest_direction(points: &[Vec3], z: Vec3) -> Option<Vec3> {
     let flat: Vec<Vec3> = points.iter().map(|&p| p - z * p.dot(z)).collect();
-    let mut best = (0.0f32, Vec3::ZERO);
-    for (i, &p) in flat.iter().enumerate() {
-        for &q in &flat[i + 1..] {
-            let d = p.distance_squared(q);
+    let x =
+        farthest_pair(&flat).map_or(Vec3::ZERO, |(i, j)| (flat[j] - flat[i]).normalize_or_zero());
+    (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+}
+
+/// The first pair `(i, j)`, `i < j`, of `points` (in lexicographic order) at the largest
+/// positive squared distance, or `None` when all coincide: what scanning every pair in
+/// order and keeping a strictly farther one finds, without scanning every pair. A point `i`
+/// can be in the farthest pair only if `(|p_i − c| + R)²` (triangle inequality through the
+/// box centre `c`, `R` the largest radius), widened far beyond rounding, reaches a distance
+/// some pair already has; the others are left out of the scan.
+fn farthest_pair(points: &[Vec3]) -> Option<(usize, usize)> {
+    let (lo, hi) = points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| {
+            (l.min(p), h.max(p))
+        });
+    let centre = (lo + hi) * 0.5;
+    let radii: Vec<f32> = points.iter().map(|p| p.distance(centre)).collect();
+    let (outer, big) =
+        radii.iter().enumerate().fold(
+            (0, 0.0f32),
+            |(k, r), (i, &q)| if q > r { (i, q) } else { (k, r) },
+        );
+    // A distance some pair has: from the outermost point to the farthest from it.
+    let known = points
+        .iter()
+        .map(|p| p.distance_squared(points[outer]))
+        .fold(0.0f32, f32::max);
+    let kept: Vec<usize> = (0..points.len())
+        .filter(|&i| !((radii[i] + big).powi(2) * 1.001 < known))
+        .collect();
+    let mut best = (0.0f32, None);
+    for (n, &i) in kept.iter().enumerate() {
+        for &j in &kept[n + 1..] {
+            let d = points[i].distance_squared(points[j]);
             if d > best.0 {
-                best = (d, q - p);
+                best = (d, Some((i, j)));
             }
         }
     }
-    let x = best.1.normalize_or_zero();
-    (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+    best.1
 }
 
 /// The nodes of `lattice` (row-major) within `reach` of a segment of `flat` (in the lattice's
@@ -420,4 +451,45 @@ fn distance_to_segment(q: Vec2, a: Vec2, b: Vec2) -> f32 {
         0.0
     };
     q.distance(a + ab * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every pair in order, keeping a strictly farther one.
+    fn every_pair(points: &[Vec3]) -> Option<(usize, usize)> {
+        let mut best = (0.0f32, None);
+        for i in 0..points.len() {
+            for j in i + 1..points.len() {
+                let d = points[i].distance_squared(points[j]);
+                if d > best.0 {
+                    best = (d, Some((i, j)));
+                }
+            }
+        }
+        best.1
+    }
+
+    #[test]
+    fn the_farthest_pair_is_the_one_every_pair_finds() {
+        // Pseudo-random clouds, and grids (many pairs tie at the largest distance).
+        let mut state = 12345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        };
+        for n in [0, 1, 2, 3, 7, 40, 120] {
+            let cloud: Vec<Vec3> = (0..n)
+                .map(|_| Vec3::new(next() * 10.0, next(), next() * 0.1))
+                .collect();
+            assert_eq!(farthest_pair(&cloud), every_pair(&cloud), "cloud of {n}");
+        }
+        let grid: Vec<Vec3> = (0..64)
+            .map(|k| Vec3::new((k % 8) as f32, (k / 8) as f32, 0.0))
+            .collect();
+        assert_eq!(farthest_pair(&grid), every_pair(&grid));
+        let same = vec![Vec3::ONE; 5];
+        assert_eq!(farthest_pair(&same), None);
+    }
 }
