@@ -28,7 +28,8 @@
 //! the angle between the groups' view directions (then by index), repeatedly until a pass
 //! joins none; a pair that failed is tried again only after one of its groups changed.
 //!
-//! Cost: per tried pair one cast (O(faces near the strips + nodes)) and the groups' probes;
+//! Cost: per tried pair one cast (O(faces near the strips + nodes near the segments), the
+//! node mask built segment by segment over its own box) and the groups' probes;
 //! a pass is O(pairs), and there are at most as many successful joins as pieces. Memory O(the
 //! patches). Deterministic: no parallelism, a total order.
 
@@ -392,7 +393,11 @@ fn farthest_pair(points: &[Vec3]) -> Option<(usize, usize)> {
         .map(|p| p.distance_squared(points[outer]))
         .fold(0.0f32, f32::max);
     let kept: Vec<usize> = (0..points.len())
-        .filter(|&i| !((radii[i] + big).powi(2) * 1.001 < known))
+        .filter(|&i| {
+            // NaN or infinite points stay: they are scanned as every pair would.
+            let bound = (radii[i] + big).powi(2) * 1.001;
+            bound >= known || bound.is_nan()
+        })
         .collect();
     let mut best = (0.0f32, None);
     for (n, &i) in kept.iter().enumerate() {
