@@ -28,7 +28,8 @@
 //! the angle between the groups' view directions (then by index), repeatedly until a pass
 //! joins none; a pair that failed is tried again only after one of its groups changed.
 //!
-//! Cost: per tried pair one cast (O(faces near the strips + nodes)) and the groups' probes;
+//! Cost: per tried pair one cast (O(faces near the strips + nodes near the segments), the
+//! node mask built segment by segment over its own box) and the groups' probes;
 //! a pass is O(pairs), and there are at most as many successful joins as pieces. Memory O(the
 //! patches). Deterministic: no parallelism, a total order.
 
@@ -166,11 +167,11 @@ fn next_join(
             let own = SurfaceCoverage::new([patch], job.spacing);
             let before = SurfaceCoverage::new([&groups[a].patch, &groups[b].patch], job.spacing);
             // Every probe the two patches covered (beyond what the others cover) is covered
-            // by the joined one.
+            // by the joined one. The small indexes are asked first: most probes end there.
             let covers = |p: Vec3, n: Vec3, tolerance: f32| {
-                coverage.covers(p, n, tolerance)
+                !before.covers(p, n, tolerance)
                     || own.covers(p, n, tolerance)
-                    || !before.covers(p, n, tolerance)
+                    || coverage.covers(p, n, tolerance)
             };
             let ok = [&groups[a].piece, &groups[b].piece]
                 .into_iter()
@@ -275,15 +276,8 @@ fn join_patch(
         .iter()
         .map(|s| [s.a, s.b].map(|p| Vec2::new(p.dot(lattice.x), p.dot(lattice.y))))
         .collect();
-    let within = |i: usize, j: usize| {
-        let q = Vec2::new(
-            lattice.start[0] + i as f32 * lattice.spacing[0],
-            lattice.start[1] + j as f32 * lattice.spacing[1],
-        );
-        flat.iter()
-            .any(|&[a, b]| distance_to_segment(q, a, b) <= reach)
-    };
-    let patch = cast_lattice_within(job.cast, &lattice, &faces, &within, 0)?;
+    let within = nodes_near(&lattice, &flat, reach);
+    let patch = cast_lattice_within(job.cast, &lattice, &faces, Some(&within), 0)?;
     Ok(patch.filter(|p| p.grid().node_count() <= MAX_NODE_RATIO * nodes))
 }
 
@@ -369,17 +363,88 @@ fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, 
 /// `z`; `None` when they all project onto one point.
 fn widest_direction(points: &[Vec3], z: Vec3) -> Option<Vec3> {
     let flat: Vec<Vec3> = points.iter().map(|&p| p - z * p.dot(z)).collect();
-    let mut best = (0.0f32, Vec3::ZERO);
-    for (i, &p) in flat.iter().enumerate() {
-        for &q in &flat[i + 1..] {
-            let d = p.distance_squared(q);
+    let x =
+        farthest_pair(&flat).map_or(Vec3::ZERO, |(i, j)| (flat[j] - flat[i]).normalize_or_zero());
+    (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+}
+
+/// The first pair `(i, j)`, `i < j`, of `points` (in lexicographic order) at the largest
+/// positive squared distance, or `None` when all coincide: what scanning every pair in
+/// order and keeping a strictly farther one finds, without scanning every pair. A point `i`
+/// can be in the farthest pair only if `(|p_i − c| + R)²` (triangle inequality through the
+/// box centre `c`, `R` the largest radius), widened far beyond rounding, reaches a distance
+/// some pair already has; the others are left out of the scan.
+fn farthest_pair(points: &[Vec3]) -> Option<(usize, usize)> {
+    let (lo, hi) = points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| {
+            (l.min(p), h.max(p))
+        });
+    let centre = (lo + hi) * 0.5;
+    let radii: Vec<f32> = points.iter().map(|p| p.distance(centre)).collect();
+    let (outer, big) =
+        radii.iter().enumerate().fold(
+            (0, 0.0f32),
+            |(k, r), (i, &q)| if q > r { (i, q) } else { (k, r) },
+        );
+    // A distance some pair has: from the outermost point to the farthest from it.
+    let known = points
+        .iter()
+        .map(|p| p.distance_squared(points[outer]))
+        .fold(0.0f32, f32::max);
+    let kept: Vec<usize> = (0..points.len())
+        .filter(|&i| {
+            // NaN or infinite points stay: they are scanned as every pair would.
+            let bound = (radii[i] + big).powi(2) * 1.001;
+            bound >= known || bound.is_nan()
+        })
+        .collect();
+    let mut best = (0.0f32, None);
+    for (n, &i) in kept.iter().enumerate() {
+        for &j in &kept[n + 1..] {
+            let d = points[i].distance_squared(points[j]);
             if d > best.0 {
-                best = (d, q - p);
+                best = (d, Some((i, j)));
             }
         }
     }
-    let x = best.1.normalize_or_zero();
-    (x != Vec3::ZERO && z != Vec3::ZERO).then_some(x)
+    best.1
+}
+
+/// The nodes of `lattice` (row-major) within `reach` of a segment of `flat` (in the lattice's
+/// plane). Each segment tests only the nodes of its box widened by `reach` and one node, so
+/// the cost is O(nodes near the segments), not O(nodes × segments).
+fn nodes_near(lattice: &NodeLattice, flat: &[[Vec2; 2]], reach: f32) -> Vec<bool> {
+    let (cols, rows) = (lattice.cols, lattice.rows);
+    let mut near = vec![false; cols * rows];
+    let node = |i: usize, j: usize| {
+        Vec2::new(
+            lattice.start[0] + i as f32 * lattice.spacing[0],
+            lattice.start[1] + j as f32 * lattice.spacing[1],
+        )
+    };
+    for &[a, b] in flat {
+        let (lo, hi) = (a.min(b) - Vec2::splat(reach), a.max(b) + Vec2::splat(reach));
+        let span = |k: usize, count: usize| {
+            let first = ((lo[k] - lattice.start[k]) / lattice.spacing[k]).floor() - 1.0;
+            let last = ((hi[k] - lattice.start[k]) / lattice.spacing[k]).ceil() + 1.0;
+            // `as` saturates: below zero (or NaN) is 0.
+            (
+                first.max(0.0) as usize,
+                (last.max(0.0) as usize).min(count - 1),
+            )
+        };
+        let ((i0, i1), (j0, j1)) = (span(0, cols), span(1, rows));
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let k = j * cols + i;
+                if !near[k] && distance_to_segment(node(i, j), a, b) <= reach {
+                    near[k] = true;
+                }
+            }
+        }
+    }
+    near
 }
 
 /// Distance from `q` to the segment from `a` to `b`.
@@ -391,4 +456,45 @@ fn distance_to_segment(q: Vec2, a: Vec2, b: Vec2) -> f32 {
         0.0
     };
     q.distance(a + ab * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every pair in order, keeping a strictly farther one.
+    fn every_pair(points: &[Vec3]) -> Option<(usize, usize)> {
+        let mut best = (0.0f32, None);
+        for i in 0..points.len() {
+            for j in i + 1..points.len() {
+                let d = points[i].distance_squared(points[j]);
+                if d > best.0 {
+                    best = (d, Some((i, j)));
+                }
+            }
+        }
+        best.1
+    }
+
+    #[test]
+    fn the_farthest_pair_is_the_one_every_pair_finds() {
+        // Pseudo-random clouds, and grids (many pairs tie at the largest distance).
+        let mut state = 12345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+        };
+        for n in [0, 1, 2, 3, 7, 40, 120] {
+            let cloud: Vec<Vec3> = (0..n)
+                .map(|_| Vec3::new(next() * 10.0, next(), next() * 0.1))
+                .collect();
+            assert_eq!(farthest_pair(&cloud), every_pair(&cloud), "cloud of {n}");
+        }
+        let grid: Vec<Vec3> = (0..64)
+            .map(|k| Vec3::new((k % 8) as f32, (k / 8) as f32, 0.0))
+            .collect();
+        assert_eq!(farthest_pair(&grid), every_pair(&grid));
+        let same = vec![Vec3::ONE; 5];
+        assert_eq!(farthest_pair(&same), None);
+    }
 }

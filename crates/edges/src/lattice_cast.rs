@@ -73,25 +73,20 @@ pub(crate) fn cast_lattice(
     allowed: &[FaceId],
     index: usize,
 ) -> Result<Option<Patch>, EdgeError> {
-    cast_lattice_within(job, lattice, allowed, &|_, _| true, index)
+    cast_lattice_within(job, lattice, allowed, None, index)
 }
 
-/// [`cast_lattice`] keeping only the hits of the nodes `(i, j)` for which `within` holds;
-/// the others stay empty.
+/// [`cast_lattice`] casting only the nodes whose flag in `within` (row-major, one a node) is
+/// set; the others stay empty.
 pub(crate) fn cast_lattice_within(
     job: &CastJob<'_>,
     lattice: &NodeLattice,
     allowed: &[FaceId],
-    within: &dyn Fn(usize, usize) -> bool,
+    within: Option<&[bool]>,
     index: usize,
 ) -> Result<Option<Patch>, EdgeError> {
     let mesh = job.mesh;
-    let mut hits = raster_hits(mesh, lattice, allowed);
-    for (k, hit) in hits.iter_mut().enumerate() {
-        if !within(k % lattice.cols, k / lattice.cols) {
-            *hit = None;
-        }
-    }
+    let hits = raster_hits(mesh, lattice, allowed, within);
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
     for h in hits.iter().flatten() {
         h_min = h_min.min(h.height);
