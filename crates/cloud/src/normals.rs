@@ -421,7 +421,7 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
 /// `[[a0, a1, a2], [a1, a3, a4], [a2, a4, a5]]`, or zero when it is not unique.
 ///
 /// The smallest eigenvalue is the smallest root of the characteristic polynomial, found by
-/// Newton's method from a point left of it ([`smallest_root`]); the eigenvector is the
+/// Newton's method from a point left of it (`smallest_root`); the eigenvector is the
 /// largest cross product of two rows of `A − λI`. (The trigonometric closed form cost 536
 /// instructions a call, half of them `acos` and two `cos`; this one about 360.)
 pub fn smallest_eigenvector(a: [f64; 6]) -> DVec3 {
