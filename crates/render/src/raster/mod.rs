@@ -8,6 +8,8 @@
 pub(crate) mod band;
 pub(crate) mod cell_bilinear;
 pub(crate) mod cell_centres;
+#[cfg(test)]
+mod cell_centres_tests;
 pub(crate) mod cell_edges;
 pub(crate) mod cell_exact;
 pub(crate) mod cell_smooth;
