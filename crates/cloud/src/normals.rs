@@ -37,7 +37,7 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::bucket_sort::sort_pairs;
+use crate::bucket_sort::column_sorted_keys;
 
 /// Largest voxel coordinate on an axis (21 bits; coordinates beyond are clamped to the edge
 /// voxels).
@@ -345,17 +345,7 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     // Key fields just wide enough for the cloud.
     let bits = coordinates(hi).map(|c| (u64::BITS - c.leading_zeros()).max(1));
     let (y_bits, z_bits) = (bits[1], bits[2]);
-    let key_of = |p: Vec3| {
-        let [x, y, z] = coordinates(p);
-        (x << (y_bits + z_bits)) | (y << z_bits) | z
-    };
-    let order: Vec<(u64, u32)> = positions
-        .par_iter()
-        .enumerate()
-        .map(|(i, &p)| (key_of(p), i as u32))
-        .collect();
-    // By column first: a column's voxels are a short run.
-    let order = sort_pairs(order, z_bits);
+    let order = column_sorted_keys(positions, coordinates, (y_bits, z_bits));
     // Voxels as runs of equal keys, and columns as runs of equal `(x, y)`.
     let mut runs: Vec<usize> = Vec::new();
     let mut grid = VoxelColumns {
