@@ -40,7 +40,10 @@ pub(crate) fn sort_pairs(mut pairs: Vec<(u64, u32)>, shift: u32) -> Vec<(u64, u3
         start[b + 1] += start[b];
     }
     let mut next = start.clone();
-    let mut sorted = vec![(0u64, 0u32); pairs.len()];
+    // Zeroed in parallel: `vec!` zeroed it on this thread (calloc's memset, 56 M sequential
+    // instructions of the four sorts on the covering 1 M scan set, callgrind).
+    let mut sorted = Vec::with_capacity(pairs.len());
+    sorted.par_extend(rayon::iter::repeat_n((0u64, 0u32), pairs.len()));
     for &p in &pairs {
         let slot = &mut next[bucket(p.0) as usize];
         sorted[*slot] = p;

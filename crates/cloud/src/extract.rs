@@ -182,8 +182,10 @@ pub(crate) fn extract_view(
             if !(fx >= 0.0 && fy >= 0.0 && fx < cw as f32 && fy < ch as f32) {
                 return NO_CELL;
             }
-            // Truncation is the floor here (non-negative), without a libm call.
-            let (cx, cy) = (fx as usize, fy as usize);
+            // Truncation is the floor here (non-negative, and below 2^23 cells a side),
+            // without a libm call; through `i32`, whose saturating conversion is shorter
+            // than `usize`'s (124 M of the covering 1 M scan set's worker instructions).
+            let (cx, cy) = (fx as i32 as usize, fy as i32 as usize);
             let (x, y) = (cx as f32, cy as f32);
             let Some(cell) = valid_cell(image, cx, cy, settings.jump, max_tan) else {
                 return NO_CELL;
