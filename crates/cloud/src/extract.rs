@@ -227,8 +227,8 @@ pub(crate) fn extract_view(
     // Emitted: the needed cells and the valid cells around them, each once per view.
     for &c in &needed_list {
         let (cx, cy) = (c % cw, c / cw);
-        for ny in cy.saturating_sub(1)..=(cy + 1).min(ch - 1) {
-            for nx in cx.saturating_sub(1)..=(cx + 1).min(cw - 1) {
+        for ny in cy.saturating_sub(1)..(cy + 2).min(ch) {
+            for nx in cx.saturating_sub(1)..(cx + 2).min(cw) {
                 let n = ny * cw + nx;
                 if !state.emitted[n]
                     && valid_cell(&state.image, nx, ny, settings.jump, max_tan).is_some()
@@ -343,8 +343,8 @@ fn drop_small_regions(
         while let Some(c) = stack.pop() {
             region.push(c);
             let (cx, cy) = (c % cw, c / cw);
-            for ny in cy.saturating_sub(1)..=(cy + 1).min(ch - 1) {
-                for nx in cx.saturating_sub(1)..=(cx + 1).min(cw - 1) {
+            for ny in cy.saturating_sub(1)..(cy + 2).min(ch) {
+                for nx in cx.saturating_sub(1)..(cx + 2).min(cw) {
                     let n = ny * cw + nx;
                     if needed[n] && !seen[n] {
                         seen[n] = true;
