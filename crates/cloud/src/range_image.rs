@@ -237,27 +237,32 @@ pub(crate) struct FlushInput<'a> {
     pub(crate) oriented: bool,
 }
 
-/// Per-point buffers of [`flush_points`], kept from one view to the next: the pixel and
-/// height of one chunk of [`FLUSH_CHUNK`] points (8 bytes a point of a chunk), and the pixel
-/// and height of every drawn point of the view (8 bytes a drawn point, 12 with colours).
+/// Per-point buffers of [`flush_points`], kept from one view to the next: the pixel (or
+/// [`NOT_DRAWN`]) and height of every point the view's normal cones do not skip (8 bytes a
+/// point), written by pass 1 and read again by pass 2.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlushScratch {
     pixel_of: Vec<u32>,
     height_of: Vec<f32>,
-    drawn: Vec<(u32, f32)>,
-    drawn_point: Vec<u32>,
 }
 
 impl FlushScratch {
-    /// Scratch with room for `points` drawn points (with their indices when `colours`),
-    /// reserved by the caller's thread: the pages are touched only as points are drawn, and
-    /// the memory returns to the caller's heap afterwards (grown on a worker thread it stayed
-    /// resident in that thread's arena: 10 MB more peak on the evenly spread 1 M scan set).
-    pub(crate) fn with_capacity(points: usize, colours: bool) -> FlushScratch {
+    /// Scratch with room for `points` points, reserved by the caller's thread: the pages are
+    /// touched only as points are projected, and the memory returns to the caller's heap
+    /// afterwards (grown on a worker thread it stayed resident in that thread's arena: 10 MB
+    /// more peak on the evenly spread 1 M scan set).
+    pub(crate) fn with_capacity(points: usize) -> FlushScratch {
         FlushScratch {
-            drawn: Vec::with_capacity(points),
-            drawn_point: Vec::with_capacity(if colours { points } else { 0 }),
-            ..FlushScratch::default()
+            pixel_of: Vec::with_capacity(points),
+            height_of: Vec::with_capacity(points),
+        }
+    }
+
+    /// Room for `n` points (grown, never shrunk: resizing to each view's count re-zeroed it).
+    fn ensure(&mut self, n: usize) {
+        if self.pixel_of.len() < n {
+            self.pixel_of.resize(n, 0);
+            self.height_of.resize(n, 0.0);
         }
     }
 }
@@ -313,23 +318,16 @@ impl Projector {
     }
 
     /// Each point of `range`: its pixel (or [`NOT_DRAWN`]) and its height carried to the
-    /// pixel centre, into the first `range.len()` entries of `scratch`. Branch-free over the columns, so
-    /// it vectorises; the z-buffer is left to the caller.
+    /// pixel centre, into `out_pixel` and `out_height` (`range.len()` long). Branch-free over
+    /// the columns, so it vectorises; the z-buffer is left to the caller.
     fn project(
         &self,
         points: &PointColumns,
         range: std::ops::Range<usize>,
         oriented: bool,
-        scratch: &mut FlushScratch,
+        (out_pixel, out_height): (&mut [u32], &mut [f32]),
     ) {
         let n = range.len();
-        // Grown to the largest chunk and never shrunk: resizing to each chunk's length
-        // re-zeroed the buffers on every call (memset, 101 M of the 8.31 G instructions of
-        // the evenly spread 1 M scan set, callgrind).
-        if scratch.pixel_of.len() < n {
-            scratch.pixel_of.resize(n, 0);
-            scratch.height_of.resize(n, 0.0);
-        }
         let Projector {
             u,
             w,
@@ -355,7 +353,7 @@ impl Projector {
             &points.nz[range],
         );
         let (px, py, pz, nx, ny, nz) = (&px[..n], &py[..n], &pz[..n], &nx[..n], &ny[..n], &nz[..n]);
-        let (out_pixel, out_height) = (&mut scratch.pixel_of[..n], &mut scratch.height_of[..n]);
+        let (out_pixel, out_height) = (&mut out_pixel[..n], &mut out_height[..n]);
         for j in 0..n {
             let (x, y, z) = (px[j], py[j], pz[j]);
             let (ax, ay, az) = (nx[j], ny[j], nz[j]);
@@ -444,55 +442,52 @@ pub(crate) fn flush_points(
                 .map(move |a| a..(a + FLUSH_CHUNK).min(end))
         })
     };
-    // Pass 1: the front-most height per pixel, a chunk of points at a time; each drawn
-    // point's pixel and height are kept for pass 2 (projecting every chunk again instead
-    // cost 0.50 G of the covering 1 M scan set's 6.47 G worker instructions, callgrind).
+    // Pass 1: the front-most height per pixel, a chunk of points at a time (its pixels and
+    // heights are still in the cache for the z-buffer). They are kept for pass 2: projecting
+    // every chunk again cost 0.50 G of the covering 1 M scan set's 6.47 G worker
+    // instructions (callgrind).
     let mut front = vec![EMPTY_DEPTH; pixels];
-    // Sized once to the points that may be drawn (not grown by doubling: the freed
-    // doublings stayed resident); a no-op for a scratch made `with_capacity`.
-    let most: usize = runs.iter().map(ExactSizeIterator::len).sum();
-    scratch.drawn.clear();
-    scratch.drawn.reserve_exact(most);
-    scratch.drawn_point.clear();
-    if input.colours.is_some() {
-        scratch.drawn_point.reserve_exact(most);
-    }
+    let projected: usize = runs.iter().map(ExactSizeIterator::len).sum();
+    scratch.ensure(projected);
+    let (pixel_of, height_of) = (
+        &mut scratch.pixel_of[..projected],
+        &mut scratch.height_of[..projected],
+    );
+    let mut at = 0;
     for range in chunks() {
-        let (first, n) = (range.start, range.len());
-        projector.project(input.points, range, input.oriented, scratch);
-        let FlushScratch {
-            pixel_of,
-            height_of,
-            drawn,
-            drawn_point,
-        } = &mut *scratch;
-        for (offset, (&k, &hc)) in pixel_of[..n].iter().zip(&height_of[..n]).enumerate() {
+        let next = at + range.len();
+        let out = (&mut pixel_of[at..next], &mut height_of[at..next]);
+        projector.project(input.points, range, input.oriented, out);
+        for (&k, &hc) in pixel_of[at..next].iter().zip(&height_of[at..next]) {
             if k != NOT_DRAWN {
                 let f = &mut front[k as usize];
                 *f = f.max(hc);
-                drawn.push((k, hc));
-                if input.colours.is_some() {
-                    drawn_point.push((first + offset) as u32);
-                }
             }
         }
+        at = next;
     }
     // Pass 2: average the front layer, in the points' order.
+    let in_front = |k: u32, hc: f32| k != NOT_DRAWN && hc >= front[k as usize] - input.band;
     let mut sum = vec![(0.0f32, 0u32); pixels];
-    let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
-    for (d, &(k, hc)) in scratch.drawn.iter().enumerate() {
-        let k = k as usize;
-        if hc >= front[k] - input.band {
-            sum[k].0 += hc;
-            sum[k].1 += 1;
-            if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
-                let c = colours[scratch.drawn_point[d] as usize];
-                for (a, v) in acc[k].iter_mut().zip(c) {
+    for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
+        if in_front(k, hc) {
+            let s = &mut sum[k as usize];
+            s.0 += hc;
+            s.1 += 1;
+        }
+    }
+    let colour_sum = input.colours.map(|colours| {
+        let mut acc = vec![[0u32; 4]; pixels];
+        let point = runs.iter().flat_map(Clone::clone);
+        for ((&k, &hc), i) in pixel_of.iter().zip(height_of.iter()).zip(point) {
+            if in_front(k, hc) {
+                for (a, v) in acc[k as usize].iter_mut().zip(colours[i]) {
                     *a += u32::from(v);
                 }
             }
         }
-    }
+        acc
+    });
     drop(front);
     let depth: Vec<f32> = sum
         .iter()

@@ -117,7 +117,7 @@ pub(crate) fn convert_tile(
         oriented: context.oriented,
     };
     let scratches = (0..rayon::current_num_threads())
-        .map(|_| FlushScratch::with_capacity(job.points.len(), job.colours.is_some()))
+        .map(|_| FlushScratch::with_capacity(job.points.len()))
         .collect();
     let pool = Mutex::new(scratches);
     let built: Vec<(ViewState, usize)> = geometries
