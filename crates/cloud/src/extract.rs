@@ -428,6 +428,8 @@ pub(crate) fn absorb_border_points(
 fn faces_away(sides: Option<&[Vec3]>, id: PointId, direction: Vec3) -> bool {
     sides.is_some_and(|sides| {
         let n = sides[id.index()];
-        n != Vec3::ZERO && n.dot(direction) < crate::range_image::MIN_POINT_COSINE
+        // The dot first: the zero test (an unknown normal faces every view) is then
+        // needed only for the points it would turn away.
+        n.dot(direction) < crate::range_image::MIN_POINT_COSINE && n != Vec3::ZERO
     })
 }
