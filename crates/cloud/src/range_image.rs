@@ -32,9 +32,9 @@
 //!
 //! Cost: one projection and two passes over the points (O(n)), one over the pixels
 //! (O(w·h)); memory: 4 bytes per pixel for the heights (plus 4 for colours), and a
-//! transient 12 bytes per pixel, and 8 bytes per projected point (its pixel and height,
-//! kept from pass 1 for pass 2 in a [`FlushScratch`] reused from view to view, one per
-//! worker) while building; the coordinate arrays take 24 bytes per point for all views.
+//! transient 12 bytes per pixel, and 8 bytes per projected point up to [`KEPT_POINTS`] (its
+//! pixel and height, kept from pass 1 for pass 2 in a [`FlushScratch`] reused from view to
+//! view, one per worker; beyond, one chunk's, projected again in pass 2) while building; the coordinate arrays take 24 bytes per point for all views.
 //! (Projecting every point again for pass 2 instead cost 0.50 G of the 6.47 G worker
 //! instructions of the covering 1 M scan set; the kept projections add less than the
 //! normals stage's peak.)
@@ -253,6 +253,7 @@ impl FlushScratch {
     /// afterwards (grown on a worker thread it stayed resident in that thread's arena: 10 MB
     /// more peak on the evenly spread 1 M scan set).
     pub(crate) fn with_capacity(points: usize) -> FlushScratch {
+        let points = points.clamp(FLUSH_CHUNK, KEPT_POINTS);
         FlushScratch {
             pixel_of: Vec::with_capacity(points),
             height_of: Vec::with_capacity(points),
@@ -267,6 +268,11 @@ impl FlushScratch {
         }
     }
 }
+
+/// Most projected points a view keeps from pass 1 for pass 2 (8 bytes each, per worker):
+/// beyond, pass 2 projects each chunk again. Keeping every point cost a 4 M-point terrain
+/// 70 MB more peak (97 instead of 80 bytes a point) on 2 threads.
+const KEPT_POINTS: usize = 1 << 20;
 
 /// Marks a point that is not drawn in a view.
 const NOT_DRAWN: u32 = u32::MAX;
@@ -443,22 +449,26 @@ pub(crate) fn flush_points(
         })
     };
     // Pass 1: the front-most height per pixel, a chunk of points at a time (its pixels and
-    // heights are still in the cache for the z-buffer). They are kept for pass 2: projecting
-    // every chunk again cost 0.50 G of the covering 1 M scan set's 6.47 G worker
-    // instructions (callgrind).
+    // heights are still in the cache for the z-buffer). Up to KEPT_POINTS they are kept for
+    // pass 2: projecting every chunk again cost 0.50 G of the covering 1 M scan set's
+    // 6.47 G worker instructions (callgrind). Beyond, each chunk is projected again.
     let mut front = vec![EMPTY_DEPTH; pixels];
     let projected: usize = runs.iter().map(ExactSizeIterator::len).sum();
-    scratch.ensure(projected);
-    let (pixel_of, height_of) = (
-        &mut scratch.pixel_of[..projected],
-        &mut scratch.height_of[..projected],
-    );
+    let keep = projected <= KEPT_POINTS;
+    scratch.ensure(if keep { projected } else { FLUSH_CHUNK });
+    // Where a chunk's projections lie in the scratch: after the earlier ones when kept.
+    let window = |at: usize, n: usize| if keep { at..at + n } else { 0..n };
     let mut at = 0;
     for range in chunks() {
-        let next = at + range.len();
-        let out = (&mut pixel_of[at..next], &mut height_of[at..next]);
-        projector.project(input.points, range, input.oriented, out);
-        for (&k, &hc) in pixel_of[at..next].iter().zip(&height_of[at..next]) {
+        let slots = window(at, range.len());
+        at += range.len();
+        let FlushScratch {
+            pixel_of,
+            height_of,
+        } = &mut *scratch;
+        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        projector.project(input.points, range, input.oriented, (pixel_of, height_of));
+        for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
             if k != NOT_DRAWN {
                 // A comparison, not `f32::max`, whose NaN handling cost 62 M of the covering
                 // 1 M scan set's worker instructions. Neither keeps a NaN height; a zero's
@@ -469,30 +479,35 @@ pub(crate) fn flush_points(
                 }
             }
         }
-        at = next;
     }
     // Pass 2: average the front layer, in the points' order.
-    let in_front = |k: u32, hc: f32| k != NOT_DRAWN && hc >= front[k as usize] - input.band;
     let mut sum = vec![(0.0f32, 0u32); pixels];
-    for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
-        if in_front(k, hc) {
-            let s = &mut sum[k as usize];
-            s.0 += hc;
-            s.1 += 1;
+    let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
+    let mut at = 0;
+    for range in chunks() {
+        let (first, slots) = (range.start, window(at, range.len()));
+        at += range.len();
+        let FlushScratch {
+            pixel_of,
+            height_of,
+        } = &mut *scratch;
+        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        if !keep {
+            projector.project(input.points, range, input.oriented, (pixel_of, height_of));
         }
-    }
-    let colour_sum = input.colours.map(|colours| {
-        let mut acc = vec![[0u32; 4]; pixels];
-        let point = runs.iter().flat_map(Clone::clone);
-        for ((&k, &hc), i) in pixel_of.iter().zip(height_of.iter()).zip(point) {
-            if in_front(k, hc) {
-                for (a, v) in acc[k as usize].iter_mut().zip(colours[i]) {
-                    *a += u32::from(v);
+        for (offset, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
+            if k != NOT_DRAWN && hc >= front[k as usize] - input.band {
+                let k = k as usize;
+                sum[k].0 += hc;
+                sum[k].1 += 1;
+                if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
+                    for (a, v) in acc[k].iter_mut().zip(colours[first + offset]) {
+                        *a += u32::from(v);
+                    }
                 }
             }
         }
-        acc
-    });
+    }
     drop(front);
     let depth: Vec<f32> = sum
         .iter()
