@@ -29,7 +29,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::bucket_sort::sort_pairs;
+use crate::bucket_sort::column_sorted_keys;
 
 /// Bits of a cell coordinate (cells per side at most `2^CELL_BITS`).
 const CELL_BITS: u32 = 21;
@@ -74,17 +74,11 @@ impl NeighbourGrid {
         let dims = [top.x, top.y, top.z].map(|c| i64::from(c) + 1);
         let [_, y_bits, z_bits] =
             [top.x, top.y, top.z].map(|c| (u32::BITS - c.leading_zeros()).max(1));
-        let key = |p: Vec3| {
+        let cell_of = |p: Vec3| {
             let c = coordinates(p);
-            (u64::from(c.x) << (y_bits + z_bits)) | (u64::from(c.y) << z_bits) | u64::from(c.z)
+            [c.x, c.y, c.z].map(u64::from)
         };
-        let pairs: Vec<(u64, u32)> = positions
-            .par_iter()
-            .enumerate()
-            .map(|(i, &p)| (key(p), i as u32))
-            .collect();
-        // By column first: a column's cells are a short run.
-        let pairs = sort_pairs(pairs, z_bits);
+        let pairs = column_sorted_keys(positions, cell_of, (y_bits, z_bits));
         let mut keys = Vec::new();
         let mut starts = Vec::new();
         for (j, &(k, _)) in pairs.iter().enumerate() {

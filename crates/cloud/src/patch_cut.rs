@@ -79,8 +79,8 @@ pub(crate) fn cut_emitted(
         while let Some(c) = stack.pop() {
             let (cx, cy) = (c % cw, c / cw);
             region.push((cx, cy));
-            for ny in cy.saturating_sub(1)..=(cy + 1).min(ch - 1) {
-                for nx in cx.saturating_sub(1)..=(cx + 1).min(cw - 1) {
+            for ny in cy.saturating_sub(1)..(cy + 2).min(ch) {
+                for nx in cx.saturating_sub(1)..(cx + 2).min(cw) {
                     let n = ny * cw + nx;
                     if emitted[n] && !seen[n] {
                         seen[n] = true;

@@ -30,13 +30,14 @@
 //! Invariants: filled heights are finite; empty pixels hold [`EMPTY_DEPTH`]; the result does
 //! not depend on thread count (each view is built by one thread, points in input order).
 //!
-//! Cost: two passes over the points (O(n)), one over the pixels (O(w·h)); memory: 4 bytes per
-//! pixel for the heights (plus 4 for colours), and a transient 12 bytes per pixel and 8 bytes
-//! per point of a chunk of [`FLUSH_CHUNK`] points (reused from view to view through a
-//! [`FlushScratch`]) while building; the coordinate arrays take 24 bytes per point for all
-//! views. The points are projected a chunk at a time, twice (once per pass): before, the
-//! projection of every point was kept between the passes, 8 bytes per point for each view in
-//! flight (16 MB of the peak for 1 M points on 2 threads).
+//! Cost: one projection and two passes over the points (O(n)), one over the pixels
+//! (O(w·h)); memory: 4 bytes per pixel for the heights (plus 4 for colours), and a
+//! transient 12 bytes per pixel, and 8 bytes per projected point up to [`KEPT_POINTS`] (its
+//! pixel and height, kept from pass 1 for pass 2 in a [`FlushScratch`] reused from view to
+//! view, one per worker; beyond, one chunk's, projected again in pass 2) while building; the coordinate arrays take 24 bytes per point for all views.
+//! (Projecting every point again for pass 2 instead cost 0.50 G of the 6.47 G worker
+//! instructions of the covering 1 M scan set; the kept projections add less than the
+//! normals stage's peak.)
 //!
 //! Based on: the range-image sampling of point clouds of the spatial-patch paper (a z-buffer
 //! flush per view direction); surface splatting's use of the tangent plane to place a sample
@@ -237,8 +238,9 @@ pub(crate) struct FlushInput<'a> {
     pub(crate) oriented: bool,
 }
 
-/// Per-point buffers of [`flush_points`] for one chunk of [`FLUSH_CHUNK`] points, kept from
-/// one view to the next (8 bytes per point of a chunk).
+/// Per-point buffers of [`flush_points`], kept from one view to the next: the pixel (or
+/// [`NOT_DRAWN`]) and height of every point the view's normal cones do not skip (8 bytes a
+/// point), written by pass 1 and read again by pass 2.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlushScratch {
     pixel_of: Vec<u32>,
@@ -246,18 +248,37 @@ pub(crate) struct FlushScratch {
 }
 
 impl FlushScratch {
-    /// The pixel and height of the first `n` points of the last projected chunk.
-    fn chunk(&self, n: usize) -> impl Iterator<Item = (&u32, &f32)> {
-        self.pixel_of[..n].iter().zip(&self.height_of[..n])
+    /// Scratch with room for `points` points, reserved by the caller's thread: the pages are
+    /// touched only as points are projected, and the memory returns to the caller's heap
+    /// afterwards (grown on a worker thread it stayed resident in that thread's arena: 10 MB
+    /// more peak on the evenly spread 1 M scan set).
+    pub(crate) fn with_capacity(points: usize) -> FlushScratch {
+        let points = points.clamp(FLUSH_CHUNK, KEPT_POINTS);
+        FlushScratch {
+            pixel_of: Vec::with_capacity(points),
+            height_of: Vec::with_capacity(points),
+        }
+    }
+
+    /// Room for `n` points (grown, never shrunk: resizing to each view's count re-zeroed it).
+    fn ensure(&mut self, n: usize) {
+        if self.pixel_of.len() < n {
+            self.pixel_of.resize(n, 0);
+            self.height_of.resize(n, 0.0);
+        }
     }
 }
+
+/// Most projected points a view keeps from pass 1 for pass 2 (8 bytes each, per worker):
+/// beyond, pass 2 projects each chunk again. Keeping every point cost a 4 M-point terrain
+/// 70 MB more peak (97 instead of 80 bytes a point) on 2 threads.
+const KEPT_POINTS: usize = 1 << 20;
 
 /// Marks a point that is not drawn in a view.
 const NOT_DRAWN: u32 = u32::MAX;
 
-/// Points projected at a time: the per-point pixel and height of a chunk stay in the cache
-/// between the projection and the z-buffer, and the scratch is 128 KB instead of 8 bytes per
-/// point of the cloud.
+/// Points projected at a time: a chunk's pixels and heights are still in the cache when
+/// the z-buffer reads them.
 const FLUSH_CHUNK: usize = 16_384;
 
 /// The projection of points onto one view's pixels (pass 1a of the module documentation).
@@ -303,23 +324,16 @@ impl Projector {
     }
 
     /// Each point of `range`: its pixel (or [`NOT_DRAWN`]) and its height carried to the
-    /// pixel centre, into the first `range.len()` entries of `scratch`. Branch-free over the columns, so
-    /// it vectorises; the z-buffer is left to the caller.
+    /// pixel centre, into `out_pixel` and `out_height` (`range.len()` long). Branch-free over
+    /// the columns, so it vectorises; the z-buffer is left to the caller.
     fn project(
         &self,
         points: &PointColumns,
         range: std::ops::Range<usize>,
         oriented: bool,
-        scratch: &mut FlushScratch,
+        (out_pixel, out_height): (&mut [u32], &mut [f32]),
     ) {
         let n = range.len();
-        // Grown to the largest chunk and never shrunk: resizing to each chunk's length
-        // re-zeroed the buffers on every call (memset, 101 M of the 8.31 G instructions of
-        // the evenly spread 1 M scan set, callgrind).
-        if scratch.pixel_of.len() < n {
-            scratch.pixel_of.resize(n, 0);
-            scratch.height_of.resize(n, 0.0);
-        }
         let Projector {
             u,
             w,
@@ -345,7 +359,7 @@ impl Projector {
             &points.nz[range],
         );
         let (px, py, pz, nx, ny, nz) = (&px[..n], &py[..n], &pz[..n], &nx[..n], &ny[..n], &nz[..n]);
-        let (out_pixel, out_height) = (&mut scratch.pixel_of[..n], &mut scratch.height_of[..n]);
+        let (out_pixel, out_height) = (&mut out_pixel[..n], &mut out_height[..n]);
         for j in 0..n {
             let (x, y, z) = (px[j], py[j], pz[j]);
             let (ax, ay, az) = (nx[j], ny[j], nz[j]);
@@ -434,36 +448,60 @@ pub(crate) fn flush_points(
                 .map(move |a| a..(a + FLUSH_CHUNK).min(end))
         })
     };
-    // Pass 1: the front-most height per pixel, a chunk of points at a time.
+    // Pass 1: the front-most height per pixel, a chunk of points at a time (its pixels and
+    // heights are still in the cache for the z-buffer). Up to KEPT_POINTS they are kept for
+    // pass 2: projecting every chunk again cost 0.50 G of the covering 1 M scan set's
+    // 6.47 G worker instructions (callgrind). Beyond, each chunk is projected again.
     let mut front = vec![EMPTY_DEPTH; pixels];
+    let projected: usize = runs.iter().map(ExactSizeIterator::len).sum();
+    let keep = projected <= KEPT_POINTS;
+    scratch.ensure(if keep { projected } else { FLUSH_CHUNK });
+    // Where a chunk's projections lie in the scratch: after the earlier ones when kept.
+    let window = |at: usize, n: usize| if keep { at..at + n } else { 0..n };
+    let mut at = 0;
     for range in chunks() {
-        let n = range.len();
-        projector.project(input.points, range, input.oriented, scratch);
-        for (&k, &hc) in scratch.chunk(n) {
+        let slots = window(at, range.len());
+        at += range.len();
+        let FlushScratch {
+            pixel_of,
+            height_of,
+        } = &mut *scratch;
+        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        projector.project(input.points, range, input.oriented, (pixel_of, height_of));
+        for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
             if k != NOT_DRAWN {
+                // A comparison, not `f32::max`, whose NaN handling cost 62 M of the covering
+                // 1 M scan set's worker instructions. Neither keeps a NaN height; a zero's
+                // sign may differ, which `hc ≥ front − band` below does not see.
                 let f = &mut front[k as usize];
-                *f = f.max(hc);
+                if hc > *f {
+                    *f = hc;
+                }
             }
         }
     }
-    // Pass 2: average the front layer (the chunks projected again: cheaper than keeping 8
-    // bytes per point of the cloud for every view in flight).
+    // Pass 2: average the front layer, in the points' order.
     let mut sum = vec![(0.0f32, 0u32); pixels];
     let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
+    let mut at = 0;
     for range in chunks() {
-        let (first, n) = (range.start, range.len());
-        projector.project(input.points, range, input.oriented, scratch);
-        for (offset, (&k, &hc)) in scratch.chunk(n).enumerate() {
-            if k == NOT_DRAWN {
-                continue;
-            }
-            let k = k as usize;
-            if hc >= front[k] - input.band {
+        let (first, slots) = (range.start, window(at, range.len()));
+        at += range.len();
+        let FlushScratch {
+            pixel_of,
+            height_of,
+        } = &mut *scratch;
+        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        if !keep {
+            projector.project(input.points, range, input.oriented, (pixel_of, height_of));
+        }
+        for (offset, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
+            if k != NOT_DRAWN && hc >= front[k as usize] - input.band {
+                let k = k as usize;
                 sum[k].0 += hc;
                 sum[k].1 += 1;
                 if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
-                    let c = colours[first + offset];
-                    for (a, v) in acc[k].iter_mut().zip(c) {
+                    for (a, v) in acc[k].iter_mut().zip(colours[first + offset]) {
                         *a += u32::from(v);
                     }
                 }

@@ -21,6 +21,7 @@
 //! and pass; memory about 9 bytes per pixel over the views plus 8 bytes per point of
 //! scratch per worker.
 
+use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
 use glam::Vec3;
@@ -115,10 +116,16 @@ pub(crate) fn convert_tile(
         jump,
         oriented: context.oriented,
     };
+    let scratches = (0..rayon::current_num_threads())
+        .map(|_| FlushScratch::with_capacity(job.points.len()))
+        .collect();
+    let pool = Mutex::new(scratches);
     let built: Vec<(ViewState, usize)> = geometries
         .par_iter()
-        .map_init(FlushScratch::default, |scratch, &geometry| {
-            let mut image = flush_points(&flush, geometry, scratch);
+        .map(|&geometry| {
+            let mut scratch = lock(&pool).pop().unwrap_or_default();
+            let mut image = flush_points(&flush, geometry, &mut scratch);
+            lock(&pool).push(scratch);
             let filled = fill_gaps(&mut image, options.max_gap, jump);
             if let Some(smooth) = &options.smooth {
                 smooth_range_image(&mut image, smooth, spacing, jump);
@@ -127,6 +134,7 @@ pub(crate) fn convert_tile(
             (ViewState::new(image), filled)
         })
         .collect();
+    drop(pool);
     // The turned normals stay for the extraction's side test; the rest of the columns go.
     let sides = context.oriented.then(|| job.points.normals());
     drop(job.points);
@@ -170,6 +178,14 @@ pub(crate) fn convert_tile(
         image_seconds,
         extract_seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The pool of flush scratches, made by the calling thread (one per worker; a view takes
+/// one and puts it back). A poisoned lock only means another view panicked, and that panic
+/// is the one rayon reports.
+fn lock(pool: &Mutex<Vec<FlushScratch>>) -> MutexGuard<'_, Vec<FlushScratch>> {
+    pool.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// The views' image geometries over `bounds`, and the pixel they use: the context's, or
