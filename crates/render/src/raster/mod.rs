@@ -7,6 +7,8 @@
 
 pub(crate) mod band;
 pub(crate) mod cell_bilinear;
+#[cfg(test)]
+mod cell_bilinear_tests;
 pub(crate) mod cell_centres;
 #[cfg(test)]
 mod cell_centres_tests;
