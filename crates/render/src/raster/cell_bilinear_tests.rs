@@ -1,12 +1,28 @@
-//! The hole-free property of the bilinear cell drawer on random pieces
-//! (see the module header of `raster::cell_bilinear`): every pixel centre
-//! inside a drawn cell receives a sample.
+//! Tests of the bilinear cell drawer (`raster::cell_bilinear`): the
+//! hole-free property on random pieces (see that module's header), a
+//! magnified cell, the unclipped row path against the clipped one, and the
+//! fixed-cut copies against the generic kernel.
 
 use crate::fixed::{test_node as node, Node, Z_FAR};
-use crate::grid::{close_cells, CELL_DRAW};
+use crate::grid::{close_cells, CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::plan::subdivision::choose_subdivision;
 use crate::raster::band::{BandTarget, Sample, PATCH_SAMPLE};
-use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
+use crate::raster::cell_bilinear::{draw_cells, draw_cells_bilinear, draw_nodes, BilinearPiece};
+
+/// Per row of cells of a piece of `cols`-node rows, the pixel rows its
+/// nodes span (`[lo, hi]`), and whether every node lies strictly inside
+/// the `w` columns of the image (the unclipped row path's contract).
+fn row_spans(nodes: &[Node], cols: usize, crows: usize, w: usize) -> (Vec<[i32; 2]>, bool) {
+    let spans = (0..crows)
+        .map(|j| {
+            let ys = nodes[j * cols..(j + 2) * cols].iter().map(|n| n[1] >> 16);
+            [ys.clone().min().unwrap(), ys.max().unwrap()]
+        })
+        .collect();
+    let x = nodes.iter().map(|n| n[0] >> 16);
+    let inside_columns = x.clone().min().unwrap() > 0 && x.max().unwrap() < w as i32 - 1;
+    (spans, inside_columns)
+}
 
 /// Whether pixel centre `(x, y)` lies inside the strictly convex quad
 /// with corners `q` (`[c00, c10, c01, c11]`) by more than `margin`
@@ -90,14 +106,7 @@ fn random_pieces_leave_no_hole_inside_any_drawn_cell() {
             continue;
         };
         cut += (nu * nv > 1) as usize;
-        let spans: Vec<[i32; 2]> = (0..crows)
-            .map(|j| {
-                let ys = nodes[j * cols..(j + 2) * cols].iter().map(|n| n[1] >> 16);
-                [ys.clone().min().unwrap(), ys.max().unwrap()]
-            })
-            .collect();
-        let x = nodes.iter().map(|n| n[0] >> 16);
-        let inside_columns = x.clone().min().unwrap() > 0 && x.max().unwrap() < w as i32 - 1;
+        let (spans, inside_columns) = row_spans(&nodes, cols, crows, w);
         let piece = BilinearPiece {
             nodes: &nodes,
             flags: &flags,
@@ -138,4 +147,176 @@ fn random_pieces_leave_no_hole_inside_any_drawn_cell() {
         checked > 15_000 && cut > 500,
         "{checked} centres, {cut} cut pieces"
     );
+}
+
+#[test]
+fn a_magnified_cell_covers_every_pixel_centre_inside_it() {
+    // One skewed cell spanning about 20 pixels.
+    let nodes = [
+        node(2.3, 3.1),
+        node(21.7, 5.2),
+        node(4.0, 19.9),
+        node(18.2, 22.4),
+    ];
+    let (w, h) = (32, 32);
+    let mut px = vec![Sample::EMPTY; w * h];
+    let mut t = BandTarget {
+        width: w as i32,
+        y0: 0,
+        rows: h as i32,
+        px: &mut px,
+    };
+    // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
+    let flags = [CELL_DRAW | CELL_RIGHT | CELL_TOP];
+    let spans = [[0, 31]];
+    let piece = BilinearPiece {
+        nodes: &nodes,
+        flags: &flags,
+        spans: &spans,
+        cols: 2,
+        rows: 2,
+        inside_columns: false,
+    };
+    draw_cells_bilinear(&mut t, &piece, 24, 24, PATCH_SAMPLE);
+    // Every pixel centre strictly inside the quad (two triangles) is drawn.
+    let inside = |px: f32, py: f32| {
+        let tri = |a: (f32, f32), b: (f32, f32), c: (f32, f32)| {
+            let e =
+                |p: (f32, f32), q: (f32, f32)| (q.0 - p.0) * (py - p.1) - (q.1 - p.1) * (px - p.0);
+            let (s0, s1, s2) = (e(a, b), e(b, c), e(c, a));
+            (s0 > 0.2 && s1 > 0.2 && s2 > 0.2) || (s0 < -0.2 && s1 < -0.2 && s2 < -0.2)
+        };
+        let p = |k: usize| (nodes[k][0] as f32 / 65536.0, nodes[k][1] as f32 / 65536.0);
+        tri(p(0), p(1), p(3)) || tri(p(0), p(3), p(2))
+    };
+    let mut checked = 0;
+    for y in 0..h {
+        for x in 0..w {
+            if inside(x as f32 + 0.5, y as f32 + 0.5) {
+                checked += 1;
+                assert!(px[y * w + x].depth < Z_FAR, "hole at {x},{y}");
+            }
+        }
+    }
+    assert!(checked > 250);
+}
+
+#[test]
+fn rows_inside_a_band_draw_as_the_clipped_path_does() {
+    // Random jittered pieces near the image's and the bands' edges, some
+    // cells undrawn: the unclipped row path must give the same samples
+    // as the per-cell boxes (which clip), and never write out of band.
+    let mut rng = crate::test_rng::XorShift(0x5eed_ce11);
+    let (w, h) = (48usize, 48usize);
+    let mut rows_taken = 0;
+    for _ in 0..400 {
+        let (cols, rows) = (2 + rng.below(5) as usize, 2 + rng.below(5) as usize);
+        let step = 0.6 + 2.0 * rng.unit();
+        let (ox, oy) = (1.5 + 30.0 * rng.unit(), 1.5 + 30.0 * rng.unit());
+        let nodes: Vec<Node> = (0..cols * rows)
+            .map(|k| {
+                let (i, j) = ((k % cols) as f32, (k / cols) as f32);
+                let jitter = |r: &mut crate::test_rng::XorShift| 0.4 * (r.unit() - 0.5);
+                node(
+                    ox + step * i + jitter(&mut rng),
+                    oy + step * j + jitter(&mut rng),
+                )
+            })
+            .collect();
+        let (ccols, crows) = (cols - 1, rows - 1);
+        let mut flags: Vec<u8> = (0..ccols * crows)
+            .map(|_| if rng.below(6) == 0 { 0 } else { CELL_DRAW })
+            .collect();
+        crate::grid::close_cells(&mut flags, ccols, crows);
+        let (spans, inside_columns) = row_spans(&nodes, cols, crows, w);
+        let (y0, band_rows) = (rng.below(40) as i32, 4 + rng.below(20) as i32);
+        let band_rows = band_rows.min(h as i32 - y0);
+        let draw = |inside_columns: bool| {
+            let mut px = vec![Sample::EMPTY; w * band_rows as usize];
+            let mut t = BandTarget {
+                width: w as i32,
+                y0,
+                rows: band_rows,
+                px: &mut px,
+            };
+            let piece = BilinearPiece {
+                nodes: &nodes,
+                flags: &flags,
+                spans: &spans,
+                cols,
+                rows,
+                inside_columns,
+            };
+            draw_cells_bilinear(&mut t, &piece, 2, 3, PATCH_SAMPLE);
+            px.iter().map(|s| (s.depth, s.w0, s.w2)).collect::<Vec<_>>()
+        };
+        if inside_columns {
+            rows_taken += spans
+                .iter()
+                .filter(|&&[lo, hi]| lo > y0 && hi < y0 + band_rows - 1)
+                .count();
+        }
+        assert_eq!(draw(inside_columns), draw(false));
+    }
+    assert!(rows_taken > 200, "the row path ran for {rows_taken} rows");
+}
+
+#[test]
+fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
+    // Random jittered pieces with varied depths and undrawn cells, each
+    // fixed cut against the generic copy (cuts at run time): the same
+    // samples, payloads and depth-test winners.
+    let mut rng = crate::test_rng::XorShift(0x0c07_5eed);
+    let w = 40usize;
+    let cuts = [(1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+    let mut drawn = 0;
+    for round in 0..600 {
+        let (nu, nv) = cuts[round % cuts.len()];
+        let (cols, rows) = (2 + rng.below(5) as usize, 2 + rng.below(5) as usize);
+        let step = 0.5 + 2.5 * rng.unit();
+        let (ox, oy) = (-2.0 + 30.0 * rng.unit(), -2.0 + 30.0 * rng.unit());
+        let nodes: Vec<Node> = (0..cols * rows)
+            .map(|k| {
+                let (i, j) = ((k % cols) as f32, (k / cols) as f32);
+                let jitter = 0.5 * (rng.unit() - 0.5);
+                let mut n = node(ox + step * (i + 0.3 * j) + jitter, oy + step * j);
+                n[2] = rng.below(1 << 20) as i32;
+                n
+            })
+            .collect();
+        let (ccols, crows) = (cols - 1, rows - 1);
+        let mut flags: Vec<u8> = (0..ccols * crows)
+            .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
+            .collect();
+        crate::grid::close_cells(&mut flags, ccols, crows);
+        let spans = vec![[-10, 60]; crows];
+        let piece = BilinearPiece {
+            nodes: &nodes,
+            flags: &flags,
+            spans: &spans,
+            cols,
+            rows,
+            inside_columns: false,
+        };
+        let (y0, band_rows) = (rng.below(20) as i32, 10 + rng.below(20) as i32);
+        let draw = |fixed: bool| {
+            let mut px = vec![Sample::EMPTY; w * band_rows as usize];
+            let mut t = BandTarget {
+                width: w as i32,
+                y0,
+                rows: band_rows,
+                px: &mut px,
+            };
+            if fixed {
+                draw_cells_bilinear(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+            } else {
+                draw_cells::<0, 0>(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+            }
+            px
+        };
+        let (fixed, generic) = (draw(true), draw(false));
+        drawn += fixed.iter().filter(|s| s.depth < Z_FAR).count();
+        assert_eq!(fixed, generic, "cut {nu} x {nv}, round {round}");
+    }
+    assert!(drawn > 5_000, "{drawn} samples compared");
 }
