@@ -260,6 +260,14 @@ impl FlushScratch {
         }
     }
 
+    /// The pixels and heights of the points in `slots`.
+    fn slots(&mut self, slots: std::ops::Range<usize>) -> (&mut [u32], &mut [f32]) {
+        (
+            &mut self.pixel_of[slots.clone()],
+            &mut self.height_of[slots],
+        )
+    }
+
     /// Room for `n` points (grown, never shrunk: resizing to each view's count re-zeroed it).
     fn ensure(&mut self, n: usize) {
         if self.pixel_of.len() < n {
@@ -462,11 +470,7 @@ pub(crate) fn flush_points(
     for range in chunks() {
         let slots = window(at, range.len());
         at += range.len();
-        let FlushScratch {
-            pixel_of,
-            height_of,
-        } = &mut *scratch;
-        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        let (pixel_of, height_of) = scratch.slots(slots);
         projector.project(input.points, range, input.oriented, (pixel_of, height_of));
         for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
             if k != NOT_DRAWN {
@@ -487,11 +491,7 @@ pub(crate) fn flush_points(
     for range in chunks() {
         let (first, slots) = (range.start, window(at, range.len()));
         at += range.len();
-        let FlushScratch {
-            pixel_of,
-            height_of,
-        } = &mut *scratch;
-        let (pixel_of, height_of) = (&mut pixel_of[slots.clone()], &mut height_of[slots]);
+        let (pixel_of, height_of) = scratch.slots(slots);
         if !keep {
             projector.project(input.points, range, input.oriented, (pixel_of, height_of));
         }
