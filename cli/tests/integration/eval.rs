@@ -93,6 +93,46 @@ fn eval_measures_a_converted_mesh_both_ways_and_in_images() {
 }
 
 #[test]
+fn the_mip_limit_reaches_the_patch_renders() {
+    let t = TestCommand::new();
+    let ball = converted_ball(&t);
+    let psnr = |limit: &str| {
+        let run = t
+            .run(&[
+                "eval",
+                "ball.spatch",
+                "--source",
+                &ball,
+                "--json",
+                "--views",
+                "2",
+                "--size",
+                "200",
+                "--runs",
+                "1",
+                "--mip-limit",
+                limit,
+            ])
+            .success();
+        let r = json_report(&run.stdout);
+        r.details["image"]["psnr_db"].as_f64().unwrap()
+    };
+    // Coarser levels magnified lose detail against the source; the default keeps it.
+    let (fine, coarse) = (psnr("0.9"), psnr("16"));
+    assert!(
+        fine > coarse + 0.1,
+        "default {fine} dB, --mip-limit 16 {coarse} dB"
+    );
+    // A render option out of range is refused before measuring: one line, exit 2.
+    for (option, value) in [("--mip-limit", "0"), ("--splat-limit", "9")] {
+        let run = t.run(&["eval", "ball.spatch", "--source", &ball, option, value]);
+        assert_eq!(run.code, 2, "{option}: {}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+        assert!(run.stderr.contains(&option[2..5]), "{}", run.stderr);
+    }
+}
+
+#[test]
 fn a_scene_off_its_source_shows_the_offset() {
     // The ball of radius 1 measured against a ball of radius 1.1: every node is about 0.1
     // inside the source, and the images see the patches behind the source.
