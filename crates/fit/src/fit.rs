@@ -23,6 +23,7 @@ use rayon::prelude::*;
 use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
 use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
 
+use crate::boundary_reach::reach_past_boundaries;
 use crate::colour::{choose_channel, node_colour, Footprint};
 use crate::colour_grid::{grid_factor, sample_colour_grid, SampleFaces};
 use crate::frame_fit::{basis_from_axis, min_area_rect};
@@ -329,7 +330,7 @@ fn fit_lattice(
     let locked: Vec<bool> = hits.iter().map(Hit::is_hit).collect();
     cast_nodes(mesh, &around, lattice, &needed, Some(&locked), &mut hits);
 
-    // 5. Quantizer.
+    // 5. Quantizer, on the heights the mesh gave.
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
     for h in hits.iter().filter(|h| h.is_hit()) {
         h_min = h_min.min(h.height);
@@ -338,6 +339,16 @@ fn fit_lattice(
     if h_min > h_max {
         return Ok(Vec::new());
     }
+    let range = h_min..=h_max;
+    reach_past_boundaries(
+        mesh,
+        job.adjacency,
+        faces,
+        lattice,
+        &needed,
+        range,
+        &mut hits,
+    );
     let step_spacing = spacing * job.step_scale;
     let quantizer = choose_quantizer(
         h_max - h_min,

@@ -47,6 +47,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod boundary_reach;
 mod colour;
 mod colour_grid;
 mod error;

@@ -75,14 +75,29 @@ pub(crate) fn cast_nodes(
 ) {
     for &face in faces {
         let g = mesh.face_positions(face).map(|p| lattice.grid_point(p));
-        cast_face(face, g, lattice, needed, locked, hits);
+        let reach = FaceReach {
+            past_edge: [EDGE_SLACK; 3],
+            extend_plane: false,
+        };
+        cast_face(face, g, reach, lattice, needed, locked, hits);
     }
 }
 
+/// How far past each edge of a face its nodes reach, and how they get their height there.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FaceReach {
+    /// Entry `c`: cells of distance past the edge opposite corner `c` that still hit.
+    pub(crate) past_edge: [f64; 3],
+    /// Heights past an edge from the face's plane extended (else from the nearest point of
+    /// the face: the weights are clamped).
+    pub(crate) extend_plane: bool,
+}
+
 /// One face of [`cast_nodes`]; `g` holds its corners as `(grid x, grid y, height)`.
-fn cast_face(
+pub(crate) fn cast_face(
     face: FaceId,
     g: [Vec3; 3],
+    reach: FaceReach,
     lattice: &Lattice,
     needed: &[bool],
     locked: Option<&[bool]>,
@@ -100,11 +115,15 @@ fn cast_face(
     }
     let inv = 1.0 / area2;
     // Weight of corner c at distance d (grid units) outside the opposite edge: -d·|edge|/|area2|.
-    let tol = [(2, 1), (0, 2), (1, 0)]
-        .map(|(a, b)| -1e-6 - EDGE_SLACK * (p[a] - p[b]).length() / area2.abs());
-    // The box widened by the slack, so a node just past the face's extreme corner is tested.
-    let lo = g[0].min(g[1]).min(g[2]) - Vec3::splat(EDGE_SLACK as f32);
-    let hi = g[0].max(g[1]).max(g[2]) + Vec3::splat(EDGE_SLACK as f32);
+    let opposite = [(2, 1), (0, 2), (1, 0)];
+    let tol: [f64; 3] = std::array::from_fn(|c| {
+        let (a, b) = opposite[c];
+        -1e-6 - reach.past_edge[c] * (p[a] - p[b]).length() / area2.abs()
+    });
+    // The box widened by the reach, so a node just past the face's extreme corner is tested.
+    let widen = reach.past_edge.iter().copied().fold(0.0, f64::max) as f32;
+    let lo = g[0].min(g[1]).min(g[2]) - Vec3::splat(widen);
+    let hi = g[0].max(g[1]).max(g[2]) + Vec3::splat(widen);
     let Some((i0, i1)) = Lattice::node_range(lo.x, hi.x, lattice.cols) else {
         return;
     };
@@ -125,10 +144,12 @@ fn cast_face(
             if w0 < tol[0] || w1 < tol[1] || w2 < tol[2] {
                 continue;
             }
+            let plane = [w0 as f32, w1 as f32, w2 as f32];
             let (w0, w1, w2) = (w0.max(0.0), w1.max(0.0), w2.max(0.0));
             let sum = w0 + w1 + w2;
             let w = [(w0 / sum) as f32, (w1 / sum) as f32, (w2 / sum) as f32];
-            let height = g[0].z * w[0] + g[1].z * w[1] + g[2].z * w[2];
+            let at = if reach.extend_plane { plane } else { w };
+            let height = g[0].z * at[0] + g[1].z * at[1] + g[2].z * at[2];
             if height > hits[k].height {
                 hits[k] = Hit {
                     height,

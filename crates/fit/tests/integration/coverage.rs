@@ -167,3 +167,72 @@ fn a_turned_square_keeps_its_border_nodes() {
         assert_eq!(out.stats.nodes, out.stats.filled_nodes, "seed {seed}");
     }
 }
+
+/// A unit square of 10 × 10 quads at z = 0 with the middle 4 × 4 quads left out: a hole
+/// whose rim (x, y in 0.3..0.7) lies between lattice nodes at the spacing below.
+fn square_with_hole() -> spatch_mesh::TriangleMesh {
+    let full = square(10, 0.0);
+    let inside = |c: Vec3| (0.3..0.7).contains(&c.x) && (0.3..0.7).contains(&c.y);
+    let kept: Vec<[u32; 3]> = full
+        .triangles
+        .iter()
+        .filter(|t| {
+            let c = t.iter().map(|&v| full.positions[v as usize]).sum::<Vec3>() / 3.0;
+            !inside(c)
+        })
+        .copied()
+        .collect();
+    spatch_mesh::TriangleMesh::new(full.positions.clone(), kept).unwrap()
+}
+
+#[test]
+fn a_patch_reaches_the_rim_of_a_hole_and_at_most_half_a_cell_past_it() {
+    let mesh = square_with_hole();
+    let faces = faces_where(&mesh, |_| true);
+    let out = fit_one(&mesh, &faces, Vec3::Z, 0.08, |_| {});
+    assert_eq!(out.patches.len(), 1);
+    let p = &out.patches[0];
+    let (cols, rows) = (p.grid().cols() as usize, p.grid().rows() as usize);
+    // 13 cells of 1/13 per side: the rim at 0.3 and 0.7 falls 0.1 cell before a node.
+    assert_eq!((cols, rows), (14, 14));
+    let cell = 1.0 / 13.0;
+    let mut at = vec![None; cols * rows];
+    for (i, j, q) in p.filled_nodes() {
+        assert!(q.z.abs() < 1e-5, "off the plane: {q}");
+        let into_hole = (q.x - 0.3).min(0.7 - q.x).min(q.y - 0.3).min(0.7 - q.y);
+        assert!(
+            into_hole <= 0.5 * cell + 1e-4,
+            "{q} lies {into_hole} into the hole"
+        );
+        at[j * cols + i] = Some(q);
+    }
+    // Every point of the sheet along the rim lies in a drawn cell (four filled corners);
+    // a cell with a corner in the hole was not drawn before the reach, leaving a strip of
+    // 0.9 cell open along each side of the rim.
+    let drawn: Vec<(Vec3, Vec3)> = (0..rows - 1)
+        .flat_map(|j| (0..cols - 1).map(move |i| (i, j)))
+        .filter_map(|(i, j)| {
+            let corners =
+                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)].map(|(a, b)| at[b * cols + a]);
+            let c: Option<Vec<Vec3>> = corners.into_iter().collect();
+            let c = c?;
+            Some((
+                c.iter().copied().reduce(Vec3::min)?,
+                c.iter().copied().reduce(Vec3::max)?,
+            ))
+        })
+        .collect();
+    let covered = |x: f32, y: f32| {
+        drawn
+            .iter()
+            .any(|(lo, hi)| (lo.x..=hi.x).contains(&x) && (lo.y..=hi.y).contains(&y))
+    };
+    for k in 0..=20 {
+        let t = 0.3 + 0.4 * k as f32 / 20.0;
+        for (x, y) in [(0.299, t), (0.701, t), (t, 0.299), (t, 0.701)] {
+            assert!(covered(x, y), "({x}, {y}) next to the rim is not covered");
+        }
+    }
+    // The middle of the hole stays empty.
+    assert!(!covered(0.5, 0.5));
+}
