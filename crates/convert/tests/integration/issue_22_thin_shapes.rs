@@ -103,8 +103,10 @@ fn every_thin_shape_yields_patches_that_cover_it() {
         let c = convert(ConvertInput::Mesh(mesh), &ConvertOptions::default())
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(c.report.counts.patches > 0, "{name}: no patches");
-        if name.starts_with("triangle") || name.starts_with("needle") {
-            // These gave 0 patches before: only a refined spacing reaches them.
+        if name.starts_with("needle") {
+            // This gave 0 patches before: only a refined spacing reaches it. (The lone
+            // triangles did too; their edges are all mesh boundary, which the fitter's nodes
+            // now reach half a cell past, so they may get patches at the target spacing.)
             assert!(c.report.refined_regions > 0, "{name}: nothing refined");
         }
         // Every sample of the source lies within a few (target) spacings of a node.
