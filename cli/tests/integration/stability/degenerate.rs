@@ -12,7 +12,8 @@ const SPACING: &str = "0.02";
 
 /// Asserts the surface error is within `cells` node spacings (a cell with an empty corner is
 /// not drawn, so along a border or a narrowing tip up to about one cell stays uncovered),
-/// and that every node lies on the source (up to f32 rounding and half a step).
+/// and that every node lies on the source or, past a mesh boundary, within half a cell of it
+/// (the fitter's boundary reach; up to f32 rounding and half a step).
 fn assert_within_cells(report: &serde_json::Value, cells: f64) {
     let spacing: f64 = SPACING.parse().unwrap();
     let max = error(report, "surface_to_patch", "max");
@@ -21,7 +22,7 @@ fn assert_within_cells(report: &serde_json::Value, cells: f64) {
         "surface_to_patch max {max}: {report}"
     );
     assert!(
-        error(report, "node_to_surface", "max") <= 0.1 * spacing,
+        error(report, "node_to_surface", "max") <= 0.55 * spacing,
         "{report}"
     );
 }
