@@ -4,24 +4,27 @@
 //! A patch of an open surface shows its back only through an opening
 //! ([`crate::plan::cull::portals_between`]): a line of sight from the eye
 //! to a point on its back crosses a surface spanning one of the surface's
-//! boundary loops, which lies inside that loop's sphere. So the point's
-//! pixel lies in the screen projection of the sphere. Per frame, each
-//! portal's sphere is projected to a screen box ([`sphere_box`]: exact for
-//! the sphere, widened by [`REGION_MARGIN_PX`] for the rasterizer's reach
-//! and the trilinear projection's error); a portal whose sphere is not
-//! wholly in front of the near plane has none. Per patch "through
+//! boundary loops, which lies inside that loop's sphere and slab. So the
+//! point's pixel lies in the projection of the sphere's part inside the
+//! slab. Per frame, each portal gets a screen box ([`portal_box`]: the
+//! exact box of its sphere's projection met with that of the cylinder
+//! holding the sphere inside the slab, widened by [`REGION_MARGIN_PX`] for
+//! the rasterizer's reach and the trilinear projection's error); a portal
+//! reaching in front of the near plane has none. Per patch "through
 //! openings", the boxes of the portals it may be seen through are
 //! collected ([`back_of_patch`]); the patch is then culled like a closed
-//! one (whole by its normal cone when its projected sphere misses every
-//! box, else cell by cell) except that a cell facing away whose screen box
-//! touches one of the boxes is kept ([`keep_cells_in_regions`]). A patch
-//! seen through a portal without a box is drawn whole, as before. Back
-//! faces kept are lit two-sided as before.
+//! one (whole when its normal cone faces away and the projection of its
+//! box touches none of them, [`local_box_touches`]; else cell by cell)
+//! except that a cell facing away whose screen box touches one of the
+//! boxes is kept ([`keep_cells_in_regions`]). A patch seen through a
+//! portal without a box is drawn whole, as before. Back faces kept are lit
+//! two-sided as before.
 //!
 //! Conservative: a cell whose back may show through an opening is never
-//! dropped. Cost: per frame, two quadratics per portal; per patch through
-//! openings, the portal test per portal (as before); per cell facing away
-//! of such a patch, a box test per region.
+//! dropped. Cost: per frame, two quadratics and 32 projected corners per
+//! portal; per patch through openings, the portal test per portal (as
+//! before) and 8 projected corners when it faces away; per node of a piece
+//! touching a region, an outcode per region.
 
 use glam::{DVec3, Mat3, Vec3};
 
