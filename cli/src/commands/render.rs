@@ -149,13 +149,6 @@ pub(crate) struct RenderArgs {
     /// behind from both sides, lit two-sided.
     #[arg(long, value_enum, default_value_t = CullArg::Auto)]
     cull: CullArg,
-    /// With --cull auto, draw a patch an opening lets the eye see from
-    /// behind whole, instead of dropping its cells facing away outside the
-    /// opening's screen box (the only place its back can show): the same
-    /// image for more work (bunny 500²: about 10 % more instructions per
-    /// frame), for comparisons.
-    #[arg(long)]
-    no_portal_cells: bool,
     #[command(flatten)]
     threads: ThreadsArg,
     /// Supersampling factor per axis, 1..=4.
@@ -372,7 +365,6 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
         CullArg::Back => Culling::Back,
         CullArg::None => Culling::None,
     };
-    o.portal_cells = !args.no_portal_cells;
     o.threads = args.threads.count();
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;

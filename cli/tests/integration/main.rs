@@ -57,7 +57,6 @@ mod merge;
 mod mesh_tiles;
 mod occlusion_skip;
 mod output_safety;
-mod portal_cells;
 mod range_grid;
 mod readme_tour;
 mod render;

@@ -279,13 +279,6 @@ impl View {
         (Mat3::from_cols(cols[0], cols[1], cols[2]), t.as_vec3())
     }
 
-    /// Rows of the world → window-clip map: `(X, Y, W)` of a point `p` are
-    /// their dot products with `p - eye` (`W`'s row is the unit forward
-    /// direction).
-    pub(crate) fn clip_rows(&self) -> [DVec3; 3] {
-        self.rows
-    }
-
     /// Window-clip coordinates of a world point (f64).
     #[cfg(test)]
     pub(crate) fn clip_of(&self, p: DVec3) -> DVec3 {

@@ -27,7 +27,6 @@ use crate::plan::chunk::plan_chunk;
 use crate::plan::counters::Counters;
 use crate::plan::cull::Frustum;
 use crate::plan::mesh::{plan_mesh_chunk, TriangleMesh};
-use crate::plan::portal_cells::{portal_boxes, ScreenBox};
 use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::PreparedScene;
@@ -60,8 +59,6 @@ pub struct Renderer {
     bands: Vec<Band>,
     /// Each band's occlusion-skip tiles.
     skips: Vec<SkipTiles>,
-    /// The frame's screen box of each of the scene's portals.
-    portal_boxes: Vec<Option<ScreenBox>>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
     spare: Option<(Vec<[u8; 4]>, Vec<f32>)>,
 }
@@ -98,7 +95,6 @@ impl Renderer {
             bins: Bins::default(),
             bands: Vec::new(),
             skips: Vec::new(),
-            portal_boxes: Vec::new(),
             spare: None,
         })
     }
@@ -154,7 +150,6 @@ impl Renderer {
             z_offset,
             base_colour: Vec3::new(r as f32, g as f32, b as f32),
             portals: &[],
-            portal_boxes: &[],
         }
     }
 
@@ -167,12 +162,8 @@ impl Renderer {
         let start = Instant::now();
         let options = self.options;
         let view = View::new(camera, options.ssaa, scene.bounds)?;
-        // Taken out for the frame: `finish` borrows the renderer.
-        let mut boxes = std::mem::take(&mut self.portal_boxes);
-        portal_boxes(&view, &scene.portals, &mut boxes);
         let setup = FrameSetup {
             portals: &scene.portals,
-            portal_boxes: &boxes,
             ..self.setup(&view, &options)
         };
         let count = scene.patches.len();
@@ -198,9 +189,7 @@ impl Renderer {
                 });
         });
         let plan_wall = start.elapsed();
-        let out = self.finish(start, plan_wall, &view, &setup, camera, &scene.patches);
-        self.portal_boxes = boxes;
-        out
+        self.finish(start, plan_wall, &view, &setup, camera, &scene.patches)
     }
 
     /// Rasterizes a triangle mesh with the same camera, shading and

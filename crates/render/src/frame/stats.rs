@@ -93,9 +93,6 @@ pub struct RenderStats {
     /// Cells of drawn patches skipped because they face away from the eye
     /// everywhere (`--cull back`, bilinear cells).
     pub cells_culled_backface: u64,
-    /// Cells facing away drawn because an opening may show them (`--cull
-    /// auto`: their screen box touches an opening's projected sphere).
-    pub cells_kept_through_openings: u64,
     /// Patches split because they were partially visible.
     pub patches_split: u64,
     /// Pieces drawn from split patches.
@@ -151,7 +148,6 @@ impl RenderStats {
         self.patches_culled_frustum = c.culled_frustum;
         self.patches_culled_backface = c.culled_backface;
         self.cells_culled_backface = c.cells_backface;
-        self.cells_kept_through_openings = c.cells_kept_behind;
         self.patches_split = c.split;
         self.split_pieces = c.split_pieces;
         self.split_pieces_dropped = c.pieces_dropped;

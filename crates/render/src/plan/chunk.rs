@@ -4,9 +4,7 @@
 //! For each patch, in drawing order, on fixed chunks of
 //! [`PATCH_CHUNK`](crate::plan::work::PATCH_CHUNK) patches (so results and
 //! counts do not depend on the thread count):
-//! 1. back-face test on the normal cone (for a patch seen through an
-//!    opening, only outside the opening's screen box:
-//!    [`crate::plan::portal_cells`]), then the frustum test of its box
+//! 1. back-face test on the normal cone, then the frustum test of its box
 //!    ([`crate::plan::cull`]); partially visible patches are split
 //!    ([`crate::plan::split`]);
 //! 2. the patch's context ([`PatchContext`]: local map, shade frame,
@@ -26,9 +24,8 @@ use std::time::Instant;
 use crate::lighting::ShadeFrame;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::counters::nanos_since;
-use crate::plan::cull::{cone_faces_away, cone_faces_eye, BoxClass};
+use crate::plan::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass};
 use crate::plan::piece::plan_piece;
-use crate::plan::portal_cells::{back_of_patch, local_box_touches, Back};
 use crate::plan::split::{split_patch, NodeRange};
 use crate::plan::work::{ChunkWork, FrameSetup, PatchContext};
 use crate::prepare::patch::PreparedPatch;
@@ -50,11 +47,9 @@ pub(crate) fn plan_chunk(
         let index = first_index + local as u32;
         work.counters.patches += 1;
         let start = Instant::now();
-        let back = back_of_patch(setup, p, &mut work.regions);
-        let culled = back == Back::Culled;
-        let in_regions = back == Back::InRegions;
-        let away = (culled || in_regions) && cone_faces_away(&p.cone, p.centre, p.radius, eye);
-        if culled && away {
+        let mode = (setup.options.culling, p.sides);
+        let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
+        if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
             work.counters.culled_backface += 1;
             work.counters.cull_ns += nanos_since(start);
             continue;
@@ -66,19 +61,12 @@ pub(crate) fn plan_chunk(
         // (dark specks along fandisk's creases, issue 21 item 3).
         let to_eye = (!culled).then(|| eye - p.centre);
         // No cell of a patch facing the eye entirely can face away.
-        let cell_test = (culled || in_regions) && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
+        let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
         let level0 = p.level(0);
         let root = NodeRange::whole(level0);
         let (lo, hi) = root.local_box(level0.d_range);
-        // Facing away, seen from behind only through openings: culled
-        // whole when its box lies outside every one's screen box.
-        if away && !local_box_touches(setup.view, (&map, t0), (lo, hi), &work.regions) {
-            work.counters.culled_backface += 1;
-            work.counters.cull_ns += nanos_since(start);
-            continue;
-        }
         let class = setup.frustum.classify(&map, t0, lo, hi);
         work.counters.cull_ns += nanos_since(start);
         work.split.pieces.clear();
@@ -99,7 +87,6 @@ pub(crate) fn plan_chunk(
             }
         }
         work.normals.begin_patch();
-        let regions = std::mem::take(&mut work.regions);
         let ctx = PatchContext {
             patch: p,
             index,
@@ -108,7 +95,6 @@ pub(crate) fn plan_chunk(
             frame: &frames[local],
             whole: class == BoxClass::Inside,
             cell_test,
-            keep: if in_regions { &regions } else { &[] },
             setup,
         };
         let pieces = std::mem::take(&mut work.split.pieces);
@@ -132,7 +118,6 @@ pub(crate) fn plan_chunk(
             work.split.cells = cells;
             work.counters.setup_ns += nanos_since(start);
         }
-        work.regions = regions;
     }
     work.counters.normals = work.normals.counts;
 }

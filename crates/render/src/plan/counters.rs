@@ -16,7 +16,6 @@ pub(crate) struct Counters {
     pub(crate) culled_frustum: u64,
     pub(crate) culled_backface: u64,
     pub(crate) cells_backface: u64,
-    pub(crate) cells_kept_behind: u64,
     pub(crate) split: u64,
     pub(crate) split_pieces: u64,
     pub(crate) pieces_dropped: u64,
@@ -45,7 +44,6 @@ impl std::ops::AddAssign<&Counters> for Counters {
         self.culled_frustum += o.culled_frustum;
         self.culled_backface += o.culled_backface;
         self.cells_backface += o.cells_backface;
-        self.cells_kept_behind += o.cells_kept_behind;
         self.split += o.split;
         self.split_pieces += o.split_pieces;
         self.pieces_dropped += o.pieces_dropped;

@@ -91,40 +91,28 @@ pub(crate) fn back_culled(
 }
 
 /// True when a line from `eye` to a point of the sphere `(centre, radius)`
-/// may cross one of `portals` before reaching it ([`portals_between`]).
+/// may cross one of `portals` before reaching it. Why this is safe: a line
+/// of sight from outside the model to the back of an open surface crosses
+/// a surface spanning one of its boundary loops, which fits inside the
+/// loop's sphere and slab. Conservative: a portal does not count when the
+/// eye and the whole patch sphere lie on one side of its slab (the line
+/// never crosses it), or the patch lies entirely nearer than it; else the
+/// cone from the eye around the portal's sphere is tested against the
+/// patch's sphere (angles widened by [`PORTAL_MARGIN`]). Cost: a few
+/// operations per portal.
 pub(crate) fn seen_through_portals(
     portals: &[Portal],
     eye: DVec3,
     centre: DVec3,
     radius: f64,
 ) -> bool {
-    portals_between(portals, eye, centre, radius).is_none_or(|mut k| k.next().is_some())
-}
-
-/// The indices of the `portals` that a line from `eye` to a point of the
-/// sphere `(centre, radius)` may cross before reaching it, or `None` when
-/// the eye lies in the sphere (any line may reach its back). Why this is
-/// safe: a line of sight from outside the model to the back of an open
-/// surface crosses a surface spanning one of its boundary loops, which
-/// fits inside the loop's sphere and slab. Conservative: a portal does not
-/// count when the eye and the whole patch sphere lie on one side of its
-/// slab (the line never crosses it), or the patch lies entirely nearer
-/// than it; else the cone from the eye around the portal's sphere is
-/// tested against the patch's sphere (angles widened by
-/// [`PORTAL_MARGIN`]). Cost: a few operations per portal.
-pub(crate) fn portals_between(
-    portals: &[Portal],
-    eye: DVec3,
-    centre: DVec3,
-    radius: f64,
-) -> Option<impl Iterator<Item = usize> + '_> {
     let to_patch = centre - eye;
     let patch_distance = to_patch.length();
     if patch_distance <= radius {
-        return None;
+        return true;
     }
     let patch_spread = (radius / patch_distance).asin();
-    let crosses = move |portal: &Portal| {
+    portals.iter().any(|portal| {
         let to_portal = portal.centre - eye;
         let distance = to_portal.length();
         if distance <= portal.radius {
@@ -141,13 +129,7 @@ pub(crate) fn portals_between(
         let spread = (portal.radius / distance).asin();
         let cos = to_patch.dot(to_portal) / (patch_distance * distance);
         cos.clamp(-1.0, 1.0).acos() <= spread + patch_spread + PORTAL_MARGIN
-    };
-    Some(
-        portals
-            .iter()
-            .enumerate()
-            .filter_map(move |(k, p)| crosses(p).then_some(k)),
-    )
+    })
 }
 
 /// Extra angle (radians) of the portal test, for the rounding of the

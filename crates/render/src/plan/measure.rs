@@ -13,7 +13,6 @@
 
 use crate::grid::{close_cells, drawn_edge_masks, CELL_DRAW};
 use crate::plan::node_xy::{NodeXY, RowStats};
-use crate::plan::portal_cells::{box_holds, boxes_touch, keep_cells_in_regions, ScreenBox};
 use crate::plan::split::NodeRange;
 use crate::prepare::mip::MipLevel;
 
@@ -31,9 +30,6 @@ pub(crate) struct CellMeasure {
     pub(crate) both_edges: u64,
     /// Cells left out because they face away from the eye everywhere.
     pub(crate) backfacing_cells: u64,
-    /// Cells facing away drawn because they touch a region to keep (an
-    /// opening's screen box, [`crate::plan::portal_cells`]).
-    pub(crate) kept_cells: u64,
     pub(crate) used_nodes: u64,
     /// Pixel box of the used nodes: x0, y0, x1, y1 (inclusive).
     pub(crate) bbox: [i32; 4],
@@ -48,7 +44,6 @@ impl CellMeasure {
         top_edges: 0,
         both_edges: 0,
         backfacing_cells: 0,
-        kept_cells: 0,
         used_nodes: 0,
         bbox: [i32::MAX, i32::MAX, i32::MIN, i32::MIN],
     };
@@ -74,10 +69,6 @@ impl CellMeasure {
 /// bilinear cell is bilinear in `(s, t)`, so the whole drawn cell then faces
 /// away from the eye (a front-facing cell of the closed surface covers the
 /// same pixels). `back_sign = 0` keeps every cell with four used corners.
-/// A cell facing away whose screen box touches one of the boxes `keep` is
-/// drawn all the same (its back may show through an opening:
-/// [`crate::plan::portal_cells`]); a piece that one box holds whole is not
-/// tested.
 ///
 /// The same decisions as the straightforward measurement over the node
 /// array (`measure_cells_reference` in `measure_tests`, kept for the tests), in fewer
@@ -95,7 +86,7 @@ pub(crate) fn measure_cells(
     level: &MipLevel,
     range: NodeRange,
     xy: &mut NodeXY,
-    (back_sign, keep): (i64, &[ScreenBox]),
+    back_sign: i64,
     flags: &mut Vec<u8>,
     spans: &mut Vec<[i32; 2]>,
 ) -> CellMeasure {
@@ -138,15 +129,6 @@ pub(crate) fn measure_cells(
     if m.used_nodes > 0 {
         m.bbox = [x0 >> 16, y0 >> 16, x1 >> 16, y1 >> 16];
     }
-    // The regions to keep that this piece touches; none to test in one
-    // that holds it whole.
-    let piece = [x0, y0, x1, y1];
-    let touches = m.used_nodes > 0 && keep.iter().any(|r| boxes_touch(r, &piece));
-    let keep = if touches { keep } else { &[] };
-    let back_sign = match keep.iter().any(|r| box_holds(r, &piece)) {
-        true => 0,
-        false => back_sign,
-    };
     // Differences of two used positions fit in `i32` when the box does
     // (always within the guard band; else the `i64` form).
     let narrow = m.used_nodes > 0
@@ -201,14 +183,6 @@ pub(crate) fn measure_cells(
             };
             m.drawable_cells += drawn;
             m.backfacing_cells += back;
-        }
-        if !keep.is_empty() && m.backfacing_cells > 0 {
-            let positions = (&xy.xs[..], &xy.ys[..]);
-            let kept =
-                keep_cells_in_regions((level, range), positions, out, keep, &mut xy.outcodes);
-            m.drawable_cells += kept;
-            m.backfacing_cells -= kept;
-            m.kept_cells = kept;
         }
         out
     };

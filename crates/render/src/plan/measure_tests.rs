@@ -216,7 +216,7 @@ fn measure_cells_equals_the_reference_on_random_pieces() {
                 let (c, rws) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
                 let (mut f0, mut s0, mut f1, mut s1) = (vec![7], vec![], vec![7], vec![]);
                 let a = measure_cells_reference(&nodes, c, rws, back_sign, &mut f0, &mut s0);
-                let b = measure_cells(level, range, &mut xy, (back_sign, &[]), &mut f1, &mut s1);
+                let b = measure_cells(level, range, &mut xy, back_sign, &mut f1, &mut s1);
                 assert_eq!(f0, f1, "case {case} {range:?} sign {back_sign}");
                 assert_eq!(s0, s1);
                 assert_eq!(a.edges, b.edges);

@@ -1,6 +1,6 @@
 //! Planning, once per frame and patch: everything decided before any
 //! pixel is touched, into flat per-chunk work for the bands. In use order:
-//! culling (and the cells seen through openings), splitting, lane conversions, the node positions' scratch,
+//! culling, splitting, lane conversions, the node positions' scratch,
 //! projection, cell measurement, subdivision, counters, the chunk's work
 //! and the per-patch context, attributes, cells as triangles, the piece,
 //! the chunk, meshes.
@@ -18,9 +18,6 @@ pub(crate) mod mesh;
 pub(crate) mod node_xy;
 pub(crate) mod open_sides;
 pub(crate) mod piece;
-pub(crate) mod portal_cells;
-#[cfg(test)]
-mod portal_cells_tests;
 pub(crate) mod project;
 pub(crate) mod split;
 pub(crate) mod subdivision;

@@ -38,9 +38,6 @@ pub(crate) struct NodeXY {
     /// Scratch of [`measure_cells`](crate::plan::measure::measure_cells): per cell, 1 when it faces away (see
     /// `away_cells_small`).
     pub(crate) away: Vec<u8>,
-    /// Scratch of [`keep_cells_in_regions`](crate::plan::portal_cells::keep_cells_in_regions):
-    /// per node, where it lies against a screen box.
-    pub(crate) outcodes: Vec<u8>,
     /// Per node row, its used positions' box and count, when the
     /// projection found them (the trilinear one within range; else empty,
     /// and [`measure_cells`](crate::plan::measure::measure_cells) scans the positions).

@@ -137,12 +137,11 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
         level,
         range,
         &mut work.xy,
-        (back_sign, ctx.keep),
+        back_sign,
         &mut work.cell_flags,
         &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
-    work.counters.cells_kept_behind += measure.kept_cells;
     let edges = measure.edges.map(|e| e as f32 / XY_ONE);
     let mut split = choose_subdivision(edges, 1.0);
     if smooth && split != Some((1, 1)) {

@@ -16,7 +16,6 @@ use crate::options::RenderOptions;
 use crate::plan::counters::Counters;
 use crate::plan::cull::Frustum;
 use crate::plan::node_xy::NodeXY;
-use crate::plan::portal_cells::ScreenBox;
 use crate::plan::split::SplitWork;
 use crate::prepare::normal_buffer::NormalBuffer;
 use crate::prepare::patch::PreparedPatch;
@@ -123,9 +122,6 @@ pub(crate) struct FrameSetup<'a> {
     pub(crate) base_colour: Vec3,
     /// The scene's openings (automatic culling); empty for meshes.
     pub(crate) portals: &'a [Portal],
-    /// The screen box of each of `portals` this frame, or `None` (see
-    /// [`crate::plan::portal_cells::portal_boxes`]).
-    pub(crate) portal_boxes: &'a [Option<ScreenBox>],
 }
 
 /// The output and scratch space of one chunk.
@@ -150,9 +146,6 @@ pub(crate) struct ChunkWork {
     pub(crate) vertices: Vec<ClipVertex>,
     /// Scratch of [`drop_undrawn_nodes`](crate::raster::splat::drop_undrawn_nodes).
     pub(crate) splat_scratch: Vec<u8>,
-    /// The regions of the portals the current patch may be seen through
-    /// (see [`crate::plan::portal_cells::back_of_patch`]).
-    pub(crate) regions: Vec<ScreenBox>,
 }
 
 impl ChunkWork {
@@ -189,9 +182,5 @@ pub(crate) struct PatchContext<'a> {
     /// Its cells are tested for facing away (back-face culling on, and the
     /// normal cone does not face the eye entirely).
     pub(crate) cell_test: bool,
-    /// Cells facing away are kept where their screen box touches one of
-    /// these (the screen boxes of the portals the patch may be seen
-    /// through; empty: none kept).
-    pub(crate) keep: &'a [ScreenBox],
     pub(crate) setup: &'a FrameSetup<'a>,
 }
