@@ -424,7 +424,7 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
 //
 // Why: a sub-row keeps two edge points live (the per-cell kernel twelve
 // corner values) and shares each with the neighbouring cell; 76.59 →
-// 75.84 M instructions per bunny frame (callgrind, 500², see
+// 74.52 M instructions per bunny frame (callgrind, 500², see
 // docs/algorithms/render.md: the samples, not the set-up, are most of a
 // pixel-sized cell's cost, so the gain is small).
 
@@ -509,19 +509,31 @@ fn sub_row<const NU: u32>(
         };
         [e(0), e(1) - y_origin, e(2)]
     };
+    let cell = |t: &mut BandTarget<'_>, f: u8, ends: [[i64; 3]; 2], word: u32| {
+        if f & CELL_DRAW != 0 && (b < nv || f & CELL_TOP != 0) {
+            place_span::<NU>(t, ends, [nu, lu], f & CELL_RIGHT != 0, word, item);
+        }
+    };
     let mut left = lerp(&row.below[0], &row.above[0]);
     let mut word = sub_word(0, row.j, 0, b);
     let mut tops = 0;
-    let nodes = row.below[1..].iter().zip(&row.above[1..]);
-    for (&f, (lo, hi)) in row.flags.iter().zip(nodes) {
-        let right = lerp(lo, hi);
+    // Two cells a turn, the edge points taking turns as left and right.
+    // Why: no copy of the right edge into the left one per cell.
+    let (flags, below, above) = (row.flags, &row.below[1..], &row.above[1..]);
+    let pairs = flags.chunks_exact(2).zip(below.chunks_exact(2));
+    for ((f, lo), hi) in pairs.zip(above.chunks_exact(2)) {
+        let mid = lerp(&lo[0], &hi[0]);
+        cell(t, f[0], [left, mid], word);
+        left = lerp(&lo[1], &hi[1]);
+        cell(t, f[1], [mid, left], word + (1 << 24));
+        tops |= f[0] | f[1];
+        word += 2 << 24;
+    }
+    if flags.len() % 2 == 1 {
+        let k = flags.len() - 1;
+        let f = flags[k];
+        cell(t, f, [left, lerp(&below[k], &above[k])], word);
         tops |= f;
-        if f & CELL_DRAW != 0 && (b < nv || f & CELL_TOP != 0) {
-            let closing = f & CELL_RIGHT != 0;
-            place_span::<NU>(t, [left, right], [nu, lu], closing, word, item);
-        }
-        left = right;
-        word += 1 << 24;
     }
     tops
 }
