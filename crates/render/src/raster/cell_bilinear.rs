@@ -25,8 +25,9 @@
 //! Per sub-node: three adds and one depth test. Error: below 2^-12 pixel
 //! for `n ≤ 64`.
 //!
-//! Rows of cells that need no clipping, in pieces cut `1 × 2`, `2 × 1` or
-//! `2 × 2`, are walked sub-row by sub-row instead (`walk_row`, below):
+//! Rows of cells that need no clipping, in pieces cut `1 × 2`, `2 × 1`,
+//! `2 × 2`, `4 × 1`, `4 × 2` or `2 × 4`, are walked sub-row by sub-row
+//! instead (`walk_row`, below):
 //! with powers of two the forward differences round nowhere, so the walk
 //! places the same samples (only their order within the row changes).
 //!
@@ -147,6 +148,9 @@ pub(crate) fn draw_cells_bilinear(
         (2, 3) => draw_cells::<2, 3, false>(t, piece, nu, nv, item),
         (3, 2) => draw_cells::<3, 2, false>(t, piece, nu, nv, item),
         (3, 3) => draw_cells::<3, 3, false>(t, piece, nu, nv, item),
+        (4, 1) => draw_cells::<4, 1, true>(t, piece, nu, nv, item),
+        (4, 2) => draw_cells::<4, 2, true>(t, piece, nu, nv, item),
+        (2, 4) => draw_cells::<2, 4, true>(t, piece, nu, nv, item),
         _ => draw_cells::<0, 0, false>(t, piece, nu, nv, item),
     }
 }
@@ -424,7 +428,7 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
 //
 // Why: a sub-row keeps two edge points live (the per-cell kernel twelve
 // corner values) and shares each with the neighbouring cell; 76.59 →
-// 74.52 M instructions per bunny frame (callgrind, 500², see
+// 74.48 M instructions per bunny frame (callgrind, 500², see
 // docs/algorithms/render.md: the samples, not the set-up, are most of a
 // pixel-sized cell's cost, so the gain is small).
 
@@ -467,12 +471,13 @@ fn walk_row<const NU: u32, const NV: u32>(
     // as `draw_cell` keeps it unclipped.
     let y_origin = (t.y0 as i64) << (16 + EXT);
     let pass = |t: &mut BandTarget<'_>, b: u32| sub_row::<NU>(t, row, b, cut, y_origin, item);
-    // Why the sub-rows spelled out for `nv <= 2`: with `b` a constant the
+    // Why the sub-rows spelled out for `nv <= 4`: with `b` a constant the
     // edge points need no multiply (`b = 0`, `b = nv`: a shift; `2b = nv`:
-    // an add and a shift, the same integer).
+    // an add and a shift, the same integer; else a constant factor).
     let tops = match NV {
         1 => pass(t, 0),
         2 => pass(t, 0) | pass(t, 1),
+        4 => pass(t, 0) | pass(t, 1) | pass(t, 2) | pass(t, 3),
         _ => (0..nv).fold(0, |tops, b| tops | pass(t, b)),
     };
     if tops & CELL_TOP != 0 {

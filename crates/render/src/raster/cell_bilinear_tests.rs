@@ -268,7 +268,17 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
     // samples, payloads and depth-test winners.
     let mut rng = crate::test_rng::XorShift(0x0c07_5eed);
     let w = 40usize;
-    let cuts = [(1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+    let cuts = [
+        (1, 2),
+        (2, 1),
+        (2, 2),
+        (2, 3),
+        (3, 2),
+        (3, 3),
+        (4, 1),
+        (4, 2),
+        (2, 4),
+    ];
     let mut drawn = 0;
     for round in 0..600 {
         let (nu, nv) = cuts[round % cuts.len()];
@@ -324,7 +334,7 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
 #[test]
 fn the_row_walk_places_the_samples_of_the_per_cell_kernel() {
     // Random jittered pieces cut as the row walk's copies are (1 x 2,
-    // 2 x 1, 2 x 2), some cells undrawn,
+    // 2 x 1, 2 x 2, 4 x 1, 4 x 2, 2 x 4), some cells undrawn,
     // with depths that grow (or shrink) along the sub-node grid so that no
     // two samples tie: whatever the drawing order, every pixel keeps the
     // same sample only if both kernels place the same samples (positions,
@@ -332,7 +342,7 @@ fn the_row_walk_places_the_samples_of_the_per_cell_kernel() {
     // the per-cell kernel (`draw_cells::<0, 0, false>`) draws every row.
     let mut rng = crate::test_rng::XorShift(0x0a1c_3a1c);
     let (w, h) = (64usize, 64usize);
-    let cuts = [(1, 2), (2, 1), (2, 2)];
+    let cuts = [(1, 2), (2, 1), (2, 2), (4, 1), (4, 2), (2, 4)];
     let (mut walked, mut drawn) = (0, 0);
     for round in 0..1500 {
         let (nu, nv) = cuts[round % cuts.len()];
