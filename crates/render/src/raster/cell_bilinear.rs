@@ -25,6 +25,12 @@
 //! Per sub-node: three adds and one depth test. Error: below 2^-12 pixel
 //! for `n ≤ 64`.
 //!
+//! Rows of cells that need no clipping, in pieces cut `1 × 2`, `2 × 1`,
+//! `2 × 2`, `4 × 1`, `4 × 2` or `2 × 4`, are walked sub-row by sub-row
+//! instead (`walk_row`, below):
+//! with powers of two the forward differences round nowhere, so the walk
+//! places the same samples (only their order within the row changes).
+//!
 //! Based on: the spatial patch rendering of the original work (nodes placed
 //! directly when a patch is not magnified, cells subdivided otherwise);
 //! E. Catmull's subdivision rendering (1974) for the recursive idea.
@@ -133,21 +139,27 @@ pub(crate) fn draw_cells_bilinear(
     // compiler the sub-node loops unroll and the reciprocals fold (the
     // bunny's pixel-sized cells are cut 1-3 per side); the samples and
     // their order are the same, so the images are identical.
+    // Cuts of powers of two walk their unclipped rows of cells sub-row by
+    // sub-row (`walk_row`: the same samples).
     match (nu, nv) {
-        (1, 2) => draw_cells::<1, 2>(t, piece, nu, nv, item),
-        (2, 1) => draw_cells::<2, 1>(t, piece, nu, nv, item),
-        (2, 2) => draw_cells::<2, 2>(t, piece, nu, nv, item),
-        (2, 3) => draw_cells::<2, 3>(t, piece, nu, nv, item),
-        (3, 2) => draw_cells::<3, 2>(t, piece, nu, nv, item),
-        (3, 3) => draw_cells::<3, 3>(t, piece, nu, nv, item),
-        _ => draw_cells::<0, 0>(t, piece, nu, nv, item),
+        (1, 2) => draw_cells::<1, 2, true>(t, piece, nu, nv, item),
+        (2, 1) => draw_cells::<2, 1, true>(t, piece, nu, nv, item),
+        (2, 2) => draw_cells::<2, 2, true>(t, piece, nu, nv, item),
+        (2, 3) => draw_cells::<2, 3, false>(t, piece, nu, nv, item),
+        (3, 2) => draw_cells::<3, 2, false>(t, piece, nu, nv, item),
+        (3, 3) => draw_cells::<3, 3, false>(t, piece, nu, nv, item),
+        (4, 1) => draw_cells::<4, 1, true>(t, piece, nu, nv, item),
+        (4, 2) => draw_cells::<4, 2, true>(t, piece, nu, nv, item),
+        (2, 4) => draw_cells::<2, 4, true>(t, piece, nu, nv, item),
+        _ => draw_cells::<0, 0, false>(t, piece, nu, nv, item),
     }
 }
 
 /// [`draw_cells_bilinear`] for cuts `NU × NV` known at compile time (0:
-/// `nu × nv` at run time).
+/// `nu × nv` at run time); `WALK`: the cut is a power of two per side and
+/// unclipped rows of cells take the row walk (`walk_row`).
 #[inline(always)]
-pub(super) fn draw_cells<const NU: u32, const NV: u32>(
+pub(super) fn draw_cells<const NU: u32, const NV: u32, const WALK: bool>(
     t: &mut BandTarget<'_>,
     piece: &BilinearPiece<'_>,
     nu: u32,
@@ -172,13 +184,23 @@ pub(super) fn draw_cells<const NU: u32, const NV: u32>(
         }
         let below = &nodes[j * cols..(j + 1) * cols];
         let above = &nodes[(j + 1) * cols..(j + 2) * cols];
-        let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
         // A row of cells whose span lies a pixel inside the band, in a piece
         // inside the image's columns, has every cell inside (the same test
         // as a cell's box below): no per-cell box. Why: most rows are (bands
         // of 64 rows, cells of 1–3 px); 86.0 → 83.0 M instructions per frame
         // (callgrind, `profile_sphere 500 1`).
         let row_inside = piece.inside_columns && lo > y_lo && hi < y_hi - 1;
+        if WALK && row_inside {
+            let row = CellRow {
+                flags: row_flags,
+                below,
+                above,
+                j,
+            };
+            walk_row::<NU, NV>(t, row, nu, nv, item);
+            continue;
+        }
+        let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
         for (i, ((&f, b), a)) in cells.enumerate() {
             if f & CELL_DRAW == 0 {
                 continue;
@@ -378,5 +400,172 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
         s.depth = z;
         s.w0 = word;
         s.w2 = item;
+    }
+}
+
+// The row walk of the bilinear cell drawer: a whole row of cells placed
+// sub-row by sub-row, for cuts `nu × nv` that are powers of two, in rows
+// of cells that lie a pixel inside the band and the image (no clipping).
+//
+// Row of cells `j` lies between node rows `j` and `j + 1`. For sub-row
+// `b` (`0..nv`, plus the closing row `nv` for cells whose `CELL_TOP` is
+// set), the point `E_i(b) = lerp(node(i, j), node(i, j + 1), b / nv)` of
+// node column `i` is computed once: it is cell `i`'s sub-node `(0, b)`,
+// and cell `i - 1`'s closing sub-node `(nu, b)` when its `CELL_RIGHT` is
+// set. Cell `i`'s sub-nodes `(a, b)`, `a < nu`, follow from `E_i(b)` by
+// `a` steps of `(E_{i+1}(b) - E_i(b)) / nu`. Undrawn cells place nothing.
+//
+// Exactness: with `nu = 2^lu`, `nv = 2^lv` the per-cell forward
+// differences (`setup`, `next_row` above) divide by
+// exact reciprocals, so they round nowhere; both kernels then compute the
+// same exact integers (`E_i(b)` is the per-cell row start, the step the
+// per-cell column step `Cu + b·D`, since `lu + lv <= 16`). The samples are
+// the same bit for bit; only their order within a row of cells changes
+// (sub-row major instead of cell major), which matters only for two
+// samples of one piece with equal depth in one pixel. Cuts with another
+// factor (3, 5, …) round differently per cell and stay with the per-cell
+// kernel, as do rows that need clipping.
+//
+// Why: a sub-row keeps two edge points live (the per-cell kernel twelve
+// corner values) and shares each with the neighbouring cell; 76.59 →
+// 74.48 M instructions per bunny frame (callgrind, 500², see
+// docs/algorithms/render.md: the samples, not the set-up, are most of a
+// pixel-sized cell's cost, so the gain is small).
+
+/// One row of cells as the row walk reads it.
+#[derive(Clone, Copy)]
+struct CellRow<'a> {
+    /// The flags of its `cols - 1` cells.
+    flags: &'a [u8],
+    /// Its lower row of nodes (`cols`).
+    below: &'a [Node],
+    /// Its upper row of nodes (`cols`).
+    above: &'a [Node],
+    /// Its index in the piece.
+    j: usize,
+}
+
+/// Whether a cut `nu × nv` can be walked by rows (both powers of two).
+#[inline(always)]
+fn walkable(nu: u32, nv: u32) -> bool {
+    nu.is_power_of_two() && nv.is_power_of_two()
+}
+
+/// Places every sub-node of the drawn cells of `row`, cut `nu × nv`
+/// (powers of two: [`walkable`]; `NU`, `NV` the same when known at compile
+/// time, else 0). The caller has checked that every node of the row lies a
+/// pixel inside the band and the image.
+#[inline(always)]
+fn walk_row<const NU: u32, const NV: u32>(
+    t: &mut BandTarget<'_>,
+    row: CellRow<'_>,
+    nu: u32,
+    nv: u32,
+    item: u32,
+) {
+    let nu = if NU == 0 { nu } else { NU };
+    let nv = if NV == 0 { nv } else { NV };
+    debug_assert!(walkable(nu, nv) && nu <= 64 && nv <= 64);
+    let cut = [nu, nu.trailing_zeros(), nv, nv.trailing_zeros()];
+    // y relative to the band's first row (an exact shift of whole pixels),
+    // as `draw_cell` keeps it unclipped.
+    let y_origin = (t.y0 as i64) << (16 + EXT);
+    let pass = |t: &mut BandTarget<'_>, b: u32| sub_row::<NU>(t, row, b, cut, y_origin, item);
+    // Why the sub-rows spelled out for `nv <= 4`: with `b` a constant the
+    // edge points need no multiply (`b = 0`, `b = nv`: a shift; `2b = nv`:
+    // an add and a shift, the same integer; else a constant factor).
+    let tops = match NV {
+        1 => pass(t, 0),
+        2 => pass(t, 0) | pass(t, 1),
+        4 => pass(t, 0) | pass(t, 1) | pass(t, 2) | pass(t, 3),
+        _ => (0..nv).fold(0, |tops, b| tops | pass(t, b)),
+    };
+    if tops & CELL_TOP != 0 {
+        pass(t, nv);
+    }
+}
+
+/// Places sub-row `b` of the drawn cells of `row` (`cut`: `[nu, lu, nv,
+/// lv]`, `nu = 2^lu`, `nv = 2^lv`; `b = nv`: the closing row of the cells
+/// whose `CELL_TOP` is set) and returns the flags of its cells or-ed.
+#[inline(always)]
+fn sub_row<const NU: u32>(
+    t: &mut BandTarget<'_>,
+    row: CellRow<'_>,
+    b: u32,
+    [nu, lu, nv, lv]: [u32; 4],
+    y_origin: i64,
+    item: u32,
+) -> u8 {
+    // `E(b)` of one node column; the same integers as the per-cell
+    // kernel's row start after `b` rows (see the module header).
+    let lerp = |lo: &Node, hi: &Node| {
+        let e = |ch: usize| {
+            let (l, h) = (lo[ch] as i64, hi[ch] as i64);
+            if b == 0 {
+                l << EXT
+            } else if b == nv {
+                h << EXT
+            } else if 2 * b == nv {
+                (l + h) << (EXT - 1)
+            } else {
+                (l << EXT) + b as i64 * ((h - l) << (EXT - lv))
+            }
+        };
+        [e(0), e(1) - y_origin, e(2)]
+    };
+    let cell = |t: &mut BandTarget<'_>, f: u8, ends: [[i64; 3]; 2], word: u32| {
+        if f & CELL_DRAW != 0 && (b < nv || f & CELL_TOP != 0) {
+            place_span::<NU>(t, ends, [nu, lu], f & CELL_RIGHT != 0, word, item);
+        }
+    };
+    let mut left = lerp(&row.below[0], &row.above[0]);
+    let mut word = sub_word(0, row.j, 0, b);
+    let mut tops = 0;
+    // Two cells a turn, the edge points taking turns as left and right.
+    // Why: no copy of the right edge into the left one per cell.
+    let (flags, below, above) = (row.flags, &row.below[1..], &row.above[1..]);
+    let pairs = flags.chunks_exact(2).zip(below.chunks_exact(2));
+    for ((f, lo), hi) in pairs.zip(above.chunks_exact(2)) {
+        let mid = lerp(&lo[0], &hi[0]);
+        cell(t, f[0], [left, mid], word);
+        left = lerp(&lo[1], &hi[1]);
+        cell(t, f[1], [mid, left], word + (1 << 24));
+        tops |= f[0] | f[1];
+        word += 2 << 24;
+    }
+    if flags.len() % 2 == 1 {
+        let k = flags.len() - 1;
+        let f = flags[k];
+        cell(t, f, [left, lerp(&below[k], &above[k])], word);
+        tops |= f;
+    }
+    tops
+}
+
+/// Places one cell's sub-nodes `(a, b)` of one sub-row, from its left edge
+/// point to its right one (`ends`), `a < nu` (`[nu, lu]` with
+/// `nu = 2^lu`), plus `a = nu` when `closing`; `word` is `(0, b)`'s
+/// sub-word.
+#[inline(always)]
+fn place_span<const NU: u32>(
+    t: &mut BandTarget<'_>,
+    [left, right]: [[i64; 3]; 2],
+    [nu, lu]: [u32; 2],
+    closing: bool,
+    word: u32,
+    item: u32,
+) {
+    let nu = if NU == 0 { nu } else { NU };
+    // Exact: the difference is a multiple of `nu` (see the module header).
+    let step = [0, 1, 2].map(|k| (right[k] - left[k]) >> lu);
+    let (mut v, mut word) = (left, word);
+    for _ in 0..nu {
+        place_inside(t, v, word, item);
+        word += 1 << 8;
+        v = [v[0] + step[0], v[1] + step[1], v[2] + step[2]];
+    }
+    if closing {
+        place_inside(t, right, word, item);
     }
 }

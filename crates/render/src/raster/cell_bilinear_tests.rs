@@ -268,7 +268,17 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
     // samples, payloads and depth-test winners.
     let mut rng = crate::test_rng::XorShift(0x0c07_5eed);
     let w = 40usize;
-    let cuts = [(1, 2), (2, 1), (2, 2), (2, 3), (3, 2), (3, 3)];
+    let cuts = [
+        (1, 2),
+        (2, 1),
+        (2, 2),
+        (2, 3),
+        (3, 2),
+        (3, 3),
+        (4, 1),
+        (4, 2),
+        (2, 4),
+    ];
     let mut drawn = 0;
     for round in 0..600 {
         let (nu, nv) = cuts[round % cuts.len()];
@@ -310,7 +320,7 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
             if fixed {
                 draw_cells_bilinear(&mut t, &piece, nu, nv, PATCH_SAMPLE);
             } else {
-                draw_cells::<0, 0>(&mut t, &piece, nu, nv, PATCH_SAMPLE);
+                draw_cells::<0, 0, false>(&mut t, &piece, nu, nv, PATCH_SAMPLE);
             }
             px
         };
@@ -319,4 +329,86 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
         assert_eq!(fixed, generic, "cut {nu} x {nv}, round {round}");
     }
     assert!(drawn > 5_000, "{drawn} samples compared");
+}
+
+#[test]
+fn the_row_walk_places_the_samples_of_the_per_cell_kernel() {
+    // Random jittered pieces cut as the row walk's copies are (1 x 2,
+    // 2 x 1, 2 x 2, 4 x 1, 4 x 2, 2 x 4), some cells undrawn,
+    // with depths that grow (or shrink) along the sub-node grid so that no
+    // two samples tie: whatever the drawing order, every pixel keeps the
+    // same sample only if both kernels place the same samples (positions,
+    // depths, sub-words). The row walk runs for the rows inside the band;
+    // the per-cell kernel (`draw_cells::<0, 0, false>`) draws every row.
+    let mut rng = crate::test_rng::XorShift(0x0a1c_3a1c);
+    let (w, h) = (64usize, 64usize);
+    let cuts = [(1, 2), (2, 1), (2, 2), (4, 1), (4, 2), (2, 4)];
+    let (mut walked, mut drawn) = (0, 0);
+    for round in 0..1500 {
+        let (nu, nv) = cuts[round % cuts.len()];
+        let (cols, rows) = (2 + rng.below(7) as usize, 2 + rng.below(7) as usize);
+        let step = 0.5 + 2.0 * rng.unit();
+        let (ox, oy) = (2.0 + 30.0 * rng.unit(), 2.0 + 30.0 * rng.unit());
+        let shear = 0.6 * (rng.unit() - 0.5);
+        let sign = if round % 2 == 0 { 1 } else { -1 };
+        let nodes: Vec<Node> = (0..cols * rows)
+            .map(|k| {
+                let (i, j) = (k % cols, k / cols);
+                let jitter = |r: &mut crate::test_rng::XorShift| 0.6 * (r.unit() - 0.5);
+                let (x, y) = (step * i as f32, step * j as f32);
+                let mut n = node(
+                    ox + x + shear * y + jitter(&mut rng),
+                    oy + y + jitter(&mut rng),
+                );
+                // Sub-node (a, b) of cell (i, j) gets depth
+                // 1024 (nu i + a) + nv j + b (times `sign`, from 2^20).
+                n[2] = (1 << 20) + sign * (1024 * (nu * i) as i32 + (nv * j) as i32);
+                n
+            })
+            .collect();
+        let (ccols, crows) = (cols - 1, rows - 1);
+        let mut flags: Vec<u8> = (0..ccols * crows)
+            .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
+            .collect();
+        close_cells(&mut flags, ccols, crows);
+        let (spans, inside_columns) = row_spans(&nodes, cols, crows, w);
+        let piece = BilinearPiece {
+            nodes: &nodes,
+            flags: &flags,
+            spans: &spans,
+            cols,
+            rows,
+            inside_columns,
+        };
+        let (y0, band_rows) = (rng.below(30) as i32, 8 + rng.below(40) as i32);
+        let band_rows = band_rows.min(h as i32 - y0);
+        let draw = |walk: bool| {
+            let mut px = vec![Sample::EMPTY; w * band_rows as usize];
+            let mut t = BandTarget {
+                width: w as i32,
+                y0,
+                rows: band_rows,
+                px: &mut px,
+            };
+            if walk {
+                draw_cells_bilinear(&mut t, &piece, nu as u32, nv as u32, PATCH_SAMPLE);
+            } else {
+                draw_cells::<0, 0, false>(&mut t, &piece, nu as u32, nv as u32, PATCH_SAMPLE);
+            }
+            px
+        };
+        if inside_columns {
+            walked += spans
+                .iter()
+                .filter(|&&[lo, hi]| lo > y0 && hi < y0 + band_rows - 1)
+                .count();
+        }
+        let (walk, cells) = (draw(true), draw(false));
+        drawn += walk.iter().filter(|s| s.depth < Z_FAR).count();
+        assert_eq!(walk, cells, "cut {nu} x {nv}, round {round}");
+    }
+    assert!(
+        walked > 1500 && drawn > 10_000,
+        "{walked} rows walked, {drawn} samples"
+    );
 }
