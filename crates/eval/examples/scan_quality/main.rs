@@ -30,7 +30,7 @@
 //!
 //! With `PNG_DIR`, each view's render is written there as `view_NN.png`, and its specks as
 //! `specks_NN.png` (the render in grey, every speck pixel red, so where they gather shows at a
-//! glance). Prints one line per
+//! glance), and its holes as `holes_NN.png` (the reference mesh in grey, every hole pixel red). Prints one line per
 //! view and a total line; the totals are what docs/algorithms/cloud.md quotes.
 
 use std::path::PathBuf;
@@ -251,6 +251,8 @@ fn run(
             std::fs::write(&path, png).map_err(|e| format!("{}: {e}", path.display()))?;
             let path = dir.join(format!("specks_{index:02}.png"));
             write_speck_mask(&path, image.pixels(), &speck_pixels, width, height)?;
+            let path = dir.join(format!("holes_{index:02}.png"));
+            write_speck_mask(&path, reference.pixels(), &hole_pixels, width, height)?;
         }
     }
     println!(
