@@ -1,5 +1,6 @@
 //! A small deterministic generator (xorshift64) for the unit tests' random
-//! pieces, pixels and scenes: reproducible, and no dependency for a test.
+//! pieces, pixels and scenes (and random drawn cells on top of it):
+//! reproducible, and no dependency for a test.
 
 /// Xorshift64 state (never zero).
 pub(crate) struct XorShift(pub(crate) u64);
@@ -52,4 +53,21 @@ impl XorShift {
         ];
         (q, s)
     }
+}
+
+/// Random flags of a `ccols × crows` grid of cells for tests: every cell
+/// drawn except about one in `one_in`, closing flags set
+/// (`crate::grid::close_cells`).
+pub(crate) fn random_drawn_cells(
+    rng: &mut XorShift,
+    ccols: usize,
+    crows: usize,
+    one_in: u32,
+) -> Vec<u8> {
+    use crate::grid::{close_cells, CELL_DRAW};
+    let mut flags: Vec<u8> = (0..ccols * crows)
+        .map(|_| if rng.below(one_in) == 0 { 0 } else { CELL_DRAW })
+        .collect();
+    close_cells(&mut flags, ccols, crows);
+    flags
 }

@@ -36,6 +36,19 @@ pub(crate) struct BandTarget<'a> {
     pub(crate) px: &'a mut [Sample],
 }
 
+impl<'a> BandTarget<'a> {
+    /// A target over `px`: `rows` rows of `width` pixels, the first of them image row `y0`.
+    pub(crate) fn new(px: &'a mut [Sample], width: i32, y0: i32, rows: i32) -> Self {
+        debug_assert!(px.len() >= (width.max(0) * rows.max(0)) as usize);
+        BandTarget {
+            width,
+            y0,
+            rows,
+            px,
+        }
+    }
+}
+
 /// What a pixel holds during rasterization: its depth and three payload
 /// words (see the module header). Why one record rather than four arrays:
 /// the depth test and the payload stores touch one cache line and one
@@ -243,12 +256,7 @@ impl Band {
 
     /// The buffers for drawing.
     pub(crate) fn target(&mut self) -> BandTarget<'_> {
-        BandTarget {
-            width: self.width,
-            y0: self.y0,
-            rows: self.rows,
-            px: &mut self.px,
-        }
+        BandTarget::new(&mut self.px, self.width, self.y0, self.rows)
     }
 
     /// The samples of the band, row-major (for the resolve pass).

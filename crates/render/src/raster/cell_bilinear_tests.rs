@@ -4,7 +4,7 @@
 //! fixed-cut copies against the generic kernel.
 
 use crate::fixed::{test_node as node, Node, Z_FAR};
-use crate::grid::{close_cells, CELL_DRAW, CELL_RIGHT, CELL_TOP};
+use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::plan::subdivision::choose_subdivision;
 use crate::raster::band::{BandTarget, Sample, PATCH_SAMPLE};
 use crate::raster::cell_bilinear::{draw_cells, draw_cells_bilinear, draw_nodes, BilinearPiece};
@@ -81,10 +81,7 @@ fn random_pieces_leave_no_hole_inside_any_drawn_cell() {
             .collect();
         let nodes: Vec<Node> = pos.iter().map(|&(x, y)| node(x, y)).collect();
         let (ccols, crows) = (cols - 1, rows - 1);
-        let mut flags: Vec<u8> = (0..ccols * crows)
-            .map(|_| if rng.below(8) == 0 { 0 } else { CELL_DRAW })
-            .collect();
-        close_cells(&mut flags, ccols, crows);
+        let flags = crate::test_rng::random_drawn_cells(&mut rng, ccols, crows, 8);
         let drawn: Vec<usize> = (0..flags.len())
             .filter(|&k| flags[k] & CELL_DRAW != 0)
             .map(|k| k / ccols * cols + k % ccols)
@@ -119,12 +116,8 @@ fn random_pieces_leave_no_hole_inside_any_drawn_cell() {
         let band_rows = 3 + rng.below(30) as usize;
         let mut image = vec![Sample::EMPTY; w * h];
         for (b, px) in image.chunks_mut(band_rows * w).enumerate() {
-            let mut t = BandTarget {
-                width: w as i32,
-                y0: (b * band_rows) as i32,
-                rows: (px.len() / w) as i32,
-                px,
-            };
+            let mut t =
+                BandTarget::new(px, w as i32, (b * band_rows) as i32, (px.len() / w) as i32);
             if (nu, nv) == (1, 1) {
                 draw_nodes(&mut t, &nodes, cols, rows, PATCH_SAMPLE);
             } else {
@@ -160,12 +153,7 @@ fn a_magnified_cell_covers_every_pixel_centre_inside_it() {
     ];
     let (w, h) = (32, 32);
     let mut px = vec![Sample::EMPTY; w * h];
-    let mut t = BandTarget {
-        width: w as i32,
-        y0: 0,
-        rows: h as i32,
-        px: &mut px,
-    };
+    let mut t = BandTarget::new(&mut px, w as i32, 0, h as i32);
     // Extents: |u_x| + |v_x| and |u_y| + |v_y| are below 22 px, so 24 is safe.
     let flags = [CELL_DRAW | CELL_RIGHT | CELL_TOP];
     let spans = [[0, 31]];
@@ -224,21 +212,13 @@ fn rows_inside_a_band_draw_as_the_clipped_path_does() {
             })
             .collect();
         let (ccols, crows) = (cols - 1, rows - 1);
-        let mut flags: Vec<u8> = (0..ccols * crows)
-            .map(|_| if rng.below(6) == 0 { 0 } else { CELL_DRAW })
-            .collect();
-        crate::grid::close_cells(&mut flags, ccols, crows);
+        let flags = crate::test_rng::random_drawn_cells(&mut rng, ccols, crows, 6);
         let (spans, inside_columns) = row_spans(&nodes, cols, crows, w);
         let (y0, band_rows) = (rng.below(40) as i32, 4 + rng.below(20) as i32);
         let band_rows = band_rows.min(h as i32 - y0);
         let draw = |inside_columns: bool| {
             let mut px = vec![Sample::EMPTY; w * band_rows as usize];
-            let mut t = BandTarget {
-                width: w as i32,
-                y0,
-                rows: band_rows,
-                px: &mut px,
-            };
+            let mut t = BandTarget::new(&mut px, w as i32, y0, band_rows);
             let piece = BilinearPiece {
                 nodes: &nodes,
                 flags: &flags,
@@ -295,10 +275,7 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
             })
             .collect();
         let (ccols, crows) = (cols - 1, rows - 1);
-        let mut flags: Vec<u8> = (0..ccols * crows)
-            .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
-            .collect();
-        crate::grid::close_cells(&mut flags, ccols, crows);
+        let flags = crate::test_rng::random_drawn_cells(&mut rng, ccols, crows, 5);
         let spans = vec![[-10, 60]; crows];
         let piece = BilinearPiece {
             nodes: &nodes,
@@ -311,12 +288,7 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
         let (y0, band_rows) = (rng.below(20) as i32, 10 + rng.below(20) as i32);
         let draw = |fixed: bool| {
             let mut px = vec![Sample::EMPTY; w * band_rows as usize];
-            let mut t = BandTarget {
-                width: w as i32,
-                y0,
-                rows: band_rows,
-                px: &mut px,
-            };
+            let mut t = BandTarget::new(&mut px, w as i32, y0, band_rows);
             if fixed {
                 draw_cells_bilinear(&mut t, &piece, nu, nv, PATCH_SAMPLE);
             } else {
@@ -367,10 +339,7 @@ fn the_row_walk_places_the_samples_of_the_per_cell_kernel() {
             })
             .collect();
         let (ccols, crows) = (cols - 1, rows - 1);
-        let mut flags: Vec<u8> = (0..ccols * crows)
-            .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
-            .collect();
-        close_cells(&mut flags, ccols, crows);
+        let flags = crate::test_rng::random_drawn_cells(&mut rng, ccols, crows, 5);
         let (spans, inside_columns) = row_spans(&nodes, cols, crows, w);
         let piece = BilinearPiece {
             nodes: &nodes,
@@ -384,12 +353,7 @@ fn the_row_walk_places_the_samples_of_the_per_cell_kernel() {
         let band_rows = band_rows.min(h as i32 - y0);
         let draw = |walk: bool| {
             let mut px = vec![Sample::EMPTY; w * band_rows as usize];
-            let mut t = BandTarget {
-                width: w as i32,
-                y0,
-                rows: band_rows,
-                px: &mut px,
-            };
+            let mut t = BandTarget::new(&mut px, w as i32, y0, band_rows);
             if walk {
                 draw_cells_bilinear(&mut t, &piece, nu as u32, nv as u32, PATCH_SAMPLE);
             } else {

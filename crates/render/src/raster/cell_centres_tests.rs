@@ -14,12 +14,7 @@ fn band(w: usize) -> Vec<Sample> {
 }
 
 fn target(px: &mut [Sample], w: usize) -> BandTarget<'_> {
-    BandTarget {
-        width: w as i32,
-        y0: 0,
-        rows: w as i32,
-        px,
-    }
+    BandTarget::new(px, w as i32, 0, w as i32)
 }
 
 #[test]

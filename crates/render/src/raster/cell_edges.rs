@@ -205,7 +205,7 @@ fn draw_open_cell(
 mod tests {
     use super::*;
     use crate::fixed::{test_node as node, Z_FAR};
-    use crate::grid::{close_cells, CELL_RIGHT, CELL_TOP};
+    use crate::grid::{CELL_RIGHT, CELL_TOP};
     use crate::raster::band::{Sample, PATCH_SAMPLE};
     use crate::raster::cell_bilinear::draw_cells_bilinear;
     use crate::test_rng::XorShift;
@@ -215,12 +215,7 @@ mod tests {
     fn draw(nodes: &[Node], flags: &[u8], cols: usize, cut: u32, w: usize) -> Vec<bool> {
         let rows = nodes.len() / cols;
         let mut px = vec![Sample::EMPTY; w * w];
-        let mut t = BandTarget {
-            width: w as i32,
-            y0: 0,
-            rows: w as i32,
-            px: &mut px,
-        };
+        let mut t = BandTarget::new(&mut px, w as i32, 0, w as i32);
         let spans = vec![[-100, 100]; rows - 1];
         let piece = BilinearPiece {
             nodes,
@@ -307,10 +302,7 @@ mod tests {
                 })
                 .collect();
             let (ccols, crows) = (cols - 1, rows - 1);
-            let mut flags: Vec<u8> = (0..ccols * crows)
-                .map(|_| if rng.below(5) == 0 { 0 } else { CELL_DRAW })
-                .collect();
-            close_cells(&mut flags, ccols, crows);
+            let mut flags = crate::test_rng::random_drawn_cells(&mut rng, ccols, crows, 5);
             let plain = draw(&nodes, &flags, cols, 14, w);
             for f in flags.iter_mut().filter(|f| **f & CELL_DRAW != 0) {
                 *f |= (rng.below(16) as u8) << 3;

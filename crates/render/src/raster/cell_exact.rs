@@ -210,12 +210,7 @@ mod tests {
     /// `w × w` image; the covered pixels.
     fn draw(q: [(f32, f32); 4], cut: u32, w: usize) -> Vec<Sample> {
         let mut px = vec![Sample::EMPTY; w * w];
-        let mut t = BandTarget {
-            width: w as i32,
-            y0: 0,
-            rows: w as i32,
-            px: &mut px,
-        };
+        let mut t = BandTarget::new(&mut px, w as i32, 0, w as i32);
         let n = [
             node(q[0].0, q[0].1),
             node(q[1].0, q[1].1),

@@ -253,12 +253,7 @@ mod tests {
                 half: footprint_half_widths(edges),
             };
             let mut px = vec![Sample::EMPTY; (w * h) as usize];
-            let mut t = BandTarget {
-                width: w,
-                y0: 0,
-                rows: h,
-                px: &mut px,
-            };
+            let mut t = BandTarget::new(&mut px, w, 0, h);
             draw_splats(&mut t, &piece, 7);
             for j in 0..rows - 1 {
                 for i in 0..cols - 1 {

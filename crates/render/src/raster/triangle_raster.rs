@@ -276,12 +276,7 @@ mod tests {
         let mut hits = vec![0u32; w * h];
         for tri in &tris {
             let mut px = vec![Sample::EMPTY; w * h];
-            let mut t = BandTarget {
-                width: w as i32,
-                y0: 0,
-                rows: h as i32,
-                px: &mut px,
-            };
+            let mut t = BandTarget::new(&mut px, w as i32, 0, h as i32);
             draw_triangle::<0, _>(&mut t, tri, (0.1, 0.0), &FlatPayload(1));
             for (h, d) in hits.iter_mut().zip(px.iter().map(|s| s.depth)) {
                 *h += (d < Z_FAR) as u32;
