@@ -84,8 +84,13 @@ fn trim_overlaps_trims_the_default_sphere() {
     // this takes the default one (1362 patches of 17 × 17).
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
+    // Below a pixel, the sphere's cells stay at level 0, which trimming cuts.
     let args = ["render", "big.spatch", "-o", "s.png", "--width", "200"];
-    let args = [&args[..], &["--height", "200", "--trim-overlaps"]].concat();
+    let args = [
+        &args[..],
+        &["--height", "200", "--trim-overlaps", "--mip-limit", "0.9"],
+    ]
+    .concat();
     t.run(&[&args[..], &["--stats", "stats.json"]].concat())
         .success();
     let stats: serde_json::Value = t.json("stats.json");
@@ -253,12 +258,14 @@ fn splat_limit_splats_the_pieces_subdivision_would_cut() {
 
 #[test]
 fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
-    // The default sphere seen small: with --geometry-limit its patches
-    // draw the level above their shading level, a quarter of the nodes,
-    // and cover about the pixels the default covers.
+    // The default sphere seen small (shading at level 0, cells of about a
+    // pixel): with --geometry-limit its patches draw the level above their
+    // shading level, a quarter of the nodes, and cover about the pixels
+    // the default covers.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&AT_200[..], extra].concat(), name);
+    let at_200 = [&AT_200[..], &["--mip-limit", "0.9"]].concat();
+    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&at_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--geometry-limit", "3.6"], "on.json");
     let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
@@ -276,13 +283,15 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
 
 #[test]
 fn centre_limit_draws_pixel_sized_cells_by_pixel_centres() {
-    // The default sphere at 200²: cells of about a pixel are cut into
-    // sub-nodes by default and drawn by pixel-centre coverage with
-    // --centre-limit 2 (some at the next mip level), which places next to
-    // no sub-nodes and covers the same disc within its outline margin.
+    // The default sphere at 200² with level 0 kept below a pixel: cells of
+    // about a pixel are cut into sub-nodes and drawn by pixel-centre
+    // coverage with --centre-limit 2 (some at the next mip level), which
+    // places next to no sub-nodes and covers the same disc within its
+    // outline margin.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&AT_200[..], extra].concat(), name);
+    let at_200 = [&AT_200[..], &["--mip-limit", "0.9"]].concat();
+    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&at_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--centre-limit", "2"], "on.json");
     let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();

@@ -23,6 +23,7 @@ use std::sync::OnceLock;
 use spatch_format::EMPTY;
 
 use crate::grid::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
+use crate::prepare::corner_fill::{fill_corners, FinerLevel};
 use crate::prepare::normals::grid_slots;
 
 /// Most levels kept per patch (including level 0).
@@ -364,7 +365,14 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
             displacements.push(grid.displacements[2 * j * cols + 2 * i]);
         }
     }
-    fill_corners(level, hc, hr, &mut displacements);
+    let finer = FinerLevel {
+        cols: level.cols,
+        rows: level.rows,
+        displacements: &level.displacements,
+        cell_flags: &level.cell_flags,
+        spacing: level.spacing,
+    };
+    fill_corners(finer, [hc, hr], &mut displacements);
     let colours = grid.colours.as_ref().map(|src| {
         let mut out = Vec::with_capacity(hc * hr);
         for j in 0..hr {
@@ -380,63 +388,6 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
         (displacements, colours),
         None,
     ))
-}
-
-/// Fills the empty nodes of the halved grid `d` (`hc × hr`) that are a
-/// corner of a coarse cell holding a drawable cell of `fine`, so that the
-/// coarse level draws wherever the finer one does (a coarse cell needs four
-/// filled corners; without this, a coarse level opens holes along the
-/// patch's empty regions, its outline on the surface). A filled node takes
-/// the mean of the linear extrapolations from its filled neighbours along
-/// the grid's eight directions (the nearer one repeated when the farther
-/// is empty or outside), rounded and clamped to the codes' range. Why: it
-/// stays on the surface's tangent plane, so it draws at most one cell of
-/// the level past the patch's outline, at the depth of the neighbouring
-/// patch that overlaps it there.
-fn fill_corners(fine: &MipLevel, hc: usize, hr: usize, d: &mut [u16]) {
-    let fc = fine.cols - 1;
-    let mut wanted = vec![false; hc * hr];
-    for (k, &f) in fine.cell_flags.iter().enumerate() {
-        if f & CELL_DRAW != 0 {
-            let (i, j) = ((k % fc) / 2, (k / fc) / 2);
-            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                wanted[(j + dj) * hc + i + di] = true;
-            }
-        }
-    }
-    let source = d.to_vec();
-    let at = |i: isize, j: isize| -> Option<i32> {
-        if i < 0 || j < 0 || i >= hc as isize || j >= hr as isize {
-            return None;
-        }
-        let v = source[j as usize * hc + i as usize];
-        (v != EMPTY).then_some(v as i32)
-    };
-    for (k, w) in wanted.iter().enumerate() {
-        if !w || source[k] != EMPTY {
-            continue;
-        }
-        let (i, j) = ((k % hc) as isize, (k / hc) as isize);
-        let (mut sum, mut n) = (0i32, 0i32);
-        for (di, dj) in [
-            (-1, 0),
-            (1, 0),
-            (0, -1),
-            (0, 1),
-            (-1, -1),
-            (1, -1),
-            (-1, 1),
-            (1, 1),
-        ] {
-            if let Some(a) = at(i + di, j + dj) {
-                sum += at(i + 2 * di, j + 2 * dj).map_or(a, |b| 2 * a - b);
-                n += 1;
-            }
-        }
-        if n > 0 {
-            d[k] = ((sum + n / 2).div_euclid(n)).clamp(0, EMPTY as i32 - 1) as u16;
-        }
-    }
 }
 
 /// A level's nodes, as [`halve_level`] reads them.
@@ -518,7 +469,8 @@ fn extrapolate(a: u16, b: u16) -> u16 {
 }
 
 /// 1-2-1 tent average of the filled colours around node `(ci, cj)` (an
-/// empty node takes its filled neighbours', for [`fill_corners`]).
+/// empty node takes its filled neighbours', for the filled corners of
+/// `corner_fill.rs`).
 fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> [u8; 4] {
     let mut sum = [0u32; 4];
     let mut weight = 0u32;
@@ -548,6 +500,7 @@ fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prepare::corner_fill::fills_cell;
     use glam::Vec3;
     use spatch_format::{Frame, GridSize, Patch};
 
@@ -626,8 +579,10 @@ mod tests {
         // Grids of 2–33 nodes a side with holes from none to most nodes:
         // each counted level halves, has a drawable cell, and holds every
         // drawable cell of the level below in one of its drawable cells
-        // (so drawing it opens no hole); without holes the count is every
-        // halving the sides allow that keeps a cell of level-0 corners.
+        // unless that coarse cell holds too few finer cells to be filled
+        // (`corner_fill.rs`: those are left to neighbouring patches);
+        // without holes the count is every halving the sides allow that
+        // keeps a cell of level-0 corners.
         let mut rng = crate::test_rng::XorShift(0x001e_7e15);
         let mut deep = 0;
         for case in 0..600 {
@@ -656,10 +611,20 @@ mod tests {
             for m in 0..count {
                 let next = halve_level(&level).expect("a counted level halves");
                 assert!(next.drawable_cells > 0, "{cols} x {rows}, level {}", m + 1);
-                let fc = level.cols - 1;
+                let (fc, fr) = (level.cols - 1, level.rows - 1);
+                let drawn = |i: usize, j: usize| {
+                    let flag = |i: usize, j: usize| level.cell_flags[j * fc + i] & CELL_DRAW;
+                    let ends = |n: usize, end: usize| (n..(n + 2).min(end));
+                    ends(2 * i, fc)
+                        .flat_map(|a| ends(2 * j, fr).map(move |b| (a, b)))
+                        .map(|(a, b)| u8::from(flag(a, b) != 0))
+                        .sum::<u8>()
+                };
                 for (k, &f) in level.cell_flags.iter().enumerate() {
-                    if f & CELL_DRAW != 0 {
-                        let (i, j) = (k % fc, k / fc);
+                    let (i, j) = (k % fc, k / fc);
+                    let filled =
+                        fills_cell([fc, fr], [i / 2, j / 2], drawn(i / 2, j / 2), level.spacing);
+                    if f & CELL_DRAW != 0 && filled {
                         assert!(
                             next.cell_is_drawable(i / 2, j / 2),
                             "{cols} x {rows}, {holes} %: cell {i}, {j} of level {m}"

@@ -7,6 +7,7 @@
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;
+pub(crate) mod corner_fill;
 pub(crate) mod mip;
 pub(crate) mod normal_buffer;
 pub(crate) mod normals;

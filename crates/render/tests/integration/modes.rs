@@ -225,13 +225,16 @@ fn without_mip_far_views_place_more_nodes() {
 
 #[test]
 fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
-    let fine = render(RenderOptions::default(), 600.0, 500);
+    let mut o = RenderOptions::default();
+    o.mip_limit = 0.9;
+    let fine = render(o, 600.0, 500);
     let mut o = RenderOptions::default();
     o.mip_limit = 6.0;
     let coarse = render(o, 600.0, 500);
     let coarser = |s: &spatch_render::RenderStats| s.mip_levels[1..].iter().sum::<u64>();
-    // The default keeps these cells (about a pixel) at level 0; a limit of
-    // 6 px moves most patches to a coarser level and places fewer nodes.
+    // A limit under a pixel keeps these cells (about a pixel) at level 0; a
+    // limit of 6 px moves most patches to a coarser level and places fewer
+    // nodes.
     assert_eq!(coarser(&fine.stats), 0, "{:?}", fine.stats.mip_levels);
     assert!(coarser(&coarse.stats) * 2 > coarse.stats.mip_levels.iter().sum::<u64>());
     assert!(coarse.stats.patch_nodes * 2 < fine.stats.patch_nodes);

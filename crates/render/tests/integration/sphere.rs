@@ -76,6 +76,9 @@ fn coarse_geometry_keeps_the_silhouette_and_shades_as_the_shading_level() {
     let camera = known_camera(1500.0, 200);
     let render = |geometry_limit: f32| {
         let mut o = RenderOptions::default();
+        // Level 0 shades at this size below a pixel; the default limit
+        // would already take the coarse levels for both.
+        o.mip_limit = 0.9;
         o.geometry_limit = geometry_limit;
         Renderer::new(o)
             .unwrap()
@@ -148,18 +151,24 @@ fn silhouette_and_no_holes_at_2000_magnified() {
 
 #[test]
 fn minified_views_use_the_mip_pyramid_and_the_node_path() {
+    // The default limit (cells up to 3 px) and one below a pixel, which
+    // draws levels whose nodes alone cover the cells (the node path).
     let camera = known_camera(2500.0, 250);
-    let out = Renderer::new(RenderOptions::default())
-        .unwrap()
-        .render(prepared_sphere(), &camera)
-        .unwrap();
-    let s = &out.stats;
-    assert!(
-        s.mip_levels.len() > 1 && s.mip_levels[1..].iter().sum::<u64>() > 0,
-        "{s:?}"
-    );
-    assert!(s.patches_optimized > 0);
-    check_silhouette(2500.0, 250, RenderOptions::default());
+    let mut below_a_pixel = RenderOptions::default();
+    below_a_pixel.mip_limit = 0.9;
+    for o in [RenderOptions::default(), below_a_pixel] {
+        let out = Renderer::new(o.clone())
+            .unwrap()
+            .render(prepared_sphere(), &camera)
+            .unwrap();
+        let s = &out.stats;
+        assert!(
+            s.mip_levels.len() > 1 && s.mip_levels[1..].iter().sum::<u64>() > 0,
+            "{s:?}"
+        );
+        assert_eq!(s.patches_optimized > 0, o.mip_limit < 1.0, "{s:?}");
+        check_silhouette(2500.0, 250, o);
+    }
 }
 
 #[test]
