@@ -157,7 +157,7 @@ fn minified_views_use_the_mip_pyramid_and_the_node_path() {
     let mut below_a_pixel = RenderOptions::default();
     below_a_pixel.mip_limit = 0.9;
     for o in [RenderOptions::default(), below_a_pixel] {
-        let out = Renderer::new(o.clone())
+        let out = Renderer::new(o)
             .unwrap()
             .render(prepared_sphere(), &camera)
             .unwrap();
