@@ -614,7 +614,7 @@ mod tests {
                 let (fc, fr) = (level.cols - 1, level.rows - 1);
                 let drawn = |i: usize, j: usize| {
                     let flag = |i: usize, j: usize| level.cell_flags[j * fc + i] & CELL_DRAW;
-                    let ends = |n: usize, end: usize| (n..(n + 2).min(end));
+                    let ends = |n: usize, end: usize| n..(n + 2).min(end);
                     ends(2 * i, fc)
                         .flat_map(|a| ends(2 * j, fr).map(move |b| (a, b)))
                         .map(|(a, b)| u8::from(flag(a, b) != 0))
