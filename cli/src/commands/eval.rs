@@ -93,7 +93,7 @@ pub(crate) struct EvalArgs {
     #[arg(long, value_name = "T", default_value_t = RenderOptions::DEFAULT_GEOMETRY_TOLERANCE, conflicts_with = "sweep")]
     geometry_tolerance: f32,
     /// Mip limit of the patch renders in pixels (see `spatch render
-    /// --mip-limit`; 0.1..=16, default 0.9; not with --sweep): what a
+    /// --mip-limit`; 0.1..=16, default 3; not with --sweep): what a
     /// coarser level costs in PSNR and holes.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT, conflicts_with = "sweep")]
     mip_limit: f32,

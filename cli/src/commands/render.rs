@@ -184,8 +184,10 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     occlusion_skip: bool,
     /// Take the coarsest mip level whose projected cells stay below PX
-    /// pixels, 0.1..=16. The default keeps every visible detail; larger
-    /// values trade detail for speed (coarser grids, magnified).
+    /// pixels, 0.1..=16. The default (3) draws cells of up to about three
+    /// pixels, subdivided (bunny 500²: 37 % fewer instructions per frame
+    /// than 0.9, the same PSNR against the source); 0.9 keeps every level-0
+    /// cell above a pixel; larger values trade more detail for speed.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
     mip_limit: f32,
     /// Splat the nodes of pixel-sized cells as rectangles of half-width up

@@ -39,7 +39,7 @@
 //!
 //! (the rows apply the rule at every level; the bunny at 500² draws
 //! level 1 almost only.) Above level 1 the dropped cells add up: Spot
-//! (`spot_triangulated.obj`, eval at 128², mostly levels 2 and 3) with
+//! (`spot_triangulated.obj`, default conversion, eval at 128²) with
 //! three or more at every level opened 0.37 % holes; with two or more
 //! above level 1, 0.017 % (19.57 dB; one or more: 0.0019 %, 19.18 dB; the
 //! bunny at 500² then 24.74 and 24.72 dB; before, 19.01 dB, no holes).
