@@ -142,7 +142,10 @@ impl RenderedImage {
     }
     /// Number of pixels showing a surface.
     pub fn covered_count(&self) -> usize {
-        self.depth.iter().filter(|d| d.is_finite()).count()
+        // A sum of 32-bit flags from the exponent bits, which the compiler
+        // runs in vector lanes: a filtered count went pixel by pixel.
+        let finite = |d: &f32| u32::from(d.to_bits() & 0x7f80_0000 != 0x7f80_0000);
+        self.depth.iter().map(finite).sum::<u32>() as usize
     }
 
     /// PSNR (dB) of the RGB channels against `other` (same size), or `None`
@@ -225,5 +228,33 @@ mod tests {
         let decoded = image::load_from_memory(&png).unwrap().to_rgba8();
         assert_eq!(decoded.dimensions(), (width, height));
         assert_eq!(decoded.into_raw(), rgba.as_flattened());
+    }
+
+    #[test]
+    fn covered_pixels_are_those_with_a_finite_depth() {
+        // Finite depths (0, negative, tiny, huge) against infinities and
+        // NaNs of every sign, in counts that leave vector remainders.
+        let kinds = [
+            0.0,
+            -0.0,
+            1.5,
+            -3.0e38,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        let (width, height) = (13, 7);
+        let depth: Vec<f32> = (0..width * height)
+            .map(|k| kinds[(k * 7) % kinds.len()])
+            .collect();
+        let expected = depth.iter().filter(|d| d.is_finite()).count();
+        let rgba = vec![[0u8; 4]; depth.len()];
+        let image =
+            RenderedImage::from_internal(rgba, depth, width as u32, height as u32, 1, 1.0, 2.0);
+        assert_eq!(image.covered_count(), expected);
+        assert!(expected > 0 && expected < width * height);
     }
 }
