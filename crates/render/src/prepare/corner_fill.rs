@@ -209,7 +209,12 @@ fn fitted(fine: FinerLevel<'_>, d: &[u16], [hc, hr]: [usize; 2], k: usize, prior
 /// order `(0, 0), (1, 0), (0, 1), (1, 1)`): over `fine`'s filled nodes in
 /// the cell `[ci, cj]`, the sums of `w · (node − rest)` and `w²`, where `w`
 /// is the corner's bilinear weight at the node and `rest` the other
-/// corners' share of the cell's value there.
+/// corners' share of the cell's value there. Only the four finer nodes on
+/// the corner's half of each axis have `w > 0` (row by row, as the sums
+/// run). Why only those: the other five weigh nothing, and skipping them
+/// took the one-frame bunny render from 127.3 to 126.1 M instructions
+/// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`; images
+/// identical).
 fn cell_terms(
     fine: FinerLevel<'_>,
     [ci, cj]: [usize; 2],
@@ -217,8 +222,9 @@ fn cell_terms(
     own: usize,
 ) -> [f32; 2] {
     let (mut num, mut den) = (0.0, 0.0);
-    for b in 0..=2 {
-        for a in 0..=2 {
+    let half = |k: usize| if k == 0 { [0, 1] } else { [1, 2] };
+    for b in half(own / 2) {
+        for a in half(own % 2) {
             let (fi, fj) = (2 * ci + a, 2 * cj + b);
             if fi >= fine.cols || fj >= fine.rows {
                 continue;
@@ -229,9 +235,6 @@ fn cell_terms(
             }
             let (s, t) = (a as f32 / 2.0, b as f32 / 2.0);
             let w = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
-            if w[own] == 0.0 {
-                continue;
-            }
             let value: f32 = w.iter().zip(&corners).map(|(w, c)| w * c).sum();
             let rest = value - w[own] * corners[own];
             num += w[own] * (node as f32 - rest);
