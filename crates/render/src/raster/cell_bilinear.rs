@@ -139,9 +139,10 @@ pub(crate) fn draw_cells_bilinear(
     // compiler the sub-node loops unroll and the reciprocals fold (the
     // bunny's pixel-sized cells are cut 1-3 per side); the samples and
     // their order are the same, so the images are identical. `3 × 1` and
-    // `1 × 3` (a third of the bunny's pieces): 74.50 → 71.41 M
-    // instructions per bunny frame (callgrind, 500²); copies of the
-    // sphere's `4 × 3` and `3 × 4` cost it 1.2 M more per frame.
+    // `1 × 3` (a sixth of the bunny's pieces): 74.50 → 71.41 M
+    // instructions per bunny frame (callgrind, 500²; 74.93 → 73.02 M with
+    // one codegen unit); copies of the sphere's `4 × 3` and `3 × 4` cost
+    // it 1.2 M more per frame.
     // Cuts of powers of two walk their unclipped rows of cells sub-row by
     // sub-row (`walk_row`: the same samples).
     match (nu, nv) {
