@@ -258,6 +258,8 @@ fn the_fixed_cut_copies_draw_what_the_generic_kernel_draws() {
         (4, 1),
         (4, 2),
         (2, 4),
+        (3, 1),
+        (1, 3),
     ];
     let mut drawn = 0;
     for round in 0..600 {
