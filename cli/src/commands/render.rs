@@ -226,9 +226,11 @@ pub(crate) struct RenderArgs {
     /// many frames.
     #[arg(long)]
     trim_overlaps: bool,
-    /// Rows per framebuffer band, 4..=256: the unit of work a thread takes.
-    /// Taller bands walk fewer cells twice; shorter ones keep a band's
-    /// buffer in a smaller cache and share the work more evenly.
+    /// Rows per framebuffer band, 4..=256, or 0 (default): automatic, two
+    /// bands per thread within 64..=128 rows (128 with 2 threads at 500²).
+    /// The unit of work a thread takes: taller bands walk fewer cells
+    /// twice; shorter ones keep a band's buffer in a smaller cache and
+    /// share the work more evenly.
     #[arg(long, value_name = "ROWS", default_value_t = RenderOptions::DEFAULT_TILE_ROWS)]
     tile_rows: u32,
     /// Guard band beyond each viewport side, as a fraction of its size, 0..=1.

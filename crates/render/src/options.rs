@@ -190,10 +190,11 @@ pub struct RenderOptions {
     /// splitting (pixels outside the image are discarded); wider bands split
     /// less but project and discard more.
     pub guard_band: f32,
-    /// Rows per framebuffer tile (the unit of parallel work), 4..=256.
-    /// Default 64: taller bands walk fewer rows of cells twice (500²
-    /// sphere: 89.7 → 86.0 M instructions per frame against 32) and still
-    /// give 2 threads 8 bands to share at 500².
+    /// Rows per framebuffer tile (the unit of parallel work), 4..=256, or
+    /// 0 (the default): automatic, [`Self::band_rows`]. Taller bands walk
+    /// fewer rows of cells twice (500² sphere: 89.7 → 86.0 M instructions
+    /// per frame at 64 against 32, 74.1 M at 128); shorter ones give more
+    /// threads a band each.
     pub tile_rows: u32,
     /// Colour of pixels with no surface (RGBA). Default transparent black.
     pub background: [u8; 4],
@@ -250,10 +251,25 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
+    /// Rows per band of an image `height` rows tall drawn by `threads`
+    /// threads: [`Self::tile_rows`], or when it is 0, about half of
+    /// `height / threads` (two bands per thread, so the heaviest-first
+    /// order can even them out) in whole multiples of 16, within 64..=128.
+    /// Why: with 2 threads at 500², bands of 128 rows walk fewer rows of
+    /// cells twice than 64 (callgrind per thread, the critical path of
+    /// serial part and busiest worker: sphere 39.48 → 37.49 M, bunny
+    /// 24.96 → 24.14 M, mannequin 23.19 → 22.67 M); more threads keep 64.
+    pub fn band_rows(&self, height: u32, threads: usize) -> u32 {
+        if self.tile_rows != 0 {
+            return self.tile_rows;
+        }
+        let share = height.div_ceil(2 * threads.max(1) as u32);
+        share.next_multiple_of(16).clamp(64, 128)
+    }
     /// Default guard band.
     pub const DEFAULT_GUARD_BAND: f32 = 0.1;
-    /// Default tile height.
-    pub const DEFAULT_TILE_ROWS: u32 = 64;
+    /// Default tile height: 0, automatic ([`Self::band_rows`]).
+    pub const DEFAULT_TILE_ROWS: u32 = 0;
     /// Default mip limit (pixels of estimated cell extent).
     pub const DEFAULT_MIP_LIMIT: f32 = 3.0;
     /// Default splat limit: off (cells subdivided down to sub-pixel size).
@@ -298,8 +314,8 @@ impl RenderOptions {
         if !(c.is_finite() && (c == 0.0 || (0.5..=4.0).contains(&c))) {
             return bad("centre_limit", "must be 0 (off) or in 0.5..=4 pixels");
         }
-        if !(4..=256).contains(&self.tile_rows) {
-            return bad("tile_rows", "must be in 4..=256");
+        if !(self.tile_rows == 0 || (4..=256).contains(&self.tile_rows)) {
+            return bad("tile_rows", "must be 0 (automatic) or in 4..=256");
         }
         if self.threads > 1024 {
             return bad("threads", "must be in 0..=1024 (0 = all cores)");

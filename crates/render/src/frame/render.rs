@@ -61,6 +61,8 @@ pub struct Renderer {
     skips: Vec<SkipTiles>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
     spare: Option<(Vec<[u8; 4]>, Vec<f32>)>,
+    /// Rows per band of the last frame ([`RenderOptions::band_rows`]).
+    band_rows: u32,
 }
 
 impl std::fmt::Debug for Renderer {
@@ -96,6 +98,7 @@ impl Renderer {
             bands: Vec::new(),
             skips: Vec::new(),
             spare: None,
+            band_rows: 0,
         })
     }
 
@@ -234,7 +237,8 @@ impl Renderer {
     ) -> Result<RenderOutput, RenderError> {
         let options = setup.options;
         let bin_start = Instant::now();
-        let tile_rows = options.tile_rows;
+        let tile_rows = options.band_rows(view.height, self.pool.current_num_threads());
+        self.band_rows = tile_rows;
         let band_count = view.height.div_ceil(tile_rows) as usize;
         self.bins.fill(&self.chunks, tile_rows, band_count);
         let size = (view.width, view.height);
@@ -366,7 +370,7 @@ impl Renderer {
             cells: self.options.cells,
             width: band.width,
             height: self.bands.iter().map(|b| b.rows).sum(),
-            tile_rows: self.options.tile_rows as i32,
+            tile_rows: self.band_rows as i32,
             skip: self.options.occlusion_skip,
         };
         occlusion::measure(&frame)

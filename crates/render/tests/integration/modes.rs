@@ -59,6 +59,34 @@ fn one_and_many_threads_give_the_same_image() {
 }
 
 #[test]
+fn automatic_bands_are_two_per_thread_within_64_to_128_rows() {
+    let auto = RenderOptions::default();
+    assert_eq!(auto.tile_rows, 0);
+    for (height, threads, rows) in [
+        (500, 2, 128),
+        (1000, 2, 128),
+        (250, 2, 64),
+        (500, 8, 64),
+        (300, 1, 128),
+        (400, 3, 80),
+    ] {
+        assert_eq!(
+            auto.band_rows(height, threads),
+            rows,
+            "{height} rows, {threads} threads"
+        );
+    }
+    let mut fixed = RenderOptions::default();
+    fixed.tile_rows = 32;
+    assert_eq!(fixed.band_rows(500, 2), 32);
+    // The stats count the bands the automatic height gives.
+    fixed.tile_rows = 0;
+    fixed.threads = 2;
+    let out = render(fixed, 500.0, 400);
+    assert_eq!(out.stats.tiles, 4, "{:?}", out.stats.bands);
+}
+
+#[test]
 fn phong_frames_without_normal_counts_draw_the_same_image() {
     // A scene whose first frames do not count (no slot set built), then
     // count: the image never changes, and the counts are those of a scene
