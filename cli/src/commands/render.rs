@@ -186,8 +186,9 @@ pub(crate) struct RenderArgs {
     /// Take the coarsest mip level whose projected cells stay below PX
     /// pixels, 0.1..=16. The default (3) draws cells of up to about three
     /// pixels, subdivided (bunny 500²: 37 % fewer instructions per frame
-    /// than 0.9, the same PSNR against the source); 0.9 keeps every level-0
-    /// cell above a pixel; larger values trade more detail for speed.
+    /// than 0.9, the same PSNR against the source); 0.9, the default before,
+    /// takes a coarser level only where its cells stay under a pixel;
+    /// larger values trade more detail for speed.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
     mip_limit: f32,
     /// Splat the nodes of pixel-sized cells as rectangles of half-width up

@@ -149,8 +149,8 @@ pub struct RenderOptions {
     /// on a scan (bunny 500²: 74.5 → 47.3 M instructions per frame, PSNR
     /// against the source 24.75 → 24.74 dB, holes 0.0019 → 0.0174 %; see
     /// docs/algorithms/render.md, "Mip levels of any grid"). Larger values
-    /// trade more detail for speed; 0.9 keeps every level-0 cell above a
-    /// pixel.
+    /// trade more detail for speed; 0.9 takes a coarser level only where
+    /// its cells stay under a pixel.
     pub mip_limit: f32,
     /// Largest footprint half-width (pixels) of the splatting path for
     /// pixel-sized cells, 0 or 0.5..=3; 0 (the default) disables it. A
