@@ -262,15 +262,32 @@ mod tests {
                 }
             })
             .collect();
+        let flags = drawable_cells(&d, side);
+        (d, flags)
+    }
+
+    /// [`CELL_DRAW`] for each cell of a `side × side` grid `d` whose four
+    /// corners are filled.
+    fn drawable_cells(d: &[u16], side: usize) -> Vec<u8> {
         let at = |i: usize, j: usize| d[j * side + i] != EMPTY;
-        let flags = (0..(side - 1) * (side - 1))
+        (0..(side - 1) * (side - 1))
             .map(|k| {
                 let (i, j) = (k % (side - 1), k / (side - 1));
                 let four = at(i, j) && at(i + 1, j) && at(i, j + 1) && at(i + 1, j + 1);
                 u8::from(four) * CELL_DRAW
             })
-            .collect();
-        (d, flags)
+            .collect()
+    }
+
+    /// A 17 × 17 level-0 grid `d` with its drawable cells, as the fill reads it.
+    fn level_zero<'a>(d: &'a [u16], flags: &'a [u8]) -> FinerLevel<'a> {
+        FinerLevel {
+            cols: 17,
+            rows: 17,
+            displacements: d,
+            cell_flags: flags,
+            spacing: 1,
+        }
     }
 
     /// Every other node of a `side × side` grid (`side` odd).
@@ -314,13 +331,7 @@ mod tests {
             (8.5, 8.0, 4.2),
         ] {
             let (d, flags) = bowl_with_outline(17, disc);
-            let fine = FinerLevel {
-                cols: 17,
-                rows: 17,
-                displacements: &d,
-                cell_flags: &flags,
-                spacing: 1,
-            };
+            let fine = level_zero(&d, &flags);
             let mut coarse = halved(&d, 17);
             fill_corners_with(fine, [9, 9], &mut coarse, sweeps);
             worst = worst.max(largest_gap(fine, &coarse, 9));
@@ -372,20 +383,8 @@ mod tests {
                 false => EMPTY,
             })
             .collect();
-        let at = |i: usize, j: usize| d[j * 17 + i] != EMPTY;
-        let flags: Vec<u8> = (0..16 * 16)
-            .map(|k| {
-                let (i, j) = (k % 16, k / 16);
-                u8::from(at(i, j) && at(i + 1, j) && at(i, j + 1) && at(i + 1, j + 1)) * CELL_DRAW
-            })
-            .collect();
-        let fine = FinerLevel {
-            cols: 17,
-            rows: 17,
-            displacements: &d,
-            cell_flags: &flags,
-            spacing: 1,
-        };
+        let flags = drawable_cells(&d, 17);
+        let fine = level_zero(&d, &flags);
         let mut coarse = halved(&d, 17);
         let before = coarse.iter().filter(|&&v| v == EMPTY).count();
         fill_corners(fine, [9, 9], &mut coarse);
