@@ -247,6 +247,7 @@ fn cell_terms(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::drawn_cells;
 
     /// A `side × side` grid (`side` odd) on the bowl `400 + 2.5 r²` around
     /// node (8, 8), with the nodes outside a disc of `radius` nodes around
@@ -262,21 +263,8 @@ mod tests {
                 }
             })
             .collect();
-        let flags = drawable_cells(&d, side);
+        let flags = drawn_cells(&d, side, side);
         (d, flags)
-    }
-
-    /// [`CELL_DRAW`] for each cell of a `side × side` grid `d` whose four
-    /// corners are filled.
-    fn drawable_cells(d: &[u16], side: usize) -> Vec<u8> {
-        let at = |i: usize, j: usize| d[j * side + i] != EMPTY;
-        (0..(side - 1) * (side - 1))
-            .map(|k| {
-                let (i, j) = (k % (side - 1), k / (side - 1));
-                let four = at(i, j) && at(i + 1, j) && at(i, j + 1) && at(i + 1, j + 1);
-                u8::from(four) * CELL_DRAW
-            })
-            .collect()
     }
 
     /// A 17 × 17 level-0 grid `d` with its drawable cells, as the fill reads it.
@@ -383,7 +371,7 @@ mod tests {
                 false => EMPTY,
             })
             .collect();
-        let flags = drawable_cells(&d, 17);
+        let flags = drawn_cells(&d, 17, 17);
         let fine = level_zero(&d, &flags);
         let mut coarse = halved(&d, 17);
         let before = coarse.iter().filter(|&&v| v == EMPTY).count();

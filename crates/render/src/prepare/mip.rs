@@ -22,7 +22,7 @@ use std::sync::OnceLock;
 
 use spatch_format::EMPTY;
 
-use crate::grid::{close_cells, drawn_edge_masks, push_weights, CELL_DRAW};
+use crate::grid::{close_cells, drawn_cells, drawn_edge_masks, push_weights, CELL_DRAW};
 use crate::prepare::corner_fill::{fill_corners, FinerLevel};
 use crate::prepare::normals::grid_slots;
 
@@ -195,42 +195,6 @@ impl MipLevel {
     pub(crate) fn cell_is_drawable(&self, i: usize, j: usize) -> bool {
         self.cell_flags[j * (self.cols - 1) + i] & CELL_DRAW != 0
     }
-}
-
-/// Per cell of a `cols × rows` grid of displacement codes (row-major,
-/// `(cols - 1) × (rows - 1)`), true when its four corners are filled. Why
-/// one flat pass over the grid (every node with the three after it along
-/// the row and across, the nodes closing a row dropped after): the test
-/// runs in byte lanes over the whole grid; a row at a time (15–17 cells on
-/// a scan) left it to the loops' scalar remainders (3.6 M of a one-frame
-/// bunny render's 187 M instructions; callgrind, `spatch render
-/// bunny.spatch -o out.png --threads 1`). Why the four codes' largest
-/// compared with [`EMPTY`] (the largest code), and the closing nodes
-/// dropped in place: a vector of filled flags and one of the flat pass's
-/// cells, each allocated, filled and freed per level, were 1 M of that
-/// render (callgrind, the same command).
-#[inline(always)]
-fn drawn_cells(displacements: &[u16], cols: usize, rows: usize) -> Vec<u8> {
-    let (ccols, crows) = (cols - 1, rows - 1);
-    if ccols * crows == 0 {
-        return Vec::new();
-    }
-    // Node k with node k + 1, k + cols and k + cols + 1 (the last node of
-    // the last row of cells has no k + cols + 1: it closes its row).
-    let (m, d) = (crows * cols - 1, displacements);
-    let quads = d[..m].iter().zip(&d[1..=m]);
-    let quads = quads
-        .zip(&d[cols..cols + m])
-        .zip(&d[cols + 1..cols + 1 + m]);
-    let largest = |(((&a, &b), &c), &e): (((&u16, &u16), &u16), &u16)| a.max(b).max(c.max(e));
-    let mut drawn: Vec<u8> = quads
-        .map(|q| u8::from(largest(q) != EMPTY) * CELL_DRAW)
-        .collect();
-    for j in 1..crows {
-        drawn.copy_within(j * cols..j * cols + ccols, j * ccols);
-    }
-    drawn.truncate(ccols * crows);
-    drawn
 }
 
 /// The smallest and largest of `displacements` where `used` (`(u16::MAX,
@@ -503,32 +467,6 @@ mod tests {
     use crate::prepare::corner_fill::fills_cell;
     use glam::Vec3;
     use spatch_format::{Frame, GridSize, Patch};
-
-    #[test]
-    fn drawn_cells_are_the_cells_with_four_filled_corners() {
-        // Grids of 2–20 nodes a side, single cell rows and columns
-        // included, empty nodes from none to most.
-        let mut rng = crate::test_rng::XorShift(0xd4a3_ce11);
-        for case in 0..400 {
-            let (cols, rows) = (2 + rng.below(19) as usize, 2 + rng.below(19) as usize);
-            let holes = [0, 10, 50, 90][case % 4];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| match rng.below(100) < holes {
-                    true => EMPTY,
-                    false => rng.below(u32::from(EMPTY)) as u16,
-                })
-                .collect();
-            let filled = |i: usize, j: usize| d[j * cols + i] != EMPTY;
-            let expected: Vec<u8> = (0..rows - 1)
-                .flat_map(|j| (0..cols - 1).map(move |i| (i, j)))
-                .map(|(i, j)| {
-                    let four = filled(i, j) && filled(i + 1, j);
-                    u8::from(four && filled(i, j + 1) && filled(i + 1, j + 1)) * CELL_DRAW
-                })
-                .collect();
-            assert_eq!(drawn_cells(&d, cols, rows), expected, "{cols} x {rows}");
-        }
-    }
 
     #[test]
     fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {
