@@ -28,6 +28,20 @@ pub(crate) const CONE_MARGIN: f64 = 0.03;
 pub(crate) struct NormalCone {
     pub(crate) axis: DVec3,
     pub(crate) half_angle: f64,
+    /// `sin` and `cos` of `half_angle`, for the per-frame tests
+    /// ([`crate::plan::cull`]), which then need no inverse trigonometry.
+    pub(crate) sin_cos: (f64, f64),
+}
+
+impl NormalCone {
+    /// The cone of unit `axis` and `half_angle` (radians).
+    pub(crate) fn new(axis: DVec3, half_angle: f64) -> NormalCone {
+        NormalCone {
+            axis,
+            half_angle,
+            sin_cos: half_angle.sin_cos(),
+        }
+    }
 }
 
 /// What one pass over a level-0 grid's drawable cells finds: the normal
@@ -228,10 +242,7 @@ fn finish_cone<W: Wide>(
     }
     let min_cos = w.lanes(min_cos).into_iter().fold(1.0, f32::min);
     let half_angle = (min_cos.clamp(-1.0, 1.0) as f64).acos() + CONE_MARGIN;
-    let cone = NormalCone {
-        axis: (*rotation * axis.as_dvec3()).normalize(),
-        half_angle,
-    };
+    let cone = NormalCone::new((*rotation * axis.as_dvec3()).normalize(), half_angle);
     ConeScan { cone, d_range }
 }
 
