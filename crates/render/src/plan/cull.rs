@@ -344,7 +344,10 @@ mod tests {
             }
         }
         // Both answers occur often enough to mean something.
-        assert!(away > 1000 && facing > 1000 && seen > 500, "{away} {facing} {seen}");
+        assert!(
+            away > 1000 && facing > 1000 && seen > 500,
+            "{away} {facing} {seen}"
+        );
     }
 
     #[test]
