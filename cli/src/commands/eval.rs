@@ -97,6 +97,10 @@ pub(crate) struct EvalArgs {
     /// coarser level costs in PSNR and holes.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT, conflicts_with = "sweep")]
     mip_limit: f32,
+    /// Mip tolerance of the patch renders in pixels (see `spatch render
+    /// --mip-tolerance`; 0..=2, default 0.25, 0 = off; not with --sweep).
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_TOLERANCE, conflicts_with = "sweep")]
+    mip_tolerance: f32,
     /// Centre limit of the patch renders in pixels (see `spatch render
     /// --centre-limit`; 0 = off; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_CENTRE_LIMIT, conflicts_with = "sweep")]
@@ -181,6 +185,7 @@ impl EvalArgs {
         render.geometry_tolerance = self.geometry_tolerance;
         render.centre_limit = self.centre_limit;
         render.mip_limit = self.mip_limit;
+        render.mip_tolerance = self.mip_tolerance;
         render
     }
 

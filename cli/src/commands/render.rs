@@ -191,6 +191,14 @@ pub(crate) struct RenderArgs {
     /// larger values trade more detail for speed.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
     mip_limit: f32,
+    /// Let an uncoloured patch with a full grid take a coarser mip level
+    /// than --mip-limit allows (cells up to 2 × the limit) while that level
+    /// moves its surface by at most PX pixels on screen, 0..=2; 0 turns it
+    /// off. Default 0.25: smooth full grids (the perfect sphere at 500²: 15 %
+    /// fewer instructions per frame) draw fewer, larger cells; scans, whose
+    /// patches have empty nodes, and coloured patches are unchanged.
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_TOLERANCE)]
+    mip_tolerance: f32,
     /// Splat the nodes of pixel-sized cells as rectangles of half-width up
     /// to PX pixels (0.5..=3) instead of subdividing the cells, and take
     /// mip levels whose nodes land within that reach: fewer samples, each
@@ -378,6 +386,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.exact_grid_outlines = !args.no_exact_grid_outlines;
     o.occlusion_skip = args.occlusion_skip;
     o.mip_limit = args.mip_limit;
+    o.mip_tolerance = args.mip_tolerance;
     o.splat_limit = args.splat_limit;
     o.geometry_limit = args.geometry_limit;
     o.geometry_tolerance = args.geometry_tolerance;

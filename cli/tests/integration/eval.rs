@@ -126,7 +126,11 @@ fn the_mip_limit_reaches_the_patch_renders() {
         "--mip-limit 0.9 {fine} dB, --mip-limit 16 {coarse} dB"
     );
     // A render option out of range is refused before measuring: one line, exit 2.
-    for (option, value) in [("--mip-limit", "0"), ("--splat-limit", "9")] {
+    for (option, value) in [
+        ("--mip-limit", "0"),
+        ("--splat-limit", "9"),
+        ("--mip-tolerance", "3"),
+    ] {
         let run = t.run(&["eval", "ball.spatch", "--source", &ball, option, value]);
         assert_eq!(run.code, 2, "{option}: {}", run.stderr);
         assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);

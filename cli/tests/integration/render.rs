@@ -124,6 +124,44 @@ fn a_mip_limit_reports_its_cost_against_the_default() {
 }
 
 #[test]
+fn a_mip_tolerance_takes_full_grids_past_the_mip_limit() {
+    // The small sphere's grids are full: at 64² the default tolerance takes
+    // some of them to level 1, which the limit alone keeps at level 0.
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    let levels = |tolerance: &str| {
+        t.run(&[
+            "render",
+            &name,
+            "-o",
+            "s.png",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--mip-tolerance",
+            tolerance,
+            "--stats",
+            "stats.json",
+        ])
+        .success();
+        let stats: serde_json::Value = t.json("stats.json");
+        let levels = stats["mip_levels"].as_array().expect("levels").clone();
+        levels
+            .iter()
+            .skip(1)
+            .map(|n| n.as_u64().unwrap())
+            .sum::<u64>()
+    };
+    assert_eq!(levels("0"), 0);
+    assert!(levels("0.25") > 0);
+    let run = t.run(&["render", &name, "-o", "x.png", "--mip-tolerance", "3"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(!t.path("x.png").exists());
+}
+
+#[test]
 fn camera_flags_and_modes_are_honoured() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");

@@ -102,7 +102,7 @@ struct LazyLevel {
     /// level's grid ([`PreparedPatch::fine_shading`]).
     fine_shading: OnceLock<LevelShading>,
     /// Above level 0: how far the level below strays from this level's
-    /// surface ([`PreparedPatch::coarse_error`]).
+    /// surface, in codes ([`PreparedPatch::coarse_gap`]).
     coarse_error: OnceLock<f32>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
@@ -450,11 +450,28 @@ impl PreparedPatch {
     /// level `g - 1` (the shorter of its two axes). Measured the first time
     /// a frame asks for it, and kept: a property of the scene, not the view.
     pub(crate) fn coarse_error(&self, g: usize) -> f32 {
-        *self.levels[g].coarse_error.get_or_init(|| {
-            let gap = coarse_gap(self.level(g - 1), self.level(g));
-            let (rx, ry) = self.ratios_at(g - 1);
-            gap * rx.max(ry)
-        })
+        let (rx, ry) = self.ratios_at(g - 1);
+        self.coarse_gap(g) * rx.max(ry)
+    }
+
+    /// The same gap in displacement codes (the patch's height unit), as
+    /// [`coarse_gap`] measures it; measured once, kept.
+    pub(crate) fn coarse_gap(&self, g: usize) -> f32 {
+        *self.levels[g]
+            .coarse_error
+            .get_or_init(|| coarse_gap(self.level(g - 1), self.level(g)))
+    }
+
+    /// True when level `g` keeps level 0's outline exactly: level 0 draws
+    /// every cell (no empty node) and its sides have a multiple of `2^g`
+    /// cells, so halving pads and fills nothing and each level draws
+    /// exactly the area level 0 draws.
+    pub(crate) fn exact_level(&self, g: usize) -> bool {
+        let l0 = self.level(0);
+        let step = 1 << g;
+        l0.draws_every_cell()
+            && (l0.cols - 1).is_multiple_of(step)
+            && (l0.rows - 1).is_multiple_of(step)
     }
 
     /// Shading ratios at mip level `m` (node spacing doubles per level).

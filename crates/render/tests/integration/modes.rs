@@ -3,7 +3,9 @@
 //! portable ones' image; every projection, cell, shading, mip and
 //! supersampling variant renders the sphere without holes.
 
-use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions, Renderer, Shading};
+use spatch_render::{
+    CellScheme, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
+};
 
 use crate::common::{known_camera, prepared_sphere, sphere_scene};
 
@@ -255,6 +257,7 @@ fn without_mip_far_views_place_more_nodes() {
 fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
     let mut o = RenderOptions::default();
     o.mip_limit = 0.9;
+    o.mip_tolerance = 0.0;
     let fine = render(o, 600.0, 500);
     let mut o = RenderOptions::default();
     o.mip_limit = 6.0;
@@ -271,6 +274,86 @@ fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
     assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
     let (a, b) = (fine.image.covered_count(), coarse.image.covered_count());
     assert!(a.abs_diff(b) * 1000 < a, "{a} against {b} covered pixels");
+}
+
+/// Pieces per mip level above level 0.
+fn coarse_pieces(s: &spatch_render::RenderStats) -> u64 {
+    s.mip_levels[1..].iter().sum()
+}
+
+#[test]
+fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
+    // The sphere's grids are full and halve evenly: at 500² its cells
+    // (about 4 px) keep level 0 under the 3 px limit alone, and the
+    // tolerance takes most of them to level 1 (cells under 6 px, no piece
+    // large enough for the triangle path), with fewer nodes and the same
+    // image but for rounding (the sphere is smooth).
+    let mut o = RenderOptions::default();
+    o.mip_tolerance = 0.0;
+    let limit_only = render(o, 600.0, 500);
+    let tolerant = render(RenderOptions::default(), 600.0, 500);
+    let (few, many) = (
+        coarse_pieces(&limit_only.stats),
+        coarse_pieces(&tolerant.stats),
+    );
+    let all = tolerant.stats.mip_levels.iter().sum::<u64>();
+    assert!(few * 10 < all, "{:?}", limit_only.stats.mip_levels);
+    assert!(many * 2 > all, "{:?}", tolerant.stats.mip_levels);
+    assert!(tolerant.stats.patch_nodes * 2 < limit_only.stats.patch_nodes);
+    assert_eq!(tolerant.stats.oversized_pieces, 0);
+    let psnr = limit_only.image.psnr(&tolerant.image).expect("same size");
+    assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
+    let (a, b) = (
+        limit_only.image.covered_count(),
+        tolerant.image.covered_count(),
+    );
+    assert!(a.abs_diff(b) * 1000 < a, "{a} against {b} covered pixels");
+    // A tolerance too small for the sphere's curvature keeps the limit's
+    // levels.
+    let mut o = RenderOptions::default();
+    o.mip_tolerance = 1e-4;
+    assert_eq!(coarse_pieces(&render(o, 600.0, 500).stats), few);
+}
+
+#[test]
+fn grids_with_an_empty_node_keep_the_mip_limits_level() {
+    // The same sphere with one corner node of every patch emptied: coarse
+    // levels would fill or drop cells along the outline, so the tolerance
+    // leaves every patch where the limit puts it, image for image.
+    let patches = sphere_scene()
+        .patches()
+        .iter()
+        .map(|p| {
+            let mut d = p.displacements().to_vec();
+            d[0] = spatch_format::EMPTY;
+            spatch_format::Patch::new(*p.frame(), p.grid(), d, None)
+                .unwrap()
+                .with_sides(p.sides())
+        })
+        .collect();
+    let base = sphere_scene();
+    let holed = spatch_format::Scene::new(base.offset(), base.channel(), patches).unwrap();
+    let prepared = PreparedScene::new(&holed);
+    let draw = |tolerance: f32| {
+        let mut o = RenderOptions::default();
+        o.mip_tolerance = tolerance;
+        Renderer::new(o)
+            .unwrap()
+            .render(&prepared, &known_camera(600.0, 500))
+            .unwrap()
+    };
+    let (off, on) = (draw(0.0), draw(RenderOptions::DEFAULT_MIP_TOLERANCE));
+    assert_eq!(on.stats.mip_levels, off.stats.mip_levels);
+    assert!(on.image.pixels() == off.image.pixels(), "images differ");
+}
+
+#[test]
+fn a_mip_tolerance_out_of_range_is_refused() {
+    for bad in [-0.1, 2.5, f32::NAN, f32::INFINITY] {
+        let mut o = RenderOptions::default();
+        o.mip_tolerance = bad;
+        assert!(Renderer::new(o).is_err(), "{bad}");
+    }
 }
 
 #[test]
