@@ -192,9 +192,9 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_LIMIT)]
     mip_limit: f32,
     /// Let an uncoloured patch with a full grid take a coarser mip level
-    /// than --mip-limit allows (cells up to 2 × the limit) while that level
+    /// than --mip-limit allows (cells up to 4 × the limit) while that level
     /// moves its surface by at most PX pixels on screen, 0..=2; 0 turns it
-    /// off. Default 0.25: smooth full grids (the perfect sphere at 500²: 15 %
+    /// off. Default 0.25: smooth full grids (the perfect sphere at 500²: 25 %
     /// fewer instructions per frame) draw fewer, larger cells; scans, whose
     /// patches have empty nodes, and coloured patches are unchanged.
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_TOLERANCE)]

@@ -165,7 +165,7 @@ pub struct RenderOptions {
     /// the bunny 0.6 dB at this tolerance (docs/algorithms/render.md,
     /// "Where a scan's samples come from"); a full grid's coarse level
     /// covers exactly what level 0 does (the perfect sphere at 500²: 74.0 →
-    /// 62.8 M instructions per frame). Patches with colours keep the limit's
+    /// 55.5 M instructions per frame). Patches with colours keep the limit's
     /// level: a coarser level's colours are averages the tolerance does not
     /// measure.
     pub mip_tolerance: f32,
@@ -294,13 +294,14 @@ impl RenderOptions {
     pub const DEFAULT_MIP_TOLERANCE: f32 = 0.25;
     /// How many times `mip_limit` the cells of a level taken under
     /// [`Self::mip_tolerance`] may reach, as estimated from the patch's
-    /// projected box. Why 2 (6 px at the default limit): the estimate is an
-    /// average, and the largest cells of a near patch exceed it; with 3 or
-    /// 4 some of the perfect sphere's pieces in a near view (600², eye at
-    /// 350) passed 15 px and went to the triangle path (1 and 26 pieces).
-    /// At 500² the sphere then draws 436 of its 567 pieces at level 1:
-    /// 74.0 → 62.8 M instructions per frame (56.6 M with 3).
-    pub const EXACT_LEVEL_CAP: f32 = 2.0;
+    /// projected box: 4, 12 px at the default limit, below the 15 px where
+    /// cells go to the triangle path. The estimate is an average and a near
+    /// patch's largest cells exceed it; a piece whose lifted cells would
+    /// need triangles is planned again at the limit's level (the perfect
+    /// sphere seen from 350 at 600²: 26 pieces). At 500² the sphere draws
+    /// 530 of its 567 pieces at levels 1-2: 74.0 → 55.5 M instructions per
+    /// frame (62.8 M with a cap of 2).
+    pub const EXACT_LEVEL_CAP: f32 = 4.0;
     /// Default splat limit: off (cells subdivided down to sub-pixel size).
     pub const DEFAULT_SPLAT_LIMIT: f32 = 0.0;
     /// Default geometry limit: off (positions from the shading level).

@@ -285,9 +285,9 @@ fn coarse_pieces(s: &spatch_render::RenderStats) -> u64 {
 fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     // The sphere's grids are full and halve evenly: at 500² its cells
     // (about 4 px) keep level 0 under the 3 px limit alone, and the
-    // tolerance takes most of them to level 1 (cells under 6 px, no piece
-    // large enough for the triangle path), with fewer nodes and the same
-    // image but for rounding (the sphere is smooth).
+    // tolerance takes most of them to levels 1-2 (cells under 12 px, no
+    // piece large enough for the triangle path), with fewer nodes and the
+    // same image but for rounding (the sphere is smooth).
     let mut o = RenderOptions::default();
     o.mip_tolerance = 0.0;
     let limit_only = render(o, 600.0, 500);
@@ -308,6 +308,18 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
         tolerant.image.covered_count(),
     );
     assert!(a.abs_diff(b) * 1000 < a, "{a} against {b} covered pixels");
+    // Near, the box's estimate falls short of the largest cells: pieces
+    // lifted past the triangle path's cut are planned at the limit's level
+    // instead, so no piece goes to triangles that did not before.
+    let mut o = RenderOptions::default();
+    o.mip_tolerance = 0.0;
+    let near_limit = render(o, 350.0, 600);
+    let near = render(RenderOptions::default(), 350.0, 600);
+    assert_eq!(
+        near.stats.oversized_pieces,
+        near_limit.stats.oversized_pieces
+    );
+    assert_eq!(near.stats.triangles, near_limit.stats.triangles);
     // A tolerance too small for the sphere's curvature keeps the limit's
     // levels.
     let mut o = RenderOptions::default();
