@@ -106,7 +106,10 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         // Only from level 0: the bunny's 26 pieces that went from level 1
         // to levels 2-3 cost 0.7 % more per 500² frame (larger cuts).
         if lift && exact_levels(opts) && m == 0 {
-            (m, lifted) = (coarser_exact_level(ctx, &proj0, piece, extent, m), m);
+            let coarser = coarser_exact_level(ctx, &proj0, piece, extent, m);
+            if coarser > m {
+                (m, lifted) = (coarser, m);
+            }
         }
         // Coarse geometry: the level above draws, this one shades.
         if coarse_geometry(opts) && m + 1 < p.level_count() {

@@ -103,7 +103,7 @@ struct LazyLevel {
     fine_shading: OnceLock<LevelShading>,
     /// Above level 0: how far the level below strays from this level's
     /// surface, in codes ([`PreparedPatch::coarse_gap`]).
-    coarse_error: OnceLock<f32>,
+    coarse_gap: OnceLock<f32>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
     slots: OnceLock<SlotSet>,
@@ -458,7 +458,7 @@ impl PreparedPatch {
     /// [`coarse_gap`] measures it; measured once, kept.
     pub(crate) fn coarse_gap(&self, g: usize) -> f32 {
         *self.levels[g]
-            .coarse_error
+            .coarse_gap
             .get_or_init(|| coarse_gap(self.level(g - 1), self.level(g)))
     }
 
