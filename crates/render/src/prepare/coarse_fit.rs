@@ -20,14 +20,31 @@ use crate::prepare::mip::MipLevel;
 /// above `fine`) that holds it; nodes in cells of `coarse` with an empty
 /// corner (not drawn) are skipped. 0 when no node is compared.
 pub(crate) fn coarse_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
+    grid_gap(
+        &fine.displacements,
+        [fine.cols, fine.rows],
+        &coarse.displacements,
+        [coarse.cols, coarse.rows],
+    )
+}
+
+/// [`coarse_gap`] on bare grids of displacement codes: `fine` of
+/// `fine_size` (columns, rows) nodes and `coarse`, every other node of it
+/// (with filled or padded nodes), of `coarse_size`.
+pub(crate) fn grid_gap(
+    fine: &[u16],
+    [fine_cols, fine_rows]: [usize; 2],
+    coarse: &[u16],
+    coarse_size: [usize; 2],
+) -> f32 {
     let mut worst = 0f32;
-    for j in 0..fine.rows {
-        for i in 0..fine.cols {
-            let d = fine.displacements[j * fine.cols + i];
+    for j in 0..fine_rows {
+        for i in 0..fine_cols {
+            let d = fine[j * fine_cols + i];
             if d == EMPTY {
                 continue;
             }
-            if let Some(b) = bilinear_at(coarse, i, j) {
+            if let Some(b) = bilinear_at(coarse, coarse_size, i, j) {
                 worst = worst.max((d as f32 - b).abs());
             }
         }
@@ -35,17 +52,18 @@ pub(crate) fn coarse_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
     worst
 }
 
-/// The bilinear displacement of `coarse` at the point of fine node
-/// `(i, j)` (coarse node units `(i / 2, j / 2)`), `None` when the cell
-/// holding it has an empty corner or lies outside the grid.
-fn bilinear_at(coarse: &MipLevel, i: usize, j: usize) -> Option<f32> {
-    let (ci, cj) = ((i / 2).min(coarse.cols - 2), (j / 2).min(coarse.rows - 2));
+/// The bilinear displacement of `coarse` (`cols × rows` nodes) at the
+/// point of fine node `(i, j)` (coarse node units `(i / 2, j / 2)`),
+/// `None` when the cell holding it has an empty corner or lies outside
+/// the grid.
+fn bilinear_at(coarse: &[u16], [cols, rows]: [usize; 2], i: usize, j: usize) -> Option<f32> {
+    let (ci, cj) = ((i / 2).min(cols - 2), (j / 2).min(rows - 2));
     let (fu, fv) = ((i as f32 / 2.0) - ci as f32, (j as f32 / 2.0) - cj as f32);
     if fu > 1.0 || fv > 1.0 {
         return None;
     }
     let at = |di: usize, dj: usize| {
-        let v = coarse.displacements[(cj + dj) * coarse.cols + ci + di];
+        let v = coarse[(cj + dj) * cols + ci + di];
         (v != EMPTY).then_some(v as f32)
     };
     let (d00, d10, d01, d11) = (at(0, 0)?, at(1, 0)?, at(0, 1)?, at(1, 1)?);

@@ -248,6 +248,7 @@ fn cell_terms(
 mod tests {
     use super::*;
     use crate::grid::drawn_cells;
+    use crate::prepare::coarse_fit::grid_gap;
 
     /// A `side × side` grid (`side` odd) on the bowl `400 + 2.5 r²` around
     /// node (8, 8), with the nodes outside a disc of `radius` nodes around
@@ -286,28 +287,6 @@ mod tests {
             .collect()
     }
 
-    /// Largest gap between a filled node of `fine` and the bilinear surface
-    /// of the drawable coarse cell (`coarse`, `h × h`) holding it.
-    fn largest_gap(fine: FinerLevel<'_>, coarse: &[u16], h: usize) -> f32 {
-        let mut gap = 0.0f32;
-        for fj in 0..fine.rows {
-            for fi in 0..fine.cols {
-                let node = fine.displacements[fj * fine.cols + fi];
-                let (ci, cj) = ((fi / 2).min(h - 2), (fj / 2).min(h - 2));
-                let c = |a: usize, b: usize| coarse[(cj + b) * h + ci + a];
-                let corners = [c(0, 0), c(1, 0), c(0, 1), c(1, 1)];
-                if node == EMPTY || corners.contains(&EMPTY) {
-                    continue;
-                }
-                let (s, t) = ((fi - 2 * ci) as f32 / 2.0, (fj - 2 * cj) as f32 / 2.0);
-                let w = [(1.0 - s) * (1.0 - t), s * (1.0 - t), (1.0 - s) * t, s * t];
-                let value: f32 = w.iter().zip(corners).map(|(w, c)| w * c as f32).sum();
-                gap = gap.max((value - node as f32).abs());
-            }
-        }
-        gap
-    }
-
     /// The largest gap over discs cutting coarse cells at several offsets,
     /// with `sweeps` sweeps of the fit.
     fn worst_gap(sweeps: usize) -> f32 {
@@ -322,7 +301,7 @@ mod tests {
             let fine = level_zero(&d, &flags);
             let mut coarse = halved(&d, 17);
             fill_corners_with(fine, [9, 9], &mut coarse, sweeps);
-            worst = worst.max(largest_gap(fine, &coarse, 9));
+            worst = worst.max(grid_gap(&d, [17, 17], &coarse, [9, 9]));
         }
         worst
     }
