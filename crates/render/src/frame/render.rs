@@ -61,8 +61,6 @@ pub struct Renderer {
     skips: Vec<SkipTiles>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
     spare: Option<(Vec<[u8; 4]>, Vec<f32>)>,
-    /// Rows per band of the last frame ([`RenderOptions::band_rows`]).
-    band_rows: u32,
 }
 
 impl std::fmt::Debug for Renderer {
@@ -98,7 +96,6 @@ impl Renderer {
             bands: Vec::new(),
             skips: Vec::new(),
             spare: None,
-            band_rows: 0,
         })
     }
 
@@ -238,7 +235,6 @@ impl Renderer {
         let options = setup.options;
         let bin_start = Instant::now();
         let tile_rows = options.band_rows(view.height, self.pool.current_num_threads());
-        self.band_rows = tile_rows;
         let band_count = view.height.div_ceil(tile_rows) as usize;
         self.bins.fill(&self.chunks, tile_rows, band_count);
         let size = (view.width, view.height);
@@ -364,13 +360,15 @@ impl Renderer {
         let Some(band) = self.bands.first() else {
             return OcclusionStats::default();
         };
+        let height: i32 = self.bands.iter().map(|b| b.rows).sum();
+        let threads = self.pool.current_num_threads();
         let frame = Frame {
             chunks: &self.chunks,
             bins: &self.bins,
             cells: self.options.cells,
             width: band.width,
-            height: self.bands.iter().map(|b| b.rows).sum(),
-            tile_rows: self.band_rows as i32,
+            height,
+            tile_rows: self.options.band_rows(height as u32, threads) as i32,
             skip: self.options.occlusion_skip,
         };
         occlusion::measure(&frame)
