@@ -10,10 +10,32 @@ use spatch_render::{
 use crate::common::{known_camera, prepared_sphere, sphere_scene};
 
 fn render(options: RenderOptions, distance: f64, size: u32) -> spatch_render::RenderOutput {
+    render_scene(prepared_sphere(), options, distance, size)
+}
+
+/// [`render`] for another scene.
+fn render_scene(
+    prepared: &PreparedScene,
+    options: RenderOptions,
+    distance: f64,
+    size: u32,
+) -> spatch_render::RenderOutput {
     Renderer::new(options)
         .unwrap()
-        .render(prepared_sphere(), &known_camera(distance, size))
+        .render(prepared, &known_camera(distance, size))
         .unwrap()
+}
+
+/// The default options with mip tolerance `tolerance`.
+fn with_tolerance(tolerance: f32) -> RenderOptions {
+    let mut o = RenderOptions::default();
+    o.mip_tolerance = tolerance;
+    o
+}
+
+/// Pieces per mip level above level 0.
+fn coarse_pieces(s: &spatch_render::RenderStats) -> u64 {
+    s.mip_levels[1..].iter().sum()
 }
 
 #[test]
@@ -262,23 +284,17 @@ fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
     let mut o = RenderOptions::default();
     o.mip_limit = 6.0;
     let coarse = render(o, 600.0, 500);
-    let coarser = |s: &spatch_render::RenderStats| s.mip_levels[1..].iter().sum::<u64>();
     // A limit under a pixel keeps these cells (about a pixel) at level 0; a
     // limit of 6 px moves most patches to a coarser level and places fewer
     // nodes.
-    assert_eq!(coarser(&fine.stats), 0, "{:?}", fine.stats.mip_levels);
-    assert!(coarser(&coarse.stats) * 2 > coarse.stats.mip_levels.iter().sum::<u64>());
+    assert_eq!(coarse_pieces(&fine.stats), 0, "{:?}", fine.stats.mip_levels);
+    assert!(coarse_pieces(&coarse.stats) * 2 > coarse.stats.mip_levels.iter().sum::<u64>());
     assert!(coarse.stats.patch_nodes * 2 < fine.stats.patch_nodes);
     // The sphere is smooth: the image hardly changes.
     let psnr = fine.image.psnr(&coarse.image).expect("same size");
     assert!(psnr > 35.0, "PSNR {psnr:.1} dB");
     let (a, b) = (fine.image.covered_count(), coarse.image.covered_count());
     assert!(a.abs_diff(b) * 1000 < a, "{a} against {b} covered pixels");
-}
-
-/// Pieces per mip level above level 0.
-fn coarse_pieces(s: &spatch_render::RenderStats) -> u64 {
-    s.mip_levels[1..].iter().sum()
 }
 
 #[test]
@@ -288,9 +304,7 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     // tolerance takes most of them to levels 1-2 (cells under 12 px, no
     // piece large enough for the triangle path), with fewer nodes and the
     // same image but for rounding (the sphere is smooth).
-    let mut o = RenderOptions::default();
-    o.mip_tolerance = 0.0;
-    let limit_only = render(o, 600.0, 500);
+    let limit_only = render(with_tolerance(0.0), 600.0, 500);
     let tolerant = render(RenderOptions::default(), 600.0, 500);
     let (few, many) = (
         coarse_pieces(&limit_only.stats),
@@ -311,9 +325,7 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     // Near, the box's estimate falls short of the largest cells: pieces
     // lifted past the triangle path's cut are planned at the limit's level
     // instead, so no piece goes to triangles that did not before.
-    let mut o = RenderOptions::default();
-    o.mip_tolerance = 0.0;
-    let near_limit = render(o, 350.0, 600);
+    let near_limit = render(with_tolerance(0.0), 350.0, 600);
     let near = render(RenderOptions::default(), 350.0, 600);
     assert_eq!(
         near.stats.oversized_pieces,
@@ -322,9 +334,8 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     assert_eq!(near.stats.triangles, near_limit.stats.triangles);
     // A tolerance too small for the sphere's curvature keeps the limit's
     // levels.
-    let mut o = RenderOptions::default();
-    o.mip_tolerance = 1e-4;
-    assert_eq!(coarse_pieces(&render(o, 600.0, 500).stats), few);
+    let strict = render(with_tolerance(1e-4), 600.0, 500);
+    assert_eq!(coarse_pieces(&strict.stats), few);
 }
 
 #[test]
@@ -346,14 +357,7 @@ fn grids_with_an_empty_node_keep_the_mip_limits_level() {
     let base = sphere_scene();
     let holed = spatch_format::Scene::new(base.offset(), base.channel(), patches).unwrap();
     let prepared = PreparedScene::new(&holed);
-    let draw = |tolerance: f32| {
-        let mut o = RenderOptions::default();
-        o.mip_tolerance = tolerance;
-        Renderer::new(o)
-            .unwrap()
-            .render(&prepared, &known_camera(600.0, 500))
-            .unwrap()
-    };
+    let draw = |tolerance: f32| render_scene(&prepared, with_tolerance(tolerance), 600.0, 500);
     let (off, on) = (draw(0.0), draw(RenderOptions::DEFAULT_MIP_TOLERANCE));
     assert_eq!(on.stats.mip_levels, off.stats.mip_levels);
     assert!(on.image.pixels() == off.image.pixels(), "images differ");
@@ -362,9 +366,7 @@ fn grids_with_an_empty_node_keep_the_mip_limits_level() {
 #[test]
 fn a_mip_tolerance_out_of_range_is_refused() {
     for bad in [-0.1, 2.5, f32::NAN, f32::INFINITY] {
-        let mut o = RenderOptions::default();
-        o.mip_tolerance = bad;
-        assert!(Renderer::new(o).is_err(), "{bad}");
+        assert!(Renderer::new(with_tolerance(bad)).is_err(), "{bad}");
     }
 }
 
