@@ -19,11 +19,8 @@
 //!
 //! Cost: O(visible nodes) per frame.
 
-use std::time::Instant;
-
 use crate::lighting::ShadeFrame;
 use crate::plan::cell_triangles::emit_cell_triangles;
-use crate::plan::counters::nanos_since;
 use crate::plan::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass};
 use crate::plan::piece::plan_piece;
 use crate::plan::split::{split_patch, NodeRange};
@@ -46,12 +43,11 @@ pub(crate) fn plan_chunk(
     for (local, p) in patches.iter().enumerate() {
         let index = first_index + local as u32;
         work.counters.patches += 1;
-        let start = Instant::now();
         let mode = (setup.options.culling, p.sides);
         let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
         if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
             work.counters.culled_backface += 1;
-            work.counters.cull_ns += nanos_since(start);
+            work.counters.cull_ns += work.clock.lap();
             continue;
         }
         // Lit two-sided (each sample facing away flipped) only where the
@@ -68,7 +64,7 @@ pub(crate) fn plan_chunk(
         let root = NodeRange::whole(level0);
         let (lo, hi) = root.local_box(level0.d_range);
         let class = setup.frustum.classify(&map, t0, lo, hi);
-        work.counters.cull_ns += nanos_since(start);
+        work.counters.cull_ns += work.clock.lap();
         work.split.pieces.clear();
         work.split.cells.clear();
         match class {
@@ -78,12 +74,11 @@ pub(crate) fn plan_chunk(
             }
             BoxClass::Inside => work.split.pieces.push(root),
             BoxClass::Partial => {
-                let start = Instant::now();
                 work.counters.split += 1;
                 let counts = split_patch(level0, &setup.frustum, (&map, t0), root, &mut work.split);
                 work.counters.split_pieces += work.split.pieces.len() as u64;
                 work.counters.pieces_dropped += counts.dropped as u64;
-                work.counters.split_ns += nanos_since(start);
+                work.counters.split_ns += work.clock.lap();
             }
         }
         work.normals.begin_patch();
@@ -103,7 +98,6 @@ pub(crate) fn plan_chunk(
         }
         work.split.pieces = pieces;
         if !work.split.cells.is_empty() {
-            let start = Instant::now();
             let cells = std::mem::take(&mut work.split.cells);
             for &(i, j) in &cells {
                 let range = NodeRange {
@@ -116,7 +110,7 @@ pub(crate) fn plan_chunk(
                 work.counters.clipped_cells += (emitted > 0) as u64;
             }
             work.split.cells = cells;
-            work.counters.setup_ns += nanos_since(start);
+            work.counters.setup_ns += work.clock.lap();
         }
     }
     work.counters.normals = work.normals.counts;

@@ -71,7 +71,33 @@ impl std::ops::AddAssign<&Counters> for Counters {
     }
 }
 
-/// Nanoseconds elapsed since `since` (the stage timers of [`Counters`]).
-pub(crate) fn nanos_since(since: Instant) -> u64 {
-    since.elapsed().as_nanos() as u64
+/// The clock of a chunk's stage timers ([`Counters`]): each stage reads
+/// it once, where it ends, and is charged the time since the previous
+/// stage ended (its lap), so planning time is split between the stages
+/// with no gaps. Why laps rather than a start and a stop per stage: a
+/// clock read costs about 25 ns here, and a drawn patch took eight of
+/// them (about 5 % of a one-thread bunny frame at 500²); laps take three.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StageClock {
+    last: Instant,
+}
+
+impl Default for StageClock {
+    fn default() -> Self {
+        StageClock {
+            last: Instant::now(),
+        }
+    }
+}
+
+impl StageClock {
+    /// Nanoseconds since the previous lap (or the clock's start); a new
+    /// lap begins.
+    #[inline]
+    pub(crate) fn lap(&mut self) -> u64 {
+        let now = Instant::now();
+        let ns = now.duration_since(self.last).as_nanos() as u64;
+        self.last = now;
+        ns
+    }
 }

@@ -14,8 +14,6 @@
 //!
 //! Cost: O(vertices + triangles) to set up, then the rasterizer.
 
-use std::time::Instant;
-
 use glam::{DVec3, Vec3};
 
 use crate::error::RenderError;
@@ -173,7 +171,6 @@ pub(crate) fn plan_mesh_chunk(
     setup: &FrameSetup<'_>,
 ) {
     work.reset();
-    let start = Instant::now();
     let view = setup.view;
     let eye_local = (view.eye - mesh.origin).as_vec3();
     let (map, t0) = view.local_map(mesh.origin, [DVec3::X, DVec3::Y, DVec3::Z]);
@@ -236,7 +233,7 @@ pub(crate) fn plan_mesh_chunk(
             }
         }
     }
-    work.counters.setup_ns += start.elapsed().as_nanos() as u64;
+    work.counters.setup_ns += work.clock.lap();
 }
 
 /// Whether every directed edge of `triangles` appears exactly once and its

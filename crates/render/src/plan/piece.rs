@@ -18,15 +18,12 @@
 //!
 //! Cost: O(nodes of the piece).
 
-use std::time::Instant;
-
 use glam::Vec3;
 
 use crate::fixed::{XY_FRAC_BITS, XY_ONE};
 use crate::options::{CellScheme, Projection, RenderMode, RenderOptions, Shading};
 use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
-use crate::plan::counters::nanos_since;
 use crate::plan::measure::measure_cells;
 use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides, OPEN_SIDE_CUT};
 use crate::plan::project::{
@@ -77,14 +74,13 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         z_offset: setup.z_offset,
     };
     if opts.mode == RenderMode::Triangles {
-        let start = Instant::now();
         emit_cell_triangles(work, ctx, 0, piece);
-        work.counters.setup_ns += nanos_since(start);
+        work.counters.setup_ns += work.clock.lap();
         work.counters.mip[0] += 1;
         return;
     }
-    let start = Instant::now();
     // 2. Mip level.
+    // (Stage timers: what follows is charged to traversal at its laps.)
     let (mut m, mut shift) = (0, 0);
     // The level the mip limit alone chose, when the tolerance went past it.
     let mut lifted = usize::MAX;
@@ -186,7 +182,6 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     if !smooth && split.is_some_and(|(nu, nv)| nu.max(nv) > TRIANGLE_CUT) {
         split = None;
     }
-    work.counters.traverse_ns += nanos_since(start);
     let height = setup.view.height as i32;
     let [x0, y0, x1, y1] = measure.bbox;
     let pad = if smooth {
@@ -203,21 +198,22 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
         work.row_spans.truncate(spans);
+        work.counters.traverse_ns += work.clock.lap();
         return;
     }
     let Some((nu, nv)) = split else {
         work.nodes.truncate(first);
         work.cell_flags.truncate(flags);
         work.row_spans.truncate(spans);
+        work.counters.traverse_ns += work.clock.lap();
         if lifted < m {
             work.counters.mip[m] -= 1;
             work.counters.cells_backface -= measure.backfacing_cells;
             return replan_unlifted(work, ctx, piece);
         }
         work.counters.oversized_pieces += 1;
-        let start = Instant::now();
         emit_cell_triangles(work, ctx, m, range);
-        work.counters.setup_ns += nanos_since(start);
+        work.counters.setup_ns += work.clock.lap();
         return;
     };
     // Outlines of magnified cells are drawn exactly where the surface
@@ -236,17 +232,16 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else if open_sides {
         mark_open_sides(level, range, &mut work.cell_flags[flags..]);
     }
+    work.counters.traverse_ns += work.clock.lap();
     // 5. Attributes.
-    let start = Instant::now();
     fill_attributes(work, ctx, m, range, first);
-    work.counters.normals_ns += nanos_since(start);
+    work.counters.normals_ns += work.clock.lap();
     // After the attributes, which it keeps: only positions are dropped.
     if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
-        let start = Instant::now();
         let nodes = &mut work.nodes[first..];
         let cells = &work.cell_flags[flags..];
         drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
-        work.counters.traverse_ns += nanos_since(start);
+        work.counters.traverse_ns += work.clock.lap();
     }
     work.counters.patch_nodes += measure.used_nodes;
     if splat[0] > 0 {

@@ -13,7 +13,7 @@ use crate::camera::View;
 use crate::fixed::Node;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
-use crate::plan::counters::Counters;
+use crate::plan::counters::{Counters, StageClock};
 use crate::plan::cull::Frustum;
 use crate::plan::node_xy::NodeXY;
 use crate::plan::split::SplitWork;
@@ -136,6 +136,8 @@ pub(crate) struct ChunkWork {
     /// [`crate::plan::measure::measure_cells`]).
     pub(crate) row_spans: Vec<[i32; 2]>,
     pub(crate) counters: Counters,
+    /// The clock of the stage timers in `counters`.
+    pub(crate) clock: StageClock,
     /// Screen positions of the piece being planned (see [`NodeXY`]).
     pub(crate) xy: NodeXY,
     /// The normal buffer of the chunk (cleared per frame).
@@ -157,6 +159,7 @@ impl ChunkWork {
         self.cell_flags.clear();
         self.row_spans.clear();
         self.counters = Counters::default();
+        self.clock = StageClock::default();
         self.normals.clear();
         self.normals.counts = Default::default();
     }
