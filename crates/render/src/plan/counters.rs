@@ -101,3 +101,27 @@ impl StageClock {
         ns
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    /// Laps split the time between the clock's start and its last lap:
+    /// each at least its own stage's time, together no more than the whole
+    /// (a lap that did not start a new one would count earlier stages again).
+    #[test]
+    fn laps_split_the_time_without_gaps_or_overlap() {
+        let outer = Instant::now();
+        let mut clock = StageClock::default();
+        let mut sum = 0;
+        for _ in 0..3 {
+            std::thread::sleep(Duration::from_millis(2));
+            let lap = clock.lap();
+            assert!(lap >= 2_000_000, "{lap} ns");
+            sum += lap;
+        }
+        let whole = outer.elapsed().as_nanos() as u64;
+        assert!(sum >= 6_000_000 && sum <= whole, "{sum} of {whole} ns");
+    }
+}
