@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Frame time of two spatch binaries on one scene, run in turn.
+
+A change of a few percent in wall time is smaller than this host's drift
+between runs, so the two binaries (say main's and a branch's) take turns:
+each round runs `spatch render SCENE --bench N --json` with the first, then
+with the second, and keeps each run's median frame. The medians over rounds
+and their ratio are printed (second / first: below 1 means the second is
+faster). Standard library only.
+
+Usage:
+  python3 bench/compare_binaries.py OLD_SPATCH NEW_SPATCH SCENE \\
+      [--rounds 10] [--frames 30] [-- extra spatch render flags]
+Example:
+  python3 bench/compare_binaries.py /tmp/spatch_main target/release/spatch \\
+      bunny.spatch --rounds 10 --frames 30 -- --threads 1
+"""
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+
+
+def median_frame(binary, scene, frames, extra):
+    """One `--bench` run's median frame in milliseconds."""
+    command = [binary, "render", scene, "--bench", str(frames), "--json", *extra]
+    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)["details"]["bench"]["ms"]["frame"]["median_ms"]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("first", help="the reference spatch binary")
+    parser.add_argument("second", help="the spatch binary compared with it")
+    parser.add_argument("scene", help="a .spatch file")
+    parser.add_argument("--rounds", type=int, default=10, help="turns of each binary")
+    parser.add_argument("--frames", type=int, default=30, help="frames per --bench run")
+    argv = sys.argv[1:]
+    extra = argv[argv.index("--") + 1 :] if "--" in argv else []
+    args = parser.parse_args(argv[: argv.index("--")] if "--" in argv else argv)
+    if args.rounds < 1 or args.frames < 1:
+        sys.exit("compare_binaries: --rounds and --frames must be at least 1")
+    runs = {args.first: [], args.second: []}
+    for k in range(args.rounds):
+        for binary in (args.first, args.second):
+            runs[binary].append(median_frame(binary, args.scene, args.frames, extra))
+        print(f"round {k + 1}: {runs[args.first][-1]:.3f} ms, {runs[args.second][-1]:.3f} ms")
+    first, second = (statistics.median(runs[b]) for b in (args.first, args.second))
+    print(f"{args.first}: median {first:.3f} ms, min {min(runs[args.first]):.3f} ms")
+    print(f"{args.second}: median {second:.3f} ms, min {min(runs[args.second]):.3f} ms")
+    print(f"second / first: {second / first:.3f} over {args.rounds} rounds of {args.frames} frames")
+
+
+if __name__ == "__main__":
+    main()
