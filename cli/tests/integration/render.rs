@@ -297,9 +297,9 @@ fn splat_limit_splats_the_pieces_subdivision_would_cut() {
 #[test]
 fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
     // The default sphere seen small (shading at level 0, cells of about a
-    // pixel, no full grid lifted past the limit): with --geometry-limit its patches draw the level above their
-    // shading level, a quarter of the nodes, and cover about the pixels
-    // the default covers.
+    // pixel, no full grid lifted past the limit): with --geometry-limit its
+    // patches draw the level above their shading level, a quarter of the
+    // nodes, and cover about the pixels the default covers.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
     let at_200 = [&AT_200[..], &["--mip-limit", "0.9", "--mip-tolerance", "0"]].concat();
@@ -322,11 +322,10 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
 #[test]
 fn centre_limit_draws_pixel_sized_cells_by_pixel_centres() {
     // The default sphere at 200² with level 0 kept below a pixel (and no
-    // full grid lifted past the limit): cells of
-    // about a pixel are cut into sub-nodes and drawn by pixel-centre
-    // coverage with --centre-limit 2 (some at the next mip level), which
-    // places next to no sub-nodes and covers the same disc within its
-    // outline margin.
+    // full grid lifted past the limit): cells of about a pixel are cut
+    // into sub-nodes and drawn by pixel-centre coverage with --centre-limit
+    // 2 (some at the next mip level), which places next to no sub-nodes and
+    // covers the same disc within its outline margin.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
     let at_200 = [&AT_200[..], &["--mip-limit", "0.9", "--mip-tolerance", "0"]].concat();
