@@ -1,5 +1,5 @@
-//! Per-node attributes for the shading model, written into the projected
-//! nodes after traversal: the shaded colour (flat: the cell's; Gouraud:
+//! Per-node attributes for the shading model, written beside the projected
+//! nodes after traversal ([`ChunkWork::node_attributes`]): the shaded colour (flat: the cell's; Gouraud:
 //! the node's) or, for Phong, nothing but the normal-buffer lookups the
 //! nodes make (the resolve pass reads the prepared level's normals and
 //! albedos, [`crate::prepare::patch::LevelShading`]).
@@ -12,7 +12,7 @@
 
 use glam::Vec3;
 
-use crate::fixed::{attr_to_bits, EMPTY_NODE};
+use crate::fixed::{attr_to_bits, EMPTY_NODE, NODE_ATTRIBUTES};
 use crate::options::Shading;
 use crate::plan::split::NodeRange;
 use crate::plan::work::{ChunkWork, PatchContext};
@@ -111,14 +111,15 @@ pub(crate) fn fill_attributes(
         return;
     }
     let level = p.level(m);
+    // One entry per node from `first` on, as the node array.
+    work.node_attributes.truncate(first);
+    (work.node_attributes).resize(work.nodes.len(), [0; NODE_ATTRIBUTES]);
     let mut k = first;
     for j in range.j0..=range.j1 {
         for i in range.i0..=range.i1 {
             if work.nodes[k][0] != EMPTY_NODE {
                 let a = node_attributes(&mut work.normals, ctx, m, level, i, j);
-                for (dst, src) in work.nodes[k][3..].iter_mut().zip(a) {
-                    *dst = attr_to_bits(src);
-                }
+                work.node_attributes[k] = a.map(attr_to_bits);
             }
             k += 1;
         }

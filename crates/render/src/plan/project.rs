@@ -264,7 +264,7 @@ impl PieceLanes<'_> {
             let mut node = EMPTY;
             if ALL_USED || u {
                 let s = bottom + (top - bottom) * w;
-                // Lane `w` is 0: the fourth word is the first attribute's 0.
+                // Lane `w` is 0: the node's fourth word.
                 let [fx, fy, fz, fw] = if CHECKED {
                     let [fx, fy, fz] = fixed_lanes(s);
                     [fx, fy, fz, 0]
@@ -274,7 +274,7 @@ impl PieceLanes<'_> {
                     count += !ALL_USED as u32;
                     truncate_lanes4(q)
                 };
-                node = [fx, fy, fz, fw, 0, 0, 0, 0, 0];
+                node = [fx, fy, fz, fw];
                 (*x, *y) = (fx, fy);
             }
             bottom += db;

@@ -10,7 +10,7 @@
 use glam::{Mat3, Vec3};
 
 use crate::camera::View;
-use crate::fixed::Node;
+use crate::fixed::{Node, NodeAttributes};
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
 use crate::plan::counters::{Counters, StageClock};
@@ -128,6 +128,9 @@ pub(crate) struct FrameSetup<'a> {
 #[derive(Debug, Default)]
 pub(crate) struct ChunkWork {
     pub(crate) nodes: Vec<Node>,
+    /// Flat and Gouraud: the attributes of each node of [`Self::nodes`],
+    /// by the same index (empty for Phong).
+    pub(crate) node_attributes: Vec<NodeAttributes>,
     pub(crate) items: Vec<Item>,
     pub(crate) triangles: Vec<ScreenTriangle>,
     /// One flag byte per cell of each item ([`crate::grid::CELL_DRAW`], …).
@@ -154,6 +157,7 @@ impl ChunkWork {
     /// Clears the outputs for a new frame (keeps the allocations).
     pub(crate) fn reset(&mut self) {
         self.nodes.clear();
+        self.node_attributes.clear();
         self.items.clear();
         self.triangles.clear();
         self.cell_flags.clear();

@@ -17,7 +17,7 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::fixed::{attr_from_bits, Node, Z_FAR};
+use crate::fixed::{attr_from_bits, NodeAttributes, Z_FAR};
 #[cfg(test)]
 use crate::lighting::ShadeFrame;
 use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
@@ -404,21 +404,25 @@ fn truncated_bits(c: Vec4) -> Vec4 {
     shifted - Vec4::select(nearest.cmpgt(c), Vec4::ONE, Vec4::ZERO)
 }
 
-/// The four attribute words `[from, from + 4)` of a node as floats.
+/// The first four attribute words of a node as floats.
 #[inline(always)]
-fn attr4(n: &Node, from: usize) -> Vec4 {
+fn attr4(n: &NodeAttributes) -> Vec4 {
     Vec4::new(
-        attr_to_f32f(n[from]),
-        attr_to_f32f(n[from + 1]),
-        attr_to_f32f(n[from + 2]),
-        attr_to_f32f(n[from + 3]),
+        attr_to_f32f(n[0]),
+        attr_to_f32f(n[1]),
+        attr_to_f32f(n[2]),
+        attr_to_f32f(n[3]),
     )
 }
 
-/// The cell of a patch sample: its item, its four corner nodes and the
-/// bilinear weights of its sub-node.
+/// The cell of a patch sample: its item, its four corner nodes'
+/// attributes and the bilinear weights of its sub-node.
 #[inline(always)]
-fn sample_cell<'r>(r: &Resolve<'r>, item: u32, sub: u32) -> (&'r Item, [&'r Node; 4], [f32; 4]) {
+fn sample_cell<'r>(
+    r: &Resolve<'r>,
+    item: u32,
+    sub: u32,
+) -> (&'r Item, [&'r NodeAttributes; 4], [f32; 4]) {
     let (c, i) = r.items[item as usize];
     let chunk = &r.chunks[c as usize];
     let item = &chunk.items[i as usize];
@@ -426,7 +430,7 @@ fn sample_cell<'r>(r: &Resolve<'r>, item: u32, sub: u32) -> (&'r Item, [&'r Node
     let (ci, cj) = ((sub >> 24) as usize, ((sub >> 16) & 0xff) as usize);
     let k = item.first as usize + cj * cols + ci;
     // One slice for the four corners: a single bounds check.
-    let quad = &chunk.nodes[k..k + cols + 2];
+    let quad = &chunk.node_attributes[k..k + cols + 2];
     let w = sub_node_weights(
         (sub >> 8) & 0xff,
         sub & 0xff,
@@ -436,16 +440,13 @@ fn sample_cell<'r>(r: &Resolve<'r>, item: u32, sub: u32) -> (&'r Item, [&'r Node
     (item, [&quad[0], &quad[1], &quad[cols], &quad[cols + 1]], w)
 }
 
-/// Attribute words `[from, from + 4)` interpolated bilinearly. Why four
+/// The first four attribute words interpolated bilinearly. Why four
 /// lanes at a time: the same products and sums in the same order as one
 /// channel at a time (identical images), a quarter of the instructions
 /// (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn lerp4(n: [&Node; 4], w: [f32; 4], from: usize) -> Vec4 {
-    attr4(n[0], from) * w[0]
-        + attr4(n[1], from) * w[1]
-        + attr4(n[2], from) * w[2]
-        + attr4(n[3], from) * w[3]
+fn lerp4(n: [&NodeAttributes; 4], w: [f32; 4]) -> Vec4 {
+    attr4(n[0]) * w[0] + attr4(n[1]) * w[1] + attr4(n[2]) * w[2] + attr4(n[3]) * w[3]
 }
 
 /// Shades a patch sample with flat or Gouraud colours: the cell's colour,
@@ -455,12 +456,12 @@ fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
     let (item, n, w) = sample_cell(r, item, sub);
     let colour = match r.shading {
         Shading::Flat => Vec3::new(
-            attr_to_f32f(n[0][3]),
-            attr_to_f32f(n[0][4]),
-            attr_to_f32f(n[0][5]),
+            attr_to_f32f(n[0][0]),
+            attr_to_f32f(n[0][1]),
+            attr_to_f32f(n[0][2]),
         ),
         Shading::Gouraud | Shading::Phong => {
-            let lit = lerp4(n, w, 3).truncate();
+            let lit = lerp4(n, w).truncate();
             match grid_place(r.patches, item) {
                 Some(place) => relight(
                     lit,
