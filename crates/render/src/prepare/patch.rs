@@ -116,9 +116,12 @@ pub(crate) struct LevelShading {
     /// would carry it ([`crate::fixed::attr_to_bits`] rounding), zero for
     /// empty nodes.
     pub(crate) normals: Vec<Vec4>,
-    /// Albedo (`xyz` = RGB in 0..=255, `w` = 0) when the level has colours,
-    /// else empty.
-    pub(crate) colours: Vec<Vec4>,
+    /// Albedo (RGB bytes and a zero byte, [`albedo_lanes`] as floats) when
+    /// the level has colours, else empty. Why bytes: the resolve pass reads
+    /// four corners' albedos per pixel, and at four bytes rather than a
+    /// sixteen-byte vector a coloured scan's shading inputs take 20 bytes
+    /// per node instead of 32.
+    pub(crate) colours: Vec<[u8; 4]>,
 }
 
 impl LevelShading {
@@ -205,12 +208,16 @@ thread_local! {
 
 /// The albedos of `level`'s nodes as [`LevelShading::colours`] keeps them
 /// (empty without colours).
-fn level_colours(level: &MipLevel) -> Vec<Vec4> {
+fn level_colours(level: &MipLevel) -> Vec<[u8; 4]> {
     level.colours.as_ref().map_or_else(Vec::new, |c| {
-        c.iter()
-            .map(|c| Vec4::new(c[0] as f32, c[1] as f32, c[2] as f32, 0.0))
-            .collect()
+        c.iter().map(|&[r, g, b, _]| [r, g, b, 0]).collect()
     })
+}
+
+/// A stored albedo ([`LevelShading::colours`]) as floats, `w` = 0: exact.
+#[inline(always)]
+pub(crate) fn albedo_lanes(c: [u8; 4]) -> Vec4 {
+    glam::U8Vec4::from_array(c).as_vec4()
 }
 
 /// The unit normals of nodes with differences `scratch.gi`, `scratch.gj`

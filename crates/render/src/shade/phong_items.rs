@@ -12,7 +12,7 @@ use glam::{Vec2, Vec4};
 use crate::lighting::ShadeFrame;
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
-use crate::prepare::patch::PreparedPatch;
+use crate::prepare::patch::{albedo_lanes, PreparedPatch};
 use crate::shade::colour_grid::{grid_place, GridPlace};
 
 /// Flag of [`Lane::frame`]: the pixel takes the base albedo.
@@ -41,7 +41,7 @@ pub(crate) struct PhongItems<'a> {
     /// Per item, its level's prepared albedos from the piece's first node
     /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
     /// items index with a shift (callgrind, `profile_sphere 500 1`).
-    pub(crate) colours: Vec<&'a [Vec4]>,
+    pub(crate) colours: Vec<&'a [[u8; 4]]>,
     /// True when no item has colours (all take the base albedo).
     pub(crate) uncoloured: bool,
     /// True when some item is shaded from the level below its nodes'
@@ -162,7 +162,7 @@ impl<'a> PhongItem<'a> {
         patches: &'a [PreparedPatch],
         frames: &[[Vec4; 3]],
         weights: u32,
-    ) -> (Self, &'a [Vec4]) {
+    ) -> (Self, &'a [[u8; 4]]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let shift = item.shade_shift as usize;
@@ -185,7 +185,7 @@ impl<'a> PhongItem<'a> {
             weights,
             frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
         };
-        let colours: &[Vec4] = if uniform {
+        let colours: &[[u8; 4]] = if uniform {
             &[]
         } else {
             &shading.colours[start..]
@@ -217,24 +217,23 @@ impl<'a> PhongItem<'a> {
     pub(crate) fn interpolate(
         &self,
         sub: u32,
-        colours: &[Vec4],
+        colours: &[[u8; 4]],
         weights: &[[Vec4; 4]],
         offsets: &[u32],
     ) -> Lane {
         let (k, w) = self.corner(sub, weights, offsets, true);
         let cols = self.cols as usize;
         // One slice for the four corners: a single bounds check.
-        let lerp = |v: &[Vec4]| {
-            let quad = &v[k..k + cols + 2];
-            quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
-        };
+        let quad = &self.normals[k..k + cols + 2];
         let mut lane = Lane {
-            normal_red: lerp(self.normals),
+            normal_red: quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3],
             green_blue: Vec2::ZERO,
             frame: self.frame,
         };
         if self.frame & BASE_ALBEDO == 0 {
-            let c = lerp(colours);
+            let quad = &colours[k..k + cols + 2];
+            let at = |k: usize| albedo_lanes(quad[k]);
+            let c = at(0) * w[0] + at(1) * w[1] + at(cols) * w[2] + at(cols + 1) * w[3];
             lane.normal_red.w = c.x;
             lane.green_blue = Vec2::new(c.y, c.z);
         }

@@ -23,6 +23,8 @@ use crate::lighting::ShadeFrame;
 use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
+#[cfg(test)]
+use crate::prepare::patch::albedo_lanes;
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::shade::colour_grid::{corner_albedo, grid_place, relight};
@@ -509,22 +511,23 @@ pub(crate) fn phong_reference(
     let (di, dj) = ((offset & 0xffff) as usize, (offset >> 16) as usize);
     let k =
         (((item.j0 as usize + cj) << shift) + dj) * cols + ((item.i0 as usize + ci) << shift) + di;
-    let lerp = |v: &[Vec4]| {
+    let lerp = |at: &dyn Fn(usize) -> Vec4| {
         let corners = [k, k + 1, k + cols, k + cols + 1];
-        let mut sum = v[corners[0]].truncate() * w[0];
+        let mut sum = at(corners[0]).truncate() * w[0];
         for (corner, weight) in corners.into_iter().zip(w).skip(1) {
-            sum += v[corner].truncate() * weight;
+            sum += at(corner).truncate() * weight;
         }
         sum
     };
     let albedo = if item.uniform_albedo {
         r.base_albedo
     } else {
-        lerp(&shading.colours)
+        lerp(&|k| albedo_lanes(shading.colours[k]))
     };
+    let normal = lerp(&|k| shading.normals[k]);
     let c = r
         .material
-        .shade(lerp(&shading.normals), &frames[item.frame as usize], albedo);
+        .shade(normal, &frames[item.frame as usize], albedo);
     to_rgba8(c)
 }
 
