@@ -96,7 +96,7 @@ pub(crate) struct PipelineArgs {
     /// How far a crease may stray from an edge patch's straight row of nodes, in edge node
     /// spacings (0-4). Smaller: more, shorter patches on curved creases, whose tips they
     /// follow closely; larger: fewer, longer patches that cut a curved crease's tip by up
-    /// to the stray.
+    /// to the stray. Patches that see a face more than about 50° obliquely keep a fifth of it.
     #[arg(long, value_name = "SPACINGS", default_value_t = EdgeOptions::default().max_stray, value_parser = edge_max_stray)]
     pub(crate) edge_max_stray: f32,
     /// Largest turn of the two faces' bisector within one edge patch, in degrees (above 0,

@@ -75,7 +75,9 @@ pub struct EdgeOptions {
     /// `[0, 4]`, default [`DEFAULT_MAX_STRAY`]. The patch has a row of nodes along the
     /// chord's mean offset, which lands on a straight crease; a crease that strays from it
     /// is crossed by cells that cut its fold's tip (a rim's silhouette shrinks by up to the
-    /// stray). Smaller: more, shorter pieces on curved creases; larger: fewer, longer ones.
+    /// stray). Pieces with a face more than about 50° from their view keep a fifth of it
+    /// (their tips show more on screen). Smaller: more, shorter pieces on curved creases;
+    /// larger: fewer, longer ones.
     pub max_stray: f32,
     /// Creases under this angle (degrees) are soft: with [`EdgeOptions::only_gaps`], a
     /// surface patch that reaches over one with drawable cells covers it within the corner
