@@ -1,8 +1,9 @@
 //! Per-node attributes for the shading model, written beside the projected
-//! nodes after traversal ([`ChunkWork::node_attributes`]): the shaded colour (flat: the cell's; Gouraud:
-//! the node's) or, for Phong, nothing but the normal-buffer lookups the
-//! nodes make (the resolve pass reads the prepared level's normals and
-//! albedos, [`crate::prepare::patch::LevelShading`]).
+//! nodes after traversal ([`ChunkWork::node_attributes`]): the shaded
+//! colour (flat: the cell's; Gouraud: the node's) or, for Phong, nothing
+//! but the normal-buffer lookups the nodes make (the resolve pass reads the
+//! prepared level's normals and albedos,
+//! [`crate::prepare::patch::LevelShading`]).
 //!
 //! Normals are reconstructed in patch space from displacement differences
 //! ([`crate::prepare::normals`]) through the chunk's normal buffer.
