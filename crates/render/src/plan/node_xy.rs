@@ -15,8 +15,8 @@ use crate::plan::lanes::truncate_lanes;
 /// of nodes after another (`x` in `xs`, `y` in `ys`, 0 for unused nodes):
 /// the same values as the nodes' first two words, laid out for
 /// [`measure_cells`](crate::plan::measure::measure_cells). Why: the measurement reads them a row pair at a time
-/// in plain `i32` lanes instead of striding over 36-byte nodes (callgrind,
-/// `profile_sphere 500 1`).
+/// in plain `i32` lanes instead of striding over the nodes (36 bytes each
+/// when measured, 16 since; callgrind, `profile_sphere 500 1`).
 #[derive(Debug, Default)]
 pub(crate) struct NodeXY {
     pub(crate) xs: Vec<i32>,
