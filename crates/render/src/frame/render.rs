@@ -501,4 +501,53 @@ mod tests {
             }
         }
     }
+
+    /// Flat and Gouraud frames keep an attribute entry for every node of
+    /// every draw item (the resolve pass reads a drawn cell's corners by
+    /// node index); Phong frames keep none.
+    #[test]
+    fn node_attributes_follow_the_node_array_only_when_shading_needs_them() {
+        let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
+            .expect("sphere")
+            .scene;
+        let prepared = PreparedScene::new(&scene);
+        let camera = Camera::look_at(
+            DVec3::new(1.2, 2.0, 3.2) * 128.0,
+            DVec3::ZERO,
+            DVec3::Y,
+            30.0,
+            80,
+            80,
+        )
+        .expect("camera");
+        for shading in [
+            crate::Shading::Flat,
+            crate::Shading::Gouraud,
+            crate::Shading::Phong,
+        ] {
+            let mut renderer = Renderer::new(RenderOptions {
+                shading,
+                ..Default::default()
+            })
+            .expect("renderer");
+            let out = renderer.render(&prepared, &camera).expect("frame");
+            assert!(out.image.covered_count() > 500, "{shading:?}");
+            let nodes: usize = renderer.chunks.iter().map(|c| c.nodes.len()).sum();
+            assert!(nodes > 0);
+            for chunk in &renderer.chunks {
+                let attributes = chunk.node_attributes.len();
+                if shading == crate::Shading::Phong {
+                    assert_eq!(attributes, 0);
+                    continue;
+                }
+                for item in &chunk.items {
+                    let end = item.first as usize + item.cols as usize * item.rows as usize;
+                    assert!(
+                        end <= attributes,
+                        "{shading:?}: item to {end}, {attributes}"
+                    );
+                }
+            }
+        }
+    }
 }
