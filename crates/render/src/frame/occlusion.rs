@@ -186,10 +186,7 @@ mod tests {
     /// at the silhouette), without culling the far half is (54 % at 120²).
     #[test]
     fn fragments_left_visible_are_the_covered_pixels() {
-        let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
-            .expect("sphere")
-            .scene;
-        let prepared = PreparedScene::new(&scene);
+        let prepared = PreparedScene::default_sphere();
         let camera = prepared.auto_camera(120, 120).expect("camera");
         for (culling, behind) in [(Culling::Back, 0.0..15.0), (Culling::None, 40.0..65.0)] {
             let options = RenderOptions {

@@ -467,10 +467,7 @@ mod tests {
     /// renderers.
     #[test]
     fn a_reused_renderer_draws_every_frame_as_a_fresh_one() {
-        let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
-            .expect("sphere")
-            .scene;
-        let prepared = PreparedScene::new(&scene);
+        let prepared = PreparedScene::default_sphere();
         let camera = |from: DVec3, size: u32| {
             Camera::look_at(from * 128.0, DVec3::ZERO, DVec3::Y, 30.0, size, size).expect("camera")
         };
@@ -507,10 +504,7 @@ mod tests {
     /// node index); Phong frames keep none.
     #[test]
     fn node_attributes_follow_the_node_array_only_when_shading_needs_them() {
-        let scene = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
-            .expect("sphere")
-            .scene;
-        let prepared = PreparedScene::new(&scene);
+        let prepared = PreparedScene::default_sphere();
         let camera = Camera::look_at(
             DVec3::new(1.2, 2.0, 3.2) * 128.0,
             DVec3::ZERO,

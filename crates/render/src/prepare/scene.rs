@@ -185,6 +185,17 @@ impl PreparedScene {
 }
 
 #[cfg(test)]
+impl PreparedScene {
+    /// The default perfect sphere (`spatch sphere`), prepared: the scene
+    /// the frame tests draw.
+    pub(crate) fn default_sphere() -> Self {
+        let sphere = spatch_sphere::build_sphere(&spatch_sphere::SphereOptions::default())
+            .expect("the default sphere builds");
+        Self::new(&sphere.scene)
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use glam::Vec3;
