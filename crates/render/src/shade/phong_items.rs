@@ -204,10 +204,7 @@ impl<'a> PhongItem<'a> {
         offsets: &[u32],
     ) -> Vec4 {
         let (k, w) = self.corner(sub, weights, offsets, SHIFTED);
-        let cols = self.cols as usize;
-        // One slice for the four corners: a single bounds check.
-        let quad = &self.normals[k..k + cols + 2];
-        quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3]
+        bilinear(self.normals, k, self.cols as usize, w, |n| n)
     }
 
     /// The normal and albedo (from `colours`, the item's) interpolated at
@@ -223,17 +220,13 @@ impl<'a> PhongItem<'a> {
     ) -> Lane {
         let (k, w) = self.corner(sub, weights, offsets, true);
         let cols = self.cols as usize;
-        // One slice for the four corners: a single bounds check.
-        let quad = &self.normals[k..k + cols + 2];
         let mut lane = Lane {
-            normal_red: quad[0] * w[0] + quad[1] * w[1] + quad[cols] * w[2] + quad[cols + 1] * w[3],
+            normal_red: bilinear(self.normals, k, cols, w, |n| n),
             green_blue: Vec2::ZERO,
             frame: self.frame,
         };
         if self.frame & BASE_ALBEDO == 0 {
-            let quad = &colours[k..k + cols + 2];
-            let at = |k: usize| albedo_lanes(quad[k]);
-            let c = at(0) * w[0] + at(1) * w[1] + at(cols) * w[2] + at(cols + 1) * w[3];
+            let c = bilinear(colours, k, cols, w, albedo_lanes);
             lane.normal_red.w = c.x;
             lane.green_blue = Vec2::new(c.y, c.z);
         }
@@ -269,6 +262,23 @@ impl PhongItem<'_> {
         let k = ((cj << shift) + (o >> 16)) * cols + (ci << shift) + (o & 0xffff);
         (k, &weights[entry])
     }
+}
+
+/// The bilinear sum of a cell's corners `(0, 0), (1, 0), (0, 1), (1, 1)`,
+/// the first at `values[k]` in rows of `cols` values, each as `lanes`
+/// reads it, weighted by `w` in that order (the order `phong_reference`
+/// sums in). Why one slice of the four corners: a single bounds check.
+#[inline(always)]
+fn bilinear<T: Copy>(
+    values: &[T],
+    k: usize,
+    cols: usize,
+    w: &[Vec4; 4],
+    lanes: impl Fn(T) -> Vec4,
+) -> Vec4 {
+    let quad = &values[k..k + cols + 2];
+    let at = |k: usize| lanes(quad[k]);
+    at(0) * w[0] + at(1) * w[1] + at(cols) * w[2] + at(cols + 1) * w[3]
 }
 
 /// The corner weights of sub-node `(a, b)` of a cell cut `nu × nv` in its
