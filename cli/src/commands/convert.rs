@@ -412,15 +412,20 @@ pub(crate) fn convert_and_write(
         without_edges: without,
     }) = &report.details.holes
     {
-        let without = without
-            .as_ref()
-            .map_or("n/a".to_owned(), |w| format!("{:.4} %", w.fraction * 100.0));
+        let without = without.as_ref().map_or("n/a".to_owned(), |w| {
+            format!(
+                "{:.4} % ({:.4} % inside the outlines)",
+                w.fraction * 100.0,
+                w.interior_fraction * 100.0
+            )
+        });
         text.push_str(&format!(
-            "  holes over {} views: {:.4} % ({} of {} source pixels); without edge patches {}\n",
+            "  holes over {} views: {:.4} % ({} of {} source pixels; {:.4} % inside the outlines); without edge patches {}\n",
             with.views.len(),
             with.fraction * 100.0,
             with.hole_pixels,
             with.source_pixels,
+            with.interior_fraction * 100.0,
             without
         ));
     }

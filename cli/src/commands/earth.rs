@@ -215,11 +215,12 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
     );
     if let Some(Holes::Scene(holes)) = &report.details.holes {
         text.push_str(&format!(
-            "  holes: {:.4} % of the globe's pixels over {} views ({} of {})\n",
+            "  holes: {:.4} % of the globe's pixels over {} views ({} of {}; {:.4} % inside the outlines)\n",
             holes.fraction * 100.0,
             holes.views.len(),
             holes.hole_pixels,
-            holes.source_pixels
+            holes.source_pixels,
+            holes.interior_fraction * 100.0
         ));
     }
     print_summary(

@@ -449,7 +449,7 @@ fn summary(
             .psnr_covered_db
             .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
         text.push_str(&format!(
-            "  image over {} views ({}x{}, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {}, mean depth error {}\n",
+            "  image over {} views ({}x{}, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {} ({} inside the outlines), mean depth error {}\n",
             image.views.len(),
             image.size[0],
             image.size[1],
@@ -457,6 +457,7 @@ fn summary(
             args.render_options().cells,
             args.shading,
             pct(image.hole_fraction),
+            pct(image.interior_hole_fraction),
             pct(image.mean_depth_error_rel),
         ));
         let drawn = match image.source_drawn_with {

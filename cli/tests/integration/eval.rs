@@ -60,6 +60,23 @@ fn eval_measures_a_converted_mesh_both_ways_and_in_images() {
     assert_eq!(image["views"].as_array().unwrap().len(), 3);
     assert_eq!(image["size"], serde_json::json!([64, 64]));
     assert!(image["hole_fraction"].as_f64().unwrap() < 0.02, "{image}");
+    assert!(
+        image["interior_hole_fraction"].as_f64().unwrap() < 0.02,
+        "{image}"
+    );
+    // Inside the outlines: a part of the source's pixels and of the holes in each view.
+    for view in image["views"].as_array().unwrap() {
+        let count = |key: &str| view[key].as_u64().unwrap();
+        assert!(count("interior_source_pixels") > 0, "{view}");
+        assert!(
+            count("interior_source_pixels") < count("source_pixels"),
+            "{view}"
+        );
+        assert!(
+            count("interior_hole_pixels") <= count("hole_pixels"),
+            "{view}"
+        );
+    }
     assert!(image["psnr_db"].as_f64().unwrap() > 15.0, "{image}");
     assert_eq!(image["source_drawn_with"], "grey", "a colourless source");
     assert!(
@@ -160,6 +177,11 @@ fn a_scene_off_its_source_shows_the_offset() {
     );
     let image = &r.details["image"];
     assert!(image["hole_fraction"].as_f64().unwrap() > 0.05, "{image}");
+    // Behind the source everywhere, inside the outlines too: nearly every pixel is a hole.
+    assert!(
+        image["interior_hole_fraction"].as_f64().unwrap() > 0.9,
+        "{image}"
+    );
     assert!(
         image["mean_depth_error"].as_f64().unwrap() > 0.05,
         "{image}"

@@ -22,9 +22,11 @@ use glam::DVec3;
 use serde::Serialize;
 use spatch_format::Scene;
 use spatch_render::{
-    Camera, Culling, MeshColours, PreparedScene, Projection, RenderError, RenderOptions, Renderer,
-    Shading, TriangleMesh as RasterMesh,
+    Camera, Culling, MeshColours, PreparedScene, Projection, RenderError, RenderOptions,
+    RenderedImage, Renderer, Shading, TriangleMesh as RasterMesh,
 };
+
+use crate::interior::{interior_mask, MEASURES_RADIUS};
 
 /// How far behind the source (as a fraction of its bounding-sphere radius) a patch pixel may
 /// lie and still count as covering it. Larger than any patch's reconstruction error, smaller
@@ -94,6 +96,10 @@ pub struct ViewHoles {
     pub hole_pixels: usize,
     /// `hole_pixels / source_pixels` (0 when the source covers nothing).
     pub fraction: f64,
+    /// Source pixels whose 5 × 5 square the source covers whole (../shared/MEASURES.md).
+    pub interior_source_pixels: usize,
+    /// Of those, pixels the patches leave empty.
+    pub interior_hole_pixels: usize,
 }
 
 /// Holes over all views.
@@ -107,6 +113,13 @@ pub struct HoleReport {
     pub hole_pixels: usize,
     /// `hole_pixels / source_pixels` over all views (0 when the source covers nothing).
     pub fraction: f64,
+    /// Interior source pixels summed over the views (see [`ViewHoles`]).
+    pub interior_source_pixels: usize,
+    /// Interior hole pixels summed over the views.
+    pub interior_hole_pixels: usize,
+    /// `interior_hole_pixels / interior_source_pixels`: ../shared/MEASURES.md's hole
+    /// fraction (0 when no pixel is interior).
+    pub interior_fraction: f64,
     /// Image width and height of each view.
     pub size: [u32; 2],
 }
@@ -150,32 +163,57 @@ pub fn hole_fraction(
         source_pixels: 0,
         hole_pixels: 0,
         fraction: 0.0,
+        interior_source_pixels: 0,
+        interior_hole_pixels: 0,
+        interior_fraction: 0.0,
         size: options.size,
     };
     for &direction in &options.views {
         let camera = view_camera(centre, radius, direction, options)?;
         let reference = renderer.rasterize(&mesh, &camera)?.image;
         let patches = renderer.render(&prepared, &camera)?.image;
-        let (mut source_pixels, mut hole_pixels) = (0, 0);
-        for (s, p) in reference.depth().iter().zip(patches.depth()) {
-            if s.is_finite() {
-                source_pixels += 1;
-                if !(p.is_finite() && *p <= s + tolerance) {
-                    hole_pixels += 1;
-                }
-            }
-        }
-        report.source_pixels += source_pixels;
-        report.hole_pixels += hole_pixels;
-        report.views.push(ViewHoles {
-            direction: direction.normalize().to_array(),
-            source_pixels,
-            hole_pixels,
-            fraction: ratio(hole_pixels, source_pixels),
-        });
+        let view = count_holes(&reference, &patches, tolerance, direction);
+        report.source_pixels += view.source_pixels;
+        report.hole_pixels += view.hole_pixels;
+        report.interior_source_pixels += view.interior_source_pixels;
+        report.interior_hole_pixels += view.interior_hole_pixels;
+        report.views.push(view);
     }
     report.fraction = ratio(report.hole_pixels, report.source_pixels);
+    report.interior_fraction = ratio(report.interior_hole_pixels, report.interior_source_pixels);
     Ok(report)
+}
+
+/// The holes of one view: source pixels of `reference` that `patches` leave empty or cover
+/// more than `tolerance` behind, over every source pixel and over the interior ones.
+fn count_holes(
+    reference: &RenderedImage,
+    patches: &RenderedImage,
+    tolerance: f32,
+    direction: DVec3,
+) -> ViewHoles {
+    let source = reference.depth();
+    let covered: Vec<bool> = source.iter().map(|d| d.is_finite()).collect();
+    let (width, height) = (reference.width() as usize, reference.height() as usize);
+    let interior = interior_mask(&covered, width, height, MEASURES_RADIUS);
+    let mut view = ViewHoles {
+        direction: direction.normalize().to_array(),
+        source_pixels: 0,
+        hole_pixels: 0,
+        fraction: 0.0,
+        interior_source_pixels: 0,
+        interior_hole_pixels: 0,
+    };
+    let pixels = source.iter().zip(patches.depth()).zip(&interior);
+    for ((&s, &p), &inner) in pixels.filter(|((s, _), _)| s.is_finite()) {
+        let hole = !(p.is_finite() && p <= s + tolerance);
+        view.source_pixels += 1;
+        view.hole_pixels += usize::from(hole);
+        view.interior_source_pixels += usize::from(inner);
+        view.interior_hole_pixels += usize::from(inner && hole);
+    }
+    view.fraction = ratio(view.hole_pixels, view.source_pixels);
+    view
 }
 
 fn ratio(part: usize, whole: usize) -> f64 {
@@ -231,4 +269,61 @@ pub(crate) fn view_camera(
         width,
         height,
     )?)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+    use spatch_format::{ColourChannel, Frame, GridSize, Patch, EMPTY};
+
+    use super::*;
+
+    /// A 20 × 20 square at z = 0 as two triangles, and as one patch of 21 × 21 nodes whose
+    /// nodes `empty` are left out.
+    fn square(empty: impl Fn(usize, usize) -> bool) -> (Scene, spatch_mesh::TriangleMesh) {
+        let corners = [[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]];
+        let positions = corners.map(|[x, y]| Vec3::new(x, y, 0.0)).to_vec();
+        let mesh = spatch_mesh::TriangleMesh::new(positions, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
+        let nodes = (0..21 * 21)
+            .map(|k| if empty(k % 21, k / 21) { EMPTY } else { 0 })
+            .collect();
+        let patch = Patch::new(frame, GridSize::new(21, 21).unwrap(), nodes, None).unwrap();
+        let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap();
+        (scene, mesh)
+    }
+
+    /// Holes of [`square`] seen square-on in a `side`² image.
+    fn holes(side: u32, empty: impl Fn(usize, usize) -> bool) -> HoleReport {
+        let (scene, mesh) = square(empty);
+        let options = HoleOptions {
+            views: vec![DVec3::Z],
+            size: [side, side],
+            threads: 1,
+            ..HoleOptions::default()
+        };
+        hole_fraction(&scene, &mesh, &options).unwrap()
+    }
+
+    #[test]
+    fn a_missing_border_strip_is_a_hole_only_on_the_outline_and_a_gap_inside_is_both() {
+        let whole = holes(50, |_, _| false);
+        assert_eq!((whole.hole_pixels, whole.interior_hole_pixels), (0, 0));
+        assert!(whole.interior_source_pixels > 0);
+        assert!(whole.interior_source_pixels < whole.source_pixels);
+        // The view frames the square's bounding sphere (radius 14.1) in 50 px with a 5 %
+        // margin: a cell is about 1.7 px. The last column of cells left out is a strip
+        // along the outline narrower than the erosion's 2 px: holes, none inside.
+        let strip = holes(50, |i, _| i == 20);
+        assert!(strip.hole_pixels > 20, "{strip:?}");
+        assert_eq!(strip.interior_hole_pixels, 0, "{strip:?}");
+        // At 200², cells of about 6.7 px: most of the same strip lies inside.
+        let wide = holes(200, |i, _| i == 20);
+        assert!(wide.interior_hole_pixels * 2 > wide.hole_pixels, "{wide:?}");
+        // A gap of 2 × 2 cells in the middle: every hole pixel is inside the outline.
+        let gap = holes(50, |i, j| (9..=11).contains(&i) && (9..=11).contains(&j));
+        assert!(gap.hole_pixels > 0);
+        assert_eq!(gap.interior_hole_pixels, gap.hole_pixels);
+        assert!(gap.interior_fraction > gap.fraction);
+    }
 }

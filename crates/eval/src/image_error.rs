@@ -12,7 +12,9 @@
 //!   `None` when those pixels are identical;
 //! - **hole fraction**: pixels the source covers that the patches leave empty *at the
 //!   source's depth* (empty, or farther than [`HOLE_DEPTH_TOLERANCE`] of the source's
-//!   bounding radius behind it), over pixels the source covers (as `holes`);
+//!   bounding radius behind it), over pixels the source covers (as `holes`); and the
+//!   **interior** hole fraction of ../shared/MEASURES.md, the same over the source pixels
+//!   whose 5 × 5 square the source covers whole (outline pixels left out);
 //! - **mean depth error**: mean |patch depth − source depth| (linear eye depth, model units)
 //!   over pixels both cover, also divided by the source's bounding-box diagonal;
 //! - **frame time**: the median over `runs` timed patch frames after one warm-up frame (and
@@ -37,6 +39,7 @@ use spatch_render::{
 };
 
 use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use crate::interior::{interior_mask, MEASURES_RADIUS};
 use crate::source_colours::{colour_source, SourceDrawing};
 
 /// Largest number of views [`views_for_count`] accepts.
@@ -119,6 +122,9 @@ impl ImageOptions {
 pub struct SourceViews {
     cameras: Vec<Camera>,
     images: Vec<RenderedImage>,
+    /// Per view, the source pixels whose 5 × 5 square the source covers
+    /// ([`crate::interior_mask`]).
+    interiors: Vec<Vec<bool>>,
     source_ms: Vec<f64>,
     directions: Vec<DVec3>,
     /// Hole depth tolerance in model units.
@@ -159,6 +165,7 @@ impl SourceViews {
         let mut views = SourceViews {
             cameras: Vec::with_capacity(options.views.len()),
             images: Vec::with_capacity(options.views.len()),
+            interiors: Vec::with_capacity(options.views.len()),
             source_ms: Vec::with_capacity(options.views.len()),
             directions: Vec::with_capacity(options.views.len()),
             tolerance: (HOLE_DEPTH_TOLERANCE * radius) as f32,
@@ -169,6 +176,7 @@ impl SourceViews {
             let camera = view_camera(centre, radius, direction, &hole_options)?;
             let out = renderer.rasterize(&mesh, &camera)?;
             views.source_ms.push(out.stats.times_ms.total_wall);
+            views.interiors.push(interior_of(&out.image));
             views.images.push(out.image);
             views.cameras.push(camera);
             views.directions.push(direction.normalize());
@@ -215,6 +223,10 @@ pub struct ViewError {
     pub hole_pixels: usize,
     /// `hole_pixels / source_pixels`.
     pub hole_fraction: f64,
+    /// Source pixels whose 5 × 5 square the source covers whole.
+    pub interior_source_pixels: usize,
+    /// Of those, pixels the patches leave empty at the source's depth.
+    pub interior_hole_pixels: usize,
     /// PSNR (dB) over the pixels either image covers; `None` when they are identical.
     pub psnr_db: Option<f64>,
     /// Mean |depth difference| over pixels both cover (model units).
@@ -239,8 +251,13 @@ pub struct ImageError {
     /// the silhouette pixels one image covers and the other does not (those count in
     /// `psnr_db`, against the background). `None` when those pixels are identical.
     pub psnr_covered_db: Option<f64>,
-    /// Hole pixels over source pixels, summed over the views.
+    /// Hole pixels over source pixels, summed over the views (the outlines' pixels
+    /// included).
     pub hole_fraction: f64,
+    /// ../shared/MEASURES.md's hole fraction: interior hole pixels over interior source
+    /// pixels, summed over the views (a source pixel is interior when the source covers its
+    /// whole 5 × 5 square).
+    pub interior_hole_fraction: f64,
     /// Mean |depth difference| over pixels both cover in all views (model units).
     pub mean_depth_error: f64,
     /// `mean_depth_error` over the source's bounding-box diagonal.
@@ -263,6 +280,8 @@ struct PixelSums {
     source: usize,
     patch: usize,
     holes: usize,
+    interior: usize,
+    interior_holes: usize,
     compared: usize,
     squared: u64,
     /// Squared error over the pixels both cover (`depth_pixels` of them).
@@ -271,17 +290,23 @@ struct PixelSums {
     depth_sum: f64,
 }
 
-fn compare_images(source: &RenderedImage, patch: &RenderedImage, tolerance: f32) -> PixelSums {
+fn compare_images(
+    source: &RenderedImage,
+    interior: &[bool],
+    patch: &RenderedImage,
+    tolerance: f32,
+) -> PixelSums {
     let mut sums = PixelSums::default();
     let pixels = source.pixels().iter().zip(patch.pixels());
     let depths = source.depth().iter().zip(patch.depth());
-    for ((sc, pc), (&sd, &pd)) in pixels.zip(depths) {
+    for (((sc, pc), (&sd, &pd)), &inner) in pixels.zip(depths).zip(interior) {
         let (s_in, p_in) = (sd.is_finite(), pd.is_finite());
         if s_in {
+            let hole = !(p_in && pd <= sd + tolerance);
             sums.source += 1;
-            if !(p_in && pd <= sd + tolerance) {
-                sums.holes += 1;
-            }
+            sums.holes += usize::from(hole);
+            sums.interior += usize::from(inner);
+            sums.interior_holes += usize::from(inner && hole);
         }
         if p_in {
             sums.patch += 1;
@@ -321,6 +346,14 @@ fn ratio(part: f64, whole: f64) -> f64 {
     }
 }
 
+/// The interior of a source image's coverage ([`crate::interior_mask`] at
+/// [`MEASURES_RADIUS`]).
+fn interior_of(image: &RenderedImage) -> Vec<bool> {
+    let covered: Vec<bool> = image.depth().iter().map(|d| d.is_finite()).collect();
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    interior_mask(&covered, width, height, MEASURES_RADIUS)
+}
+
 /// The median of `values` (sorted in place); 0 when empty.
 pub(crate) fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
@@ -355,13 +388,16 @@ pub fn compare_views(
             times.push(start.elapsed().as_secs_f64() * 1e3);
         }
         size = [image.width(), image.height()];
-        let sums = compare_images(&source.images[k], &image, source.tolerance);
+        let interior = &source.interiors[k];
+        let sums = compare_images(&source.images[k], interior, &image, source.tolerance);
         views.push(ViewError {
             direction: source.directions[k].to_array(),
             source_pixels: sums.source,
             patch_pixels: sums.patch,
             hole_pixels: sums.holes,
             hole_fraction: ratio(sums.holes as f64, sums.source as f64),
+            interior_source_pixels: sums.interior,
+            interior_hole_pixels: sums.interior_holes,
             psnr_db: psnr(sums.squared, sums.compared),
             mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
             patch_ms: median(&mut times),
@@ -369,6 +405,8 @@ pub fn compare_views(
         });
         total.source += sums.source;
         total.holes += sums.holes;
+        total.interior += sums.interior;
+        total.interior_holes += sums.interior_holes;
         total.compared += sums.compared;
         total.squared += sums.squared;
         total.covered_squared += sums.covered_squared;
@@ -383,6 +421,7 @@ pub fn compare_views(
         psnr_db: psnr(total.squared, total.compared),
         psnr_covered_db: psnr(total.covered_squared, total.depth_pixels),
         hole_fraction: ratio(total.holes as f64, total.source as f64),
+        interior_hole_fraction: ratio(total.interior_holes as f64, total.interior as f64),
         mean_depth_error,
         mean_depth_error_rel: ratio(mean_depth_error, source.diagonal),
         patch_ms: median(&mut patch_ms),

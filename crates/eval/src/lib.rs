@@ -8,7 +8,8 @@
 //!   holes and cracks); [`geometric_error`] does both with `max(100_000, 10 × faces)` samples.
 //!   Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
 //!   source's bounding-box diagonal); [`ErrorHistogram`] bins the distances;
-//! - the hole fraction ([`holes`]) and the full image error ([`mod@image_error`]: PSNR, holes,
+//! - the hole fraction ([`holes`]; over every source pixel, and inside the outlines as
+//!   ../shared/MEASURES.md counts it, [`interior_mask`]) and the full image error ([`mod@image_error`]: PSNR, holes,
 //!   depth error, frame times) of the patch renderer against the source drawn by the
 //!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals),
 //!   in its colours and textures when the scene has colour ([`source_colours`]);
@@ -48,6 +49,7 @@ pub mod geometric;
 pub mod histogram;
 pub mod holes;
 pub mod image_error;
+pub mod interior;
 pub mod overlap;
 pub mod pareto;
 pub mod per_patch;
@@ -75,6 +77,7 @@ pub use image_error::{
     compare_views, image_error, image_view_camera, views_for_count, ImageError, ImageOptions,
     SourceViews, ViewError, MAX_VIEWS,
 };
+pub use interior::{interior_mask, MEASURES_RADIUS};
 pub use overlap::{source_overlap, Overlap, OVERLAP_TOLERANCE};
 pub use pareto::{dominates, pareto_front};
 pub use per_patch::{

@@ -140,20 +140,28 @@ fn check_soft(relative: &str, max_share: Option<f64>) {
     let holes = hole_fraction(&fitted.scene(&edges), &fitted.mesh, &options).unwrap();
     eprintln!(
         "{relative}: edge + corner patches {} + {} ({:.1} %) without soft creases, {} + {} \
-         ({:.1} %) with; holes {:.4} %",
+         ({:.1} %) with; holes {:.4} %, {:.4} % inside the outlines",
         before.edge_patches,
         before.corner_patches,
         share(&before) * 100.0,
         after.edge_patches,
         after.corner_patches,
         share(&after) * 100.0,
-        holes.fraction * 100.0
+        holes.fraction * 100.0,
+        holes.interior_fraction * 100.0
     );
     assert!(after.covered_creases > before.covered_creases);
     assert!(
         after.edge_patches + after.corner_patches < before.edge_patches + before.corner_patches
     );
-    assert!(holes.fraction <= 0.0005, "hole fraction {}", holes.fraction);
+    // Holes as ../shared/MEASURES.md counts them, inside the outlines: the gaps the edge
+    // patches are there to close. Counting every source pixel, fuze's textured patches lose
+    // about 0.09 % along their outlines in release builds (14 views at 500²), where their
+    // pixel-centre outlines fall a little inside the source's (docs/algorithms/render.md,
+    // "Where fuze's holes come from"): bounded at three times the interior bound.
+    let inside = holes.interior_fraction;
+    assert!(inside <= 0.0005, "holes inside the outlines {inside}");
+    assert!(holes.fraction <= 0.0015, "hole fraction {}", holes.fraction);
     if let Some(max) = max_share {
         assert!(share(&after) <= max, "{:.1} %", share(&after) * 100.0);
     }

@@ -59,8 +59,15 @@ fn shared_low_poly_models_drop_covered_pieces() {
         let fitted = fit(load_mesh(&path).unwrap().mesh);
         let dropped = check(relative, &fitted);
         assert!(dropped > 0, "{relative}: no piece dropped");
-        // Under the CAD parts' bound (cad_targets).
-        let holes = fitted.holes_with(&EdgeOptions::default()).0.fraction;
-        assert!(holes <= 0.0005, "{relative}: hole fraction {holes}");
+        // Under the CAD parts' bound (cad_targets), inside the outlines as
+        // ../shared/MEASURES.md counts holes; every source pixel, the outlines' included,
+        // within three times that (see `cad_targets::check_soft`).
+        let found = fitted.holes_with(&EdgeOptions::default()).0;
+        let (inside, all) = (found.interior_fraction, found.fraction);
+        assert!(
+            inside <= 0.0005,
+            "{relative}: holes inside the outlines {inside}"
+        );
+        assert!(all <= 0.0015, "{relative}: hole fraction {all}");
     }
 }

@@ -39,6 +39,7 @@ use std::process::ExitCode;
 use coverage::Coverage;
 
 use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use spatch_eval::{interior_mask, MEASURES_RADIUS};
 use spatch_render::{
     Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
     TriangleMesh as RasterMesh,
@@ -49,7 +50,7 @@ mod coverage;
 /// Grey levels below the neighbourhood median by more than this make a speck.
 const SPECK_DARKER_BY: i32 = 40;
 /// Half side of the erosion square and of the median window, in pixels.
-const RADIUS: usize = 2;
+const RADIUS: usize = MEASURES_RADIUS;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -320,14 +321,6 @@ impl Tally {
     }
 }
 
-/// Whether the whole (2·RADIUS+1)² square around `(x, y)` lies in `mask`.
-fn eroded(mask: &[bool], width: usize, height: usize, x: usize, y: usize) -> bool {
-    if x < RADIUS || y < RADIUS || x + RADIUS >= width || y + RADIUS >= height {
-        return false;
-    }
-    (y - RADIUS..=y + RADIUS).all(|yy| (x - RADIUS..=x + RADIUS).all(|xx| mask[yy * width + xx]))
-}
-
 fn grey(pixel: [u8; 4]) -> i32 {
     (i32::from(pixel[0]) + i32::from(pixel[1]) + i32::from(pixel[2])) / 3
 }
@@ -342,9 +335,10 @@ fn count_specks(
 ) -> Share {
     let mut share = Share::default();
     let mut window = Vec::with_capacity((2 * RADIUS + 1) * (2 * RADIUS + 1));
+    let interior = interior_mask(covered, width, height, RADIUS);
     for y in 0..height {
         for x in 0..width {
-            if !eroded(covered, width, height, x, y) {
+            if !interior[y * width + x] {
                 continue;
             }
             share.whole += 1;
@@ -400,9 +394,10 @@ fn count_holes(
     counted: &mut Vec<usize>,
 ) -> Share {
     let mut share = Share::default();
+    let interior = interior_mask(reference, width, height, RADIUS);
     for y in 0..height {
         for x in 0..width {
-            if eroded(reference, width, height, x, y) {
+            if interior[y * width + x] {
                 share.whole += 1;
                 counted.push(y * width + x);
                 if !covered[y * width + x] {
