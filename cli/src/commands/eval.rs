@@ -12,9 +12,9 @@ use spatch_eval::{
     EvalError, EvalOptions, Evaluation, ImageOptions, PatchError, Report, Source, SweepOptions,
     SweepResult, MAX_VIEWS,
 };
-use spatch_render::{CellScheme, Projection, RenderOptions};
+use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions};
 
-use super::render::{CellsArg, ProjectionArg, ShadingArg};
+use super::render::{CellsArg, ModeArg, ProjectionArg, ShadingArg};
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, read_spatch, write_json_report, write_output};
@@ -59,6 +59,10 @@ pub(crate) struct EvalArgs {
     /// Timed patch frames per view (after one warm-up); the median is reported (1-100).
     #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     runs: u32,
+    /// Patches, or every cell as two triangles through the scan-line rasterizer (the
+    /// baseline the patch renders' specks and times compare with; not with --sweep).
+    #[arg(long, value_enum, default_value_t = ModeArg::Patches, conflicts_with = "sweep")]
+    mode: ModeArg,
     /// Node projection of the patch renders (not with --sweep, which tries both).
     #[arg(long, value_enum, default_value_t = ProjectionArg::Trilinear, conflicts_with = "sweep")]
     projection: ProjectionArg,
@@ -168,6 +172,10 @@ impl EvalArgs {
     /// The render options of the image error.
     fn render_options(&self) -> RenderOptions {
         let mut render = RenderOptions::default();
+        render.mode = match self.mode {
+            ModeArg::Patches => RenderMode::Patches,
+            ModeArg::Triangles => RenderMode::Triangles,
+        };
         render.projection = match self.projection {
             ProjectionArg::Trilinear => Projection::Trilinear,
             ProjectionArg::Exact => Projection::Exact,
@@ -355,6 +363,7 @@ fn fill_details(
         report,
         "render",
         &json!({
+            "mode": render.mode,
             "projection": render.projection,
             "cells": render.cells,
             "shading": render.shading,
@@ -449,16 +458,22 @@ fn summary(
             .psnr_covered_db
             .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
         text.push_str(&format!(
-            "  image over {} views ({}x{}, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {} ({} inside the outlines), mean depth error {}\n",
+            "  image over {} views ({}x{}, {:?} mode, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {} ({} inside the outlines), mean depth error {}\n",
             image.views.len(),
             image.size[0],
             image.size[1],
+            args.render_options().mode,
             args.render_options().projection,
             args.render_options().cells,
             args.shading,
             pct(image.hole_fraction),
             pct(image.interior_hole_fraction),
             pct(image.mean_depth_error_rel),
+        ));
+        text.push_str(&format!(
+            "  specks: {} of the patches' pixels, {} of the source's (isolated dark pixels)\n",
+            pct(image.speck_fraction),
+            pct(image.source_speck_fraction),
         ));
         let drawn = match image.source_drawn_with {
             spatch_eval::SourceDrawing::Grey => "grey (no colour)",

@@ -15,6 +15,8 @@
 //!   bounding radius behind it), over pixels the source covers (as `holes`); and the
 //!   **interior** hole fraction of ../shared/MEASURES.md, the same over the source pixels
 //!   whose 5 × 5 square the source covers whole (outline pixels left out);
+//! - **specks** of ../shared/MEASURES.md ([`crate::specks`]) in the patches' render and, as
+//!   the peer's figure, in the source's;
 //! - **mean depth error**: mean |patch depth − source depth| (linear eye depth, model units)
 //!   over pixels both cover, also divided by the source's bounding-box diagonal;
 //! - **frame time**: the median over `runs` timed patch frames after one warm-up frame (and
@@ -41,6 +43,7 @@ use spatch_render::{
 use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use crate::interior::{interior_mask, MEASURES_RADIUS};
 use crate::source_colours::{colour_source, SourceDrawing};
+use crate::specks::{find_specks, Specks};
 
 /// Largest number of views [`views_for_count`] accepts.
 pub const MAX_VIEWS: usize = 256;
@@ -125,6 +128,8 @@ pub struct SourceViews {
     /// Per view, the source pixels whose 5 × 5 square the source covers
     /// ([`crate::interior_mask`]).
     interiors: Vec<Vec<bool>>,
+    /// Per view, the specks of the source's image.
+    specks: Vec<Specks>,
     source_ms: Vec<f64>,
     directions: Vec<DVec3>,
     /// Hole depth tolerance in model units.
@@ -166,6 +171,7 @@ impl SourceViews {
             cameras: Vec::with_capacity(options.views.len()),
             images: Vec::with_capacity(options.views.len()),
             interiors: Vec::with_capacity(options.views.len()),
+            specks: Vec::with_capacity(options.views.len()),
             source_ms: Vec::with_capacity(options.views.len()),
             directions: Vec::with_capacity(options.views.len()),
             tolerance: (HOLE_DEPTH_TOLERANCE * radius) as f32,
@@ -177,6 +183,7 @@ impl SourceViews {
             let out = renderer.rasterize(&mesh, &camera)?;
             views.source_ms.push(out.stats.times_ms.total_wall);
             views.interiors.push(interior_of(&out.image));
+            views.specks.push(specks_of(&out.image));
             views.images.push(out.image);
             views.cameras.push(camera);
             views.directions.push(direction.normalize());
@@ -227,6 +234,10 @@ pub struct ViewError {
     pub interior_source_pixels: usize,
     /// Of those, pixels the patches leave empty at the source's depth.
     pub interior_hole_pixels: usize,
+    /// Specks over counted pixels in the patches' image ([`crate::specks`]).
+    pub speck_fraction: f64,
+    /// The same in the source's image.
+    pub source_speck_fraction: f64,
     /// PSNR (dB) over the pixels either image covers; `None` when they are identical.
     pub psnr_db: Option<f64>,
     /// Mean |depth difference| over pixels both cover (model units).
@@ -258,6 +269,11 @@ pub struct ImageError {
     /// pixels, summed over the views (a source pixel is interior when the source covers its
     /// whole 5 × 5 square).
     pub interior_hole_fraction: f64,
+    /// Specks over counted pixels of the patches' images, summed over the views
+    /// (../shared/MEASURES.md, [`crate::specks`]).
+    pub speck_fraction: f64,
+    /// The same for the source's images (the triangle rasterizer on the source mesh).
+    pub source_speck_fraction: f64,
     /// Mean |depth difference| over pixels both cover in all views (model units).
     pub mean_depth_error: f64,
     /// `mean_depth_error` over the source's bounding-box diagonal.
@@ -354,6 +370,13 @@ fn interior_of(image: &RenderedImage) -> Vec<bool> {
     interior_mask(&covered, width, height, MEASURES_RADIUS)
 }
 
+/// The specks of a rendered image ([`find_specks`]; covered: a finite depth).
+fn specks_of(image: &RenderedImage) -> Specks {
+    let covered: Vec<bool> = image.depth().iter().map(|d| d.is_finite()).collect();
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    find_specks(image.pixels(), &covered, width, height)
+}
+
 /// The median of `values` (sorted in place); 0 when empty.
 pub(crate) fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
@@ -378,6 +401,8 @@ pub fn compare_views(
     let mut renderer = Renderer::new(render)?;
     let mut views = Vec::with_capacity(source.len());
     let mut total = PixelSums::default();
+    // Specks and counted pixels of the patches' images, then of the source's.
+    let mut speck_sums = [0usize; 4];
     let mut size = [0, 0];
     for (k, camera) in source.cameras.iter().enumerate() {
         let mut image = renderer.render(scene, camera)?.image; // warm-up
@@ -390,6 +415,7 @@ pub fn compare_views(
         size = [image.width(), image.height()];
         let interior = &source.interiors[k];
         let sums = compare_images(&source.images[k], interior, &image, source.tolerance);
+        let (specks, source_specks) = (specks_of(&image), &source.specks[k]);
         views.push(ViewError {
             direction: source.directions[k].to_array(),
             source_pixels: sums.source,
@@ -398,6 +424,8 @@ pub fn compare_views(
             hole_fraction: ratio(sums.holes as f64, sums.source as f64),
             interior_source_pixels: sums.interior,
             interior_hole_pixels: sums.interior_holes,
+            speck_fraction: specks.fraction(),
+            source_speck_fraction: source_specks.fraction(),
             psnr_db: psnr(sums.squared, sums.compared),
             mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
             patch_ms: median(&mut times),
@@ -407,6 +435,10 @@ pub fn compare_views(
         total.holes += sums.holes;
         total.interior += sums.interior;
         total.interior_holes += sums.interior_holes;
+        speck_sums[0] += specks.pixels.len();
+        speck_sums[1] += specks.counted;
+        speck_sums[2] += source_specks.pixels.len();
+        speck_sums[3] += source_specks.counted;
         total.compared += sums.compared;
         total.squared += sums.squared;
         total.covered_squared += sums.covered_squared;
@@ -422,6 +454,8 @@ pub fn compare_views(
         psnr_covered_db: psnr(total.covered_squared, total.depth_pixels),
         hole_fraction: ratio(total.holes as f64, total.source as f64),
         interior_hole_fraction: ratio(total.interior_holes as f64, total.interior as f64),
+        speck_fraction: ratio(speck_sums[0] as f64, speck_sums[1] as f64),
+        source_speck_fraction: ratio(speck_sums[2] as f64, speck_sums[3] as f64),
         mean_depth_error,
         mean_depth_error_rel: ratio(mean_depth_error, source.diagonal),
         patch_ms: median(&mut patch_ms),

@@ -56,6 +56,7 @@ pub mod per_patch;
 pub mod plot;
 pub mod report;
 pub mod source_colours;
+pub mod specks;
 pub mod sweep;
 
 pub use error::EvalError;
@@ -87,4 +88,5 @@ pub use per_patch::{
 pub use plot::sweep_svg;
 pub use report::{Counts, Report, Stages, REPORT_SCHEMA};
 pub use source_colours::SourceDrawing;
+pub use specks::{find_specks, Specks, SPECK_DARKER_BY};
 pub use sweep::{run_sweep, sweep_csv, SweepOptions, SweepResult, SweepRow};

@@ -39,18 +39,13 @@ use std::process::ExitCode;
 use coverage::Coverage;
 
 use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
-use spatch_eval::{interior_mask, MEASURES_RADIUS};
+use spatch_eval::{find_specks, interior_mask, MEASURES_RADIUS};
 use spatch_render::{
     Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
     TriangleMesh as RasterMesh,
 };
 
 mod coverage;
-
-/// Grey levels below the neighbourhood median by more than this make a speck.
-const SPECK_DARKER_BY: i32 = 40;
-/// Half side of the erosion square and of the median window, in pixels.
-const RADIUS: usize = MEASURES_RADIUS;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -204,11 +199,15 @@ fn run(
             .zip(uncull.depth())
             .map(|(s, p)| p.is_finite() && *p <= s + tolerance)
             .collect();
-        let mut speck_pixels = Vec::new();
+        let found = find_specks(image.pixels(), &covered, width, height);
+        let speck_pixels = found.pixels;
         let mut hole_pixels = Vec::new();
         let mut counted = Vec::new();
         let mut view = Tally {
-            specks: count_specks(image.pixels(), &covered, width, height, &mut speck_pixels),
+            specks: Share {
+                part: speck_pixels.len(),
+                whole: found.counted,
+            },
             holes: count_holes(&reference_covered, &reached, width, height, &mut counted),
             ..Tally::default()
         };
@@ -325,40 +324,6 @@ fn grey(pixel: [u8; 4]) -> i32 {
     (i32::from(pixel[0]) + i32::from(pixel[1]) + i32::from(pixel[2])) / 3
 }
 
-/// The specks of an image (see the header); the index of every speck pixel goes to `specks`.
-fn count_specks(
-    pixels: &[[u8; 4]],
-    covered: &[bool],
-    width: usize,
-    height: usize,
-    specks: &mut Vec<usize>,
-) -> Share {
-    let mut share = Share::default();
-    let mut window = Vec::with_capacity((2 * RADIUS + 1) * (2 * RADIUS + 1));
-    let interior = interior_mask(covered, width, height, RADIUS);
-    for y in 0..height {
-        for x in 0..width {
-            if !interior[y * width + x] {
-                continue;
-            }
-            share.whole += 1;
-            window.clear();
-            for yy in y - RADIUS..=y + RADIUS {
-                for xx in x - RADIUS..=x + RADIUS {
-                    window.push(grey(pixels[yy * width + xx]));
-                }
-            }
-            let middle = window.len() / 2;
-            let median = *window.select_nth_unstable(middle).1;
-            if grey(pixels[y * width + x]) < median - SPECK_DARKER_BY {
-                share.part += 1;
-                specks.push(y * width + x);
-            }
-        }
-    }
-    share
-}
-
 /// Writes the render in grey (light, so the marks stand out; background white) with every
 /// pixel of `specks` red, as a PNG at `path`.
 fn write_speck_mask(
@@ -394,7 +359,7 @@ fn count_holes(
     counted: &mut Vec<usize>,
 ) -> Share {
     let mut share = Share::default();
-    let interior = interior_mask(reference, width, height, RADIUS);
+    let interior = interior_mask(reference, width, height, MEASURES_RADIUS);
     for y in 0..height {
         for x in 0..width {
             if interior[y * width + x] {
