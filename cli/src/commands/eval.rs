@@ -12,9 +12,9 @@ use spatch_eval::{
     EvalError, EvalOptions, Evaluation, ImageOptions, PatchError, Report, Source, SweepOptions,
     SweepResult, MAX_VIEWS,
 };
-use spatch_render::{CellScheme, Projection, RenderMode, RenderOptions};
+use spatch_render::{CellScheme, Culling, Projection, RenderMode, RenderOptions};
 
-use super::render::{CellsArg, ModeArg, ProjectionArg, ShadingArg};
+use super::render::{CellsArg, CullArg, ModeArg, ProjectionArg, ShadingArg};
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, read_spatch, write_json_report, write_output};
@@ -63,6 +63,10 @@ pub(crate) struct EvalArgs {
     /// baseline the patch renders' specks and times compare with; not with --sweep).
     #[arg(long, value_enum, default_value_t = ModeArg::Patches, conflicts_with = "sweep")]
     mode: ModeArg,
+    /// Back-face culling of the patch renders, as `spatch render --cull` (the source is
+    /// culled only where it is closed, whatever this says; not with --sweep).
+    #[arg(long, value_enum, default_value_t = CullArg::Auto, conflicts_with = "sweep")]
+    cull: CullArg,
     /// Node projection of the patch renders (not with --sweep, which tries both).
     #[arg(long, value_enum, default_value_t = ProjectionArg::Trilinear, conflicts_with = "sweep")]
     projection: ProjectionArg,
@@ -175,6 +179,11 @@ impl EvalArgs {
         render.mode = match self.mode {
             ModeArg::Patches => RenderMode::Patches,
             ModeArg::Triangles => RenderMode::Triangles,
+        };
+        render.culling = match self.cull {
+            CullArg::Auto => Culling::Auto,
+            CullArg::Back => Culling::Back,
+            CullArg::None => Culling::None,
         };
         render.projection = match self.projection {
             ProjectionArg::Trilinear => Projection::Trilinear,

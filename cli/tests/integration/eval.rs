@@ -511,3 +511,46 @@ fn issue_21_fandisk_specks_stay_near_the_triangle_modes() {
     // The source is drawn the same way both times.
     assert_eq!(source, source_again);
 }
+
+/// `--cull` reaches both renders: an open bowl seen from above shows its inside, which
+/// `--cull back` leaves empty and the default (auto) draws from both sides.
+#[test]
+fn the_culling_option_reaches_the_renders() {
+    let t = TestCommand::new();
+    let ball = spatch_fixtures::shapes::icosphere(1.0, 3).to_obj([0.0; 3]);
+    let vertices: Vec<[f32; 3]> = ball
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|v| {
+            let c: Vec<f32> = v.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    // The faces whose corners all lie below y = 0.3: a bowl open at the top.
+    let bowl: String = ball
+        .lines()
+        .filter(|l| match l.strip_prefix("f ") {
+            Some(f) => f.split_whitespace().all(|i| {
+                let k: usize = i.split('/').next().unwrap().parse().unwrap();
+                vertices[k - 1][1] < 0.3
+            }),
+            None => true,
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(t.path("bowl.obj"), bowl).unwrap();
+    t.run(&["convert", "bowl.obj", "-o", "bowl.spatch"])
+        .success();
+    let holes = |cull: &str| {
+        let mut args = vec!["eval", "bowl.spatch", "--source", "bowl.obj", "--json"];
+        args.extend(["--cull", cull]);
+        args.extend(QUICK);
+        let r = json_report(&t.run(&args).success().stdout);
+        r.details["image"]["interior_hole_fraction"]
+            .as_f64()
+            .unwrap()
+    };
+    let (auto, back) = (holes("auto"), holes("back"));
+    assert!(auto < 0.02, "auto {auto}");
+    assert!(back > 0.2, "back {back}, auto {auto}");
+}

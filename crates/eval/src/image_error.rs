@@ -4,8 +4,10 @@
 //! (in colour when [`ImageOptions::colour_source`] is set and the source has colours or a
 //! texture: see [`crate::source_colours`]; the result's `source_drawn_with` says how)
 //! (`Renderer::rasterize`) and the scene by the patch renderer (`Renderer::render`), with the
-//! same camera, the same lights and the same options (shading, culling; projection and cells
-//! only matter to the patches). Per view and pooled over all views:
+//! same camera, the same lights and the same options (shading; projection, cells and
+//! culling only matter to the patches: the source is culled only where it is closed, so an
+//! open source shows its inside as ../shared/MEASURES.md's reference does). Per view and
+//! pooled over all views:
 //!
 //! - **PSNR** of the RGB channels over the pixels either image covers (background pixels
 //!   that both leave empty are left out, so the figure does not depend on the framing);
@@ -36,8 +38,8 @@ use std::time::Instant;
 use glam::DVec3;
 use serde::Serialize;
 use spatch_render::{
-    Camera, MeshColours, PreparedScene, RenderError, RenderOptions, RenderedImage, Renderer,
-    TriangleMesh as RasterMesh,
+    Camera, Culling, MeshColours, PreparedScene, RenderError, RenderOptions, RenderedImage,
+    Renderer, TriangleMesh as RasterMesh,
 };
 
 use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
@@ -165,7 +167,11 @@ impl SourceViews {
         let (centre, radius) = mesh
             .bounding_sphere()
             .ok_or(spatch_render::CameraProblem::NothingToFrame)?;
-        let mut renderer = Renderer::new(options.render)?;
+        // The source as ../shared/MEASURES.md's reference: culled only where it is closed
+        // (no pixel changes), whatever culling the patches are drawn with.
+        let mut source_render = options.render;
+        source_render.culling = Culling::Auto;
+        let mut renderer = Renderer::new(source_render)?;
         let hole_options = options.hole_options();
         let mut views = SourceViews {
             cameras: Vec::with_capacity(options.views.len()),

@@ -23,7 +23,8 @@ pub const MEASURES_RADIUS: usize = 2;
 /// ```
 /// // A 9 × 9 covered square in a 13 × 13 image keeps its 5 × 5 middle at radius 2.
 /// let (w, h) = (13, 13);
-/// let covered: Vec<bool> = (0..w * h).map(|k| (2..11).contains(&(k % w)) && (2..11).contains(&(k / w))).collect();
+/// let inside = |k: usize| (2..11).contains(&(k % w)) && (2..11).contains(&(k / w));
+/// let covered: Vec<bool> = (0..w * h).map(inside).collect();
 /// let interior = spatch_eval::interior_mask(&covered, w, h, 2);
 /// assert_eq!(interior.iter().filter(|&&i| i).count(), 25);
 /// ```

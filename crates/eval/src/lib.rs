@@ -9,8 +9,9 @@
 //!   Each gives an [`ErrorStats`] (max, RMS, 95th percentile, absolute and relative to the
 //!   source's bounding-box diagonal); [`ErrorHistogram`] bins the distances;
 //! - the hole fraction ([`holes`]; over every source pixel, and inside the outlines as
-//!   ../shared/MEASURES.md counts it, [`interior_mask`]) and the full image error ([`mod@image_error`]: PSNR, holes,
-//!   depth error, frame times) of the patch renderer against the source drawn by the
+//!   ../shared/MEASURES.md counts it, [`interior_mask`]) and the full image error
+//!   ([`mod@image_error`]: PSNR, holes, specks ([`find_specks`]), depth error, frame times)
+//!   of the patch renderer against the source drawn by the
 //!   triangle rasterizer from the same cameras ([`standard_views`]: 6 axes and 8 diagonals),
 //!   in its colours and textures when the scene has colour ([`source_colours`]);
 //! - per-patch errors beside the quantization-only bound `|az| / 2` ([`per_patch`]);
