@@ -12,7 +12,7 @@ use spatch_eval::{
     EvalError, EvalOptions, Evaluation, ImageOptions, PatchError, Report, Source, SweepOptions,
     SweepResult, MAX_VIEWS,
 };
-use spatch_render::{CellScheme, Culling, Projection, RenderMode, RenderOptions};
+use spatch_render::RenderOptions;
 
 use super::render::{CellsArg, CullArg, ModeArg, ProjectionArg, ShadingArg};
 use super::ThreadsArg;
@@ -176,23 +176,10 @@ impl EvalArgs {
     /// The render options of the image error.
     fn render_options(&self) -> RenderOptions {
         let mut render = RenderOptions::default();
-        render.mode = match self.mode {
-            ModeArg::Patches => RenderMode::Patches,
-            ModeArg::Triangles => RenderMode::Triangles,
-        };
-        render.culling = match self.cull {
-            CullArg::Auto => Culling::Auto,
-            CullArg::Back => Culling::Back,
-            CullArg::None => Culling::None,
-        };
-        render.projection = match self.projection {
-            ProjectionArg::Trilinear => Projection::Trilinear,
-            ProjectionArg::Exact => Projection::Exact,
-        };
-        render.cells = match self.cells {
-            CellsArg::Bilinear => CellScheme::Bilinear,
-            CellsArg::Smooth => CellScheme::Smooth,
-        };
+        render.mode = self.mode.into();
+        render.culling = self.cull.into();
+        render.projection = self.projection.into();
+        render.cells = self.cells.into();
         self.shading.apply(&mut render);
         render.exact_outlines = self.exact_outlines;
         render.exact_grid_outlines = !self.no_exact_grid_outlines;

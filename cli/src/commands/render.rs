@@ -92,6 +92,43 @@ pub(crate) enum CullArg {
     None,
 }
 
+impl From<ModeArg> for RenderMode {
+    fn from(mode: ModeArg) -> Self {
+        match mode {
+            ModeArg::Patches => RenderMode::Patches,
+            ModeArg::Triangles => RenderMode::Triangles,
+        }
+    }
+}
+
+impl From<ProjectionArg> for Projection {
+    fn from(projection: ProjectionArg) -> Self {
+        match projection {
+            ProjectionArg::Trilinear => Projection::Trilinear,
+            ProjectionArg::Exact => Projection::Exact,
+        }
+    }
+}
+
+impl From<CellsArg> for CellScheme {
+    fn from(cells: CellsArg) -> Self {
+        match cells {
+            CellsArg::Bilinear => CellScheme::Bilinear,
+            CellsArg::Smooth => CellScheme::Smooth,
+        }
+    }
+}
+
+impl From<CullArg> for Culling {
+    fn from(cull: CullArg) -> Self {
+        match cull {
+            CullArg::Auto => Culling::Auto,
+            CullArg::Back => Culling::Back,
+            CullArg::None => Culling::None,
+        }
+    }
+}
+
 /// Arguments of `spatch render`.
 #[derive(Debug, clap::Args)]
 pub(crate) struct RenderArgs {
@@ -360,24 +397,11 @@ fn parse_colour(s: &str) -> Result<[u8; 4], String> {
 /// Converts the arguments into the library's options (one place).
 fn render_options(args: &RenderArgs) -> RenderOptions {
     let mut o = RenderOptions::default();
-    o.mode = match args.mode {
-        ModeArg::Patches => RenderMode::Patches,
-        ModeArg::Triangles => RenderMode::Triangles,
-    };
-    o.projection = match args.projection {
-        ProjectionArg::Trilinear => Projection::Trilinear,
-        ProjectionArg::Exact => Projection::Exact,
-    };
-    o.cells = match args.cells {
-        CellsArg::Bilinear => CellScheme::Bilinear,
-        CellsArg::Smooth => CellScheme::Smooth,
-    };
+    o.mode = args.mode.into();
+    o.projection = args.projection.into();
+    o.cells = args.cells.into();
     args.shading.apply(&mut o);
-    o.culling = match args.cull {
-        CullArg::Auto => Culling::Auto,
-        CullArg::Back => Culling::Back,
-        CullArg::None => Culling::None,
-    };
+    o.culling = args.cull.into();
     o.threads = args.threads.count();
     o.ssaa = args.ssaa;
     o.mip = !args.no_mip;
