@@ -320,7 +320,8 @@ mod tests {
         // At 200², cells of about 6.7 px: most of the same strip lies inside.
         let wide = holes(200, |i, _| i == 20);
         assert!(wide.interior_hole_pixels * 2 > wide.hole_pixels, "{wide:?}");
-        // A gap of 2 × 2 cells in the middle: every hole pixel is inside the outline.
+        // The nine middle nodes left out, a gap of 4 × 4 cells: every hole pixel is inside
+        // the outline.
         let gap = holes(50, |i, j| (9..=11).contains(&i) && (9..=11).contains(&j));
         assert!(gap.hole_pixels > 0);
         assert_eq!(gap.interior_hole_pixels, gap.hole_pixels);
