@@ -6,28 +6,47 @@ between runs, so the two binaries (say main's and a branch's) take turns:
 each round runs `spatch render SCENE --bench N --json` with the first, then
 with the second, and keeps each run's median frame. The medians over rounds
 and their ratio are printed (second / first: below 1 means the second is
-faster). Standard library only.
+faster). With --one-frame each turn times the whole command
+`spatch render SCENE -o PNG` instead (wall clock of the process: reading,
+preparation, the first frame, the PNG). Binaries from before the shared
+report schema (their `--json` has `ms` at the top) are read too, so a
+binary as old as issue 21's can be compared. Standard library only.
 
 Usage:
   python3 bench/compare_binaries.py OLD_SPATCH NEW_SPATCH SCENE \\
-      [--rounds 10] [--frames 30] [-- extra spatch render flags]
+      [--rounds 10] [--frames 30] [--one-frame] [-- extra spatch render flags]
 Example:
   python3 bench/compare_binaries.py /tmp/spatch_main target/release/spatch \\
       bunny.spatch --rounds 10 --frames 30 -- --threads 1
+  python3 bench/compare_binaries.py /tmp/spatch_main target/release/spatch \\
+      bunny.spatch --rounds 15 --one-frame -- --threads 2
 """
 
 import argparse
 import json
+import os
 import statistics
 import subprocess
 import sys
+import tempfile
+import time
 
 
 def median_frame(binary, scene, frames, extra):
     """One `--bench` run's median frame in milliseconds."""
     command = [binary, "render", scene, "--bench", str(frames), "--json", *extra]
     out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
-    return json.loads(out)["details"]["bench"]["ms"]["frame"]["median_ms"]
+    report = json.loads(out)
+    stages = report["details"]["bench"]["ms"] if "details" in report else report["ms"]
+    return stages["frame"]["median_ms"]
+
+
+def one_frame(binary, scene, png, extra):
+    """Wall clock of one `spatch render SCENE -o PNG` process, in milliseconds."""
+    command = [binary, "render", scene, "-o", png, *extra]
+    start = time.perf_counter()
+    subprocess.run(command, check=True, capture_output=True)
+    return (time.perf_counter() - start) * 1e3
 
 
 def main():
@@ -37,20 +56,28 @@ def main():
     parser.add_argument("scene", help="a .spatch file")
     parser.add_argument("--rounds", type=int, default=10, help="turns of each binary")
     parser.add_argument("--frames", type=int, default=30, help="frames per --bench run")
+    parser.add_argument(
+        "--one-frame", action="store_true", help="time the whole one-image command instead"
+    )
     argv = sys.argv[1:]
     extra = argv[argv.index("--") + 1 :] if "--" in argv else []
     args = parser.parse_args(argv[: argv.index("--")] if "--" in argv else argv)
     if args.rounds < 1 or args.frames < 1:
         sys.exit("compare_binaries: --rounds and --frames must be at least 1")
     runs = {args.first: [], args.second: []}
+    png = os.path.join(tempfile.mkdtemp(prefix="compare_binaries_"), "out.png")
     for k in range(args.rounds):
         for binary in (args.first, args.second):
-            runs[binary].append(median_frame(binary, args.scene, args.frames, extra))
+            if args.one_frame:
+                runs[binary].append(one_frame(binary, args.scene, png, extra))
+            else:
+                runs[binary].append(median_frame(binary, args.scene, args.frames, extra))
         print(f"round {k + 1}: {runs[args.first][-1]:.3f} ms, {runs[args.second][-1]:.3f} ms")
     first, second = (statistics.median(runs[b]) for b in (args.first, args.second))
     print(f"{args.first}: median {first:.3f} ms, min {min(runs[args.first]):.3f} ms")
     print(f"{args.second}: median {second:.3f} ms, min {min(runs[args.second]):.3f} ms")
-    print(f"second / first: {second / first:.3f} over {args.rounds} rounds of {args.frames} frames")
+    unit = "one-image commands" if args.one_frame else f"{args.frames} frames"
+    print(f"second / first: {second / first:.3f} over {args.rounds} rounds of {unit}")
 
 
 if __name__ == "__main__":
