@@ -30,6 +30,9 @@ pub const MEASURES_RADIUS: usize = 2;
 /// ```
 pub fn interior_mask(covered: &[bool], width: usize, height: usize, radius: usize) -> Vec<bool> {
     assert_eq!(covered.len(), width * height, "mask of {width} × {height}");
+    if width == 0 {
+        return Vec::new();
+    }
     let side = 2 * radius + 1;
     // Rows: `across[k]` is true when the row span `x - radius ..= x + radius` is covered.
     let mut across = vec![false; covered.len()];
@@ -98,8 +101,15 @@ mod tests {
             state ^= state << 17;
             state
         };
-        for (width, height, radius) in [(17, 11, 2), (5, 5, 2), (4, 9, 2), (30, 20, 1), (12, 12, 0)]
-        {
+        let sizes = [
+            (17, 11, 2),
+            (5, 5, 2),
+            (4, 9, 2),
+            (30, 20, 1),
+            (12, 12, 0),
+            (0, 0, 2),
+        ];
+        for (width, height, radius) in sizes {
             for density in [60, 85, 97] {
                 let covered: Vec<bool> = (0..width * height)
                     .map(|_| next() % 100 < density)
