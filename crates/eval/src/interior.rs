@@ -94,13 +94,7 @@ mod tests {
 
     #[test]
     fn matches_the_definition_on_random_masks() {
-        let mut state = 0x1234_5678_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = spatch_fixtures::XorShift(0x1234_5678);
         let sizes = [
             (17, 11, 2),
             (5, 5, 2),
@@ -112,7 +106,7 @@ mod tests {
         for (width, height, radius) in sizes {
             for density in [60, 85, 97] {
                 let covered: Vec<bool> = (0..width * height)
-                    .map(|_| next() % 100 < density)
+                    .map(|_| rng.next_u64() % 100 < density)
                     .collect();
                 assert_eq!(
                     interior_mask(&covered, width, height, radius),
