@@ -47,8 +47,10 @@ pub(crate) const EMPTY_NODE: i32 = i32::MIN;
 pub(crate) const NODE_WIDTH: usize = 4;
 /// A projected node (fixed point; see the module header).
 pub(crate) type Node = [i32; NODE_WIDTH];
-/// Attributes per node of flat and Gouraud frames.
-pub(crate) const NODE_ATTRIBUTES: usize = 6;
+/// Attributes per node of flat and Gouraud frames: the shaded colour (and
+/// a zero word); the resolve pass reads no more (a node's other attributes
+/// serve the triangle path, which keeps its own).
+pub(crate) const NODE_ATTRIBUTES: usize = 4;
 /// A projected node's attributes (float bits, see [`attr_to_bits`]), kept
 /// beside the node array ([`crate::plan::work::ChunkWork::node_attributes`]).
 pub(crate) type NodeAttributes = [i32; NODE_ATTRIBUTES];

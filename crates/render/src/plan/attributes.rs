@@ -120,7 +120,7 @@ pub(crate) fn fill_attributes(
         for i in range.i0..=range.i1 {
             if work.nodes[k][0] != EMPTY_NODE {
                 let a = node_attributes(&mut work.normals, ctx, m, level, i, j);
-                work.node_attributes[k] = a.map(attr_to_bits);
+                work.node_attributes[k] = [a[0], a[1], a[2], a[3]].map(attr_to_bits);
             }
             k += 1;
         }
