@@ -26,7 +26,7 @@ use spatch_render::{
     RenderedImage, Renderer, Shading, TriangleMesh as RasterMesh,
 };
 
-use crate::interior::{interior_mask, MEASURES_RADIUS};
+use crate::interior::interior_of;
 
 /// How far behind the source (as a fraction of its bounding-sphere radius) a patch pixel may
 /// lie and still count as covering it. Larger than any patch's reconstruction error, smaller
@@ -193,9 +193,7 @@ fn count_holes(
     direction: DVec3,
 ) -> ViewHoles {
     let source = reference.depth();
-    let covered: Vec<bool> = source.iter().map(|d| d.is_finite()).collect();
-    let (width, height) = (reference.width() as usize, reference.height() as usize);
-    let interior = interior_mask(&covered, width, height, MEASURES_RADIUS);
+    let interior = interior_of(reference);
     let mut view = ViewHoles {
         direction: direction.normalize().to_array(),
         source_pixels: 0,

@@ -43,9 +43,9 @@ use spatch_render::{
 };
 
 use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
-use crate::interior::{interior_mask, MEASURES_RADIUS};
+use crate::interior::interior_of;
 use crate::source_colours::{colour_source, SourceDrawing};
-use crate::specks::{find_specks, Specks};
+use crate::specks::{specks_within, Specks};
 
 /// Largest number of views [`views_for_count`] accepts.
 pub const MAX_VIEWS: usize = 256;
@@ -128,7 +128,7 @@ pub struct SourceViews {
     cameras: Vec<Camera>,
     images: Vec<RenderedImage>,
     /// Per view, the source pixels whose 5 × 5 square the source covers
-    /// ([`crate::interior_mask`]).
+    /// ([`crate::interior_mask`]), for the holes and the source's specks alike.
     interiors: Vec<Vec<bool>>,
     /// Per view, the specks of the source's image.
     specks: Vec<Specks>,
@@ -188,8 +188,12 @@ impl SourceViews {
             let camera = view_camera(centre, radius, direction, &hole_options)?;
             let out = renderer.rasterize(&mesh, &camera)?;
             views.source_ms.push(out.stats.times_ms.total_wall);
-            views.interiors.push(interior_of(&out.image));
-            views.specks.push(specks_of(&out.image));
+            let interior = interior_of(&out.image);
+            let width = out.image.width() as usize;
+            views
+                .specks
+                .push(specks_within(out.image.pixels(), &interior, width));
+            views.interiors.push(interior);
             views.images.push(out.image);
             views.cameras.push(camera);
             views.directions.push(direction.normalize());
@@ -368,21 +372,6 @@ fn ratio(part: f64, whole: f64) -> f64 {
     }
 }
 
-/// The interior of a source image's coverage ([`crate::interior_mask`] at
-/// [`MEASURES_RADIUS`]).
-fn interior_of(image: &RenderedImage) -> Vec<bool> {
-    let covered: Vec<bool> = image.depth().iter().map(|d| d.is_finite()).collect();
-    let (width, height) = (image.width() as usize, image.height() as usize);
-    interior_mask(&covered, width, height, MEASURES_RADIUS)
-}
-
-/// The specks of a rendered image ([`find_specks`]; covered: a finite depth).
-fn specks_of(image: &RenderedImage) -> Specks {
-    let covered: Vec<bool> = image.depth().iter().map(|d| d.is_finite()).collect();
-    let (width, height) = (image.width() as usize, image.height() as usize);
-    find_specks(image.pixels(), &covered, width, height)
-}
-
 /// The median of `values` (sorted in place); 0 when empty.
 pub(crate) fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
@@ -421,7 +410,9 @@ pub fn compare_views(
         size = [image.width(), image.height()];
         let interior = &source.interiors[k];
         let sums = compare_images(&source.images[k], interior, &image, source.tolerance);
-        let (specks, source_specks) = (specks_of(&image), &source.specks[k]);
+        let width = image.width() as usize;
+        let specks = specks_within(image.pixels(), &interior_of(&image), width);
+        let source_specks = &source.specks[k];
         views.push(ViewError {
             direction: source.directions[k].to_array(),
             source_pixels: sums.source,

@@ -14,6 +14,8 @@
 //! Cost: O(pixels), two passes and, besides the result, one `width × height` mask of the
 //! rows' pass.
 
+use spatch_render::RenderedImage;
+
 /// The radius ../shared/MEASURES.md erodes by: 2 px on each side, a 5 × 5 square.
 pub const MEASURES_RADIUS: usize = 2;
 
@@ -49,6 +51,14 @@ pub fn interior_mask(covered: &[bool], width: usize, height: usize, radius: usiz
         mark_full_spans(column, side, radius, |y| interior[y * width + x] = true);
     }
     interior
+}
+
+/// The interior of a rendered image's coverage (pixels with a finite depth) at
+/// [`MEASURES_RADIUS`]: where ../shared/MEASURES.md counts holes and specks.
+pub(crate) fn interior_of(image: &RenderedImage) -> Vec<bool> {
+    let covered: Vec<bool> = image.depth().iter().map(|d| d.is_finite()).collect();
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    interior_mask(&covered, width, height, MEASURES_RADIUS)
 }
 
 /// Calls `mark(i)` for every index `i` whose span `i - radius ..= i + radius` (of length

@@ -48,8 +48,14 @@ impl Specks {
 /// ```
 pub fn find_specks(pixels: &[[u8; 4]], covered: &[bool], width: usize, height: usize) -> Specks {
     assert_eq!(pixels.len(), width * height, "image of {width} × {height}");
+    let interior = interior_mask(covered, width, height, MEASURES_RADIUS);
+    specks_within(pixels, &interior, width)
+}
+
+/// [`find_specks`] over `interior`, the covered pixels' interior already found
+/// ([`interior_mask`] at [`MEASURES_RADIUS`], so every 5 × 5 window lies in the image).
+pub(crate) fn specks_within(pixels: &[[u8; 4]], interior: &[bool], width: usize) -> Specks {
     let r = MEASURES_RADIUS;
-    let interior = interior_mask(covered, width, height, r);
     let mut specks = Specks::default();
     let mut window = Vec::with_capacity((2 * r + 1) * (2 * r + 1));
     for (k, _) in interior.iter().enumerate().filter(|(_, &inside)| inside) {
