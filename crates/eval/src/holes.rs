@@ -204,7 +204,7 @@ fn count_holes(
     };
     let pixels = source.iter().zip(patches.depth()).zip(&interior);
     for ((&s, &p), &inner) in pixels.filter(|((s, _), _)| s.is_finite()) {
-        let hole = !(p.is_finite() && p <= s + tolerance);
+        let hole = !covers(s, p, tolerance);
         view.source_pixels += 1;
         view.hole_pixels += usize::from(hole);
         view.interior_source_pixels += usize::from(inner);
@@ -212,6 +212,13 @@ fn count_holes(
     }
     view.fraction = ratio(view.hole_pixels, view.source_pixels);
     view
+}
+
+/// Whether a patch pixel at depth `patch` covers a source pixel at depth `source`: drawn,
+/// and at most `tolerance` behind it (see [`HOLE_DEPTH_TOLERANCE`]).
+#[inline]
+pub fn covers(source: f32, patch: f32, tolerance: f32) -> bool {
+    patch.is_finite() && patch <= source + tolerance
 }
 
 fn ratio(part: usize, whole: usize) -> f64 {

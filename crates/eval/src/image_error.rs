@@ -42,7 +42,7 @@ use spatch_render::{
     Renderer, TriangleMesh as RasterMesh,
 };
 
-use crate::holes::{standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use crate::holes::{covers, standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use crate::interior::interior_of;
 use crate::source_colours::{colour_source, SourceDrawing};
 use crate::specks::{specks_within, Specks};
@@ -328,7 +328,7 @@ fn compare_images(
     for (((sc, pc), (&sd, &pd)), &inner) in pixels.zip(depths).zip(interior) {
         let (s_in, p_in) = (sd.is_finite(), pd.is_finite());
         if s_in {
-            let hole = !(p_in && pd <= sd + tolerance);
+            let hole = !covers(sd, pd, tolerance);
             sums.source += 1;
             sums.holes += usize::from(hole);
             sums.interior += usize::from(inner);

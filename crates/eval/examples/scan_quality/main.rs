@@ -38,7 +38,9 @@ use std::process::ExitCode;
 
 use coverage::Coverage;
 
-use spatch_eval::holes::{hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE};
+use spatch_eval::holes::{
+    covers, hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE,
+};
 use spatch_eval::{find_specks, interior_mask, MEASURES_RADIUS};
 use spatch_render::{
     Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
@@ -197,7 +199,7 @@ fn run(
             .depth()
             .iter()
             .zip(uncull.depth())
-            .map(|(s, p)| p.is_finite() && *p <= s + tolerance)
+            .map(|(&s, &p)| covers(s, p, tolerance))
             .collect();
         let found = find_specks(image.pixels(), &covered, width, height);
         let speck_pixels = found.pixels;
