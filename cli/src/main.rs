@@ -5,6 +5,7 @@ mod args;
 mod commands;
 mod exit_guard;
 mod failure;
+mod heap;
 mod output;
 mod overwrite_guard;
 mod progress;
@@ -41,6 +42,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 }
 
 fn main() -> ExitCode {
+    heap::pad_heaps();
     exit_guard::install();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

@@ -90,23 +90,28 @@ impl Clone for BaseNodes {
     }
 }
 
-/// What a prepared patch builds of one mip level on first use.
+/// What a prepared patch builds of one mip level on first use, each part
+/// boxed. Why boxed: a level's parts inline took 432 bytes, written when
+/// the patch was prepared (every part's empty state) whether a frame ever
+/// built them or not; for the bunny's 2,532 patches of five levels that
+/// was 5.5 MB and about 1,300 page faults of a one-frame render, where
+/// boxes take 72 bytes a level and allocate only what is built.
 #[derive(Debug, Clone, Default)]
 struct LazyLevel {
     /// The level ([`PreparedPatch::level`]): level 0 from the patch's
     /// nodes, the others from the level below.
-    level: OnceLock<MipLevel>,
+    level: OnceLock<Box<MipLevel>>,
     /// The nodes' shading inputs ([`PreparedPatch::shading`]).
-    shading: OnceLock<LevelShading>,
+    shading: OnceLock<Box<LevelShading>>,
     /// Above level 0: the shading inputs of the level below on this
     /// level's grid ([`PreparedPatch::fine_shading`]).
-    fine_shading: OnceLock<LevelShading>,
+    fine_shading: OnceLock<Box<LevelShading>>,
     /// Above level 0: how far the level below strays from this level's
     /// surface, in codes ([`PreparedPatch::coarse_gap`]).
     coarse_gap: OnceLock<f32>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
-    slots: OnceLock<SlotSet>,
+    slots: OnceLock<Box<SlotSet>>,
 }
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -144,7 +149,7 @@ impl LevelShading {
         level: &MipLevel,
         ratios: (f32, f32),
         scratch: &mut NodeScratch,
-        slots: Option<&OnceLock<SlotSet>>,
+        slots: Option<&OnceLock<Box<SlotSet>>>,
     ) -> Self {
         let (cols, rows) = (level.cols, level.rows);
         let d = &level.displacements;
@@ -155,7 +160,7 @@ impl LevelShading {
             // the lanes' instruction set.
             let mut set = SlotSetBuilder::default();
             set.add_used(&level.used, gi, gj);
-            let _ = cell.set(set.finish());
+            let _ = cell.set(Box::new(set.finish()));
         }
         Self {
             normals: rounded_unit_normals(w, scratch, d, ratios),
@@ -168,7 +173,7 @@ impl LevelShading {
         isa: Isa,
         level: &MipLevel,
         ratios: (f32, f32),
-        slots: Option<&OnceLock<SlotSet>>,
+        slots: Option<&OnceLock<Box<SlotSet>>>,
     ) -> Self {
         // The scratch is borrowed outside the lanes' function: a closure
         // inside it is compiled without its instruction set.
@@ -331,12 +336,14 @@ impl PreparedPatch {
     /// at the automatic view were 8 M instructions of a one-frame render
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
-        self.levels[m].level.get_or_init(|| match m {
-            0 => (self.isa).run(
-                #[inline(always)]
-                || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
-            ),
-            _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
+        self.levels[m].level.get_or_init(|| {
+            Box::new(match m {
+                0 => (self.isa).run(
+                    #[inline(always)]
+                    || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
+                ),
+                _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
+            })
         })
     }
 
@@ -377,9 +384,14 @@ impl PreparedPatch {
 
     /// The shading inputs of level `m`, built with `slots` as
     /// [`LevelShading::new`] takes it.
-    fn build_shading(&self, m: usize, slots: Option<&OnceLock<SlotSet>>) -> &LevelShading {
+    fn build_shading(&self, m: usize, slots: Option<&OnceLock<Box<SlotSet>>>) -> &LevelShading {
         self.levels[m].shading.get_or_init(|| {
-            LevelShading::with_isa(self.isa, self.level(m), self.ratios_at(m), slots)
+            Box::new(LevelShading::with_isa(
+                self.isa,
+                self.level(m),
+                self.ratios_at(m),
+                slots,
+            ))
         })
     }
 
@@ -402,7 +414,7 @@ impl PreparedPatch {
             SCRATCH.with_borrow_mut(|scratch| {
                 let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
                 let (d, cols, rows) = (&level.displacements, level.cols, level.rows);
-                (self.isa).run(
+                Box::new((self.isa).run(
                     #[inline(always)]
                     || {
                         grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
@@ -410,7 +422,7 @@ impl PreparedPatch {
                         slots.add_used(&level.used, gi, gj);
                         slots.finish()
                     },
-                )
+                ))
             })
         })
     }
@@ -447,7 +459,7 @@ impl PreparedPatch {
                     }
                 }
             }
-            LevelShading { normals, colours }
+            Box::new(LevelShading { normals, colours })
         })
     }
 
