@@ -5,6 +5,7 @@
 //! A [`Renderer`] owns its thread pool and every scratch buffer, so
 //! rendering frame after frame allocates almost nothing.
 
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 use glam::Vec3;
@@ -30,7 +31,7 @@ use crate::plan::mesh::{plan_mesh_chunk, TriangleMesh};
 use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::PreparedScene;
-use crate::raster::band::Band;
+use crate::raster::band::{Band, Sample};
 use crate::shade::phong_items::PhongItems;
 use crate::shade::resolve::Resolve;
 
@@ -57,6 +58,13 @@ pub struct Renderer {
     order: BandOrder,
     bins: Bins,
     bands: Vec<Band>,
+    /// One sample buffer per pool thread, lent to each band the thread
+    /// draws ([`Band::swap_samples`]). Why per thread, not per band: a
+    /// first frame writes every buffer's pages for the first time, and
+    /// four bands' buffers at 500² (4 MB) were a thousand page faults of a
+    /// one-image bunny render with 2 threads; later frames draw as fast
+    /// either way (ratio 1.007, `bench/compare_binaries.py`).
+    thread_samples: Vec<Mutex<Vec<Sample>>>,
     /// Each band's occlusion-skip tiles.
     skips: Vec<SkipTiles>,
     /// Colour and depth buffers handed back by [`Self::recycle`].
@@ -94,6 +102,7 @@ impl Renderer {
             order: BandOrder::default(),
             bins: Bins::default(),
             bands: Vec::new(),
+            thread_samples: (0..threads).map(|_| Mutex::default()).collect(),
             skips: Vec::new(),
             spare: None,
         })
@@ -293,6 +302,7 @@ impl Renderer {
             &mut eye_depth,
         );
         let isa = self.isa;
+        let thread_samples = &self.thread_samples;
         let draw = |BandTask {
                         index,
                         band,
@@ -302,12 +312,18 @@ impl Renderer {
                         y0,
                         rows,
                     }: BandTask<'_>| {
+            let thread = rayon::current_thread_index().unwrap_or(0);
+            let mut samples = thread_samples[thread.min(thread_samples.len() - 1)]
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner);
+            band.swap_samples(&mut samples);
             band.reset(y0, rows, width);
-            band.thread = rayon::current_thread_index().unwrap_or(0);
+            band.thread = thread;
             isa.run(
                 #[inline(always)]
                 || render_band((band, skip), index, &job, rgba, eye_depth),
             );
+            band.swap_samples(&mut samples);
         };
         run_in_order(&self.pool, tasks, &self.order.order, draw);
         let raster_wall = raster_start.elapsed();

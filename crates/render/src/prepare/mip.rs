@@ -47,9 +47,9 @@ pub(crate) struct MipLevel {
     /// Smallest and largest used displacement (0, 0 when none).
     pub(crate) d_range: (u16, u16),
     /// Per node, its trilinear weight along `d_range`
-    /// ([`crate::grid::push_weights`]): a piece of whole rows at the
-    /// level's range reads them instead of converting every frame.
-    pub(crate) weights: Vec<f32>,
+    /// ([`crate::grid::push_weights`]), found on first use
+    /// ([`Self::weights`]).
+    weights: OnceLock<Vec<f32>>,
     pub(crate) drawable_cells: u32,
     /// Per cell (row-major, `(cols - 1) × (rows - 1)`), the flags of the
     /// whole level without back-face culling: [`CELL_DRAW`] when its four
@@ -148,8 +148,6 @@ impl MipLevel {
         }
         let (lo, hi) = range.unwrap_or_else(|| used_range(&displacements, &used));
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
-        let mut weights = Vec::with_capacity(displacements.len());
-        push_weights(&displacements, d_range, &mut weights);
         let closing = close_cells(&mut cell_flags, ccols, crows);
         let edge_masks = ((drawable_cells as usize) < ccols * crows).then(|| {
             let (mut um, mut vm) = (Vec::new(), Vec::new());
@@ -165,7 +163,7 @@ impl MipLevel {
             used,
             normal_slots,
             d_range,
-            weights,
+            weights: OnceLock::new(),
             drawable_cells,
             cell_flags,
             closing,
@@ -183,6 +181,20 @@ impl MipLevel {
     pub(crate) fn normal_slots(&self) -> &[u16] {
         self.normal_slots
             .get_or_init(|| grid_slots(&self.displacements, self.cols, self.rows, EMPTY))
+    }
+
+    /// Per node, its trilinear weight along [`Self::d_range`]: a piece of
+    /// whole rows at the level's range reads them instead of converting
+    /// every frame. Why on first use: a level below the one a patch is
+    /// drawn at (the bunny's level 0 under its level 1 at 500²) is only
+    /// read to build the next level, and its weights were 2.2 MB and
+    /// about 520 page faults of a one-image bunny render.
+    pub(crate) fn weights(&self) -> &[f32] {
+        self.weights.get_or_init(|| {
+            let mut weights = Vec::with_capacity(self.displacements.len());
+            push_weights(&self.displacements, self.d_range, &mut weights);
+            weights
+        })
     }
 
     /// True when every cell of the level is drawn.

@@ -579,7 +579,7 @@ mod tests {
         let own = crate::prepare::mip::base_level(patch).expect("drawable");
         let built = p.level(0);
         assert_eq!(built.d_range, own.d_range);
-        assert_eq!(built.weights, own.weights);
+        assert_eq!(built.weights(), own.weights());
         assert_eq!(built.cell_flags, own.cell_flags);
         assert_eq!(built.used, own.used);
     }

@@ -254,6 +254,12 @@ impl Band {
         self.px[rows.start * w..rows.end * w].fill(Sample::EMPTY);
     }
 
+    /// Exchanges the band's sample buffer with `buffer`: a pool thread
+    /// lends its buffer to each band it draws and takes it back after.
+    pub(crate) fn swap_samples(&mut self, buffer: &mut Vec<Sample>) {
+        std::mem::swap(&mut self.px, buffer);
+    }
+
     /// The buffers for drawing.
     pub(crate) fn target(&mut self) -> BandTarget<'_> {
         BandTarget::new(&mut self.px, self.width, self.y0, self.rows)
