@@ -207,11 +207,11 @@ pub(crate) fn measure_cells(
         // level with trimmed cells, no cell facing away). Why: building
         // them per frame cost ≈ 2 M instructions on the trimmed sphere
         // (callgrind, `profile_sphere 500 1 1 trimmed`).
-        let (um, vm) = match &level.edge_masks {
+        let (um, vm) = match level.edge_masks() {
             Some((um, vm)) if whole && back_sign == 0 => (um, vm),
             _ => {
                 drawn_edge_masks(out, cols, rows, &mut xy.umask, &mut xy.vmask);
-                (&xy.umask, &xy.vmask)
+                (&xy.umask[..], &xy.vmask[..])
             }
         };
         edges = piece_edges_masked_small(&xy.xs, &xy.ys, cols, um, vm);
