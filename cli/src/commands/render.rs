@@ -12,8 +12,8 @@ use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
 use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, OcclusionStats, Projection, RenderError,
-    RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, OcclusionStats, PreparedScene, Projection,
+    RenderError, RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
 };
 
 use super::frame_bench::{bench, BenchReport};
@@ -554,6 +554,16 @@ struct RenderDetails<'a> {
     bench: Option<BenchReport>,
 }
 
+/// `scene` prepared on `renderer`'s threads, its overlaps trimmed when
+/// `trim` says.
+fn prepare(renderer: &Renderer, scene: &Scene, trim: bool) -> PreparedScene {
+    if trim {
+        renderer.prepare_trimming_overlaps(scene)
+    } else {
+        renderer.prepare(scene)
+    }
+}
+
 /// Renders (and benchmarks) the scene and writes the requested files.
 pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let steps = 5 + usize::from(args.bench.is_some()) + usize::from(args.stats.is_some());
@@ -561,23 +571,27 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     progress.step("read");
     let (scene, info, index_sphere) = read_input(args)?;
-    // Left to the OS at exit, not freed patch by patch (0.5 M of a
-    // one-frame bunny render's 182 M instructions; callgrind).
-    let scene = std::mem::ManuallyDrop::new(scene);
     let mut stages = Stages::default();
     stages.push("read", started.elapsed().as_secs_f64());
+    // What the report says of the scene, found while it is whole.
+    let counts = args
+        .json
+        .then(|| (Counts::of(&scene, info.file_len), scene_diagonal(&scene)));
     let options = render_options(args);
     let mut renderer = Renderer::new(options).map_err(classify)?;
-    let prepare = |renderer: &Renderer, trim: bool| {
-        if trim {
-            renderer.prepare_trimming_overlaps(&scene)
-        } else {
-            renderer.prepare(&scene)
-        }
-    };
     progress.step("prepare");
     let clock = Instant::now();
-    let prepared = prepare(&renderer, args.trim_overlaps);
+    // `--stats` prepares the scene a second time (the other overlap
+    // setting), so it keeps the scene; otherwise the preparation takes the
+    // scene's nodes instead of copying them. What is kept is left to the
+    // OS at exit, not freed patch by patch (0.5 M of a one-frame bunny
+    // render's 182 M instructions; callgrind).
+    let (prepared, kept) = if args.stats.is_some() {
+        let prepared = prepare(&renderer, &scene, args.trim_overlaps);
+        (prepared, Some(std::mem::ManuallyDrop::new(scene)))
+    } else {
+        (renderer.prepare_owned(scene, args.trim_overlaps), None)
+    };
     stages.push("prepare", clock.elapsed().as_secs_f64());
     let sphere = index_sphere.or_else(|| prepared.bounding_sphere());
     let camera = camera(args, sphere).map_err(classify)?;
@@ -635,7 +649,8 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
         progress.step("shortcuts");
         let clock = Instant::now();
         // The other preparation, for the cost of trimming.
-        let other = prepare(&renderer, !args.trim_overlaps);
+        let scene = kept.as_ref().expect("kept for --stats");
+        let other = prepare(&renderer, scene, !args.trim_overlaps);
         let overlaps = if args.trim_overlaps {
             (&prepared, &other)
         } else {
@@ -686,8 +701,10 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
             details,
         );
         report.output = args.output.as_ref().map(|p| p.display().to_string());
-        report.counts = Counts::of(&scene, info.file_len);
-        report.diagonal = scene_diagonal(&scene);
+        if let Some((counts, diagonal)) = counts {
+            report.counts = counts;
+            report.diagonal = diagonal;
+        }
         report.seconds = stages.total();
         report.stages = stages;
         report.threads = threads;

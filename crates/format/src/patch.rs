@@ -167,6 +167,13 @@ impl Patch {
         self.colours.as_deref()
     }
 
+    /// Consumes the patch, returning its displacement codes and per-node
+    /// colours (as [`Self::displacements`] and [`Self::colours`]), so a
+    /// reader that keeps them need not copy them.
+    pub fn into_nodes(self) -> (Vec<u16>, Option<Vec<[u8; 4]>>) {
+        (self.displacements, self.colours)
+    }
+
     pub(crate) fn colours_mut(&mut self) -> Option<&mut Vec<[u8; 4]>> {
         self.colours.as_mut()
     }

@@ -140,6 +140,15 @@ impl Renderer {
             .install(|| PreparedScene::prepare(scene, true, self.isa))
     }
 
+    /// [`Self::prepare`] (or, with `trim_overlaps`,
+    /// [`Self::prepare_trimming_overlaps`]) taking the scene's nodes
+    /// instead of copying them: for a caller done with the scene, it saves
+    /// a copy of every node (1.5 MB for the bunny) and the memory it takes.
+    pub fn prepare_owned(&self, scene: Scene, trim_overlaps: bool) -> PreparedScene {
+        self.pool
+            .install(|| PreparedScene::prepare_owned(scene, trim_overlaps, self.isa))
+    }
+
     fn setup<'a>(&self, view: &'a View, options: &'a RenderOptions) -> FrameSetup<'a> {
         let (z_scale, z_offset) = view.depth_scale();
         let [r, g, b] = options.lighting.base_colour;

@@ -12,7 +12,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use spatch_format::Scene;
+use spatch_format::{Opening, Scene};
 
 use crate::camera::Camera;
 use crate::error::CameraProblem;
@@ -76,6 +76,30 @@ impl PreparedScene {
             .par_iter()
             .map(|patch| PreparedPatch::new(patch, offset, isa))
             .collect();
+        Self::assemble(built, offset, scene.openings(), trim)
+    }
+
+    /// [`Self::prepare`] taking the scene's nodes instead of copying them
+    /// ([`PreparedPatch::from_owned`]).
+    pub(crate) fn prepare_owned(scene: Scene, trim: bool, isa: Isa) -> Self {
+        let offset = scene.offset();
+        let openings = scene.openings().to_vec();
+        let built: Vec<Option<PreparedPatch>> = scene
+            .into_patches()
+            .into_par_iter()
+            .map(|patch| PreparedPatch::from_owned(patch, offset, isa))
+            .collect();
+        Self::assemble(built, offset, &openings, trim)
+    }
+
+    /// The scene of the patches `built` (`None`: no drawable cell, left
+    /// out), trimmed when `trim` says, in drawing order.
+    fn assemble(
+        built: Vec<Option<PreparedPatch>>,
+        offset: DVec3,
+        openings: &[Opening],
+        trim: bool,
+    ) -> Self {
         let skipped = built.iter().filter(|b| b.is_none()).count();
         // The kept patches collected where `built` lies (an in-place
         // collect, which `filter_map` takes and `flatten` does not). Why:
@@ -97,8 +121,7 @@ impl PreparedScene {
             let r = corners().map(|p| (p - c).length()).fold(0.0, f64::max);
             (c, r)
         });
-        let portals = scene
-            .openings()
+        let portals = openings
             .iter()
             .map(|o| Portal {
                 centre: offset + o.centre().as_dvec3(),

@@ -1,8 +1,10 @@
 //! Modes against each other: triangle mode and patch mode cover the same
 //! pixels; 1 and N threads give the same image; the AVX2 kernels give the
-//! portable ones' image; every projection, cell, shading, mip and
+//! portable ones' image; an owned scene prepares as a borrowed one; every
+//! projection, cell, shading, mip and
 //! supersampling variant renders the sphere without holes.
 
+use spatch_format::{ColourChannel, Patch, Scene};
 use spatch_render::{
     CellScheme, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
 };
@@ -214,6 +216,45 @@ fn preparation_does_not_depend_on_the_thread_count() {
     assert!(images[1].2 > 80_000, "{}", images[1].2);
     // The shared sphere, prepared on the global pool, gives the same image.
     assert!(images[0].3 == render(RenderOptions::default(), 420.0, 300).image);
+}
+
+#[test]
+fn an_owned_scene_prepares_as_a_borrowed_one() {
+    // `Renderer::prepare_owned` takes the patches' nodes instead of
+    // copying them: the same prepared scene, so the same image, with and
+    // without trimming, and with per-node colours.
+    let camera = known_camera(420.0, 300);
+    let mut renderer = Renderer::new(RenderOptions::default()).unwrap();
+    let mut coloured = sphere_scene().clone().into_patches();
+    for (k, patch) in coloured.iter_mut().enumerate() {
+        let n = patch.displacements().len();
+        let tint = [(k * 37 % 256) as u8, (k * 91 % 256) as u8, 200, 255];
+        *patch = Patch::new(
+            *patch.frame(),
+            patch.grid(),
+            patch.displacements().to_vec(),
+            Some(vec![tint; n]),
+        )
+        .unwrap();
+    }
+    let coloured = Scene::new(sphere_scene().offset(), ColourChannel::Rgb8, coloured).unwrap();
+    for scene in [sphere_scene(), &coloured] {
+        for trim in [false, true] {
+            let borrowed = if trim {
+                renderer.prepare_trimming_overlaps(scene)
+            } else {
+                renderer.prepare(scene)
+            };
+            let owned = renderer.prepare_owned(scene.clone(), trim);
+            assert_eq!(owned.patch_count(), borrowed.patch_count());
+            assert_eq!(owned.trimmed_cells(), borrowed.trimmed_cells());
+            assert_eq!(owned.bounding_sphere(), borrowed.bounding_sphere());
+            let image = renderer.render(&owned, &camera).unwrap().image;
+            assert!(image.covered_count() > 10_000);
+            let expected = renderer.render(&borrowed, &camera).unwrap().image;
+            assert!(image == expected, "trim {trim}");
+        }
+    }
 }
 
 #[test]
