@@ -1,5 +1,5 @@
-//! How the C library's allocator grows its heaps, set once before any
-//! thread starts.
+//! How the C library's allocator grows its heaps, set for the commands
+//! that render before any thread starts.
 //!
 //! glibc gives each thread that allocates an arena of its own and grows
 //! that arena's heap one `mprotect` call at a time, by exactly what the
@@ -9,19 +9,21 @@
 //! waited on each other's calls for the process's memory map. A top pad
 //! makes a new heap readable and writable up to its 64 MiB maximum in one
 //! call, and the main heap grow in steps of the pad. Pages are still only
-//! backed by memory when first written, so the resident size does not
-//! change; freed memory up to the pad stays with the process instead of
-//! going back to the system. Measured: the bunny's one-image command
-//! 26.1 → 24.4 ms (medians of 21 alternated runs, `GLIBC_TUNABLES` with
-//! the same pad), its `--bench` frame unchanged.
+//! backed by memory when first written. Measured: the bunny's one-image
+//! command 26.1 → 24.4 ms (medians of 21 alternated runs, `GLIBC_TUNABLES`
+//! with the same pad), its `--bench` frame unchanged.
+//!
+//! Why only `render` and `eval`: with the pad an arena keeps up to 64 MiB
+//! of freed memory instead of returning it, and the converters' peak
+//! memory (docs/scale.md) is measured with the allocator's defaults.
 
 /// The top pad: glibc's largest heap of a thread's arena on 64-bit
 /// systems, so a new arena's heap is made usable in one step.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 const TOP_PAD: libc::c_int = 64 << 20;
 
-/// Sets the allocator's top pad ([`TOP_PAD`]); call it first in `main`,
-/// before any thread allocates. Other C libraries keep their defaults.
+/// Sets the allocator's top pad ([`TOP_PAD`]); call it in `main` before
+/// any thread starts. Other C libraries keep their defaults.
 pub(crate) fn pad_heaps() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: `mallopt` only changes a tuning value of glibc's allocator;

@@ -42,12 +42,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 }
 
 fn main() -> ExitCode {
-    heap::pad_heaps();
-    exit_guard::install();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(err) => return usage_error::report(&err),
     };
+    // Before any thread starts: the guard's watcher is one.
+    if matches!(cli.command, Command::Render(_) | Command::Eval(_)) {
+        heap::pad_heaps();
+    }
+    exit_guard::install();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
