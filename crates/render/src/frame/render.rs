@@ -60,10 +60,11 @@ pub struct Renderer {
     bands: Vec<Band>,
     /// One sample buffer per pool thread, lent to each band the thread
     /// draws ([`Band::swap_samples`]). Why per thread, not per band: a
-    /// first frame writes every buffer's pages for the first time, and
-    /// four bands' buffers at 500² (4 MB) were a thousand page faults of a
-    /// one-image bunny render with 2 threads; later frames draw as fast
-    /// either way (ratio 1.007, `bench/compare_binaries.py`).
+    /// first frame writes every buffer's pages for the first time: four
+    /// bands' buffers at 500² (4 MB) against two threads' (2 MB) were 421
+    /// more page faults of a one-image bunny render (`perf stat`); later
+    /// frames draw as fast either way (ratio 1.007,
+    /// `bench/compare_binaries.py`).
     thread_samples: Vec<Mutex<Vec<Sample>>>,
     /// Each band's occlusion-skip tiles.
     skips: Vec<SkipTiles>,
