@@ -207,9 +207,16 @@ pub(crate) fn measure_cells(
         // level with trimmed cells, no cell facing away). Why: building
         // them per frame cost ≈ 2 M instructions on the trimmed sphere
         // (callgrind, `profile_sphere 500 1 1 trimmed`).
-        let (um, vm) = match level.edge_masks() {
-            Some((um, vm)) if whole && back_sign == 0 => (um, vm),
-            _ => {
+        // (The level's masks are asked for only then: they are built on
+        // first use.)
+        let own = if whole && back_sign == 0 {
+            level.edge_masks()
+        } else {
+            None
+        };
+        let (um, vm) = match own {
+            Some(masks) => masks,
+            None => {
                 drawn_edge_masks(out, cols, rows, &mut xy.umask, &mut xy.vmask);
                 (&xy.umask[..], &xy.vmask[..])
             }
