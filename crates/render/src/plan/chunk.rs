@@ -60,9 +60,8 @@ pub(crate) fn plan_chunk(
         let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
-        let level0 = p.level(0);
-        let root = NodeRange::whole(level0);
-        let (lo, hi) = root.local_box(level0.d_range);
+        let root = NodeRange::of_grid(p.grid);
+        let (lo, hi) = root.local_box(p.base_d_range());
         let class = setup.frustum.classify(&map, t0, lo, hi);
         work.counters.cull_ns += work.clock.lap();
         work.split.pieces.clear();
@@ -75,7 +74,13 @@ pub(crate) fn plan_chunk(
             BoxClass::Inside => work.split.pieces.push(root),
             BoxClass::Partial => {
                 work.counters.split += 1;
-                let counts = split_patch(level0, &setup.frustum, (&map, t0), root, &mut work.split);
+                let counts = split_patch(
+                    p.level(0),
+                    &setup.frustum,
+                    (&map, t0),
+                    root,
+                    &mut work.split,
+                );
                 work.counters.split_pieces += work.split.pieces.len() as u64;
                 work.counters.pieces_dropped += counts.dropped as u64;
                 work.counters.split_ns += work.clock.lap();

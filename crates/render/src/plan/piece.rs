@@ -85,7 +85,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // The level the mip limit alone chose, when the tolerance went past it.
     let mut lifted = usize::MAX;
     if whole && opts.mip && p.level_count() > 1 {
-        let extent = estimate_extent(&proj0, piece, p.level(0).d_range);
+        let extent = estimate_extent(&proj0, piece, p.base_d_range());
         // The splat path covers cells whose extent (the max-norm sum of
         // their edges) is up to twice its half-width: a level whose nodes
         // still land within that reach needs no subdivision.
@@ -318,7 +318,7 @@ fn coarser_exact_level(
     let (p, opts) = (ctx.patch, ctx.setup.options);
     // A coarser level's colours are averages over twice the span: the
     // tolerance measures geometry only, so coloured patches keep theirs.
-    if p.colour_grid.is_some() || p.level(0).colours.is_some() {
+    if p.colour_grid.is_some() || p.has_node_colours() {
         return m;
     }
     let cap = RenderOptions::EXACT_LEVEL_CAP * opts.mip_limit;
@@ -327,8 +327,7 @@ fn coarser_exact_level(
         && extent * ((1u32 << (m + 1)) as f32) < cap
         && p.exact_level(m + 1)
     {
-        let scale =
-            *per_code.get_or_insert_with(|| pixels_per_code(proj, piece, p.level(0).d_range));
+        let scale = *per_code.get_or_insert_with(|| pixels_per_code(proj, piece, p.base_d_range()));
         if p.coarse_gap(m + 1) * scale > opts.mip_tolerance {
             break;
         }

@@ -32,11 +32,16 @@ pub(crate) struct NodeRange {
 impl NodeRange {
     /// The whole grid of `level`.
     pub(crate) fn whole(level: &MipLevel) -> Self {
+        Self::of_grid([level.cols, level.rows])
+    }
+
+    /// Every node of a `[cols, rows]` grid.
+    pub(crate) fn of_grid([cols, rows]: [usize; 2]) -> Self {
         Self {
             i0: 0,
             j0: 0,
-            i1: level.cols - 1,
-            j1: level.rows - 1,
+            i1: cols - 1,
+            j1: rows - 1,
         }
     }
 

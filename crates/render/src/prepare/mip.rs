@@ -343,15 +343,6 @@ pub(crate) fn build_mip_pyramid(patch: &spatch_format::Patch) -> Vec<MipLevel> {
 /// number of cells, see [`padded`]), or `None` when a side has fewer than
 /// three nodes.
 pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
-    let (hc, hr) = (halved_side(level.cols)?, halved_side(level.rows)?);
-    let grid = padded(level);
-    let cols = grid.cols;
-    let mut displacements = Vec::with_capacity(hc * hr);
-    for j in 0..hr {
-        for i in 0..hc {
-            displacements.push(grid.displacements[2 * j * cols + 2 * i]);
-        }
-    }
     let finer = FinerLevel {
         cols: level.cols,
         rows: level.rows,
@@ -359,6 +350,24 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
         cell_flags: &level.cell_flags,
         spacing: level.spacing,
     };
+    halve(finer, level.colours.as_deref())
+}
+
+/// The level above `finer` (with per-node `colours`), as
+/// [`halve_level`] builds it; `finer.cell_flags` need only mark its drawn
+/// cells ([`crate::grid::drawn_cells`]). Why apart: level 1 is built
+/// straight from a patch's nodes when level 0 itself is not drawn
+/// ([`crate::prepare::patch::PreparedPatch::level`]).
+pub(crate) fn halve(finer: FinerLevel<'_>, colours: Option<&[[u8; 4]]>) -> Option<MipLevel> {
+    let (hc, hr) = (halved_side(finer.cols)?, halved_side(finer.rows)?);
+    let grid = padded(&finer, colours);
+    let cols = grid.cols;
+    let mut displacements = Vec::with_capacity(hc * hr);
+    for j in 0..hr {
+        for i in 0..hc {
+            displacements.push(grid.displacements[2 * j * cols + 2 * i]);
+        }
+    }
     fill_corners(finer, [hc, hr], &mut displacements);
     let colours = grid.colours.as_ref().map(|src| {
         let mut out = Vec::with_capacity(hc * hr);
@@ -371,7 +380,7 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
     });
     Some(MipLevel::new(
         [hc, hr],
-        level.spacing * 2,
+        finer.spacing * 2,
         (displacements, colours),
         None,
     ))
@@ -394,12 +403,12 @@ struct NodeGrid {
 /// uniform spacing, which the projection, the cell code and the normals
 /// assume. It costs up to one cell of the level past the patch's outline
 /// (where neighbouring patches overlap it on a closed surface).
-fn padded(level: &MipLevel) -> NodeGrid {
+fn padded(level: &FinerLevel<'_>, colours: Option<&[[u8; 4]]>) -> NodeGrid {
     let mut grid = NodeGrid {
         cols: level.cols,
         rows: level.rows,
-        displacements: level.displacements.clone(),
-        colours: level.colours.clone(),
+        displacements: level.displacements.to_vec(),
+        colours: colours.map(<[_]>::to_vec),
     };
     if grid.cols.is_multiple_of(2) {
         pad_columns(&mut grid);

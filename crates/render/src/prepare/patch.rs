@@ -19,10 +19,12 @@ use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::fixed::ATTR_ONE;
+use crate::grid::drawn_cells;
 use crate::isa::Isa;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
-use crate::prepare::mip::{coarse_level_count, halve_level, level_zero, MipLevel};
+use crate::prepare::corner_fill::FinerLevel;
+use crate::prepare::mip::{coarse_level_count, halve, halve_level, level_zero, MipLevel};
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
 use crate::prepare::normals::{grid_differences, unit_normals};
 use crate::prepare::wide::{Portable, Wide, LANES};
@@ -49,6 +51,10 @@ pub(crate) struct PreparedPatch {
     /// ([`crate::prepare::cone::ConeScan::d_range`]), so building level 0
     /// need not find it again.
     d_range: (u16, u16),
+    /// True when every node of level 0 is filled (so every cell is drawn).
+    full_grid: bool,
+    /// True when the patch has per-node colours.
+    node_colours: bool,
     /// Level 0's displacements and colours, which [`Self::level`] takes to
     /// build level 0.
     nodes: BaseNodes,
@@ -344,6 +350,8 @@ impl PreparedPatch {
             sides: patch.sides(),
             grid: size,
             d_range: scan.d_range,
+            full_grid: !displacements.contains(&EMPTY),
+            node_colours: patch.colours().is_some(),
             nodes: BaseNodes::default(),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
@@ -377,9 +385,35 @@ impl PreparedPatch {
                     #[inline(always)]
                     || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
                 ),
+                1 => self
+                    .level_one_from_nodes()
+                    .unwrap_or_else(|| halve_level(self.level(0)).expect("a counted level halves")),
                 _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
             })
         })
+    }
+
+    /// Level 1 halved straight from the patch's nodes, while level 0 is not
+    /// built (`None` once it is: it has taken the nodes). The same level
+    /// as halving level 0 (tested). Why: where a patch is drawn at level 1
+    /// (most of the bunny's at 500²), level 0's used nodes, closing flags
+    /// and box were built only to be halved: 1,800 level-0 builds of a
+    /// one-image bunny render.
+    fn level_one_from_nodes(&self) -> Option<MipLevel> {
+        let nodes = self.nodes.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let (displacements, colours) = &*nodes;
+        if displacements.is_empty() {
+            return None;
+        }
+        let [cols, rows] = self.grid;
+        let finer = FinerLevel {
+            cols,
+            rows,
+            displacements,
+            cell_flags: &drawn_cells(displacements, cols, rows),
+            spacing: 1,
+        };
+        Some(halve(finer, colours.as_deref()).expect("a counted level halves"))
     }
 
     /// Level 0, built if no frame has asked for it yet, for changes that
@@ -521,11 +555,31 @@ impl PreparedPatch {
     /// cells, so halving pads and fills nothing and each level draws
     /// exactly the area level 0 draws.
     pub(crate) fn exact_level(&self, g: usize) -> bool {
-        let l0 = self.level(0);
         let step = 1 << g;
-        l0.draws_every_cell()
-            && (l0.cols - 1).is_multiple_of(step)
-            && (l0.rows - 1).is_multiple_of(step)
+        let draws_every_cell = self.levels[0]
+            .level
+            .get()
+            .map_or(self.full_grid, |l0| l0.draws_every_cell());
+        draws_every_cell
+            && (self.grid[0] - 1).is_multiple_of(step)
+            && (self.grid[1] - 1).is_multiple_of(step)
+    }
+
+    /// Level 0's used displacement range, read without building level 0
+    /// (the cone's range until then; trimming may narrow level 0's).
+    /// Why: a frame asks every patch it draws for its box, and building
+    /// level 0 for it was most of the level-0 builds of a one-image render
+    /// that draws the patch at a coarser level.
+    pub(crate) fn base_d_range(&self) -> (u16, u16) {
+        self.levels[0]
+            .level
+            .get()
+            .map_or(self.d_range, |l0| l0.d_range)
+    }
+
+    /// True when the patch has per-node colours (every level then has).
+    pub(crate) fn has_node_colours(&self) -> bool {
+        self.node_colours
     }
 
     /// Shading ratios at mip level `m` (node spacing doubles per level).
@@ -648,5 +702,54 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "{checked}");
+    }
+
+    #[test]
+    fn level_one_from_the_nodes_is_level_zero_halved() {
+        // Level 1 built before level 0 (from the patch's nodes) and after
+        // it (halving level 0) are the same level, on grids with holes and
+        // colours; level 0 built afterwards is level 0 built first.
+        let mut rng = crate::test_rng::XorShift(0x1e7e_1011);
+        let mut compared = 0;
+        for case in 0..200 {
+            let (cols, rows) = (3 + rng.below(18), 3 + rng.below(18));
+            let holes = [0, 5, 30][case % 3];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| match rng.below(100) < holes {
+                    true => EMPTY,
+                    false => (500 + rng.below(60)) as u16,
+                })
+                .collect();
+            let colours = (case % 2 == 0).then(|| {
+                (0..cols * rows)
+                    .map(|_| [rng.below(256) as u8, rng.below(256) as u8, 90, 255])
+                    .collect::<Vec<_>>()
+            });
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
+            let grid = GridSize::new(cols, rows).unwrap();
+            let patch = Patch::new(frame, grid, d, colours).unwrap();
+            let isa = Isa::detect(true);
+            let (Some(first), Some(second)) = (
+                PreparedPatch::new(&patch, DVec3::ZERO, isa),
+                PreparedPatch::new(&patch, DVec3::ZERO, isa),
+            ) else {
+                continue;
+            };
+            if first.level_count() < 2 {
+                continue;
+            }
+            let (direct, zero_after) = (first.level(1), first.level(0));
+            let (zero, halved) = (second.level(0), second.level(1));
+            assert_eq!(direct.displacements, halved.displacements, "case {case}");
+            assert_eq!(direct.colours, halved.colours, "case {case}");
+            assert_eq!(direct.cell_flags, halved.cell_flags, "case {case}");
+            assert_eq!(direct.used, halved.used, "case {case}");
+            assert_eq!(direct.d_range, halved.d_range, "case {case}");
+            assert_eq!(direct.spacing, halved.spacing, "case {case}");
+            assert_eq!(zero_after.displacements, zero.displacements, "case {case}");
+            assert_eq!(zero_after.cell_flags, zero.cell_flags, "case {case}");
+            compared += 1;
+        }
+        assert!(compared > 100, "{compared}");
     }
 }
