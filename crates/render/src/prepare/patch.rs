@@ -13,7 +13,7 @@
 //! Cost: O(nodes) time; about 1.4× the patch's node memory, plus 16 bytes
 //! per node of every level drawn so far for the normals (32 with colours).
 
-use std::sync::{Mutex, OnceLock, PoisonError};
+use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
 use glam::{DMat3, DVec3, Vec4};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
@@ -83,16 +83,25 @@ struct BaseNodes(Mutex<Nodes>);
 type Nodes = (Vec<u16>, Option<Vec<[u8; 4]>>);
 
 impl BaseNodes {
+    /// Holds `nodes` until level 0 takes them.
+    fn new(nodes: Nodes) -> Self {
+        Self(Mutex::new(nodes))
+    }
+
+    /// The nodes, locked (a panic elsewhere leaves them as they were).
+    fn lock(&self) -> MutexGuard<'_, Nodes> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
     /// The nodes, leaving none.
     fn take(&self) -> Nodes {
-        std::mem::take(&mut *self.0.lock().unwrap_or_else(PoisonError::into_inner))
+        std::mem::take(&mut *self.lock())
     }
 }
 
 impl Clone for BaseNodes {
     fn clone(&self) -> Self {
-        let nodes = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        Self(Mutex::new(nodes.clone()))
+        Self::new(self.lock().clone())
     }
 }
 
@@ -302,10 +311,10 @@ impl PreparedPatch {
     /// drawable cell.
     pub(crate) fn new(patch: &Patch, offset: DVec3, isa: Isa) -> Option<Self> {
         let mut prepared = Self::without_nodes(patch, offset, isa)?;
-        prepared.nodes = BaseNodes(Mutex::new((
+        prepared.nodes = BaseNodes::new((
             patch.displacements().to_vec(),
             patch.colours().map(<[_]>::to_vec),
-        )));
+        ));
         Some(prepared)
     }
 
@@ -314,7 +323,7 @@ impl PreparedPatch {
     /// patches, 212 page faults of a one-image render.
     pub(crate) fn from_owned(patch: Patch, offset: DVec3, isa: Isa) -> Option<Self> {
         let mut prepared = Self::without_nodes(&patch, offset, isa)?;
-        prepared.nodes = BaseNodes(Mutex::new(patch.into_nodes()));
+        prepared.nodes = BaseNodes::new(patch.into_nodes());
         Some(prepared)
     }
 
@@ -400,7 +409,7 @@ impl PreparedPatch {
     /// and box were built only to be halved: 1,800 level-0 builds of a
     /// one-image bunny render.
     fn level_one_from_nodes(&self) -> Option<MipLevel> {
-        let nodes = self.nodes.0.lock().unwrap_or_else(PoisonError::into_inner);
+        let nodes = self.nodes.lock();
         let (displacements, colours) = &*nodes;
         if displacements.is_empty() {
             return None;
@@ -556,10 +565,9 @@ impl PreparedPatch {
     /// exactly the area level 0 draws.
     pub(crate) fn exact_level(&self, g: usize) -> bool {
         let step = 1 << g;
-        let draws_every_cell = self.levels[0]
-            .level
-            .get()
-            .map_or(self.full_grid, |l0| l0.draws_every_cell());
+        let draws_every_cell = self
+            .built_base()
+            .map_or(self.full_grid, MipLevel::draws_every_cell);
         draws_every_cell
             && (self.grid[0] - 1).is_multiple_of(step)
             && (self.grid[1] - 1).is_multiple_of(step)
@@ -571,10 +579,12 @@ impl PreparedPatch {
     /// level 0 for it was most of the level-0 builds of a one-image render
     /// that draws the patch at a coarser level.
     pub(crate) fn base_d_range(&self) -> (u16, u16) {
-        self.levels[0]
-            .level
-            .get()
-            .map_or(self.d_range, |l0| l0.d_range)
+        self.built_base().map_or(self.d_range, |l0| l0.d_range)
+    }
+
+    /// Level 0 if a frame (or trimming) has built it.
+    fn built_base(&self) -> Option<&MipLevel> {
+        self.levels[0].level.get().map(|l0| &**l0)
     }
 
     /// True when the patch has per-node colours (every level then has).
