@@ -2,13 +2,15 @@
 //! triangles, clipped against the near plane and projected
 //! ([`crate::raster::triangle_raster`]). The path of `--mode triangles`, of
 //! single cells crossing the near plane after splitting, and of pieces
-//! whose cells are too large to subdivide.
+//! whose cells are too large to subdivide (of those, only the cells their
+//! measurement draws: not the ones facing away).
 //!
 //! Cost: one attribute evaluation per used node, one clip and projection
 //! per triangle.
 
 use glam::Vec3;
 
+use crate::grid::CELL_DRAW;
 use crate::lighting::pack_colour;
 use crate::options::Shading;
 use crate::plan::attributes::{node_attributes, node_normal};
@@ -20,12 +22,17 @@ use crate::prepare::normal_buffer::NormalBuffer;
 use crate::raster::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
 
 /// Emits every drawable cell of `range` (level `m`) as two triangles,
-/// clipped against the near plane. Returns the triangles emitted.
+/// clipped against the near plane. With `measured`, the index in
+/// `work.cell_flags` of the range's measured flags
+/// ([`crate::plan::measure::measure_cells`]), only the cells they draw:
+/// cells facing away are left out as the sub-node path leaves them out.
+/// Returns the triangles emitted.
 pub(crate) fn emit_cell_triangles(
     work: &mut ChunkWork,
     ctx: &PatchContext<'_>,
     m: usize,
     range: NodeRange,
+    measured: Option<usize>,
 ) -> u64 {
     let (setup, t0, index) = (ctx.setup, ctx.t0, ctx.index);
     let level = ctx.patch.level(m);
@@ -70,7 +77,11 @@ pub(crate) fn emit_cell_triangles(
     let mut emitted = 0;
     for cj in 0..rows - 1 {
         for ci in 0..cols - 1 {
-            if !level.cell_is_drawable(range.i0 + ci, range.j0 + cj) {
+            let drawn = match measured {
+                Some(first) => work.cell_flags[first + cj * (cols - 1) + ci] & CELL_DRAW != 0,
+                None => level.cell_is_drawable(range.i0 + ci, range.j0 + cj),
+            };
+            if !drawn {
                 continue;
             }
             let k = cj * cols + ci;

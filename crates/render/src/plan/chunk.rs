@@ -111,7 +111,7 @@ pub(crate) fn plan_chunk(
                     i1: i + 1,
                     j1: j + 1,
                 };
-                let emitted = emit_cell_triangles(work, &ctx, 0, range);
+                let emitted = emit_cell_triangles(work, &ctx, 0, range, None);
                 work.counters.clipped_cells += (emitted > 0) as u64;
             }
             work.split.cells = cells;

@@ -74,7 +74,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         z_offset: setup.z_offset,
     };
     if opts.mode == RenderMode::Triangles {
-        emit_cell_triangles(work, ctx, 0, piece);
+        emit_cell_triangles(work, ctx, 0, piece, None);
         work.counters.setup_ns += work.clock.lap();
         work.counters.mip[0] += 1;
         return;
@@ -203,16 +203,20 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     }
     let Some((nu, nv)) = split else {
         work.nodes.truncate(first);
-        work.cell_flags.truncate(flags);
         work.row_spans.truncate(spans);
         work.counters.traverse_ns += work.clock.lap();
         if lifted < m {
+            work.cell_flags.truncate(flags);
             work.counters.mip[m] -= 1;
             work.counters.cells_backface -= measure.backfacing_cells;
             return replan_unlifted(work, ctx, piece);
         }
         work.counters.oversized_pieces += 1;
-        emit_cell_triangles(work, ctx, m, range);
+        // The measured flags choose the cells: those facing away are left
+        // out. Why: fandisk's 51 oversized pieces drew 2,954 such cells
+        // beside 3,858 facing the eye (43 % of their triangles).
+        emit_cell_triangles(work, ctx, m, range, Some(flags));
+        work.cell_flags.truncate(flags);
         work.counters.setup_ns += work.clock.lap();
         return;
     };

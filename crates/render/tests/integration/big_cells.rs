@@ -262,3 +262,48 @@ fn where_magnified_cells_fold_away_their_outline_is_the_triangle_paths() {
     // 17 here; 125 when the sub-nodes were not clipped.
     assert!(off < 30, "{off} pixels differ along a ridge of about 220");
 }
+
+/// A 4 × 1-cell strip folded into a ridge: displacements 0, 0, 255, 0, 0
+/// along x (the ridge 2.55 high, cells 0.25 wide), so that from an eye
+/// past one end some cells face away and the others face it.
+fn folded_strip() -> Scene {
+    let frame = Frame::new(Vec3::ZERO, Vec3::X * 0.25, Vec3::Y, Vec3::Z * 0.01).expect("frame");
+    let heights = [0, 0, 255, 0, 0].repeat(2);
+    let patch =
+        Patch::new(frame, GridSize::new(5, 2).expect("grid"), heights, None).expect("patch");
+    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).expect("scene")
+}
+
+#[test]
+fn cells_too_large_to_subdivide_facing_away_are_culled() {
+    // Seen from above and past the strip's end, the ridge's far slope faces
+    // away. Its cells are far too large to subdivide (the triangle path),
+    // and with back-face culling the triangle path leaves out those facing
+    // away as the sub-node path does: fewer triangles, and no pixel that a
+    // cell facing the eye draws is lost.
+    let camera = Camera::look_at(
+        DVec3::new(-2.5, 0.5, 4.0),
+        DVec3::new(0.5, 0.5, 1.0),
+        DVec3::Z,
+        40.0,
+        300,
+        300,
+    )
+    .expect("camera");
+    let prepared = PreparedScene::new(&folded_strip());
+    let draw = |culling: Culling| {
+        let mut o = unlit();
+        o.culling = culling;
+        Renderer::new(o)
+            .expect("renderer")
+            .render(&prepared, &camera)
+            .expect("frame")
+    };
+    let (culled, all) = (draw(Culling::Back), draw(Culling::None));
+    assert_eq!(culled.stats.oversized_pieces, 1, "{:?}", culled.stats);
+    assert_eq!(all.stats.triangles, 8, "{:?}", all.stats);
+    let away = culled.stats.cells_culled_backface;
+    assert!(away > 0, "{:?}", culled.stats);
+    assert_eq!(culled.stats.triangles, 8 - 2 * away);
+    assert!(culled.image.covered_count() > 0);
+}
