@@ -1,0 +1,35 @@
+#!/bin/sh
+# The llvmpipe comparison (bench/llvmpipe_compare.py) over several meshes
+# and image sizes: each PLY mesh is converted with `spatch convert`'s
+# defaults into a temporary folder, then timed against llvmpipe drawing it,
+# one line per mesh and size (the script's summary line).
+#
+# Usage: bench/llvmpipe_table.sh SPATCH "SIZES" MESH.ply [MESH.ply ...]
+# Example (the bunny at the four resolutions of the Stanford archive):
+#   R=../shared/data/bunny/reconstruction
+#   bench/llvmpipe_table.sh target/release/spatch "500 1000" \
+#       $R/bun_zipper.ply $R/bun_zipper_res2.ply $R/bun_zipper_res3.ply $R/bun_zipper_res4.ply
+# Needs the Python of bench/llvmpipe_compare.py's setup (PYTHON, default
+# /tmp/venv/bin/python, with moderngl and numpy) and Mesa's llvmpipe;
+# ROUNDS and FRAMES (default 5 and 30) set each comparison's length.
+set -eu
+if [ $# -lt 3 ]; then
+    sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'
+    exit 2
+fi
+spatch=$1
+sizes=$2
+shift 2
+python=${PYTHON:-/tmp/venv/bin/python}
+here=$(dirname "$0")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+for mesh in "$@"; do
+    scene="$work/$(basename "$mesh" .ply).spatch"
+    "$spatch" convert "$mesh" -o "$scene" --no-error -q
+    for size in $sizes; do
+        LP_NUM_THREADS=2 "$python" "$here/llvmpipe_compare.py" --spatch "$spatch" \
+            --mesh "$mesh" --scene "$scene" --size "$size" \
+            --rounds "${ROUNDS:-5}" --frames "${FRAMES:-30}" | tail -n 1
+    done
+done
