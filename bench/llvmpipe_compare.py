@@ -3,7 +3,7 @@
 
 The comparison of ../shared/MEASURES.md ("Frame time against a peer
 renderer"): llvmpipe (headless EGL through moderngl, LP_NUM_THREADS=2) draws
-every triangle of the source mesh with smooth vertex normals, per-pixel
+every triangle of the source mesh (PLY or OBJ) with smooth vertex normals, per-pixel
 Blinn-Phong, depth test and no culling; frame = draw + finish. spatch renders
 the converted scene with `spatch render SCENE --bench N --threads 2 --json`.
 Both use the camera of MEASURES.md (bounding-box centre c, half diagonal R,
@@ -111,6 +111,35 @@ def read_ply(path):
     else:
         sys.exit(f"{path}: unsupported PLY format {fmt}")
     return verts, np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
+
+
+def read_obj(path):
+    """Vertices (n, 3) float32 and triangles (m, 3) uint32 of a Wavefront
+    OBJ file: `v` and `f` lines (corners `i`, `i/t`, `i//n` or `i/t/n`,
+    negative indices counted from the end; polygons fanned into
+    triangles); everything else is skipped."""
+    verts, faces = [], []
+    with open(path, "r", encoding="utf-8", errors="replace") as f:
+        for line in f:
+            words = line.split()
+            if not words:
+                continue
+            if words[0] == "v":
+                verts.append([float(x) for x in words[1:4]])
+            elif words[0] == "f":
+                idx = []
+                for corner in words[1:]:
+                    k = int(corner.split("/")[0])
+                    idx.append(k - 1 if k > 0 else len(verts) + k)
+                faces.extend([idx[0], idx[i], idx[i + 1]] for i in range(1, len(idx) - 1))
+    return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
+
+
+def read_mesh(path):
+    """The mesh of a PLY or OBJ file, by its extension."""
+    if path.lower().endswith(".obj"):
+        return read_obj(path)
+    return read_ply(path)
 
 
 def vertex_normals(v, f):
@@ -254,7 +283,7 @@ def main():
     args = p.parse_args(argv)
     if os.environ.get("LP_NUM_THREADS") != "2":
         print("note: LP_NUM_THREADS is not 2", file=sys.stderr)
-    v, f = read_ply(args.mesh)
+    v, f = read_mesh(args.mesh)
     camera = measures_camera(v)
     peer = Peer(v, f, args.size, camera, args.fov)
     ratios = []

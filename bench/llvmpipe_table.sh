@@ -1,10 +1,10 @@
 #!/bin/sh
 # The llvmpipe comparison (bench/llvmpipe_compare.py) over several meshes
-# and image sizes: each PLY mesh is converted with `spatch convert`'s
+# and image sizes: each mesh (PLY or OBJ) is converted with `spatch convert`'s
 # defaults into a temporary folder, then timed against llvmpipe drawing it,
 # one line per mesh and size (the script's summary line).
 #
-# Usage: bench/llvmpipe_table.sh SPATCH "SIZES" MESH.ply [MESH.ply ...]
+# Usage: bench/llvmpipe_table.sh SPATCH "SIZES" MESH [MESH ...]
 # Example (the bunny at the four resolutions of the Stanford archive):
 #   R=../shared/data/bunny/reconstruction
 #   bench/llvmpipe_table.sh target/release/spatch "500 1000" \
@@ -25,7 +25,8 @@ here=$(dirname "$0")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for mesh in "$@"; do
-    scene="$work/$(basename "$mesh" .ply).spatch"
+    name=$(basename "$mesh")
+    scene="$work/${name%.*}.spatch"
     "$spatch" convert "$mesh" -o "$scene" --no-error -q
     for size in $sizes; do
         LP_NUM_THREADS=2 "$python" "$here/llvmpipe_compare.py" --spatch "$spatch" \
