@@ -279,8 +279,8 @@ fn cells_too_large_to_subdivide_facing_away_are_culled() {
     // Seen from above and past the strip's end, the ridge's far slope faces
     // away. Its cells are far too large to subdivide (the triangle path),
     // and with back-face culling the triangle path leaves out those facing
-    // away as the sub-node path does: fewer triangles, and no pixel that a
-    // cell facing the eye draws is lost.
+    // away as the sub-node path does: two triangles per cell facing the
+    // eye, none for the others, and the near slope still drawn.
     let camera = Camera::look_at(
         DVec3::new(-2.5, 0.5, 4.0),
         DVec3::new(0.5, 0.5, 1.0),
