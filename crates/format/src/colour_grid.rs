@@ -152,8 +152,9 @@ impl ColourGrid {
 
     /// The albedo (RGB in 0..=255) at patch grid position `(x, y)`: the samples around
     /// `(x·factor, y·factor)` interpolated bilinearly. Positions outside the grid are clamped
-    /// to it.
-    #[inline]
+    /// to it. Always inlined: a renderer calls it per pixel from code
+    /// compiled for the CPU at hand.
+    #[inline(always)]
     pub fn albedo_at(&self, x: f32, y: f32) -> [f32; 3] {
         let f = f32::from(self.factor);
         let last = [(self.cols - 1) as f32, (self.rows - 1) as f32];

@@ -40,6 +40,8 @@ use crate::raster::cell_exact::draw_exact_cell;
 /// without an open side as [`crate::raster::cell_bilinear`] does, the
 /// others clipped at their open sides, and cells flagged
 /// [`CELL_EXACT`] by pixel-centre coverage ([`crate::raster::cell_exact`]).
+/// Inlined so that it runs with the band's instruction set ([`crate::isa`]).
+#[inline(always)]
 pub(crate) fn draw_cells_open(
     t: &mut BandTarget<'_>,
     piece: &BilinearPiece<'_>,

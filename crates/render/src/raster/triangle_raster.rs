@@ -181,7 +181,10 @@ fn edge_x(p: &[f32; 3], q: &[f32; 3], y: f32) -> f32 {
     }
 }
 
-/// Fills a projected triangle into the band.
+/// Fills a projected triangle into the band. Inlined so that it runs with
+/// the band's instruction set ([`crate::isa`]): out of line, each row's
+/// `ceil` was a library call.
+#[inline(always)]
 pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
     t: &mut BandTarget<'_>,
     tri: &ScreenTriangle,

@@ -34,8 +34,9 @@ pub(crate) struct GridPlace<'a> {
 
 impl GridPlace<'_> {
     /// The albedo (RGB in 0..=255) of sample `sub` (cell and sub-node bits
-    /// as a patch sample carries them).
-    #[inline]
+    /// as a patch sample carries them). Inlined so that it runs with the
+    /// resolve's instruction set ([`crate::isa`]).
+    #[inline(always)]
     pub(crate) fn albedo(&self, sub: u32) -> Vec3 {
         let (ci, cj) = ((sub >> 24) as f32, ((sub >> 16) & 0xff) as f32);
         let (a, b) = (((sub >> 8) & 0xff) as f32, (sub & 0xff) as f32);

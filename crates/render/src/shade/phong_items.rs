@@ -209,16 +209,16 @@ impl<'a> PhongItem<'a> {
 
     /// The normal and albedo (from `colours`, the item's) interpolated at
     /// sample `sub`: the same operations in the same order as
-    /// `phong_reference`.
+    /// `phong_reference`. `SHIFTED` false: no item of the frame has a shift.
     #[inline(always)]
-    pub(crate) fn interpolate(
+    pub(crate) fn interpolate<const SHIFTED: bool>(
         &self,
         sub: u32,
         colours: &[[u8; 4]],
         weights: &[[Vec4; 4]],
         offsets: &[u32],
     ) -> Lane {
-        let (k, w) = self.corner(sub, weights, offsets, true);
+        let (k, w) = self.corner(sub, weights, offsets, SHIFTED);
         let cols = self.cols as usize;
         let mut lane = Lane {
             normal_red: bilinear(self.normals, k, cols, w, |n| n),

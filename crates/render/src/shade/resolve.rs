@@ -30,7 +30,7 @@ use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::shade::colour_grid::{corner_albedo, grid_place, relight};
 #[cfg(test)]
 use crate::shade::phong_items::sub_node_place;
-use crate::shade::phong_items::{sub_node_weights, Lane, PhongItems, BASE_ALBEDO};
+use crate::shade::phong_items::{sub_node_weights, Lane, PhongItem, PhongItems, BASE_ALBEDO};
 
 /// How the resolve pass turns payloads into colours.
 #[derive(Debug, Clone, Copy)]
@@ -212,6 +212,11 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
             *rgba = words.map(u32::to_le_bytes);
             return;
         }
+        let own = it[0].frame | it[1].frame | it[2].frame | it[3].frame;
+        if own & BASE_ALBEDO == 0 && r.phong.grids.is_empty() {
+            let ids = [id(0), id(1), id(2), id(3)];
+            return resolve_coloured_group::<SQUARINGS, SHIFTED>(r, s, it, ids, rgba, eye);
+        }
     }
     let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
     if near >= Z_FAR {
@@ -220,6 +225,61 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
         return;
     }
     resolve_general_group(r, s, rgba, eye);
+}
+
+/// [`resolve_group`] for four covered patch samples whose items all have
+/// their own albedos and no colour grid (a coloured scan's groups): the
+/// general path's values without its per-lane choices. Why: the mannequin's
+/// groups took [`resolve_general_group`], whose empty-lane picks, grid
+/// lookups and per-lane albedo choices cost about as much as the shading.
+#[inline(always)]
+fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    it: [&PhongItem<'_>; 4],
+    ids: [usize; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    let depth = Vec4::new(
+        s[0].depth as f32,
+        s[1].depth as f32,
+        s[2].depth as f32,
+        s[3].depth as f32,
+    );
+    *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+    let (weights, offsets, colours) =
+        (&r.phong.weights[..], &r.phong.offsets[..], &r.phong.colours);
+    // Why spelled out: a closure per lane became an out-of-line call,
+    // compiled without the band's instruction set (`crate::isa`).
+    let g = [
+        it[0].interpolate::<SHIFTED>(s[0].w0, colours[ids[0]], weights, offsets),
+        it[1].interpolate::<SHIFTED>(s[1].w0, colours[ids[1]], weights, offsets),
+        it[2].interpolate::<SHIFTED>(s[2].w0, colours[ids[2]], weights, offsets),
+        it[3].interpolate::<SHIFTED>(s[3].w0, colours[ids[3]], weights, offsets),
+    ];
+    let normals = [
+        g[0].normal_red,
+        g[1].normal_red,
+        g[2].normal_red,
+        g[3].normal_red,
+    ];
+    let frames = g.map(|l| l.frame as usize);
+    let green = Vec4::new(
+        g[0].green_blue.x,
+        g[1].green_blue.x,
+        g[2].green_blue.x,
+        g[3].green_blue.x,
+    );
+    let blue = Vec4::new(
+        g[0].green_blue.y,
+        g[1].green_blue.y,
+        g[2].green_blue.y,
+        g[3].green_blue.y,
+    );
+    let words = shade_normals::<SQUARINGS>(r, normals, frames, |red| [red, green, blue]);
+    *rgba = words.map(u32::to_le_bytes);
 }
 
 /// [`resolve_group`] for any group with a covered pixel: lanes with their
@@ -253,7 +313,7 @@ fn resolve_general_group(
         g[3].normal_red,
     ];
     let frames = [frame(0), frame(1), frame(2), frame(3)];
-    let words = shade_normals(r, normals, frames, |red| own_albedo(r, &g, red));
+    let words = shade_normals::<ANY_POWER>(r, normals, frames, |red| own_albedo(r, &g, red));
     for k in 0..4 {
         (rgba[k], eye[k]) = if is(k) {
             (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
@@ -269,7 +329,7 @@ fn resolve_general_group(
 fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     if s.w2 & PATCH_SAMPLE != 0 {
         let i = (s.w2 & !PATCH_SAMPLE) as usize;
-        let mut lane = t.items[i].interpolate(s.w0, t.colours[i], &t.weights, &t.offsets);
+        let mut lane = t.items[i].interpolate::<true>(s.w0, t.colours[i], &t.weights, &t.offsets);
         if let Some(place) = t.grids.get(i).copied().flatten() {
             let a = place.albedo(s.w0);
             lane.normal_red.w = a.x;
@@ -291,7 +351,7 @@ fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
 /// four often share their shade frame, so only the normals need
 /// transposing (callgrind, `profile_sphere 500 1`).
 #[inline(always)]
-fn shade_normals(
+fn shade_normals<const SQUARINGS: u32>(
     r: &Resolve<'_>,
     normals: [Vec4; 4],
     f: [usize; 4],
@@ -310,7 +370,7 @@ fn shade_normals(
         };
         [rows(0), rows(1), rows(2)]
     };
-    shade_lanes::<ANY_POWER>(r, normals, vectors, albedo)
+    shade_lanes::<SQUARINGS>(r, normals, vectors, albedo)
 }
 
 /// Shades four pixels into RGBA8 words: their normals (`xyz`, not unit;
