@@ -142,10 +142,7 @@ impl RenderedImage {
     }
     /// Number of pixels showing a surface.
     pub fn covered_count(&self) -> usize {
-        // A sum of 32-bit flags from the exponent bits, which the compiler
-        // runs in vector lanes: a filtered count went pixel by pixel.
-        let finite = |d: &f32| u32::from(d.to_bits() & 0x7f80_0000 != 0x7f80_0000);
-        self.depth.iter().map(finite).sum::<u32>() as usize
+        finite_count(&self.depth)
     }
 
     /// PSNR (dB) of the RGB channels against `other` (same size), or `None`
@@ -203,6 +200,16 @@ impl RenderedImage {
             })?;
         Ok(out.into_inner())
     }
+}
+
+/// How many of the eye depths `depth` are finite (pixels showing a
+/// surface). Why a sum of 32-bit flags from the exponent bits: the
+/// compiler runs it in vector lanes, where a filtered count went pixel by
+/// pixel.
+#[inline(always)]
+pub(crate) fn finite_count(depth: &[f32]) -> usize {
+    let finite = |d: &f32| u32::from(d.to_bits() & 0x7f80_0000 != 0x7f80_0000);
+    depth.iter().map(finite).sum::<u32>() as usize
 }
 
 #[cfg(test)]

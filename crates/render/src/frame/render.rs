@@ -382,7 +382,12 @@ impl Renderer {
         stats.kernels = self.isa.name();
         stats.tiles = band_count;
         stats.bands = self.band_stats();
-        stats.covered_pixels = image.covered_count() as u64;
+        // With supersampling the image's pixels are not the bands'.
+        stats.covered_pixels = if options.ssaa == 1 {
+            self.bands.iter().map(|b| b.covered).sum()
+        } else {
+            image.covered_count() as u64
+        };
         stats.pieces_skipped_hidden = self.skips.iter().map(|s| s.skipped).sum();
         stats.options = Some(*options);
         Ok(RenderOutput { image, stats })
@@ -529,6 +534,9 @@ mod tests {
                     .expect("frame");
                 assert!(fresh.image.covered_count() > 500, "view {k}");
                 assert!(again.image == fresh.image, "view {k}, {shading:?}");
+                // The bands' counts, summed, are the image's.
+                let covered = again.image.covered_count() as u64;
+                assert_eq!(again.stats.covered_pixels, covered, "view {k}");
                 reused.recycle(again.image);
             }
         }

@@ -221,6 +221,8 @@ pub(crate) struct Band {
     pub(crate) width: i32,
     px: Vec<Sample>,
     pub(crate) times: BandTimes,
+    /// Pixels of the band's rows that show a surface after its resolve.
+    pub(crate) covered: u64,
     /// The pool thread that drew the band last (statistics only).
     pub(crate) thread: usize,
 }
