@@ -336,7 +336,7 @@ impl Renderer {
                 .lock()
                 .unwrap_or_else(PoisonError::into_inner);
             band.swap_samples(&mut samples);
-            band.reset(y0, rows, width);
+            band.size_for(y0, rows, width);
             band.thread = thread;
             isa.run(
                 #[inline(always)]

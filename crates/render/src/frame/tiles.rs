@@ -21,13 +21,14 @@ use crate::raster::band::{
     Band, BandTarget, FlatPayload, GouraudPayload, GridGouraudPayload, GridPhongPayload, Payload,
     PhongPayload, PATCH_SAMPLE,
 };
+use crate::raster::band_box::{band_box, PixelBox};
 use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
 use crate::raster::cell_centres::draw_cells_centres;
 use crate::raster::cell_edges::draw_cells_open;
 use crate::raster::cell_smooth::draw_cells_smooth;
 use crate::raster::splat::{draw_splats, SplatPiece};
 use crate::raster::triangle_raster::{draw_triangle, ScreenTriangle};
-use crate::shade::resolve::{resolve_band, Resolve};
+use crate::shade::resolve::{resolve_box, Resolve};
 
 /// Work per band in CSR form: `(chunk, index)` references.
 #[derive(Debug, Default)]
@@ -278,6 +279,23 @@ fn draw_unhidden_pieces(
     }
 }
 
+/// The pixel boxes (`[x0, x1, y0, y1]`, inclusive) of the draw items and
+/// triangles binned to band number `index`.
+#[inline(always)]
+fn work_boxes<'a>(job: &'a BandJob<'_>, index: usize) -> impl Iterator<Item = [i32; 4]> + 'a {
+    let items = job.bins.items_of(index).map(|&id| {
+        let (c, k) = job.bins.all_items[id as usize];
+        let item = &job.chunks[c as usize].items[k as usize];
+        [item.x0, item.x1, item.y0, item.y1]
+    });
+    let tris = job
+        .bins
+        .tris_of(index)
+        .iter()
+        .map(|&(c, k)| job.chunks[c as usize].triangles[k as usize].pixel_box());
+    items.chain(tris)
+}
+
 /// Draws band number `index` and resolves it into its rows of the image
 /// (`rgba`, `eye_depth`).
 #[inline(always)]
@@ -288,6 +306,16 @@ pub(crate) fn render_band(
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
+    // Only the part of the band its work can touch is cleared, drawn and
+    // resolved (`raster::band_box`). The occlusion skip reads whole tiles
+    // of the band, so it keeps the whole band.
+    let whole = PixelBox::whole(band.y0, band.rows, band.width);
+    let touched = if job.occlusion_skip {
+        whole
+    } else {
+        band_box(work_boxes(job, index), whole)
+    };
+    band.clear_box(touched);
     let start = Instant::now();
     if job.occlusion_skip {
         draw_unhidden_pieces(&mut band.target(), index, job, skip);
@@ -313,7 +341,15 @@ pub(crate) fn render_band(
         }
     }
     let tris_done = Instant::now();
-    resolve_band(&job.resolve, band.samples(), rgba, eye_depth);
+    let (samples, width) = (band.samples(), band.width);
+    resolve_box(
+        &job.resolve,
+        samples,
+        (width, whole.y0),
+        touched,
+        rgba,
+        eye_depth,
+    );
     // Why here: the rows are still in the cache, and the count runs on the
     // pool; over the whole image afterwards it was a serial pass (1000²:
     // four megabytes read again after the frame).

@@ -26,6 +26,7 @@ use spatch_format::ColourGrid;
 
 use crate::fixed::{ATTR_FRAC_BITS, ATTR_ONE, Z_FAR};
 use crate::lighting::pack_fixed_normal;
+use crate::raster::band_box::PixelBox;
 
 /// A band's buffers, borrowed for drawing.
 pub(crate) struct BandTarget<'a> {
@@ -248,6 +249,30 @@ impl Band {
             self.px.resize(n, Sample::EMPTY);
         }
         self.times = BandTimes::default();
+    }
+
+    /// Sizes the buffers for rows `y0..y0 + rows` of `width` without
+    /// clearing what they hold: the caller clears the part it draws in
+    /// ([`Self::clear_box`]) and reads nothing else.
+    pub(crate) fn size_for(&mut self, y0: i32, rows: i32, width: i32) {
+        let n = (rows * width) as usize;
+        (self.y0, self.rows, self.width) = (y0, rows, width);
+        self.px.resize(n, Sample::EMPTY);
+        self.times = BandTimes::default();
+    }
+
+    /// Clears the samples of the pixels of `b` (image rows and columns,
+    /// inside the band). Why `fill` per row: see [`Self::reset`].
+    pub(crate) fn clear_box(&mut self, b: PixelBox) {
+        let w = self.width as usize;
+        if b.x0 == 0 && b.x1 == self.width {
+            let rows = (b.y0 - self.y0) as usize..(b.y1 - self.y0) as usize;
+            return self.clear_rows(rows);
+        }
+        for y in b.y0..b.y1 {
+            let row = (y - self.y0) as usize * w;
+            self.px[row + b.x0 as usize..row + b.x1 as usize].fill(Sample::EMPTY);
+        }
     }
 
     /// Clears rows `rows` of the band (counted from its first row).

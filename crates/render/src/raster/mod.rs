@@ -6,6 +6,7 @@
 //! splats, the scan-line triangle rasterizer.
 
 pub(crate) mod band;
+pub(crate) mod band_box;
 pub(crate) mod cell_bilinear;
 #[cfg(test)]
 mod cell_bilinear_tests;

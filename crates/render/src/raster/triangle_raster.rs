@@ -57,6 +57,18 @@ pub(crate) struct ScreenTriangle {
     pub(crate) y1: i32,
 }
 
+impl ScreenTriangle {
+    /// The pixels its corners lie in, `[x0, x1, y0, y1]` inclusive (x by
+    /// saturating conversions: a clipped triangle's corners may lie far
+    /// off screen; y the rows it spans).
+    pub(crate) fn pixel_box(&self) -> [i32; 4] {
+        let xs = self.v.map(|v| v[0]);
+        let lo = xs[0].min(xs[1]).min(xs[2]).floor() as i32;
+        let hi = xs[0].max(xs[1]).max(xs[2]).ceil() as i32;
+        [lo, hi, self.y0, self.y1]
+    }
+}
+
 /// What clipping did to a triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum ClipOutcome {

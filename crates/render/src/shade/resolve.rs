@@ -27,6 +27,7 @@ use crate::plan::work::{ChunkWork, Item};
 use crate::prepare::patch::albedo_lanes;
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
+use crate::raster::band_box::PixelBox;
 use crate::shade::colour_grid::{corner_albedo, grid_place, relight};
 #[cfg(test)]
 use crate::shade::phong_items::sub_node_place;
@@ -51,6 +52,58 @@ pub(crate) struct Resolve<'a> {
     pub(crate) background: [u8; 4],
     pub(crate) near: f32,
     pub(crate) far: f32,
+}
+
+/// [`resolve_band`] for the pixels of `touched` only, the rest of the
+/// band (`width` wide, from image row `y0`) taking the background without
+/// reading its samples, which are not cleared (see
+/// [`crate::raster::band_box`]). Each pixel's colour and depth are those
+/// [`resolve_band`] gives it over the whole band: it shades each pixel
+/// alone, four lanes at a time.
+#[inline(always)]
+pub(crate) fn resolve_box(
+    r: &Resolve<'_>,
+    px: &[Sample],
+    (width, y0): (i32, i32),
+    touched: PixelBox,
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    let w = width as usize;
+    if touched.x0 == 0 && touched.x1 == width {
+        // Whole rows: one pass over them (no group padded per row).
+        let (a, b) = (
+            (touched.y0 - y0) as usize * w,
+            (touched.y1 - y0).max(0) as usize * w,
+        );
+        let b = b.max(a);
+        resolve_band(r, &px[a..b], &mut rgba[a..b], &mut eye_depth[a..b]);
+        for part in [0..a, b..rgba.len()] {
+            rgba[part.clone()].fill(r.background);
+            eye_depth[part].fill(f32::INFINITY);
+        }
+        return;
+    }
+    let rows = rgba.chunks_exact_mut(w).zip(eye_depth.chunks_exact_mut(w));
+    for (k, (rgba, eye)) in rows.enumerate() {
+        let y = y0 + k as i32;
+        let (x0, x1) = if (touched.y0..touched.y1).contains(&y) {
+            (touched.x0 as usize, touched.x1 as usize)
+        } else {
+            (0, 0)
+        };
+        let at = k * w;
+        resolve_band(
+            r,
+            &px[at + x0..at + x1],
+            &mut rgba[x0..x1],
+            &mut eye[x0..x1],
+        );
+        for part in [0..x0, x1.max(x0)..w] {
+            rgba[part.clone()].fill(r.background);
+            eye[part].fill(f32::INFINITY);
+        }
+    }
 }
 
 /// Shades every pixel `px` of a band into its rows of the image: colour
