@@ -318,7 +318,12 @@ fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
         g[2].normal_red,
         g[3].normal_red,
     ];
-    let frames = g.map(|l| l.frame as usize);
+    let frames = [
+        g[0].frame as usize,
+        g[1].frame as usize,
+        g[2].frame as usize,
+        g[3].frame as usize,
+    ];
     let green = Vec4::new(
         g[0].green_blue.x,
         g[1].green_blue.x,

@@ -1,5 +1,6 @@
 //! The grouped Phong resolve pass against shading each pixel alone, on
-//! bands of random pixels of every kind (see [`check_phong_resolve`]).
+//! bands of random pixels of every kind (see [`check_phong_resolve`]),
+//! and the resolve of a band's box against the whole band's.
 
 use glam::Vec3;
 
@@ -8,8 +9,9 @@ use crate::lighting::{unpack_normal, unpack_rgb, Material, ShadeFrame};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 use crate::raster::band::{Sample, PATCH_SAMPLE};
+use crate::raster::band_box::PixelBox;
 use crate::shade::phong_items::PhongItems;
-use crate::shade::resolve::{phong_reference, resolve_band, to_rgba8, Resolve};
+use crate::shade::resolve::{phong_reference, resolve_band, resolve_box, to_rgba8, Resolve};
 use crate::test_rng::XorShift;
 
 /// Two 9 × 9 patches with colours, bumpy, with a few empty nodes.
@@ -56,6 +58,9 @@ enum Mix {
     /// path does not look at the items' albedos), patch samples of
     /// both shade frames and a few triangle samples.
     NoColours,
+    /// Nearly all patch samples of items with colours, of both shade
+    /// frames (the coloured path of [`resolve_group`]).
+    Coloured,
 }
 
 #[test]
@@ -67,6 +72,8 @@ fn phong_resolve_matches_scalar_shading_per_pixel() {
     check_phong_resolve(Mix::Uncoloured, 63, 7);
     check_phong_resolve(Mix::NoColours, 64, 32);
     check_phong_resolve(Mix::NoColours, 65, 7);
+    check_phong_resolve(Mix::Coloured, 64, 32);
+    check_phong_resolve(Mix::Coloured, 66, 7);
 }
 
 /// Resolves a band of `width × 6` random pixels of `mix`, lit with
@@ -150,7 +157,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
     for px in band.iter_mut() {
         let choice = match mix {
             Mix::Everything => rng.below(10),
-            Mix::Uncoloured => {
+            Mix::Uncoloured | Mix::Coloured => {
                 [0, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9, 9][rng.below(16) as usize]
             }
             Mix::NoColours => {
@@ -185,6 +192,8 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             Mix::Uncoloured => 5,
             Mix::NoColours if rng.below(3) == 0 => rng.below(8),
             Mix::NoColours => 2,
+            Mix::Coloured if rng.below(3) == 0 => rng.below(4),
+            Mix::Coloured => 1,
         };
         let item = &chunks[0].items[id as usize];
         let ci = rng.below(item.cols as u32 - 1);
@@ -202,6 +211,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
     for (k, (got, want)) in rgba.iter().zip(&expected).enumerate() {
         assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
     }
+    check_box_resolve(&r, &band, width, (&rgba, &eye));
     let covered = samples.iter().filter(|s| s.depth < Z_FAR).count();
     assert!(covered > 300, "{covered}");
     if let Mix::Everything = mix {
@@ -239,5 +249,70 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             fast(false),
             fast(true)
         );
+    }
+    // How many groups took the coloured path: four covered patch samples
+    // of items with colours, of one shade frame or of several.
+    let coloured = |mixed: bool| {
+        samples
+            .chunks_exact(4)
+            .filter(|g| {
+                let item = |s: &Sample| &chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize];
+                let own = |s: &Sample| {
+                    s.depth < Z_FAR && s.w2 & PATCH_SAMPLE != 0 && !item(s).uniform_albedo
+                };
+                g.iter().all(own) && g.iter().any(|s| item(s).frame != item(&g[0]).frame) == mixed
+            })
+            .count()
+    };
+    if let Mix::Coloured = mix {
+        assert!(
+            coloured(false) > 10 && coloured(true) > 10,
+            "{} {}",
+            coloured(false),
+            coloured(true)
+        );
+    }
+}
+
+/// `resolve_box` on `band` (`width` wide, from image row 0) with a box
+/// inside it and samples that would panic if read outside the box: the
+/// box's pixels are `resolve_band`'s (`whole`), the others background.
+fn check_box_resolve(r: &Resolve<'_>, band: &[Sample], width: i32, whole: (&[[u8; 4]], &[f32])) {
+    let rows = band.len() as i32 / width;
+    let touched = PixelBox {
+        x0: 3,
+        x1: width - 5,
+        y0: 1,
+        y1: rows - 1,
+    };
+    let inside = |k: usize| {
+        let (x, y) = (k as i32 % width, k as i32 / width);
+        (touched.x0..touched.x1).contains(&x) && (touched.y0..touched.y1).contains(&y)
+    };
+    let junk = Sample {
+        depth: 5,
+        w0: u32::MAX,
+        w1: u32::MAX,
+        w2: u32::MAX,
+    };
+    let px: Vec<Sample> = (0..band.len())
+        .map(|k| if inside(k) { band[k] } else { junk })
+        .collect();
+    let mut rgba = vec![[0u8; 4]; band.len()];
+    let mut eye = vec![0f32; band.len()];
+    resolve_box(r, &px, (width, 0), touched, &mut rgba, &mut eye);
+    for k in 0..band.len() {
+        if inside(k) {
+            assert_eq!(
+                (rgba[k], eye[k].to_bits()),
+                (whole.0[k], whole.1[k].to_bits())
+            );
+        } else {
+            assert_eq!(
+                (rgba[k], eye[k]),
+                (r.background, f32::INFINITY),
+                "pixel {k}"
+            );
+        }
     }
 }
