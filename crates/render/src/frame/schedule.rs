@@ -192,6 +192,8 @@ mod tests {
             grid: false,
             y0: 20,
             y1: 24,
+            x0: 0,
+            x1: 9,
         });
         let mut order = BandOrder::default();
         order.plan(std::slice::from_ref(&chunk), (2, 25), 10, 3);

@@ -288,11 +288,10 @@ fn work_boxes<'a>(job: &'a BandJob<'_>, index: usize) -> impl Iterator<Item = [i
         let item = &job.chunks[c as usize].items[k as usize];
         [item.x0, item.x1, item.y0, item.y1]
     });
-    let tris = job
-        .bins
-        .tris_of(index)
-        .iter()
-        .map(|&(c, k)| job.chunks[c as usize].triangles[k as usize].pixel_box());
+    let tris = job.bins.tris_of(index).iter().map(|&(c, k)| {
+        let tri = &job.chunks[c as usize].triangles[k as usize];
+        [tri.x0, tri.x1, tri.y0, tri.y1]
+    });
     items.chain(tris)
 }
 
@@ -341,19 +340,24 @@ pub(crate) fn render_band(
         }
     }
     let tris_done = Instant::now();
-    let (samples, width) = (band.samples(), band.width);
     resolve_box(
         &job.resolve,
-        samples,
-        (width, whole.y0),
+        band.samples(),
+        whole,
         touched,
         rgba,
         eye_depth,
     );
     // Why here: the rows are still in the cache, and the count runs on the
     // pool; over the whole image afterwards it was a serial pass (1000²:
-    // four megabytes read again after the frame).
-    band.covered = finite_count(eye_depth) as u64;
+    // four megabytes read again after the frame). Only the box can show
+    // a surface.
+    let w = band.width as usize;
+    let box_rows = (touched.y0 - whole.y0) as usize..(touched.y1 - whole.y0) as usize;
+    let (x0, x1) = (touched.x0 as usize, touched.x1 as usize);
+    band.covered = box_rows
+        .map(|k| finite_count(&eye_depth[k * w + x0..k * w + x1]) as u64)
+        .sum();
     band.times.cells = (cells_done - start).as_nanos() as u64;
     band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
     band.times.resolve = tris_done.elapsed().as_nanos() as u64;

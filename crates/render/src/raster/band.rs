@@ -238,17 +238,8 @@ impl Band {
     /// whole samples, a third of `resize`'s instructions (callgrind,
     /// `profile_sphere 500 1`).
     pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32) {
-        let n = (rows * width) as usize;
-        self.y0 = y0;
-        self.rows = rows;
-        self.width = width;
-        if self.px.len() == n {
-            self.px.fill(Sample::EMPTY);
-        } else {
-            self.px.clear();
-            self.px.resize(n, Sample::EMPTY);
-        }
-        self.times = BandTimes::default();
+        self.size_for(y0, rows, width);
+        self.px.fill(Sample::EMPTY);
     }
 
     /// Sizes the buffers for rows `y0..y0 + rows` of `width` without

@@ -11,8 +11,9 @@
 //!
 //! Exactness: an item's box holds the pixels of its used nodes (its
 //! footprints included: splats and smooth cells) and a triangle's the
-//! pixels of its corners; every sample lies within 2^-12 px of a convex
-//! combination of them, and an exact cell's sub-quads reach at most
+//! pixel centres between its corners (a span's ends may round a pixel
+//! past them); every sample lies within 2^-12 px of a convex
+//! combination of its item's nodes, and an exact cell's sub-quads reach at most
 //! `EXACT_MARGIN_PX` (0.15 px, `raster/cell_exact.rs`) further, both well
 //! inside [`MARGIN`]. So no sample falls outside the box, and the image is
 //! the same as with whole bands.
@@ -84,7 +85,7 @@ mod tests {
                 y1: 128
             }
         );
-        // Far off screen (a clipped triangle's corners): cut to the image.
+        // Far off screen: cut to the image.
         let wide = band_box([[i32::MIN, i32::MAX, i32::MIN, i32::MAX]], band);
         assert_eq!(wide, band);
         let none = band_box([], band);

@@ -55,18 +55,9 @@ pub(crate) struct ScreenTriangle {
     /// Pixel rows spanned (inclusive).
     pub(crate) y0: i32,
     pub(crate) y1: i32,
-}
-
-impl ScreenTriangle {
-    /// The pixels its corners lie in, `[x0, x1, y0, y1]` inclusive (x by
-    /// saturating conversions: a clipped triangle's corners may lie far
-    /// off screen; y the rows it spans).
-    pub(crate) fn pixel_box(&self) -> [i32; 4] {
-        let xs = self.v.map(|v| v[0]);
-        let lo = xs[0].min(xs[1]).min(xs[2]).floor() as i32;
-        let hi = xs[0].max(xs[1]).max(xs[2]).ceil() as i32;
-        [lo, hi, self.y0, self.y1]
-    }
+    /// Pixel columns spanned (inclusive), like the rows cut to the image.
+    pub(crate) x0: i32,
+    pub(crate) x1: i32,
 }
 
 /// What clipping did to a triangle.
@@ -178,6 +169,8 @@ fn project(
         grid: false,
         y0: r0.max(0.0) as i32,
         y1: r1.min(size.1 - 1.0) as i32,
+        x0: c0.max(0.0) as i32,
+        x1: c1.min(size.0 - 1.0) as i32,
     });
     true
 }

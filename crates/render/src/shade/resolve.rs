@@ -55,7 +55,7 @@ pub(crate) struct Resolve<'a> {
 }
 
 /// [`resolve_band`] for the pixels of `touched` only, the rest of the
-/// band (`width` wide, from image row `y0`) taking the background without
+/// band `whole` (its rows of the image) taking the background without
 /// reading its samples, which are not cleared (see
 /// [`crate::raster::band_box`]). Each pixel's colour and depth are those
 /// [`resolve_band`] gives it over the whole band: it shades each pixel
@@ -64,29 +64,29 @@ pub(crate) struct Resolve<'a> {
 pub(crate) fn resolve_box(
     r: &Resolve<'_>,
     px: &[Sample],
-    (width, y0): (i32, i32),
+    whole: PixelBox,
     touched: PixelBox,
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
-    let w = width as usize;
-    if touched.x0 == 0 && touched.x1 == width {
+    debug_assert!(touched.x0 <= touched.x1 && whole.y0 <= touched.y0 && touched.y0 <= touched.y1);
+    let w = whole.x1 as usize;
+    let background = |rgba: &mut [[u8; 4]], eye: &mut [f32]| {
+        rgba.fill(r.background);
+        eye.fill(f32::INFINITY);
+    };
+    if touched.x0 == whole.x0 && touched.x1 == whole.x1 {
         // Whole rows: one pass over them (no group padded per row).
-        let (a, b) = (
-            (touched.y0 - y0) as usize * w,
-            (touched.y1 - y0).max(0) as usize * w,
-        );
-        let b = b.max(a);
+        let a = (touched.y0 - whole.y0) as usize * w;
+        let b = (touched.y1 - whole.y0) as usize * w;
         resolve_band(r, &px[a..b], &mut rgba[a..b], &mut eye_depth[a..b]);
-        for part in [0..a, b..rgba.len()] {
-            rgba[part.clone()].fill(r.background);
-            eye_depth[part].fill(f32::INFINITY);
-        }
+        background(&mut rgba[..a], &mut eye_depth[..a]);
+        background(&mut rgba[b..], &mut eye_depth[b..]);
         return;
     }
     let rows = rgba.chunks_exact_mut(w).zip(eye_depth.chunks_exact_mut(w));
     for (k, (rgba, eye)) in rows.enumerate() {
-        let y = y0 + k as i32;
+        let y = whole.y0 + k as i32;
         let (x0, x1) = if (touched.y0..touched.y1).contains(&y) {
             (touched.x0 as usize, touched.x1 as usize)
         } else {
@@ -99,10 +99,8 @@ pub(crate) fn resolve_box(
             &mut rgba[x0..x1],
             &mut eye[x0..x1],
         );
-        for part in [0..x0, x1.max(x0)..w] {
-            rgba[part.clone()].fill(r.background);
-            eye[part].fill(f32::INFINITY);
-        }
+        background(&mut rgba[..x0], &mut eye[..x0]);
+        background(&mut rgba[x1..], &mut eye[x1..]);
     }
 }
 
@@ -236,16 +234,8 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
         let uncoloured =
             || it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0;
         if r.phong.uncoloured || uncoloured() {
-            let depth = [s[0].depth, s[1].depth, s[2].depth, s[3].depth];
             let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
-            let scale = (r.far - r.near) / Z_FAR as f32;
-            let depth = Vec4::new(
-                depth[0] as f32,
-                depth[1] as f32,
-                depth[2] as f32,
-                depth[3] as f32,
-            );
-            *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+            *eye = eye_depths(r, s);
             let (weights, offsets) = (&r.phong.weights[..], &r.phong.offsets[..]);
             let normal = |k: usize| it[k].normal::<SHIFTED>(sub[k], weights, offsets);
             let normals = [normal(0), normal(1), normal(2), normal(3)];
@@ -294,14 +284,7 @@ fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
     rgba: &mut [[u8; 4]; 4],
     eye: &mut [f32; 4],
 ) {
-    let scale = (r.far - r.near) / Z_FAR as f32;
-    let depth = Vec4::new(
-        s[0].depth as f32,
-        s[1].depth as f32,
-        s[2].depth as f32,
-        s[3].depth as f32,
-    );
-    *eye = (Vec4::splat(r.near) + depth * scale).to_array();
+    *eye = eye_depths(r, s);
     let (weights, offsets, colours) =
         (&r.phong.weights[..], &r.phong.offsets[..], &r.phong.colours);
     // Why spelled out: a closure per lane became an out-of-line call,
@@ -338,6 +321,20 @@ fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
     );
     let words = shade_normals::<SQUARINGS>(r, normals, frames, |red| [red, green, blue]);
     *rgba = words.map(u32::to_le_bytes);
+}
+
+/// The linear eye depths of four covered pixels, in lanes (the same
+/// operations per lane as one at a time).
+#[inline(always)]
+fn eye_depths(r: &Resolve<'_>, s: &[Sample; 4]) -> [f32; 4] {
+    let scale = (r.far - r.near) / Z_FAR as f32;
+    let depth = Vec4::new(
+        s[0].depth as f32,
+        s[1].depth as f32,
+        s[2].depth as f32,
+        s[3].depth as f32,
+    );
+    (Vec4::splat(r.near) + depth * scale).to_array()
 }
 
 /// [`resolve_group`] for any group with a covered pixel: lanes with their

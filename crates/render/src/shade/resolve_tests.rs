@@ -300,7 +300,8 @@ fn check_box_resolve(r: &Resolve<'_>, band: &[Sample], width: i32, whole: (&[[u8
         .collect();
     let mut rgba = vec![[0u8; 4]; band.len()];
     let mut eye = vec![0f32; band.len()];
-    resolve_box(r, &px, (width, 0), touched, &mut rgba, &mut eye);
+    let all_rows = PixelBox::whole(0, rows, width);
+    resolve_box(r, &px, all_rows, touched, &mut rgba, &mut eye);
     for k in 0..band.len() {
         if inside(k) {
             assert_eq!(
