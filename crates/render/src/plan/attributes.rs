@@ -3,7 +3,7 @@
 //! colour (flat: the cell's; Gouraud: the node's) or, for Phong, nothing
 //! but the normal-buffer lookups the nodes make (the resolve pass reads the
 //! prepared level's normals and albedos,
-//! [`crate::prepare::patch::LevelShading`]).
+//! [`crate::prepare::level_shading::LevelShading`]).
 //!
 //! Normals are reconstructed in patch space from displacement differences
 //! ([`crate::prepare::normals`]) through the chunk's normal buffer.
@@ -129,7 +129,7 @@ pub(crate) fn fill_attributes(
 
 /// The Phong attributes of a piece: none. The resolve pass reads the
 /// normals and albedos of the prepared level
-/// ([`crate::prepare::patch::LevelShading`]); this only counts the normal-buffer
+/// ([`crate::prepare::level_shading::LevelShading`]); this only counts the normal-buffer
 /// lookups the nodes make, when [`crate::RenderOptions::normal_counts`]
 /// asks (the statistics keep their meaning; a level drawn whole, whose
 /// non-empty nodes are its used nodes, is counted from its slot set,

@@ -2,12 +2,14 @@
 //! depend on the view. In use order (each uses only those above it): the
 //! eight-lane vectors of its kernels, normal reconstruction and the slots
 //! of node differences, the normal buffer, the mip pyramid, how far a
-//! level strays from the one below, the normal cone, the prepared patch,
+//! level strays from the one below, the normal cone, a level's shading
+//! inputs, the prepared patch,
 //! overlap trimming, the prepared scene.
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;
 pub(crate) mod corner_fill;
+pub(crate) mod level_shading;
 pub(crate) mod mip;
 pub(crate) mod normal_buffer;
 pub(crate) mod normals;

@@ -266,7 +266,7 @@ impl NormalBuffer {
     /// Counts a lookup of the normal at `slot` (not [`OUTSIDE_TABLE`]) in
     /// the table chosen by [`Self::select`] exactly as
     /// [`Self::normal_bits_at`] would, for a frame that reads its normals
-    /// from the prepared scene ([`crate::prepare::patch::LevelShading`]).
+    /// from the prepared scene ([`crate::prepare::level_shading::LevelShading`]).
     #[inline(always)]
     pub(crate) fn touch_at(&mut self, level: usize, slot: u16) {
         debug_assert!(slot != OUTSIDE_TABLE);

@@ -15,19 +15,17 @@
 
 use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
-use glam::{DMat3, DVec3, Vec4};
+use glam::{DMat3, DVec3};
 use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
-use crate::fixed::ATTR_ONE;
 use crate::grid::drawn_cells;
 use crate::isa::Isa;
 use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::corner_fill::FinerLevel;
+use crate::prepare::level_shading::{level_slot_set, LevelShading};
 use crate::prepare::mip::{coarse_level_count, halve, halve_level, level_zero, MipLevel};
-use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{grid_differences, unit_normals};
-use crate::prepare::wide::{Portable, Wide, LANES};
+use crate::prepare::normal_buffer::SlotSet;
 
 /// One patch ready to draw.
 #[derive(Debug, Clone)]
@@ -128,163 +126,6 @@ struct LazyLevel {
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
     slots: OnceLock<Box<SlotSet>>,
-}
-
-/// The shading inputs of one mip level's nodes, row-major like its grid.
-#[derive(Debug, Clone)]
-pub(crate) struct LevelShading {
-    /// Unit patch-space normal (`xyz`, `w` = 0) exactly as a projected node
-    /// would carry it ([`crate::fixed::attr_to_bits`] rounding), zero for
-    /// empty nodes.
-    pub(crate) normals: Vec<Vec4>,
-    /// Albedo (RGB bytes and a zero byte, [`albedo_lanes`] as floats) when
-    /// the level has colours, else empty. Why bytes: the resolve pass reads
-    /// four corners' albedos per pixel, and at four bytes rather than a
-    /// sixteen-byte vector a coloured scan's shading inputs take 20 bytes
-    /// per node instead of 32.
-    pub(crate) colours: Vec<[u8; 4]>,
-}
-
-impl LevelShading {
-    /// The inputs of a mip level with shading ratios `ratios` (at that
-    /// level), with the lanes of `w`. Why each node's normal computed from
-    /// its differences, eight nodes in lanes, rather than through a normal
-    /// buffer: a scan's patches nearly all have ratios of their own, so the
-    /// buffer's table was cleared for each and every distinct normal
-    /// computed anyway, behind a slot lookup per node (the Phong inputs
-    /// were 45.5 M of a one-frame bunny render's 226.5 M instructions;
-    /// callgrind, `spatch render bunny.spatch -o out.png --threads 1`). The
-    /// normals are the buffer's bit for bit (the same operations in the
-    /// same order).
-    /// With `slots` (a frame that counts its normal lookups), also sets
-    /// the level's slot set there from the same differences, unless it is
-    /// set already.
-    #[inline(always)]
-    fn new<W: Wide>(
-        w: W,
-        level: &MipLevel,
-        ratios: (f32, f32),
-        scratch: &mut NodeScratch,
-        slots: Option<&OnceLock<Box<SlotSet>>>,
-    ) -> Self {
-        let (cols, rows) = (level.cols, level.rows);
-        let d = &level.displacements;
-        let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
-        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
-        if let Some(cell) = slots.filter(|c| c.get().is_none()) {
-            // `set`, not `get_or_init`: a closure would be compiled without
-            // the lanes' instruction set.
-            let mut set = SlotSetBuilder::default();
-            set.add_used(&level.used, gi, gj);
-            let _ = cell.set(Box::new(set.finish()));
-        }
-        Self {
-            normals: rounded_unit_normals(w, scratch, d, ratios),
-            colours: level_colours(level),
-        }
-    }
-
-    /// [`Self::new`] with the lanes of `isa`.
-    fn with_isa(
-        isa: Isa,
-        level: &MipLevel,
-        ratios: (f32, f32),
-        slots: Option<&OnceLock<Box<SlotSet>>>,
-    ) -> Self {
-        // The scratch is borrowed outside the lanes' function: a closure
-        // inside it is compiled without its instruction set.
-        SCRATCH.with_borrow_mut(|scratch| match isa {
-            Isa::Base => Self::new(Portable, level, ratios, scratch, slots),
-            #[cfg(target_arch = "x86_64")]
-            Isa::V3(v3) => v3.vectorize(
-                #[inline(always)]
-                || Self::new(v3, level, ratios, scratch, slots),
-            ),
-        })
-    }
-}
-
-/// Per-node lanes inputs of one level's shading, their room reused.
-struct NodeScratch {
-    /// Displacement differences across rows and columns
-    /// ([`grid_differences`]).
-    gi: Vec<i32>,
-    gj: Vec<i32>,
-    /// 1 for a filled node, 0 for an empty node or padding.
-    filled: Vec<i32>,
-}
-
-thread_local! {
-    /// The room for a level's [`NodeScratch`], kept per thread. Why: fresh
-    /// vectors per level were allocated and freed (the shading inputs of
-    /// 1,988 levels in a one-frame bunny render).
-    static SCRATCH: std::cell::RefCell<NodeScratch> = const {
-        std::cell::RefCell::new(NodeScratch {
-            gi: Vec::new(),
-            gj: Vec::new(),
-            filled: Vec::new(),
-        })
-    };
-}
-
-/// The albedos of `level`'s nodes as [`LevelShading::colours`] keeps them
-/// (empty without colours).
-fn level_colours(level: &MipLevel) -> Vec<[u8; 4]> {
-    level.colours.as_ref().map_or_else(Vec::new, |c| {
-        c.iter().map(|&[r, g, b, _]| [r, g, b, 0]).collect()
-    })
-}
-
-/// A stored albedo ([`LevelShading::colours`]) as floats, `w` = 0: exact.
-#[inline(always)]
-pub(crate) fn albedo_lanes(c: [u8; 4]) -> Vec4 {
-    glam::U8Vec4::from_array(c).as_vec4()
-}
-
-/// The unit normals of nodes with differences `scratch.gi`, `scratch.gj`
-/// and displacements `d`, rounded as projected nodes carry them
-/// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why eight nodes
-/// at a time in lanes ([`unit_normals`], the rounding by [`Wide::trunc`],
-/// which truncates as `as i32` does for these values, and a transpose to
-/// node order): one by one, the three saturating conversions per node
-/// were most of the cost. Why collected by whole groups of eight (the
-/// differences padded), then cut to length: appending four at a time
-/// checked the vector's room at each append (3.8 M of a one-frame bunny
-/// render; callgrind). Why empty nodes zeroed by a lane select on a
-/// filled flag: a test per node after the lanes cost 0.75 M of that
-/// render (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
-#[inline(always)]
-fn rounded_unit_normals<W: Wide>(
-    w: W,
-    scratch: &mut NodeScratch,
-    d: &[u16],
-    ratios: (f32, f32),
-) -> Vec<Vec4> {
-    let (n, room) = (d.len(), d.len().next_multiple_of(LANES));
-    let NodeScratch { gi, gj, filled } = scratch;
-    gi.resize(room, 0);
-    gj.resize(room, 0);
-    filled.clear();
-    filled.extend(d.iter().map(|&v| i32::from(v != EMPTY)));
-    filled.resize(room, 0);
-    let negated = (w.splat(-ratios.0), w.splat(-ratios.1));
-    let (scale, unscale) = (w.splat(ATTR_ONE), w.splat(1.0 / ATTR_ONE));
-    let round = |v| w.mul(w.trunc(w.mul(v, scale)), unscale);
-    let (zero, half) = (w.splat(0.0), w.splat(0.5));
-    // An empty node's lanes (`filled` 0) are zero.
-    let keep = |v, filled| w.select_lt(filled, half, zero, v);
-    // A loop, not an iterator's `collect`: the fold it called was left out
-    // of line, without the caller's instruction set.
-    let mut nodes: Vec<[Vec4; LANES]> = Vec::with_capacity(room / LANES);
-    let groups = gi.chunks_exact(LANES).zip(gj.chunks_exact(LANES));
-    for ((gi, gj), filled) in groups.zip(filled.chunks_exact(LANES)) {
-        let [x, y, z] = unit_normals(w, w.load_i32(gi), w.load_i32(gj), negated);
-        let f = w.load_i32(filled);
-        nodes.push(w.columns([keep(round(x), f), keep(round(y), f), keep(round(z), f)]));
-    }
-    let mut nodes = nodes.into_flattened();
-    nodes.truncate(n);
-    nodes
 }
 
 /// The corners of the box spanning a grid of `size` nodes and the
@@ -484,25 +325,7 @@ impl PreparedPatch {
     /// render bunny.spatch -o out.png --threads 1`). A counting frame finds
     /// them with the shading inputs ([`Self::counted_shading`]).
     pub(crate) fn slot_set(&self, m: usize) -> &SlotSet {
-        self.levels[m].slots.get_or_init(|| {
-            let level = self.level(m);
-            // The scratch is borrowed outside the lanes' function (as in
-            // `LevelShading::with_isa`); inside it the differences run in
-            // lanes and the AVX2 copy counts a word with `popcnt`.
-            SCRATCH.with_borrow_mut(|scratch| {
-                let (gi, gj) = (&mut scratch.gi, &mut scratch.gj);
-                let (d, cols, rows) = (&level.displacements, level.cols, level.rows);
-                Box::new((self.isa).run(
-                    #[inline(always)]
-                    || {
-                        grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
-                        let mut slots = SlotSetBuilder::default();
-                        slots.add_used(&level.used, gi, gj);
-                        slots.finish()
-                    },
-                ))
-            })
-        })
+        (self.levels[m].slots).get_or_init(|| Box::new(level_slot_set(self.isa, self.level(m))))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of

@@ -12,7 +12,8 @@ use glam::{Vec2, Vec4};
 use crate::lighting::ShadeFrame;
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
-use crate::prepare::patch::{albedo_lanes, PreparedPatch};
+use crate::prepare::level_shading::albedo_lanes;
+use crate::prepare::patch::PreparedPatch;
 use crate::shade::colour_grid::{grid_place, GridPlace};
 
 /// Flag of [`Lane::frame`]: the pixel takes the base albedo.

@@ -24,7 +24,7 @@ use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 #[cfg(test)]
-use crate::prepare::patch::albedo_lanes;
+use crate::prepare::level_shading::albedo_lanes;
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::raster::band_box::PixelBox;
