@@ -190,6 +190,8 @@ impl EvalArgs {
         render.centre_limit = self.centre_limit;
         render.mip_limit = self.mip_limit;
         render.mip_tolerance = self.mip_tolerance;
+        // The eval times whole frames only: no clock reads per patch.
+        render.stage_times = false;
         render
     }
 

@@ -1,5 +1,6 @@
 //! `spatch render --bench N`: N frames after a warm-up, the median and the
-//! minimum per frame and per stage.
+//! minimum per frame and per stage (the planning's stages with
+//! `--stage-times` or `--stats`).
 
 use std::collections::BTreeMap;
 
@@ -56,6 +57,16 @@ fn median_min(mut v: Vec<f64>) -> (f64, f64) {
 /// How each stage's time is read from a frame's statistics.
 type Pick = fn(&RenderStats) -> f64;
 
+/// The planning stages timed only with
+/// [`spatch_render::RenderOptions::stage_times`].
+const PLANNING_STAGES: [&str; 5] = [
+    "cull_cpu",
+    "split_cpu",
+    "traverse_cpu",
+    "normals_cpu",
+    "triangle_setup_cpu",
+];
+
 /// The stages of the table, in order.
 const STAGES: [(&str, Pick); 13] = [
     ("frame", |s| s.times_ms.total_wall),
@@ -93,8 +104,13 @@ pub(crate) fn bench(
         all.push(out.stats);
         on_frame(k + 1);
     }
+    // Without stage times the planning stages read 0: left out.
+    let timed = renderer.options().stage_times;
+    let stages = STAGES
+        .iter()
+        .filter(|(name, _)| timed || !PLANNING_STAGES.contains(name));
     let mut ms = BTreeMap::new();
-    for (name, pick) in STAGES {
+    for &(name, pick) in stages.clone() {
         let (median_ms, min_ms) = median_min(all.iter().map(pick).collect());
         ms.insert(name, StageTimes { median_ms, min_ms });
     }
@@ -103,7 +119,7 @@ pub(crate) fn bench(
         threads: renderer.threads(),
         size: format!("{}x{}", camera.width(), camera.height()),
         ms,
-        order: STAGES.iter().map(|(name, _)| *name).collect(),
+        order: stages.map(|(name, _)| *name).collect(),
     })
 }
 

@@ -228,6 +228,36 @@ fn bench_prints_median_and_min_per_stage() {
     assert_eq!(bench["frames"], 3);
     // --json turns on the normal-buffer counts.
     assert!(v["details"]["stats"]["normals_needed"].as_u64().unwrap() > 0);
+    // The planning's stages are timed only when asked (--stage-times or
+    // --stats); the bands' stages always.
+    assert!(bench["ms"]["traverse_cpu"].is_null(), "{bench}");
+    assert!(bench["ms"]["cells_cpu"]["median_ms"].as_f64().unwrap() > 0.0);
+    let run = t
+        .run(&[
+            "render",
+            &name,
+            "--bench",
+            "3",
+            "--json",
+            "--stage-times",
+            "--width",
+            "64",
+            "--height",
+            "64",
+        ])
+        .success();
+    let v: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let ms = &v["details"]["bench"]["ms"];
+    assert!(
+        ms["traverse_cpu"]["median_ms"].as_f64().unwrap() > 0.0,
+        "{ms}"
+    );
+    assert!(
+        v["details"]["stats"]["times_ms"]["traverse"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
 }
 
 #[test]

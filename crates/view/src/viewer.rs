@@ -64,6 +64,8 @@ impl Viewer {
         let mut base = RenderOptions::default();
         base.threads = threads;
         base.background = BACKGROUND;
+        // The viewer shows whole frames' times only: no clock reads per patch.
+        base.stage_times = false;
         let renderer = Renderer::new(base)?;
         let scene = renderer.prepare(scene);
         let (_, radius) = scene.bounding_sphere().ok_or(ViewError::EmptyScene)?;

@@ -542,6 +542,40 @@ mod tests {
         }
     }
 
+    /// Without stage times a frame reads no planning clock: the same image,
+    /// the planning's five stage times 0, the walls and bands still timed.
+    #[test]
+    fn stage_times_off_leave_the_image_and_zero_the_planning_times() {
+        let prepared = PreparedScene::default_sphere();
+        let camera = Camera::look_at(
+            DVec3::new(0.3, 0.5, 0.8) * 512.0,
+            DVec3::ZERO,
+            DVec3::Y,
+            30.0,
+            96,
+            96,
+        )
+        .expect("camera");
+        let frame = |stage_times: bool| {
+            let options = RenderOptions {
+                stage_times,
+                threads: 2,
+                ..Default::default()
+            };
+            let mut renderer = Renderer::new(options).expect("renderer");
+            renderer.render(&prepared, &camera).expect("frame")
+        };
+        let (on, off) = (frame(true), frame(false));
+        assert!(on.image == off.image);
+        assert!(on.stats.times_ms.traverse > 0.0);
+        let t = off.stats.times_ms;
+        assert_eq!(
+            [t.cull, t.split, t.traverse, t.normals, t.triangle_setup],
+            [0.0; 5]
+        );
+        assert!(t.total_wall > 0.0 && t.cells > 0.0 && t.resolve > 0.0);
+    }
+
     /// Flat and Gouraud frames keep an attribute entry for every node of
     /// every draw item (the resolve pass reads a drawn cell's corners by
     /// node index); Phong frames keep none.

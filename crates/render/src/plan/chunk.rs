@@ -37,7 +37,7 @@ pub(crate) fn plan_chunk(
     frames: &mut [ShadeFrame],
     setup: &FrameSetup<'_>,
 ) {
-    work.reset();
+    work.reset(setup.options.stage_times);
     reserve_level_zero(work, patches);
     let eye = setup.view.eye;
     for (local, p) in patches.iter().enumerate() {

@@ -170,7 +170,7 @@ pub(crate) fn plan_mesh_chunk(
     world: &ShadeFrame,
     setup: &FrameSetup<'_>,
 ) {
-    work.reset();
+    work.reset(setup.options.stage_times);
     let view = setup.view;
     let eye_local = (view.eye - mesh.origin).as_vec3();
     let (map, t0) = view.local_map(mesh.origin, [DVec3::X, DVec3::Y, DVec3::Z]);

@@ -154,8 +154,10 @@ pub(crate) struct ChunkWork {
 }
 
 impl ChunkWork {
-    /// Clears the outputs for a new frame (keeps the allocations).
-    pub(crate) fn reset(&mut self) {
+    /// Clears the outputs for a new frame (keeps the allocations); the
+    /// stage clock runs when `stage_times`
+    /// ([`crate::RenderOptions::stage_times`]).
+    pub(crate) fn reset(&mut self, stage_times: bool) {
         self.nodes.clear();
         self.node_attributes.clear();
         self.items.clear();
@@ -163,7 +165,7 @@ impl ChunkWork {
         self.cell_flags.clear();
         self.row_spans.clear();
         self.counters = Counters::default();
-        self.clock = StageClock::default();
+        self.clock = StageClock::new(stage_times);
         self.normals.clear();
         self.normals.counts = Default::default();
     }
