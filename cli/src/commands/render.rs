@@ -311,9 +311,9 @@ pub(crate) struct RenderArgs {
     /// Time the planning's stages in every frame (cull, split, traverse,
     /// normals, triangle set-up: the *_cpu planning rows of --bench and
     /// those times in --json). On with --stats, off otherwise: three clock
-    /// reads per drawn patch cost about 1.5 % of a 500² bunny frame. The frame's
-    /// walls and the bands' cells, triangles and resolve times are measured
-    /// either way.
+    /// reads per drawn patch cost about 1.5 % of a 500² bunny frame. The
+    /// frame's walls and the bands' cells, triangles and resolve times are
+    /// measured either way.
     #[arg(long)]
     stage_times: bool,
     /// Print a report (docs/report-schema.md: the scene's counts, stages, the frame's

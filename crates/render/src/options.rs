@@ -269,8 +269,9 @@ pub struct RenderOptions {
     /// normals, triangle set-up: [`crate::RenderStats`]'s `times_ms`).
     /// Default true. The image is the same either way; false leaves those
     /// five times at 0 and reads no clock while planning: three clock
-    /// reads per drawn patch were about 1.5 % of a 500² bunny frame. The walls of the frame's phases and the bands' own times are
-    /// measured either way.
+    /// reads per drawn patch were about 1.5 % of a 500² bunny frame. The
+    /// walls of the frame's phases and the bands' own times are measured
+    /// either way.
     pub stage_times: bool,
 }
 
