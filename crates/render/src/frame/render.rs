@@ -501,6 +501,12 @@ mod tests {
     use super::*;
     use glam::DVec3;
 
+    /// A `size`² view of the default sphere (radius 128) from `eye` (in
+    /// sphere radii), looking at its centre.
+    fn sphere_view(eye: DVec3, size: u32) -> Camera {
+        Camera::look_at(eye * 128.0, DVec3::ZERO, DVec3::Y, 30.0, size, size).expect("camera")
+    }
+
     /// Bands, buffers and tables are reused from frame to frame (bands are
     /// cleared by `fill` when their size is unchanged): a renderer reused
     /// across views, shadings and sizes must give the images of fresh
@@ -508,16 +514,12 @@ mod tests {
     #[test]
     fn a_reused_renderer_draws_every_frame_as_a_fresh_one() {
         let prepared = PreparedScene::default_sphere();
-        let camera = |from: DVec3, size: u32| {
-            Camera::look_at(from * 128.0, DVec3::ZERO, DVec3::Y, 30.0, size, size).expect("camera")
-        };
-        // Eye positions in sphere radii.
         let views = [
-            camera(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
-            camera(DVec3::new(-0.7, 0.1, 0.4) * 2.5, 90),
-            camera(DVec3::new(0.0, 0.2, 1.0) * 9.0, 90),
-            camera(DVec3::new(0.5, -0.5, 0.5) * 3.0, 70),
-            camera(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
+            sphere_view(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
+            sphere_view(DVec3::new(-0.7, 0.1, 0.4) * 2.5, 90),
+            sphere_view(DVec3::new(0.0, 0.2, 1.0) * 9.0, 90),
+            sphere_view(DVec3::new(0.5, -0.5, 0.5) * 3.0, 70),
+            sphere_view(DVec3::new(0.3, 0.5, 0.8) * 4.0, 90),
         ];
         for shading in [crate::Shading::Phong, crate::Shading::Gouraud] {
             let options = RenderOptions {
@@ -547,15 +549,7 @@ mod tests {
     #[test]
     fn stage_times_off_leave_the_image_and_zero_the_planning_times() {
         let prepared = PreparedScene::default_sphere();
-        let camera = Camera::look_at(
-            DVec3::new(0.3, 0.5, 0.8) * 512.0,
-            DVec3::ZERO,
-            DVec3::Y,
-            30.0,
-            96,
-            96,
-        )
-        .expect("camera");
+        let camera = sphere_view(DVec3::new(0.3, 0.5, 0.8) * 4.0, 96);
         let frame = |stage_times: bool| {
             let options = RenderOptions {
                 stage_times,
@@ -582,15 +576,7 @@ mod tests {
     #[test]
     fn node_attributes_follow_the_node_array_only_when_shading_needs_them() {
         let prepared = PreparedScene::default_sphere();
-        let camera = Camera::look_at(
-            DVec3::new(1.2, 2.0, 3.2) * 128.0,
-            DVec3::ZERO,
-            DVec3::Y,
-            30.0,
-            80,
-            80,
-        )
-        .expect("camera");
+        let camera = sphere_view(DVec3::new(1.2, 2.0, 3.2), 80);
         for shading in [
             crate::Shading::Flat,
             crate::Shading::Gouraud,

@@ -60,9 +60,7 @@ impl LevelShading {
         if let Some(cell) = slots.filter(|c| c.get().is_none()) {
             // `set`, not `get_or_init`: a closure would be compiled without
             // the lanes' instruction set.
-            let mut set = SlotSetBuilder::default();
-            set.add_used(&level.used, gi, gj);
-            let _ = cell.set(Box::new(set.finish()));
+            let _ = cell.set(Box::new(used_slots(level, gi, gj)));
         }
         Self {
             normals: rounded_unit_normals(w, scratch, d, ratios),
@@ -187,10 +185,17 @@ pub(crate) fn level_slot_set(isa: Isa, level: &MipLevel) -> SlotSet {
             #[inline(always)]
             || {
                 grid_differences(d, cols, rows, EMPTY, (&mut *gi, &mut *gj));
-                let mut slots = SlotSetBuilder::default();
-                slots.add_used(&level.used, gi, gj);
-                slots.finish()
+                used_slots(level, gi, gj)
             },
         )
     })
+}
+
+/// The slot set of `level`'s used nodes from their displacement
+/// differences `gi`, `gj` ([`grid_differences`]).
+#[inline(always)]
+fn used_slots(level: &MipLevel, gi: &[i32], gj: &[i32]) -> SlotSet {
+    let mut slots = SlotSetBuilder::default();
+    slots.add_used(&level.used, gi, gj);
+    slots.finish()
 }

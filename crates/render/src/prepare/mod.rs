@@ -3,8 +3,7 @@
 //! eight-lane vectors of its kernels, normal reconstruction and the slots
 //! of node differences, the normal buffer, the mip pyramid, how far a
 //! level strays from the one below, the normal cone, a level's shading
-//! inputs, the prepared patch,
-//! overlap trimming, the prepared scene.
+//! inputs, the prepared patch, overlap trimming, the prepared scene.
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;

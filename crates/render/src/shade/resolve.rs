@@ -347,7 +347,6 @@ fn resolve_general_group(
     rgba: &mut [[u8; 4]; 4],
     eye: &mut [f32; 4],
 ) {
-    let scale = (r.far - r.near) / Z_FAR as f32;
     let is = |k: usize| s[k].depth < Z_FAR;
     let some = &s[(0..4).find(|&k| is(k)).expect("a covered pixel")];
     let pick = |k: usize| if is(k) { &s[k] } else { some };
@@ -369,9 +368,10 @@ fn resolve_general_group(
     ];
     let frames = [frame(0), frame(1), frame(2), frame(3)];
     let words = shade_normals::<ANY_POWER>(r, normals, frames, |red| own_albedo(r, &g, red));
+    let depths = eye_depths(r, s);
     for k in 0..4 {
         (rgba[k], eye[k]) = if is(k) {
-            (words[k].to_le_bytes(), r.near + s[k].depth as f32 * scale)
+            (words[k].to_le_bytes(), depths[k])
         } else {
             (r.background, f32::INFINITY)
         };
