@@ -83,9 +83,8 @@ pub(crate) struct EvalArgs {
     exact_outlines: bool,
     /// Let the cells of patches with a colour grid reach about half a pixel
     /// past the outline (sub-nodes) instead of the default pixel-centre
-    /// coverage: fuze, unlit, 30.3 -> 27.9 dB against its source, for a
-    /// cheaper frame on textured scenes. Scenes without colour grids draw the
-    /// same either way.
+    /// coverage: fuze, unlit, 30.3 -> 27.9 dB against its source. Scenes
+    /// without colour grids draw the same either way.
     #[arg(long)]
     no_exact_grid_outlines: bool,
     /// Splat limit of the patch renders in pixels (see `spatch render

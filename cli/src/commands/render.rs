@@ -198,19 +198,19 @@ pub(crate) struct RenderArgs {
     /// frame's kernels chosen at run time (same image, for comparisons).
     #[arg(long)]
     no_simd: bool,
-    /// Draw the cells of coloured patches by pixel-centre coverage, as a
-    /// triangle rasterizer does, instead of letting them reach about half a
-    /// pixel past the outline: sharper coloured silhouettes (fuze, unlit:
-    /// 27.9 -> 30.7 dB against its source) for several times the frame's
-    /// cost on coloured scenes. Patches with a colour grid do so by default
-    /// (see --no-exact-grid-outlines).
+    /// Draw the cells of every coloured patch by sub-quads that write the
+    /// pixel centres they cover, as a triangle rasterizer does, instead of
+    /// letting them reach about half a pixel past the outline: sharper
+    /// coloured silhouettes (fuze, unlit: 27.9 -> 30.7 dB against its
+    /// source) for several times the frame's cost on coloured scenes.
+    /// Patches with a colour grid are drawn by pixel-centre coverage by
+    /// default, more cheaply (see --no-exact-grid-outlines).
     #[arg(long)]
     exact_outlines: bool,
     /// Let the cells of patches with a colour grid reach about half a pixel
     /// past the outline (sub-nodes) instead of the default pixel-centre
-    /// coverage: fuze, unlit, 30.3 -> 27.9 dB against its source, for a
-    /// cheaper frame on textured scenes. Scenes without colour grids draw the
-    /// same either way.
+    /// coverage: fuze, unlit, 30.3 -> 27.9 dB against its source. Scenes
+    /// without colour grids draw the same either way.
     #[arg(long)]
     no_exact_grid_outlines: bool,
     /// Leave out pieces already hidden behind the pixels drawn before them

@@ -166,6 +166,17 @@ fn spot_with_its_texture() {
 }
 
 #[test]
+fn spot_with_its_colour_grids() {
+    // The demo's own conversion: colour grids on, so the pieces cut 4 and
+    // more draw by pixel-centre coverage with the grid's margin and their
+    // folds by sub-quads (raster/centre_piece.rs).
+    let t = TestCommand::new();
+    t.run(&["demo", "-o", "demo", "--size", "128", "--no-error"])
+        .success();
+    check_golden("spot_colour_grid", &t.path("demo/spot.png"));
+}
+
+#[test]
 fn an_open_tube_seen_into_one_end() {
     let t = TestCommand::new();
     let scene = convert_shape(&t, "tube", &shapes::open_tube(1.0, 3.0, 48, 12));

@@ -23,9 +23,9 @@ use crate::raster::band::{
 };
 use crate::raster::band_box::{band_box, PixelBox};
 use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
-use crate::raster::cell_centres::draw_cells_centres;
 use crate::raster::cell_edges::draw_cells_open;
 use crate::raster::cell_smooth::draw_cells_smooth;
+use crate::raster::centre_piece::draw_cells_centres;
 use crate::raster::splat::{draw_splats, SplatPiece};
 use crate::raster::triangle_raster::{draw_triangle, ScreenTriangle};
 use crate::shade::resolve::{resolve_box, Resolve};
@@ -205,8 +205,8 @@ pub(crate) fn draw_item(
             rows,
             inside_columns: item.inside_columns,
         };
-        if item.centres {
-            draw_cells_centres(t, &piece, id);
+        if let Some(style) = item.centres {
+            draw_cells_centres(t, &piece, style, id);
         } else if item.open_sides {
             draw_cells_open(t, &piece, nu, nv, id);
         } else {

@@ -33,6 +33,7 @@ use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
 use crate::raster::cell_centres::CENTRE_STEPS;
+use crate::raster::centre_piece::CentreStyle;
 use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
@@ -222,15 +223,28 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     };
     // Outlines of magnified cells are drawn exactly where the surface
     // folds away (see `open_sides` and `raster::cell_edges`); the cells of
-    // coloured patches by pixel-centre coverage (`raster::cell_exact`).
+    // patches with a colour grid by pixel-centre coverage
+    // (`raster::centre_piece`), or by sub-quads (`raster::cell_exact`)
+    // with `--exact-outlines`, which also takes the other coloured ones.
     let bilinear = !smooth && splat[0] == 0;
-    let centres = bilinear && centre_cells(opts) && (nu, nv) != (1, 1) && nu.max(nv) <= CENTRE_CUT;
     let for_grid =
         opts.exact_grid_outlines && p.colour_grid.is_some() && nu.max(nv) >= GRID_EXACT_CUT;
+    let centres = if !bilinear || (nu, nv) == (1, 1) {
+        None
+    } else if centre_cells(opts) && nu.max(nv) <= CENTRE_CUT {
+        Some(CentreStyle::Cells)
+    } else if for_grid && !opts.exact_outlines {
+        Some(CentreStyle::Grid)
+    } else {
+        None
+    };
     let asked = opts.exact_outlines || for_grid;
-    let exact = bilinear && !centres && asked && (nu, nv) != (1, 1) && exact_outlines(level);
+    let exact = bilinear && centres.is_none() && asked && exact_outlines(level);
     let open_sides = exact
-        || (bilinear && !centres && nu.max(nv) > OPEN_SIDE_CUT && measure.backfacing_cells > 0);
+        || (bilinear
+            && centres.is_none()
+            && nu.max(nv) > OPEN_SIDE_CUT
+            && measure.backfacing_cells > 0);
     if exact {
         mark_exact_cells(&mut work.cell_flags[flags..]);
     } else if open_sides {
@@ -252,7 +266,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         work.counters.splatted += 1;
     } else if (nu, nv) == (1, 1) {
         work.counters.optimized += 1;
-    } else if centres {
+    } else if centres.is_some() {
         work.counters.interpolated += 1;
     } else {
         work.counters.interpolated += 1;
@@ -261,7 +275,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     }
     // Pixel-centre cells record their pixels' places on a grid of
     // `CENTRE_STEPS` per side, which the resolve reads as a cut.
-    let (nu, nv) = if centres {
+    let (nu, nv) = if centres.is_some() {
         (CENTRE_STEPS, CENTRE_STEPS)
     } else {
         (nu, nv)

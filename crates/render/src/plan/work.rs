@@ -20,6 +20,7 @@ use crate::plan::split::SplitWork;
 use crate::prepare::normal_buffer::NormalBuffer;
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::Portal;
+use crate::raster::centre_piece::CentreStyle;
 use crate::raster::triangle_raster::{ClipVertex, ScreenTriangle};
 
 /// Patches per unit of parallel planning work.
@@ -71,10 +72,10 @@ pub(crate) struct Item {
     pub(crate) splat: [i32; 2],
     /// Some cell has an open side ([`crate::plan::open_sides`]).
     pub(crate) open_sides: bool,
-    /// The cells are drawn by pixel-centre coverage
-    /// ([`crate::raster::cell_centres`]); `nu × nv` is then the resolve's
+    /// The cells are drawn by pixel-centre coverage in this style
+    /// ([`crate::raster::centre_piece`]); `nu × nv` is then the resolve's
     /// grid of recorded places, not a cut.
-    pub(crate) centres: bool,
+    pub(crate) centres: Option<CentreStyle>,
 }
 
 #[cfg(test)]
@@ -104,7 +105,7 @@ impl Item {
             inside_columns: true,
             splat: [0, 0],
             open_sides: false,
-            centres: false,
+            centres: None,
         }
     }
 }

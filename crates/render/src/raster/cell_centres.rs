@@ -33,20 +33,20 @@
 use std::hint::black_box;
 
 use crate::fixed::{Node, XY_FRAC_BITS};
-use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::raster::band::BandTarget;
-use crate::raster::cell_bilinear::{sub_word, BilinearPiece};
 
 /// Steps per cell side of the recorded place `(u, v)` of a pixel centre
 /// (the `nu × nv` the resolve's weight table reads): at most half a step
 /// (1/32 of a cell, 0.05 px in a 1.5 px cell) from the exact place.
 pub(crate) const CENTRE_STEPS: u32 = 16;
 
-/// How far (pixels) a cell's sides on the piece's outline (toward an
-/// undrawn cell or past the piece) are pushed out. Why: two patches'
-/// borders do not quite meet everywhere, which the sub-nodes' half-pixel
-/// reach closed; with no margin the bunny's eval counted 0.22 % holes.
-pub(crate) const OUTLINE_MARGIN_PX: f64 = 0.5;
+/// How far (position units) the sides of a pixel-sized cell on the
+/// piece's outline (toward an undrawn cell or past the piece) are pushed
+/// out: half a pixel. Why: two patches' borders do not quite meet
+/// everywhere, which the sub-nodes' half-pixel reach closed; with no
+/// margin the bunny's eval counted 0.22 % holes. Cells of patches with a
+/// colour grid take less ([`crate::raster::centre_piece::CentreStyle`]).
+pub(crate) const CELL_MARGIN: i32 = 1 << (XY_FRAC_BITS - 1);
 
 /// Outline sides of a cell (bits of [`Cell::new`]'s `outline`).
 pub(super) const BOTTOM: u8 = 1;
@@ -56,55 +56,6 @@ pub(super) const LEFT: u8 = 8;
 
 /// Half a pixel in position units (a pixel centre's fraction).
 const HALF: i32 = 1 << (XY_FRAC_BITS - 1);
-
-/// Draws the drawn cells of a piece (flags as
-/// [`crate::plan::measure::measure_cells`] sets them; closing flags are
-/// not needed: every cell reaches its own sides) by pixel-centre coverage.
-/// Why out of line (one call per piece): inlined into the band's function
-/// its loops spilled more registers (bunny 500² `--centre-limit 2`:
-/// 118.45 M per frame against 117.73 M). It is scalar code (no lanes),
-/// so the portable copy loses nothing.
-#[inline(never)]
-pub(crate) fn draw_cells_centres(t: &mut BandTarget<'_>, piece: &BilinearPiece<'_>, item: u32) {
-    let (y_lo, y_hi) = (t.y0, t.y0 + t.rows);
-    let (cols, nodes) = (piece.cols, piece.nodes);
-    let rows_of_cells = piece.flags.chunks_exact(cols - 1).zip(piece.spans);
-    for (j, (row_flags, &[lo, hi])) in rows_of_cells.take(piece.rows - 1).enumerate() {
-        // The row's span covers its used nodes, hence its cells.
-        if hi < y_lo || lo >= y_hi {
-            continue;
-        }
-        let below = &nodes[j * cols..(j + 1) * cols];
-        let above = &nodes[(j + 1) * cols..(j + 2) * cols];
-        let under = j
-            .checked_sub(1)
-            .map(|k| &piece.flags[k * (cols - 1)..(k + 1) * (cols - 1)]);
-        let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
-        let mut left_drawn = false;
-        for (i, ((&f, b), a)) in cells.enumerate() {
-            let drawn = f & CELL_DRAW != 0;
-            if drawn {
-                let outline = outline(f, left_drawn, under.map(|u| u[i]));
-                let c = [&b[0], &b[1], &a[0], &a[1]];
-                draw_cell(t, c, outline, sub_word(i, j, 0, 0), item);
-            }
-            left_drawn = drawn;
-        }
-    }
-}
-
-/// The outline sides of a drawn cell with flags `f`: its right and top
-/// ones from the closing flags, its left one when the cell before it is
-/// not drawn, its bottom one when the cell under it (flags `under`, none
-/// in the first row) is not.
-#[inline(always)]
-fn outline(f: u8, left_drawn: bool, under: Option<u8>) -> u8 {
-    let bottom = under.is_none_or(|u| u & CELL_DRAW == 0);
-    (bottom as u8 * BOTTOM)
-        | ((f & CELL_RIGHT != 0) as u8 * RIGHT)
-        | ((f & CELL_TOP != 0) as u8 * TOP)
-        | (!left_drawn as u8 * LEFT)
-}
 
 /// The first and last pixel (inclusive) whose centre lies in `[lo, hi]`
 /// (position units), clamped to `[min, max]`.
@@ -116,17 +67,38 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
 }
 
 /// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
-/// whose sub-word of `(0, 0)` is `sub0`, its `outline` sides pushed out:
-/// the pixel centres of its box, each tested against its two triangles.
-/// Why set up only when the box holds a pixel centre: most cells of a
-/// coarse-enough level hold one or two, finer ones often none. Cells that
-/// do not fold (most of them) take [`Lazy`]: only the edges a centre
-/// needs, and interior ones no margins.
+/// whose sub-word of `(0, 0)` is `sub0`, its outline `sides` pushed out:
+/// the pixel centres of its box, each
+/// tested against its two triangles. Why set up only when the box holds a
+/// pixel centre: most cells of a coarse-enough level hold one or two,
+/// finer ones often none. Cells that do not fold (most of them) take
+/// [`Lazy`]: only the edges a centre needs, and interior ones no margins.
+#[cfg(test)]
+pub(super) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], sides: Sides, sub0: u32, item: u32) {
+    if let Some(span) = cell_box(t, c, sides) {
+        draw_cell_in(t, c, span, sides, sub0, item);
+    }
+}
+
+/// The outline sides of a cell (bits [`BOTTOM`], [`RIGHT`], [`TOP`],
+/// [`LEFT`]) and how far (position units) they are pushed out.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Sides {
+    pub(super) outline: u8,
+    pub(super) margin: i32,
+}
+
+/// Draws one cell over the centres of its box `span` (see [`draw_cell`]).
 #[inline(always)]
-pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0: u32, item: u32) {
-    let Some(span) = cell_box(t, c, outline) else {
-        return;
-    };
+pub(super) fn draw_cell_in(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    span: CentreBox,
+    sides: Sides,
+    sub0: u32,
+    item: u32,
+) {
+    let Sides { outline, margin } = sides;
     let o = (c[0][0], c[0][1]);
     // Why a box of one centre apart: it is the most common at the levels
     // this path draws, and a lazy set-up tested once costs the least;
@@ -134,24 +106,24 @@ pub(crate) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], outline: u8, sub0
     if span.px0 == span.px1 && span.py0 == span.py1 {
         let (px, py) = (span.px0, span.py0);
         if outline == 0 {
-            if let Some(cell) = Lazy::<false>::new(c, 0) {
+            if let Some(cell) = Lazy::<false>::new(c, 0, margin) {
                 return draw_centre(t, &cell, px, py, o, sub0, item);
             }
-        } else if let Some(cell) = Lazy::<true>::new(c, outline) {
+        } else if let Some(cell) = Lazy::<true>::new(c, outline, margin) {
             return draw_centre(t, &cell, px, py, o, sub0, item);
         }
-        return draw_centre(t, &Cell::new(c, outline), px, py, o, sub0, item);
+        return draw_centre(t, &Cell::new(c, outline, margin), px, py, o, sub0, item);
     }
     if outline == 0 {
-        if let Some(cell) = Lazy::<false>::new(c, 0) {
+        if let Some(cell) = Lazy::<false>::new(c, 0, margin) {
             return draw_centres(t, c, span, sub0, item, &cell);
         }
     } else if (span.px1 - span.px0 + 1) * (span.py1 - span.py0 + 1) <= LAZY_OUTLINE_CENTRES {
-        if let Some(cell) = Lazy::<true>::new(c, outline) {
+        if let Some(cell) = Lazy::<true>::new(c, outline, margin) {
             return draw_centres_unstepped(t, c, span, sub0, item, &cell);
         }
     }
-    draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
+    draw_centres(t, c, span, sub0, item, &Cell::new(c, outline, margin));
 }
 
 /// Most centres in the box of an outline cell that is tested lazily and
@@ -165,11 +137,11 @@ const LAZY_OUTLINE_CENTRES: i32 = 6;
 /// Why two copies: an interior cell's box needs no growth, and most
 /// drawn cells are interior.
 #[inline(always)]
-fn cell_box(t: &BandTarget<'_>, c: [&Node; 4], outline: u8) -> Option<CentreBox> {
-    if outline == 0 {
+pub(super) fn cell_box(t: &BandTarget<'_>, c: [&Node; 4], sides: Sides) -> Option<CentreBox> {
+    if sides.outline == 0 {
         grown_box(t, c, [0; 4])
     } else {
-        grown_box(t, c, corner_growth(outline))
+        grown_box(t, c, corner_growth(sides))
     }
 }
 
@@ -201,16 +173,22 @@ fn grown_box(t: &BandTarget<'_>, c: [&Node; 4], g: [i32; 4]) -> Option<CentreBox
     (py0 <= py1).then_some(CentreBox { px0, px1, py0, py1 })
 }
 
-/// How far (position units) the box of a cell with `outline` sides grows
-/// around each corner (`c00`, `c10`, `c01`, `c11`): [`MARGIN`] at the
+/// How far (position units) the box of a cell with outline `sides` grows
+/// around each corner (`c00`, `c10`, `c01`, `c11`): the margin at the
 /// ends of an outline side, 0 elsewhere. Why not the whole box: an
 /// outline side's pushed-out pixels lie within the margin of that side,
 /// so a box grown on every side held about four centres per outline cell
 /// where it needs about two (bunny 500² `--centre-limit 2`: 259k centre
 /// tests in outline cells per frame before).
 #[inline(always)]
-fn corner_growth(outline: u8) -> [i32; 4] {
-    let at = |sides: u8| if outline & sides != 0 { MARGIN } else { 0 };
+fn corner_growth(sides: Sides) -> [i32; 4] {
+    let at = |bits: u8| {
+        if sides.outline & bits != 0 {
+            sides.margin
+        } else {
+            0
+        }
+    };
     [
         at(BOTTOM | LEFT),
         at(BOTTOM | RIGHT),
@@ -221,7 +199,7 @@ fn corner_growth(outline: u8) -> [i32; 4] {
 
 /// The pixel centres `px0..=px1 × py0..=py1` of a cell's box.
 #[derive(Clone, Copy)]
-struct CentreBox {
+pub(super) struct CentreBox {
     px0: i32,
     px1: i32,
     py0: i32,
@@ -312,12 +290,13 @@ fn draw_centre<C: CentreTest>(
 pub(super) fn draw_cell_general(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
-    outline: u8,
+    sides: Sides,
     sub0: u32,
     item: u32,
 ) {
-    if let Some(span) = cell_box(t, c, outline) {
-        draw_centres(t, c, span, sub0, item, &Cell::new(c, outline));
+    if let Some(span) = cell_box(t, c, sides) {
+        let cell = Cell::new(c, sides.outline, sides.margin);
+        draw_centres(t, c, span, sub0, item, &cell);
     }
 }
 
@@ -367,11 +346,11 @@ pub(super) struct Lazy<const GROW: bool> {
 }
 
 impl<const GROW: bool> Lazy<GROW> {
-    /// The cell of corners `c` with its `outline` sides pushed out (only
-    /// with `GROW`), or `None` when its triangles do not turn the same way
-    /// (a fold) or both are flat.
+    /// The cell of corners `c` with its `outline` sides pushed out by
+    /// `margin` (only with `GROW`), or `None` when its triangles do not
+    /// turn the same way (a fold) or both are flat.
     #[inline(always)]
-    pub(super) fn new(c: [&Node; 4], outline: u8) -> Option<Self> {
+    pub(super) fn new(c: [&Node; 4], outline: u8, margin: i32) -> Option<Self> {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
         let (al, au) = (cross(q1, q3), cross(q3, q2));
@@ -385,7 +364,7 @@ impl<const GROW: bool> Lazy<GROW> {
         if GROW {
             // As [`Edge::new`]: `(|dx| + |dy|)` times the margin.
             let side = |d: [i64; 2], bit: u8| {
-                (outline & bit != 0) as i64 * (d[0].abs() + d[1].abs()) * MARGIN as i64
+                (outline & bit != 0) as i64 * (d[0].abs() + d[1].abs()) * margin as i64
             };
             let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
             grow = [
@@ -486,9 +465,6 @@ fn cross(a: [i64; 2], b: [i64; 2]) -> i64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// [`OUTLINE_MARGIN_PX`] in position units.
-const MARGIN: i32 = (OUTLINE_MARGIN_PX * (1 << XY_FRAC_BITS) as f64) as i32;
-
 /// One side of a triangle as an oriented edge function `a x + b y + c`
 /// (positions relative to the cell's first corner): a pixel centre is on
 /// the triangle's side of it when the value is `>= 0`. `c` includes the
@@ -506,9 +482,9 @@ struct Edge {
 impl Edge {
     /// The side from `p` in direction `d` of a triangle of orientation
     /// `sign` (±1; 0 for a flat triangle, which covers nothing), pushed
-    /// out when `grow`.
+    /// out by `margin` (position units; 0: not pushed).
     #[inline(always)]
-    fn new(p: [i64; 2], d: [i64; 2], sign: i64, grow: bool) -> Edge {
+    fn new(p: [i64; 2], d: [i64; 2], sign: i64, margin: i32) -> Edge {
         if sign == 0 {
             return Edge {
                 a: 0,
@@ -524,12 +500,7 @@ impl Edge {
         let bias = !(dy > 0 || (dy == 0 && dx < 0)) as i64;
         // Outline sides take every pixel whose square reaches within the
         // margin of the side: `(|dx| + |dy|)` times it, no square root.
-        let margin = if grow {
-            (dx.abs() + dy.abs()) * MARGIN as i64
-        } else {
-            0
-        };
-        let k = margin - bias;
+        let k = (dx.abs() + dy.abs()) * margin as i64 - bias;
         Edge {
             a: -dy,
             b: dx,
@@ -565,10 +536,11 @@ struct Cell {
 }
 
 impl Cell {
-    /// The cell of corners `c` with its `outline` sides pushed out; a cell
-    /// whose triangles turn opposite ways (a fold) pushes out every side.
+    /// The cell of corners `c` with its `outline` sides pushed out by
+    /// `margin`; a cell whose triangles turn opposite ways (a fold) pushes
+    /// out every side.
     #[inline(always)]
-    fn new(c: [&Node; 4], outline: u8) -> Cell {
+    fn new(c: [&Node; 4], outline: u8, margin: i32) -> Cell {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (p1, p2, p3) = (rel(c[1]), rel(c[2]), rel(c[3]));
         let area = [cross(p1, p3), cross(p3, p2)];
@@ -584,16 +556,17 @@ impl Cell {
         let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
         let z0 = c[0][2];
         let inv = |a: i64| if a != 0 { 1.0 / a.abs() as f32 } else { 0.0 };
+        let grow = |side: u8| if outline & side != 0 { margin } else { 0 };
         Cell {
             lower: [
-                Edge::new(o, p1, sl, outline & BOTTOM != 0),
-                Edge::new(p1, sub(p3, p1), sl, outline & RIGHT != 0),
-                Edge::new(p3, neg(p3), sl, false),
+                Edge::new(o, p1, sl, grow(BOTTOM)),
+                Edge::new(p1, sub(p3, p1), sl, grow(RIGHT)),
+                Edge::new(p3, neg(p3), sl, 0),
             ],
             upper: [
-                Edge::new(o, p3, su, false),
-                Edge::new(p3, sub(p2, p3), su, outline & TOP != 0),
-                Edge::new(p2, neg(p2), su, outline & LEFT != 0),
+                Edge::new(o, p3, su, 0),
+                Edge::new(p3, sub(p2, p3), su, grow(TOP)),
+                Edge::new(p2, neg(p2), su, grow(LEFT)),
             ],
             inv: [inv(area[0]), inv(area[1])],
             same,

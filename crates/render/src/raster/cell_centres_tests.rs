@@ -17,6 +17,14 @@ fn target(px: &mut [Sample], w: usize) -> BandTarget<'_> {
     BandTarget::new(px, w as i32, 0, w as i32)
 }
 
+/// `outline` sides pushed out by the pixel-sized cells' margin.
+fn sides(outline: u8) -> Sides {
+    Sides {
+        outline,
+        margin: CELL_MARGIN,
+    }
+}
+
 #[test]
 fn a_jittered_lattice_of_cells_writes_every_pixel_centre_inside_once() {
     // Lattices of cells of 0.4–3 px with corners jittered by up to a
@@ -65,7 +73,7 @@ fn a_jittered_lattice_of_cells_writes_every_pixel_centre_inside_once() {
                     &nodes[k + n + 2],
                 ];
                 let mut px = band(w);
-                draw_cell(&mut target(&mut px, w), c, 0, 0, PATCH_SAMPLE);
+                draw_cell(&mut target(&mut px, w), c, sides(0), 0, PATCH_SAMPLE);
                 for (n, s) in count.iter_mut().zip(&px) {
                     *n += (s.depth < Z_FAR) as u32;
                 }
@@ -126,8 +134,20 @@ fn lazy_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
             0
         };
         let (mut fast, mut plain) = (band(w), band(w));
-        draw_cell(&mut target(&mut fast, w), c, outline, 0, PATCH_SAMPLE);
-        draw_cell_general(&mut target(&mut plain, w), c, outline, 0, PATCH_SAMPLE);
+        draw_cell(
+            &mut target(&mut fast, w),
+            c,
+            sides(outline),
+            0,
+            PATCH_SAMPLE,
+        );
+        draw_cell_general(
+            &mut target(&mut plain, w),
+            c,
+            sides(outline),
+            0,
+            PATCH_SAMPLE,
+        );
         for (k, (f, p)) in fast.iter().zip(&plain).enumerate() {
             let at = (k % w, k / w, round);
             assert_eq!(f.depth < Z_FAR, p.depth < Z_FAR, "pixel set {at:?}");
@@ -137,7 +157,7 @@ fn lazy_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
                 written += 1;
             }
         }
-        cells += Lazy::<true>::new(c, outline).is_some() as usize;
+        cells += Lazy::<true>::new(c, outline, CELL_MARGIN).is_some() as usize;
         grown += (outline != 0) as usize;
     }
     assert!(
@@ -175,7 +195,7 @@ fn sliver_cells_on_an_outline_keep_their_depth_within_their_corners() {
         draw_cell(
             &mut target(&mut px, w),
             [&c[0], &c[1], &c[2], &c[3]],
-            all,
+            sides(all),
             0,
             PATCH_SAMPLE,
         );
@@ -212,7 +232,7 @@ fn a_pixel_records_its_place_in_the_cell_within_half_a_step() {
         draw_cell(
             &mut target(&mut px, w),
             [&c[0], &c[1], &c[2], &c[3]],
-            0,
+            sides(0),
             0,
             PATCH_SAMPLE,
         );

@@ -76,7 +76,7 @@ pub(crate) fn draw_cells_open(
             // `draw_open_cell`).
             let (cut, sub0) = ([nu, 1, nv, 1], sub_word(i, j, 0, 0));
             if f & CELL_EXACT != 0 {
-                draw_exact_cell(t, c, r, [nu, nv], sub0, item);
+                draw_exact_cell(t, c, r, [nu, nv], sub0, 0, item);
                 continue;
             }
             match Shape::of(c, f) {

@@ -56,7 +56,10 @@ type SubRow = [SubNode; MAX_SUBDIVISION as usize + 1];
 /// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
 /// cut `nu × nv`: each sub-quad writes the pixel centres it holds, grown
 /// by [`EXACT_MARGIN_PX`]. The cell places its whole area (no closing
-/// column or row is needed: a sub-quad reaches the cell's sides).
+/// column or row is needed: a sub-quad reaches the cell's sides). A
+/// sample's place `(a, b)` is recorded shifted left by `shift` (0 for the
+/// piece's own cut; a pixel-centre piece records places in sixteenths of
+/// its cells and passes `log2(16 / nu)`).
 /// Inlined so that it runs with the band's instruction set ([`crate::isa`]).
 #[inline(always)]
 pub(crate) fn draw_exact_cell(
@@ -65,6 +68,7 @@ pub(crate) fn draw_exact_cell(
     r: Reciprocals,
     [nu, nv]: [u32; 2],
     sub0: u32,
+    shift: u32,
     item: u32,
 ) {
     let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
@@ -92,29 +96,29 @@ pub(crate) fn draw_exact_cell(
         }
         if b > 0 {
             let (lo, hi) = (&rows[((b - 1) & 1) as usize], &rows[(b & 1) as usize]);
-            let word = sub0 + (b - 1);
-            draw_quad_row(t, lo, hi, nu, [ox, oy], word, item);
+            let word = sub0 + ((b - 1) << shift);
+            draw_quad_row(t, [lo, hi], nu, [ox, oy], word, shift, item);
         }
         next_row(&mut start, &mut step, [sx, sy, sz]);
     }
 }
 
 /// Draws the `nu` sub-quads between two rows of sub-nodes; `word` is the
-/// sub-word of the row's first sub-node.
+/// sub-word of the row's first sub-node, places shifted by `shift`.
 #[inline(always)]
 fn draw_quad_row(
     t: &mut BandTarget<'_>,
-    lo: &SubRow,
-    hi: &SubRow,
+    [lo, hi]: [&SubRow; 2],
     nu: u32,
     origin: [i32; 2],
     word: u32,
+    shift: u32,
     item: u32,
 ) {
     for a in 0..nu as usize {
         let q = [lo[a], lo[a + 1], hi[a], hi[a + 1]];
         let z = q[0].z.min(q[1].z).min(q[2].z).min(q[3].z);
-        let sub = word + ((a as u32) << 8);
+        let sub = word + ((a as u32) << (8 + shift));
         let (x0, x1) = pixel_span(q.map(|p| p.x));
         let (y0, y1) = pixel_span(q.map(|p| p.y));
         // Why: most sub-quads of a cell cut finer than its pixels hold no
@@ -127,7 +131,7 @@ fn draw_quad_row(
             for px in x0..=x1 {
                 let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
                 if quad.covers(x, y) {
-                    let sub = sub + nearest_corner(&q, x, y);
+                    let sub = sub + (nearest_corner(&q, x, y) << shift);
                     splat_sample(t, origin[0] + px, origin[1] + py, z, sub, item);
                 }
             }
@@ -258,6 +262,7 @@ mod tests {
             [&n[0], &n[1], &n[2], &n[3]],
             r,
             [cut, cut],
+            0,
             0,
             PATCH_SAMPLE,
         );

@@ -16,5 +16,6 @@ mod cell_centres_tests;
 pub(crate) mod cell_edges;
 pub(crate) mod cell_exact;
 pub(crate) mod cell_smooth;
+pub(crate) mod centre_piece;
 pub(crate) mod splat;
 pub(crate) mod triangle_raster;

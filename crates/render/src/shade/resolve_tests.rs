@@ -119,7 +119,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             inside_columns: false,
             splat: [0, 0],
             open_sides: false,
-            centres: false,
+            centres: None,
         });
     }
     let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
