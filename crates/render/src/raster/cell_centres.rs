@@ -66,20 +66,6 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
     (first.max(min), last.min(max))
 }
 
-/// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
-/// whose sub-word of `(0, 0)` is `sub0`, its outline `sides` pushed out:
-/// the pixel centres of its box, each
-/// tested against its two triangles. Why set up only when the box holds a
-/// pixel centre: most cells of a coarse-enough level hold one or two,
-/// finer ones often none. Cells that do not fold (most of them) take
-/// [`Lazy`]: only the edges a centre needs, and interior ones no margins.
-#[cfg(test)]
-pub(super) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], sides: Sides, sub0: u32, item: u32) {
-    if let Some(span) = cell_box(t, c, sides) {
-        draw_cell_in(t, c, span, sides, sub0, item);
-    }
-}
-
 /// The outline sides of a cell (bits [`BOTTOM`], [`RIGHT`], [`TOP`],
 /// [`LEFT`]) and how far (position units) they are pushed out.
 #[derive(Debug, Clone, Copy)]
@@ -88,16 +74,18 @@ pub(super) struct Sides {
     pub(super) margin: i32,
 }
 
-/// Draws one cell over the centres of its box `span` (see [`draw_cell`]).
+/// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
+/// whose sub-word of `(0, 0)` is `sub0`, its outline `sides` pushed out:
+/// the pixel centres of its box, each tested against its two triangles.
+/// Why set up only when the box holds a pixel centre: most cells of a
+/// coarse-enough level hold one or two, finer ones often none. Cells that
+/// do not fold (most of them) take [`Lazy`]: only the edges a centre
+/// needs, and interior ones no margins.
 #[inline(always)]
-pub(super) fn draw_cell_in(
-    t: &mut BandTarget<'_>,
-    c: [&Node; 4],
-    span: CentreBox,
-    sides: Sides,
-    sub0: u32,
-    item: u32,
-) {
+pub(super) fn draw_cell(t: &mut BandTarget<'_>, c: [&Node; 4], sides: Sides, sub0: u32, item: u32) {
+    let Some(span) = cell_box(t, c, sides) else {
+        return;
+    };
     let Sides { outline, margin } = sides;
     let o = (c[0][0], c[0][1]);
     // Why a box of one centre apart: it is the most common at the levels
@@ -137,7 +125,7 @@ const LAZY_OUTLINE_CENTRES: i32 = 6;
 /// Why two copies: an interior cell's box needs no growth, and most
 /// drawn cells are interior.
 #[inline(always)]
-pub(super) fn cell_box(t: &BandTarget<'_>, c: [&Node; 4], sides: Sides) -> Option<CentreBox> {
+fn cell_box(t: &BandTarget<'_>, c: [&Node; 4], sides: Sides) -> Option<CentreBox> {
     if sides.outline == 0 {
         grown_box(t, c, [0; 4])
     } else {
@@ -199,7 +187,7 @@ fn corner_growth(sides: Sides) -> [i32; 4] {
 
 /// The pixel centres `px0..=px1 × py0..=py1` of a cell's box.
 #[derive(Clone, Copy)]
-pub(super) struct CentreBox {
+struct CentreBox {
     px0: i32,
     px1: i32,
     py0: i32,

@@ -30,9 +30,11 @@
 //! Cost: per sub-quad a box of its corners and, per candidate pixel centre
 //! (usually none to two), its margins and five edge functions; only pieces
 //! that ask for it (patches with colour, under
-//! [`crate::RenderOptions::exact_outlines`], [`crate::plan::piece`]).
-//! fuze's unlit frame: 27.2 M instructions with sub-nodes, 176.7 M with this
-//! (callgrind, `--threads 1`, 500²).
+//! [`crate::RenderOptions::exact_outlines`], [`crate::plan::piece`]) and
+//! the folded cells of colour-grid pieces
+//! ([`crate::raster::centre_piece`]), whose other cells take one
+//! pixel-centre test per centre. fuze's unlit frame: 27.2 M instructions
+//! with sub-nodes, 176.7 M with this (callgrind, `--threads 1`, 500²).
 
 use crate::fixed::Node;
 use crate::raster::band::{splat_sample, BandTarget};

@@ -24,7 +24,7 @@ use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::raster::band::BandTarget;
 use crate::raster::cell_bilinear::{sub_word, BilinearPiece, Reciprocals};
 use crate::raster::cell_centres::{
-    cell_box, draw_cell_in, Sides, BOTTOM, CELL_MARGIN, CENTRE_STEPS, LEFT, RIGHT, TOP,
+    draw_cell, Sides, BOTTOM, CELL_MARGIN, CENTRE_STEPS, LEFT, RIGHT, TOP,
 };
 use crate::raster::cell_exact::draw_exact_cell;
 
@@ -97,7 +97,7 @@ pub(crate) fn draw_cells_centres(
             if drawn {
                 let outline = outline(f, left_drawn, under.map(|u| u[i]));
                 let c = [&b[0], &b[1], &a[0], &a[1]];
-                draw_cell(t, c, outline, style, sub_word(i, j, 0, 0), item);
+                draw_piece_cell(t, c, outline, style, sub_word(i, j, 0, 0), item);
             }
             left_drawn = drawn;
         }
@@ -120,7 +120,7 @@ fn outline(f: u8, left_drawn: bool, under: Option<u8>) -> u8 {
 /// Draws one cell with corners `c` (`(0,0)`, `(1,0)`, `(0,1)`, `(1,1)`)
 /// in `style` by the kernel that suits it (module header).
 #[inline(always)]
-fn draw_cell(
+fn draw_piece_cell(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     outline: u8,
@@ -137,9 +137,7 @@ fn draw_cell(
         outline,
         margin: style.margin(),
     };
-    if let Some(span) = cell_box(t, c, sides) {
-        draw_cell_in(t, c, span, sides, sub0, item);
-    }
+    draw_cell(t, c, sides, sub0, item);
 }
 
 /// Whether the two triangles of the cell with corners `c` do not turn the
@@ -163,7 +161,7 @@ mod tests {
         let mut px = vec![Sample::EMPTY; 24 * 24];
         let mut t = BandTarget::new(&mut px, 24, 0, 24);
         let c = [&c[0], &c[1], &c[2], &c[3]];
-        draw_cell(&mut t, c, outline, style, 0, PATCH_SAMPLE);
+        draw_piece_cell(&mut t, c, outline, style, 0, PATCH_SAMPLE);
         px
     }
 
