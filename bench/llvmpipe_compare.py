@@ -12,12 +12,19 @@ up +y), passed to spatch as --eye/--target/--fov. Rounds alternate peer and
 spatch; the ratio of the medians of each round is printed, then the median
 over rounds.
 
+With --textured (OBJ with `vt` coordinates and a material's `map_Kd`
+image; without materials the image `spatch convert` would guess, or the
+one named by --texture) llvmpipe samples that texture per pixel for the albedo, bilinearly
+with mipmaps, as a viewer of the textured model would; spatch draws the
+texture from its colour grids either way. Without it the peer draws every
+mesh in plain grey, the measure of MEASURES.md.
+
 Setup (Debian): apt-get install libgl1-mesa-dri libegl1; then
-  python3 -m venv /tmp/venv && /tmp/venv/bin/pip install moderngl numpy
+  python3 -m venv /tmp/venv && /tmp/venv/bin/pip install moderngl numpy pillow
 Usage:
   LP_NUM_THREADS=2 /tmp/venv/bin/python bench/llvmpipe_compare.py \\
       --spatch target/release/spatch --mesh bun_zipper.ply --scene bunny.spatch \\
-      --size 500 --rounds 3 --frames 20 [-- extra spatch render flags]
+      --size 500 --rounds 3 --frames 20 [--textured] [-- extra spatch render flags]
 """
 
 import argparse
@@ -135,6 +142,67 @@ def read_obj(path):
     return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
 
 
+def guess_texture(path):
+    """For an OBJ without materials: the one image beside it named like the
+    OBJ or `*_texture`, as `spatch convert` guesses it; else None."""
+    folder = os.path.dirname(path) or "."
+    stem = os.path.splitext(os.path.basename(path))[0].lower()
+    found = [
+        os.path.join(folder, name)
+        for name in os.listdir(folder)
+        if os.path.splitext(name)[1].lower() in (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+        and (os.path.splitext(name)[0].lower() in (stem,)
+             or os.path.splitext(name)[0].lower().endswith("_texture"))
+    ]
+    return found[0] if len(found) == 1 else None
+
+
+def read_textured_obj(path, image=None):
+    """Per-corner positions (3m, 3), texture coordinates (3m, 2) and smooth
+    normals (3m, 3) of a Wavefront OBJ's triangles, and `image` or else the
+    path of the first `map_Kd` image of its material libraries (polygons
+    fanned)."""
+    verts, uvs, corners, libs = [], [], [], []
+    with open(path, "r", encoding="utf-8", errors="replace") as f:
+        for line in f:
+            words = line.split()
+            if not words:
+                continue
+            if words[0] == "v":
+                verts.append([float(x) for x in words[1:4]])
+            elif words[0] == "vt":
+                uvs.append([float(x) for x in words[1:3]])
+            elif words[0] == "mtllib":
+                libs.append(" ".join(words[1:]))
+            elif words[0] == "f":
+                idx = []
+                for corner in words[1:]:
+                    parts = corner.split("/")
+                    k, t = int(parts[0]), int(parts[1]) if len(parts) > 1 and parts[1] else 0
+                    idx.append((k - 1 if k > 0 else len(verts) + k, t - 1 if t > 0 else len(uvs) + t))
+                for i in range(1, len(idx) - 1):
+                    corners.extend([idx[0], idx[i], idx[i + 1]])
+    if not uvs:
+        sys.exit(f"{path}: no texture coordinates (vt) for --textured")
+    for lib in libs:
+        lib_path = os.path.join(os.path.dirname(path), lib)
+        with open(lib_path, "r", encoding="utf-8", errors="replace") as f:
+            for line in f:
+                words = line.split()
+                if words and words[0] == "map_Kd" and image is None:
+                    image = os.path.join(os.path.dirname(lib_path), words[-1])
+    if image is None and not libs:
+        image = guess_texture(path)
+    if image is None:
+        sys.exit(f"{path}: no map_Kd image in its materials; name one with --texture")
+    v = np.asarray(verts, dtype=np.float32)
+    c = np.asarray(corners, dtype=np.int64)
+    f = c[:, 0].reshape(-1, 3).astype(np.uint32)
+    n = vertex_normals(v, f)
+    uv = np.asarray(uvs, dtype=np.float32)[c[:, 1]]
+    return v[c[:, 0]], uv, n[c[:, 0]], image, len(f)
+
+
 def read_mesh(path):
     """The mesh of a PLY or OBJ file, by its extension."""
     if path.lower().endswith(".obj"):
@@ -191,8 +259,15 @@ uniform mat4 view;
 in vec3 pos;
 in vec3 nrm;
 out vec3 n_eye;
+#ifdef TEXTURED
+in vec2 uv;
+out vec2 uv_out;
+#endif
 void main() {
     n_eye = mat3(view) * nrm;
+#ifdef TEXTURED
+    uv_out = uv;
+#endif
     gl_Position = mvp * vec4(pos, 1.0);
 }
 """
@@ -202,13 +277,21 @@ FRAGMENT = """
 in vec3 n_eye;
 out vec4 colour;
 uniform vec3 light;
+#ifdef TEXTURED
+in vec2 uv_out;
+uniform sampler2D albedo_map;
+#endif
 void main() {
     vec3 n = normalize(n_eye);
     if (!gl_FrontFacing) n = -n;
     vec3 h = normalize(light + vec3(0.0, 0.0, 1.0));
     float diff = max(dot(n, light), 0.0);
     float spec = pow(max(dot(n, h), 0.0), 32.0);
+#ifdef TEXTURED
+    vec3 albedo = texture(albedo_map, uv_out).rgb;
+#else
     vec3 albedo = vec3(220.0 / 255.0);
+#endif
     colour = vec4(albedo * (0.2 + 0.8 * diff) + 0.25 * spec, 1.0);
 }
 """
@@ -217,7 +300,8 @@ void main() {
 class Peer:
     """llvmpipe drawing the mesh into an offscreen framebuffer."""
 
-    def __init__(self, v, f, size, camera, fov):
+    def __init__(self, mesh, size, camera, fov):
+        """`mesh`: `(v, f)` drawn in grey, or `read_textured_obj`'s tuple."""
         import moderngl
 
         self.ctx = moderngl.create_context(standalone=True, backend="egl")
@@ -228,19 +312,44 @@ class Peer:
         eye, target, near, far = camera
         view = look_at(eye, target, np.array([0.0, 1.0, 0.0]))
         mvp = perspective(fov, 1.0, near, far) @ view
-        prog = self.ctx.program(vertex_shader=VERTEX, fragment_shader=FRAGMENT)
+        textured = len(mesh) == 5
+        define = "#version 330\n#define TEXTURED\n" if textured else "#version 330\n"
+        prog = self.ctx.program(
+            vertex_shader=VERTEX.replace("#version 330\n", define),
+            fragment_shader=FRAGMENT.replace("#version 330\n", define),
+        )
         prog["mvp"].write(mvp.T.astype("f4").tobytes())
         prog["view"].write(view.T.astype("f4").tobytes())
         light = np.array([-0.4, 0.5, 0.75])
         prog["light"].value = tuple(light / np.linalg.norm(light))
-        n = vertex_normals(v, f)
-        vbo = self.ctx.buffer(np.hstack([v, n]).astype("f4").tobytes())
-        ibo = self.ctx.buffer(f.astype("u4").tobytes())
-        self.vao = self.ctx.vertex_array(prog, [(vbo, "3f 3f", "pos", "nrm")], ibo)
+        if textured:
+            self.vao = self.textured_vao(prog, mesh)
+        else:
+            v, f = mesh
+            n = vertex_normals(v, f)
+            vbo = self.ctx.buffer(np.hstack([v, n]).astype("f4").tobytes())
+            ibo = self.ctx.buffer(f.astype("u4").tobytes())
+            self.vao = self.ctx.vertex_array(prog, [(vbo, "3f 3f", "pos", "nrm")], ibo)
         self.fbo = self.ctx.simple_framebuffer((size, size), components=4)
         self.fbo.use()
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.disable(moderngl.CULL_FACE)
+
+    def textured_vao(self, prog, mesh):
+        """The corners of a textured mesh and its image as a mipmapped texture."""
+        import moderngl
+        from PIL import Image
+
+        pos, uv, nrm, image, _ = mesh
+        img = Image.open(image).convert("RGB").transpose(Image.Transpose.FLIP_TOP_BOTTOM)
+        tex = self.ctx.texture(img.size, 3, img.tobytes())
+        tex.build_mipmaps()
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        tex.repeat_x = tex.repeat_y = True
+        tex.use(location=0)
+        prog["albedo_map"].value = 0
+        vbo = self.ctx.buffer(np.hstack([pos, nrm, uv]).astype("f4").tobytes())
+        return self.ctx.vertex_array(prog, [(vbo, "3f 3f 2f", "pos", "nrm", "uv")])
 
     def frame_ms(self):
         start = time.perf_counter()
@@ -280,12 +389,16 @@ def main():
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--frames", type=int, default=20)
     p.add_argument("--fov", type=float, default=40.0)
+    p.add_argument("--textured", action="store_true",
+                   help="llvmpipe samples the OBJ's map_Kd texture (see the module doc)")
+    p.add_argument("--texture", help="with --textured: the image, for an OBJ without materials")
     args = p.parse_args(argv)
     if os.environ.get("LP_NUM_THREADS") != "2":
         print("note: LP_NUM_THREADS is not 2", file=sys.stderr)
     v, f = read_mesh(args.mesh)
     camera = measures_camera(v)
-    peer = Peer(v, f, args.size, camera, args.fov)
+    mesh = read_textured_obj(args.mesh, args.texture) if args.textured else (v, f)
+    peer = Peer(mesh, args.size, camera, args.fov)
     ratios = []
     for r in range(args.rounds):
         gl = peer.median_ms(args.frames)
@@ -293,7 +406,8 @@ def main():
         ratios.append(gl / sp)
         print(f"round {r + 1}: llvmpipe {gl:.2f} ms, spatch {sp:.2f} ms, ratio {gl / sp:.2f}")
     print(
-        f"{os.path.basename(args.mesh)} {args.size}²: {len(f)} triangles on {peer.renderer}; "
+        f"{os.path.basename(args.mesh)} {args.size}²: {len(f)} triangles"
+        f"{' textured' if args.textured else ''} on {peer.renderer}; "
         f"median ratio llvmpipe / spatch {statistics.median(ratios):.2f} over {args.rounds} rounds"
     )
 

@@ -10,11 +10,12 @@
 #   bench/llvmpipe_table.sh target/release/spatch "500 1000" \
 #       $R/bun_zipper.ply $R/bun_zipper_res2.ply $R/bun_zipper_res3.ply $R/bun_zipper_res4.ply
 # Needs the Python of bench/llvmpipe_compare.py's setup (PYTHON, default
-# /tmp/venv/bin/python, with moderngl and numpy) and Mesa's llvmpipe;
-# ROUNDS and FRAMES (default 5 and 30) set each comparison's length.
+# /tmp/venv/bin/python, with moderngl, numpy and pillow) and Mesa's llvmpipe;
+# ROUNDS and FRAMES (default 5 and 30) set each comparison's length;
+# TEXTURED=1 has llvmpipe draw textured OBJ files with their texture.
 set -eu
 if [ $# -lt 3 ]; then
-    sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
 fi
 spatch=$1
@@ -31,6 +32,6 @@ for mesh in "$@"; do
     for size in $sizes; do
         LP_NUM_THREADS=2 "$python" "$here/llvmpipe_compare.py" --spatch "$spatch" \
             --mesh "$mesh" --scene "$scene" --size "$size" \
-            --rounds "${ROUNDS:-5}" --frames "${FRAMES:-30}" | tail -n 1
+            --rounds "${ROUNDS:-5}" --frames "${FRAMES:-30}" ${TEXTURED:+--textured} | tail -n 1
     done
 done
