@@ -239,7 +239,8 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         None
     };
     let asked = opts.exact_outlines || for_grid;
-    let exact = bilinear && centres.is_none() && asked && exact_outlines(level);
+    let exact =
+        bilinear && centres.is_none() && asked && (nu, nv) != (1, 1) && exact_outlines(level);
     let open_sides = exact
         || (bilinear
             && centres.is_none()
