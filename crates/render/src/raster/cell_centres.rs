@@ -70,7 +70,9 @@ fn centre_span(lo: i32, hi: i32, min: i32, max: i32) -> (i32, i32) {
 /// [`LEFT`]) and how far (position units) they are pushed out.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Sides {
+    /// The sides on the piece's outline.
     pub(super) outline: u8,
+    /// How far they are pushed out (position units).
     pub(super) margin: i32,
 }
 
