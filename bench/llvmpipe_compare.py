@@ -120,48 +120,12 @@ def read_ply(path):
     return verts, np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
 
 
-def read_obj(path):
-    """Vertices (n, 3) float32 and triangles (m, 3) uint32 of a Wavefront
-    OBJ file: `v` and `f` lines (corners `i`, `i/t`, `i//n` or `i/t/n`,
-    negative indices counted from the end; polygons fanned into
-    triangles); everything else is skipped."""
-    verts, faces = [], []
-    with open(path, "r", encoding="utf-8", errors="replace") as f:
-        for line in f:
-            words = line.split()
-            if not words:
-                continue
-            if words[0] == "v":
-                verts.append([float(x) for x in words[1:4]])
-            elif words[0] == "f":
-                idx = []
-                for corner in words[1:]:
-                    k = int(corner.split("/")[0])
-                    idx.append(k - 1 if k > 0 else len(verts) + k)
-                faces.extend([idx[0], idx[i], idx[i + 1]] for i in range(1, len(idx) - 1))
-    return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
-
-
-def guess_texture(path):
-    """For an OBJ without materials: the one image beside it named like the
-    OBJ or `*_texture`, as `spatch convert` guesses it; else None."""
-    folder = os.path.dirname(path) or "."
-    stem = os.path.splitext(os.path.basename(path))[0].lower()
-    found = [
-        os.path.join(folder, name)
-        for name in os.listdir(folder)
-        if os.path.splitext(name)[1].lower() in (".png", ".jpg", ".jpeg", ".tif", ".tiff")
-        and (os.path.splitext(name)[0].lower() in (stem,)
-             or os.path.splitext(name)[0].lower().endswith("_texture"))
-    ]
-    return found[0] if len(found) == 1 else None
-
-
-def read_textured_obj(path, image=None):
-    """Per-corner positions (3m, 3), texture coordinates (3m, 2) and smooth
-    normals (3m, 3) of a Wavefront OBJ's triangles, and `image` or else the
-    path of the first `map_Kd` image of its material libraries (polygons
-    fanned)."""
+def parse_obj(path):
+    """The `v`, `vt` and `mtllib` lines of a Wavefront OBJ file and its
+    triangles' corners as (position, texture) index pairs: corners `i`,
+    `i/t`, `i//n` or `i/t/n`, negative indices counted from the end, -1
+    where a corner has no texture index; polygons fanned into triangles;
+    everything else is skipped."""
     verts, uvs, corners, libs = [], [], [], []
     with open(path, "r", encoding="utf-8", errors="replace") as f:
         for line in f:
@@ -178,10 +142,45 @@ def read_textured_obj(path, image=None):
                 idx = []
                 for corner in words[1:]:
                     parts = corner.split("/")
-                    k, t = int(parts[0]), int(parts[1]) if len(parts) > 1 and parts[1] else 0
-                    idx.append((k - 1 if k > 0 else len(verts) + k, t - 1 if t > 0 else len(uvs) + t))
+                    k = int(parts[0])
+                    t = int(parts[1]) if len(parts) > 1 and parts[1] else None
+                    uv = -1 if t is None else (t - 1 if t > 0 else len(uvs) + t)
+                    idx.append((k - 1 if k > 0 else len(verts) + k, uv))
                 for i in range(1, len(idx) - 1):
                     corners.extend([idx[0], idx[i], idx[i + 1]])
+    return verts, uvs, corners, libs
+
+
+def read_obj(path):
+    """Vertices (n, 3) float32 and triangles (m, 3) uint32 of a Wavefront
+    OBJ file (see `parse_obj`)."""
+    verts, _, corners, _ = parse_obj(path)
+    faces = [k for k, _ in corners]
+    return np.asarray(verts, dtype=np.float32), np.asarray(faces, dtype=np.uint32).reshape(-1, 3)
+
+
+def guess_texture(path):
+    """For an OBJ without materials: the one image beside it named like the
+    OBJ or `*_texture`, as `spatch convert` guesses it; else None."""
+    folder = os.path.dirname(path) or "."
+    stem = os.path.splitext(os.path.basename(path))[0].lower()
+    found = [
+        os.path.join(folder, name)
+        for name in os.listdir(folder)
+        if os.path.splitext(name)[1].lower() in (".png", ".jpg", ".jpeg", ".tif", ".tiff")
+        and (os.path.splitext(name)[0].lower() == stem
+             or os.path.splitext(name)[0].lower().endswith("_texture"))
+    ]
+    return found[0] if len(found) == 1 else None
+
+
+def read_textured_obj(path, image=None):
+    """Per-corner positions (3m, 3), texture coordinates (3m, 2; (0, 0)
+    where a corner has none) and smooth normals (3m, 3) of a Wavefront
+    OBJ's triangles, `image` or else the first `map_Kd` image of its
+    material libraries (without any, the converter's guess), and the
+    triangle count."""
+    verts, uvs, corners, libs = parse_obj(path)
     if not uvs:
         sys.exit(f"{path}: no texture coordinates (vt) for --textured")
     for lib in libs:
@@ -199,7 +198,7 @@ def read_textured_obj(path, image=None):
     c = np.asarray(corners, dtype=np.int64)
     f = c[:, 0].reshape(-1, 3).astype(np.uint32)
     n = vertex_normals(v, f)
-    uv = np.asarray(uvs, dtype=np.float32)[c[:, 1]]
+    uv = np.vstack([np.asarray(uvs, dtype=np.float32), np.zeros((1, 2), np.float32)])[c[:, 1]]
     return v[c[:, 0]], uv, n[c[:, 0]], image, len(f)
 
 
