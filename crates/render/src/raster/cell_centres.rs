@@ -343,7 +343,7 @@ impl<const GROW: bool> Lazy<GROW> {
     pub(super) fn new(c: [&Node; 4], outline: u8, margin: i32) -> Option<Self> {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
-        let (al, au) = (cross(q1, q3), cross(q3, q2));
+        let [al, au] = triangle_areas(c);
         let s = al.signum();
         if s == 0 || au.signum() != s {
             return None;
@@ -455,6 +455,16 @@ fn cross(a: [i64; 2], b: [i64; 2]) -> i64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
+/// Twice the signed areas of the lower `(c00, c10, c11)` and upper
+/// `(c00, c11, c01)` triangles of a cell with corners `c` (what [`Lazy::new`]
+/// and [`Cell::new`] orient by): the cell folds when their signs differ.
+#[inline(always)]
+pub(super) fn triangle_areas(c: [&Node; 4]) -> [i64; 2] {
+    let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
+    let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
+    [cross(q1, q3), cross(q3, q2)]
+}
+
 /// One side of a triangle as an oriented edge function `a x + b y + c`
 /// (positions relative to the cell's first corner): a pixel centre is on
 /// the triangle's side of it when the value is `>= 0`. `c` includes the
@@ -533,7 +543,7 @@ impl Cell {
     fn new(c: [&Node; 4], outline: u8, margin: i32) -> Cell {
         let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
         let (p1, p2, p3) = (rel(c[1]), rel(c[2]), rel(c[3]));
-        let area = [cross(p1, p3), cross(p3, p2)];
+        let area = triangle_areas(c);
         let [sl, su] = area.map(i64::signum);
         let same = sl == su;
         let outline = if same {

@@ -24,7 +24,7 @@ use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
 use crate::raster::band::BandTarget;
 use crate::raster::cell_bilinear::{sub_word, BilinearPiece, Reciprocals};
 use crate::raster::cell_centres::{
-    draw_cell, Sides, BOTTOM, CELL_MARGIN, CENTRE_STEPS, LEFT, RIGHT, TOP,
+    draw_cell, triangle_areas, Sides, BOTTOM, CELL_MARGIN, CENTRE_STEPS, LEFT, RIGHT, TOP,
 };
 use crate::raster::cell_exact::draw_exact_cell;
 
@@ -141,13 +141,11 @@ fn draw_piece_cell(
 }
 
 /// Whether the two triangles of the cell with corners `c` do not turn the
-/// same way on screen (or one is flat): the surface folds away inside it.
+/// same way on screen (or the lower one is flat): the surface folds away
+/// inside it, and the two-triangle kernels' lazy set-up refuses it.
 #[inline(always)]
 fn folds(c: [&Node; 4]) -> bool {
-    let rel = |n: &Node| [n[0] as i64 - c[0][0] as i64, n[1] as i64 - c[0][1] as i64];
-    let (q1, q2, q3) = (rel(c[1]), rel(c[2]), rel(c[3]));
-    let lower = q1[0] * q3[1] - q1[1] * q3[0];
-    let upper = q3[0] * q2[1] - q3[1] * q2[0];
+    let [lower, upper] = triangle_areas(c);
     lower.signum() != upper.signum() || lower == 0
 }
 
