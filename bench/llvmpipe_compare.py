@@ -36,6 +36,7 @@ import struct
 import subprocess
 import sys
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -174,12 +175,20 @@ def guess_texture(path):
     return found[0] if len(found) == 1 else None
 
 
+class TexturedMesh(NamedTuple):
+    """A mesh drawn corner by corner with a texture image."""
+
+    pos: np.ndarray
+    uv: np.ndarray
+    nrm: np.ndarray
+    image: str
+
+
 def read_textured_obj(path, image=None):
-    """Per-corner positions (3m, 3), texture coordinates (3m, 2; (0, 0)
-    where a corner has none) and smooth normals (3m, 3) of a Wavefront
-    OBJ's triangles, `image` or else the first `map_Kd` image of its
-    material libraries (without any, the converter's guess), and the
-    triangle count."""
+    """The `TexturedMesh` of a Wavefront OBJ: per-corner positions (3m, 3),
+    texture coordinates (3m, 2; (0, 0) where a corner has none) and smooth
+    normals (3m, 3) of its triangles, and `image` or else the first `map_Kd`
+    image of its material libraries (without any, the converter's guess)."""
     verts, uvs, corners, libs = parse_obj(path)
     if not uvs:
         sys.exit(f"{path}: no texture coordinates (vt) for --textured")
@@ -199,7 +208,7 @@ def read_textured_obj(path, image=None):
     f = c[:, 0].reshape(-1, 3).astype(np.uint32)
     n = vertex_normals(v, f)
     uv = np.vstack([np.asarray(uvs, dtype=np.float32), np.zeros((1, 2), np.float32)])[c[:, 1]]
-    return v[c[:, 0]], uv, n[c[:, 0]], image, len(f)
+    return TexturedMesh(v[c[:, 0]], uv, n[c[:, 0]], image)
 
 
 def read_mesh(path):
@@ -300,7 +309,7 @@ class Peer:
     """llvmpipe drawing the mesh into an offscreen framebuffer."""
 
     def __init__(self, mesh, size, camera, fov):
-        """`mesh`: `(v, f)` drawn in grey, or `read_textured_obj`'s tuple."""
+        """`mesh`: `(v, f)` drawn in grey, or a `TexturedMesh`."""
         import moderngl
 
         self.ctx = moderngl.create_context(standalone=True, backend="egl")
@@ -311,7 +320,7 @@ class Peer:
         eye, target, near, far = camera
         view = look_at(eye, target, np.array([0.0, 1.0, 0.0]))
         mvp = perspective(fov, 1.0, near, far) @ view
-        textured = len(mesh) == 5
+        textured = isinstance(mesh, TexturedMesh)
         define = "#version 330\n#define TEXTURED\n" if textured else "#version 330\n"
         prog = self.ctx.program(
             vertex_shader=VERTEX.replace("#version 330\n", define),
@@ -339,7 +348,7 @@ class Peer:
         import moderngl
         from PIL import Image
 
-        pos, uv, nrm, image, _ = mesh
+        pos, uv, nrm, image = mesh
         img = Image.open(image).convert("RGB").transpose(Image.Transpose.FLIP_TOP_BOTTOM)
         tex = self.ctx.texture(img.size, 3, img.tobytes())
         tex.build_mipmaps()
