@@ -227,20 +227,24 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // (`raster::centre_piece`), or by sub-quads (`raster::cell_exact`)
     // with `--exact-outlines`, which also takes the other coloured ones.
     let bilinear = !smooth && splat[0] == 0;
-    let for_grid =
-        opts.exact_grid_outlines && p.colour_grid.is_some() && nu.max(nv) >= GRID_EXACT_CUT;
+    let grid_centres = opts.exact_grid_outlines
+        && !opts.exact_outlines
+        && p.colour_grid.is_some()
+        && nu.max(nv) >= GRID_EXACT_CUT;
     let centres = if !bilinear || (nu, nv) == (1, 1) {
         None
     } else if centre_cells(opts) && nu.max(nv) <= CENTRE_CUT {
         Some(CentreStyle::Cells)
-    } else if for_grid && !opts.exact_outlines {
+    } else if grid_centres {
         Some(CentreStyle::Grid)
     } else {
         None
     };
-    let asked = opts.exact_outlines || for_grid;
-    let exact =
-        bilinear && centres.is_none() && asked && (nu, nv) != (1, 1) && exact_outlines(level);
+    let exact = bilinear
+        && centres.is_none()
+        && opts.exact_outlines
+        && (nu, nv) != (1, 1)
+        && exact_outlines(level);
     let open_sides = exact
         || (bilinear
             && centres.is_none()
