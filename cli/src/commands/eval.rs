@@ -87,6 +87,9 @@ pub(crate) struct EvalArgs {
     /// without colour grids draw the same either way.
     #[arg(long)]
     no_exact_grid_outlines: bool,
+    /// Draw the patches with the gap fill, as `spatch render --gap-fill`.
+    #[arg(long, conflicts_with = "sweep")]
+    gap_fill: bool,
     /// Splat limit of the patch renders in pixels (see `spatch render
     /// --splat-limit`; 0 = off, the default; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_SPLAT_LIMIT, conflicts_with = "sweep")]
@@ -182,6 +185,7 @@ impl EvalArgs {
         self.shading.apply(&mut render);
         render.exact_outlines = self.exact_outlines;
         render.exact_grid_outlines = !self.no_exact_grid_outlines;
+        render.gap_fill = self.gap_fill;
         render.threads = self.threads.count();
         render.splat_limit = self.splat_limit;
         render.geometry_limit = self.geometry_limit;

@@ -220,6 +220,13 @@ pub(crate) struct RenderArgs {
     /// which hide little: about 1 % more.
     #[arg(long)]
     occlusion_skip: bool,
+    /// Cut magnified cells into sub-nodes up to 1.5 px apart and close the
+    /// gaps between them by one pass per band, instead of a sub-node in
+    /// every pixel a cell covers: bunny 1000²: 16 % fewer instructions per
+    /// frame at the same PSNR against its source, but without the default's
+    /// hole-free bound (rare holes where two patches meet)
+    #[arg(long)]
+    gap_fill: bool,
     /// Take the coarsest mip level whose projected cells stay below PX
     /// pixels, 0.1..=16. The default (3) draws cells of up to about three
     /// pixels, subdivided (bunny 500²: 37 % fewer instructions per frame
@@ -417,6 +424,7 @@ fn render_options(args: &RenderArgs) -> RenderOptions {
     o.exact_outlines = args.exact_outlines;
     o.exact_grid_outlines = !args.no_exact_grid_outlines;
     o.occlusion_skip = args.occlusion_skip;
+    o.gap_fill = args.gap_fill;
     o.mip_limit = args.mip_limit;
     o.mip_tolerance = args.mip_tolerance;
     o.splat_limit = args.splat_limit;

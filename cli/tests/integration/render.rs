@@ -554,3 +554,26 @@ fn issue_22_depth_as_exr_matches_the_tiff_bit_for_bit() {
     assert!(!t.path("e.tiff").exists() && !t.path("e.exr").exists());
     assert!(!t.path("e.camera.json").exists());
 }
+
+#[test]
+fn gap_fill_places_fewer_sub_nodes_and_covers_the_same_disc() {
+    // The default sphere at 500² (magnified cells): with --gap-fill the
+    // sub-nodes land up to 1.5 px apart, fewer than half as many, and the
+    // pass closes the gaps: the disc covers the same pixels within a
+    // thousandth, and --stats names the option.
+    let t = TestCommand::new();
+    t.run(&["sphere", "-o", "big.spatch"]).success();
+    let at_500 = ["--width", "500", "--height", "500"];
+    let stats = |extra: &[&str], name: &str| render_stats(&t, &[&at_500[..], extra].concat(), name);
+    let off = stats(&[], "off.json");
+    let on = stats(&["--gap-fill"], "on.json");
+    let count = |s: &serde_json::Value, k: &str| s[k].as_u64().unwrap();
+    assert!(
+        count(&on, "interpolated_nodes") * 2 < count(&off, "interpolated_nodes"),
+        "{on}"
+    );
+    let (a, b) = (count(&off, "covered_pixels"), count(&on, "covered_pixels"));
+    assert!(a.abs_diff(b) * 1000 < a, "{a} against {b}");
+    assert_eq!(on["options"]["gap_fill"], true);
+    assert_eq!(off["options"]["gap_fill"], false);
+}

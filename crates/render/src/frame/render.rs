@@ -32,6 +32,7 @@ use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::PreparedScene;
 use crate::raster::band::{Band, Sample};
+use crate::raster::gap_fill::GAP_FILL_APRON;
 use crate::shade::phong_items::PhongItems;
 use crate::shade::resolve::Resolve;
 
@@ -255,7 +256,13 @@ impl Renderer {
         let bin_start = Instant::now();
         let tile_rows = options.band_rows(view.height, self.pool.current_num_threads());
         let band_count = view.height.div_ceil(tile_rows) as usize;
-        self.bins.fill(&self.chunks, tile_rows, band_count);
+        // Only patch frames fill gaps (a mesh's `finish` has no patches).
+        let apron = if options.fills_gaps() && !patches.is_empty() {
+            GAP_FILL_APRON
+        } else {
+            0
+        };
+        self.bins.fill(&self.chunks, tile_rows, band_count, apron);
         let size = (view.width, view.height);
         (self.order).plan(&self.chunks, size, tile_rows, band_count);
         let bin_wall = bin_start.elapsed();
@@ -336,7 +343,7 @@ impl Renderer {
                 .lock()
                 .unwrap_or_else(PoisonError::into_inner);
             band.swap_samples(&mut samples);
-            band.size_for(y0, rows, width);
+            band.size_for(y0, rows, width, apron);
             band.thread = thread;
             isa.run(
                 #[inline(always)]
@@ -410,6 +417,7 @@ impl Renderer {
             height,
             tile_rows: self.options.band_rows(height as u32, threads) as i32,
             skip: self.options.occlusion_skip,
+            apron: band.apron,
         };
         occlusion::measure(&frame)
     }

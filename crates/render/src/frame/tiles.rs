@@ -26,6 +26,7 @@ use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiec
 use crate::raster::cell_edges::draw_cells_open;
 use crate::raster::cell_smooth::draw_cells_smooth;
 use crate::raster::centre_piece::draw_cells_centres;
+use crate::raster::gap_fill::fill_band_gaps;
 use crate::raster::splat::{draw_splats, SplatPiece};
 use crate::raster::triangle_raster::{draw_triangle, ScreenTriangle};
 use crate::shade::resolve::{resolve_box, Resolve};
@@ -90,8 +91,9 @@ fn fill_csr<T>(
 }
 
 impl Bins {
-    /// Sorts the work of `chunks` into `bands` bands of `tile_rows` rows.
-    pub(crate) fn fill(&mut self, chunks: &[ChunkWork], tile_rows: u32, bands: usize) {
+    /// Sorts the work of `chunks` into `bands` bands of `tile_rows` rows,
+    /// each with `apron` rows more above and below.
+    pub(crate) fn fill(&mut self, chunks: &[ChunkWork], tile_rows: u32, bands: usize, apron: i32) {
         let rows = tile_rows as i32;
         self.all_items.clear();
         for (c, chunk) in chunks.iter().enumerate() {
@@ -101,7 +103,7 @@ impl Bins {
         fill_csr(
             chunks,
             |c| &c.items,
-            |i: &Item| (i.y0, i.y1),
+            |i: &Item| (i.y0 - apron, i.y1 + apron),
             rows,
             bands,
             &mut self.item_starts,
@@ -120,7 +122,7 @@ impl Bins {
         fill_csr(
             chunks,
             |c| &c.triangles,
-            |t: &ScreenTriangle| (t.y0, t.y1),
+            |t: &ScreenTriangle| (t.y0 - apron, t.y1 + apron),
             rows,
             bands,
             &mut self.tri_starts,
@@ -305,16 +307,17 @@ pub(crate) fn render_band(
     rgba: &mut [[u8; 4]],
     eye_depth: &mut [f32],
 ) {
-    // Only the part of the band its work can touch is cleared, drawn and
-    // resolved (`raster::band_box`). The occlusion skip reads whole tiles
-    // of the band, so it keeps the whole band.
+    // Only the part of the band (and its apron) its work can touch is
+    // cleared, drawn and resolved (`raster::band_box`). The occlusion skip
+    // reads whole tiles of the band, so it keeps the whole band.
     let whole = PixelBox::whole(band.y0, band.rows, band.width);
-    let touched = if job.occlusion_skip {
-        whole
+    let drawn = PixelBox::whole(band.y0 - band.apron, band.rows + 2 * band.apron, band.width);
+    let reach = if job.occlusion_skip {
+        drawn
     } else {
-        band_box(work_boxes(job, index), whole)
+        band_box(work_boxes(job, index), drawn)
     };
-    band.clear_box(touched);
+    band.clear_box(reach);
     let start = Instant::now();
     if job.occlusion_skip {
         draw_unhidden_pieces(&mut band.target(), index, job, skip);
@@ -339,6 +342,16 @@ pub(crate) fn render_band(
             }
         }
     }
+    if band.apron > 0 {
+        fill_band_gaps(band, reach);
+    }
+    // The band's own rows of the box.
+    let (y0, y1) = (reach.y0.max(whole.y0), reach.y1.min(whole.y1));
+    let touched = PixelBox {
+        y0,
+        y1: y1.max(y0),
+        ..reach
+    };
     let tris_done = Instant::now();
     resolve_box(
         &job.resolve,

@@ -30,10 +30,11 @@ use crate::plan::project::{
     level_map, nearest_box_depth, project_nodes_exact, project_nodes_trilinear, Projector,
 };
 use crate::plan::split::NodeRange;
-use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN};
+use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
 use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::centre_piece::CentreStyle;
+use crate::raster::gap_fill::GAP_FILL_APRON;
 use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
@@ -172,9 +173,9 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     );
     work.counters.cells_backface += measure.backfacing_cells;
     let edges = measure.edges.map(|e| e as f32 / XY_ONE);
-    let mut split = choose_subdivision(edges, 1.0);
+    let mut split = choose_subdivision(edges, SUBPIXEL_LIMIT);
     if smooth && split != Some((1, 1)) {
-        split = choose_subdivision(edges, SMOOTH_MARGIN);
+        split = choose_subdivision(edges, SUBPIXEL_LIMIT / SMOOTH_MARGIN);
     }
     let splat = splat_footprint(opts, smooth, split, edges);
     if splat[0] > 0 {
@@ -255,6 +256,19 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else if open_sides {
         mark_open_sides(level, range, &mut work.cell_flags[flags..]);
     }
+    // Plain sub-node pieces leave one-pixel gaps to the gap fill
+    // (`raster::gap_fill`): about a quarter of the samples on magnified
+    // cells. The other drawers keep their own coverage.
+    // Pieces at the image's left or right side keep every pixel's sample:
+    // past that side no sample is drawn to close a gap against.
+    let reach = GAP_FILL_APRON;
+    let inside = x0 >= reach && x1 < setup.view.width as i32 - reach;
+    let plain = bilinear && centres.is_none() && !open_sides;
+    let (nu, nv) = if plain && inside && opts.fills_gaps() {
+        choose_subdivision(edges, GAP_FILL_LIMIT).unwrap_or((nu, nv))
+    } else {
+        (nu, nv)
+    };
     work.counters.traverse_ns += work.clock.lap();
     // 5. Attributes.
     fill_attributes(work, ctx, m, range, first);

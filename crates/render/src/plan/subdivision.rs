@@ -1,5 +1,6 @@
 //! The subdivision of a piece: the fewest sub-cells `nu × nv` per cell
-//! that keep every sub-cell below a pixel on screen.
+//! that keep every sub-cell below a limit on screen (a pixel, or about two
+//! with the gap fill).
 //!
 //! Every point of a bilinear cell lies within half a pixel (max norm) of
 //! one of its sub-nodes when each sub-cell's extent
@@ -15,16 +16,23 @@ use crate::raster::cell_bilinear::MAX_SUBDIVISION;
 /// Largest sub-cell extent (pixels, max-norm sum of edges) allowed; below
 /// 1 so that rounding never opens a hole.
 pub(crate) const SUBPIXEL_LIMIT: f32 = 0.95;
-/// Extra subdivision for Catmull-Rom cells, which bulge past their corners.
+/// Largest sub-cell extent with the gap fill ([`crate::raster::gap_fill`]):
+/// every pixel centre then lies within 0.75 px of a sub-node, so a pixel the
+/// lattice misses has drawn pixels on two opposite sides within two steps.
+/// Why 1.5: at 1.9 the bunny lost 0.18 dB and its holes tripled, at 1.2 it
+/// placed more samples for the same image (docs/algorithms/render.md).
+pub(crate) const GAP_FILL_LIMIT: f32 = 1.5;
+/// Extra subdivision for Catmull-Rom cells, which bulge past their corners:
+/// their limit is [`SUBPIXEL_LIMIT`] divided by this.
 pub(crate) const SMOOTH_MARGIN: f32 = 1.3;
 
 /// The cheapest cut `nu × nv` of cells whose largest edges are
-/// `[ux, uy, vx, vy]` pixels (times `margin`) such that sub-cells satisfy
-/// `ux/nu + vx/nv < SUBPIXEL_LIMIT` and `uy/nu + vy/nv < SUBPIXEL_LIMIT`;
-/// `None` when more than [`MAX_SUBDIVISION`] per side would be needed.
+/// `[ux, uy, vx, vy]` pixels such that sub-cells satisfy
+/// `ux/nu + vx/nv < limit` and `uy/nu + vy/nv < limit`; `None` when more
+/// than [`MAX_SUBDIVISION`] per side would be needed.
 #[inline(always)]
-pub(crate) fn choose_subdivision(edges: [f32; 4], margin: f32) -> Option<(u32, u32)> {
-    let [ux, uy, vx, vy] = edges.map(|e| e * margin);
+pub(crate) fn choose_subdivision(edges: [f32; 4], limit: f32) -> Option<(u32, u32)> {
+    let [ux, uy, vx, vy] = edges;
     let mut best: Option<(u32, u32)> = None;
     for nv in 1..=MAX_SUBDIVISION {
         // Every later cut has at least `nv` sub-cells: none can beat the
@@ -34,10 +42,7 @@ pub(crate) fn choose_subdivision(edges: [f32; 4], margin: f32) -> Option<(u32, u
         if best.is_some_and(|(bu, bv)| nv >= bu * bv) {
             break;
         }
-        let (rx, ry) = (
-            SUBPIXEL_LIMIT - vx / nv as f32,
-            SUBPIXEL_LIMIT - vy / nv as f32,
-        );
+        let (rx, ry) = (limit - vx / nv as f32, limit - vy / nv as f32);
         if rx <= 0.0 || ry <= 0.0 {
             continue;
         }
@@ -61,13 +66,19 @@ mod tests {
 
     #[test]
     fn subdivision_is_anisotropic_and_keeps_sub_cells_below_a_pixel() {
-        assert_eq!(choose_subdivision([0.3, 0.2, 0.2, 0.4], 1.0), Some((1, 1)));
+        assert_eq!(
+            choose_subdivision([0.3, 0.2, 0.2, 0.4], SUBPIXEL_LIMIT),
+            Some((1, 1))
+        );
         // Foreshortened along v: cut along u only.
-        let (nu, nv) = choose_subdivision([3.0, 0.0, 0.0, 0.4], 1.0).unwrap();
+        let (nu, nv) = choose_subdivision([3.0, 0.0, 0.0, 0.4], SUBPIXEL_LIMIT).unwrap();
         assert_eq!(nv, 1);
         assert!(3.0 / (nu as f32) < SUBPIXEL_LIMIT && nu <= 4);
-        let (nu, nv) = choose_subdivision([2.0, 2.0, 2.0, 2.0], 1.0).unwrap();
+        let (nu, nv) = choose_subdivision([2.0, 2.0, 2.0, 2.0], SUBPIXEL_LIMIT).unwrap();
         assert!(2.0 / (nu as f32) + 2.0 / (nv as f32) < SUBPIXEL_LIMIT);
-        assert_eq!(choose_subdivision([500.0, 0.0, 0.0, 1.0], 1.0), None);
+        assert_eq!(
+            choose_subdivision([500.0, 0.0, 0.0, 1.0], SUBPIXEL_LIMIT),
+            None
+        );
     }
 }

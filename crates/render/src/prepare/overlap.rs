@@ -566,7 +566,9 @@ mod tests {
     fn trimming_covers_the_same_pixels_from_any_side() {
         // Three overlapping patches of one plane, seen from the front at
         // several angles (up to 75° from the normal): the trimmed scene
-        // must cover exactly the pixels the untrimmed one covers.
+        // must cover exactly the pixels the untrimmed one covers; with the
+        // gap fill, whose sparser lattice meets the outline differently,
+        // all but a pixel in a thousand.
         let s = scene(vec![
             flat(Vec3::ZERO, Vec3::X, Vec3::Y, 7),
             flat(Vec3::new(4.3, 1.7, 0.0), Vec3::X, Vec3::Y, 7),
@@ -579,7 +581,22 @@ mod tests {
         ]);
         let (trimmed, kept) = (PreparedScene::trimming_overlaps(&s), PreparedScene::new(&s));
         assert!(trimmed.trimmed_cells() > 20, "{}", trimmed.trimmed_cells());
-        let mut renderer = Renderer::new(RenderOptions::default()).unwrap();
+        let filled = RenderOptions {
+            gap_fill: true,
+            ..Default::default()
+        };
+        for options in [RenderOptions::default(), filled] {
+            covers_the_same_pixels(&trimmed, &kept, options);
+        }
+    }
+
+    /// [`trimming_covers_the_same_pixels_from_any_side`] with `options`.
+    fn covers_the_same_pixels(
+        trimmed: &PreparedScene,
+        kept: &PreparedScene,
+        options: RenderOptions,
+    ) {
+        let mut renderer = Renderer::new(options).unwrap();
         for (k, tilt) in [0.0f64, 30.0, 60.0, 75.0].into_iter().enumerate() {
             let (s, c) = (tilt.to_radians().sin(), tilt.to_radians().cos());
             let turn = k as f64 * 1.3;
@@ -597,9 +614,15 @@ mod tests {
                 let out = renderer.render(p, &camera).unwrap();
                 out.image.depth().iter().map(|d| d.is_finite()).collect()
             };
-            let (a, b) = (covered(&trimmed), covered(&kept));
-            assert!(a.iter().filter(|&&c| c).count() > 2000, "view {k}");
-            assert_eq!(a, b, "view {k} at {tilt}°");
+            let (a, b) = (covered(trimmed), covered(kept));
+            let n = a.iter().filter(|&&c| c).count();
+            let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+            assert!(n > 2000, "view {k}");
+            let allowed = if options.gap_fill { n / 1000 } else { 0 };
+            assert!(
+                differ <= allowed,
+                "view {k} at {tilt}°: {differ} pixels differ"
+            );
         }
     }
 

@@ -206,6 +206,15 @@ impl Payload<6> for GridPhongPayload<'_> {
     }
 }
 
+/// Scratch rows of the gap fill ([`crate::raster::gap_fill`]): the drawn
+/// depths of five rows and the flags of the middle one. Kept by the band
+/// so that frames allocate nothing for it.
+#[derive(Debug, Default)]
+pub(crate) struct GapScratch {
+    pub(crate) rows: [Vec<i32>; 5],
+    pub(crate) flags: Vec<u8>,
+}
+
 /// Time spent in one band, nanoseconds.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct BandTimes {
@@ -220,7 +229,13 @@ pub(crate) struct Band {
     pub(crate) y0: i32,
     pub(crate) rows: i32,
     pub(crate) width: i32,
+    /// Rows drawn above and below the band's own (0, or
+    /// [`crate::raster::gap_fill::GAP_FILL_APRON`] with the gap fill); the
+    /// buffer holds `rows + 2 * apron` rows from image row `y0 - apron`.
+    pub(crate) apron: i32,
     px: Vec<Sample>,
+    /// Scratch rows of the gap fill.
+    pub(crate) gaps: GapScratch,
     pub(crate) times: BandTimes,
     /// Pixels of the band's rows that show a surface after its resolve.
     pub(crate) covered: u64,
@@ -229,7 +244,8 @@ pub(crate) struct Band {
 }
 
 impl Band {
-    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`.
+    /// Sizes and clears the buffers for rows `y0..y0 + rows` of `width`,
+    /// with `apron` rows more on each side.
     /// Why a clear pass right before drawing rather than clearing in the
     /// resolve pass: the pass brings the band into the cache for the
     /// cells; clearing in the resolve pass saved ~0.45 M instructions per
@@ -237,36 +253,40 @@ impl Band {
     /// (`--bench 50 --threads 1`, alternated runs). Why `fill`: stores of
     /// whole samples, a third of `resize`'s instructions (callgrind,
     /// `profile_sphere 500 1`).
-    pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32) {
-        self.size_for(y0, rows, width);
+    pub(crate) fn reset(&mut self, y0: i32, rows: i32, width: i32, apron: i32) {
+        self.size_for(y0, rows, width, apron);
         self.px.fill(Sample::EMPTY);
     }
 
-    /// Sizes the buffers for rows `y0..y0 + rows` of `width` without
-    /// clearing what they hold: the caller clears the part it draws in
-    /// ([`Self::clear_box`]) and reads nothing else.
-    pub(crate) fn size_for(&mut self, y0: i32, rows: i32, width: i32) {
-        let n = (rows * width) as usize;
-        (self.y0, self.rows, self.width) = (y0, rows, width);
+    /// Sizes the buffers for rows `y0..y0 + rows` of `width`, with `apron`
+    /// rows more on each side, without clearing what they hold: the caller
+    /// clears the part it draws in ([`Self::clear_box`]) and reads nothing
+    /// else.
+    pub(crate) fn size_for(&mut self, y0: i32, rows: i32, width: i32, apron: i32) {
+        let n = ((rows + 2 * apron) * width) as usize;
+        (self.y0, self.rows, self.width, self.apron) = (y0, rows, width, apron);
         self.px.resize(n, Sample::EMPTY);
         self.times = BandTimes::default();
     }
 
     /// Clears the samples of the pixels of `b` (image rows and columns,
-    /// inside the band). Why `fill` per row: see [`Self::reset`].
+    /// inside the band and its apron). Why `fill` per row: see
+    /// [`Self::reset`].
     pub(crate) fn clear_box(&mut self, b: PixelBox) {
         let w = self.width as usize;
+        let first = self.y0 - self.apron;
         if b.x0 == 0 && b.x1 == self.width {
-            let rows = (b.y0 - self.y0) as usize..(b.y1 - self.y0) as usize;
+            let rows = (b.y0 - first) as usize..(b.y1 - first) as usize;
             return self.clear_rows(rows);
         }
         for y in b.y0..b.y1 {
-            let row = (y - self.y0) as usize * w;
+            let row = (y - first) as usize * w;
             self.px[row + b.x0 as usize..row + b.x1 as usize].fill(Sample::EMPTY);
         }
     }
 
-    /// Clears rows `rows` of the band (counted from its first row).
+    /// Clears rows `rows` of the buffer (counted from its first row, the
+    /// apron's).
     pub(crate) fn clear_rows(&mut self, rows: std::ops::Range<usize>) {
         let w = self.width as usize;
         self.px[rows.start * w..rows.end * w].fill(Sample::EMPTY);
@@ -278,13 +298,28 @@ impl Band {
         std::mem::swap(&mut self.px, buffer);
     }
 
-    /// The buffers for drawing.
+    /// The buffers for drawing: the band's rows and its apron.
     pub(crate) fn target(&mut self) -> BandTarget<'_> {
-        BandTarget::new(&mut self.px, self.width, self.y0, self.rows)
+        let (y0, rows) = (self.y0 - self.apron, self.rows + 2 * self.apron);
+        BandTarget::new(&mut self.px, self.width, y0, rows)
     }
 
-    /// The samples of the band, row-major (for the resolve pass).
-    pub(crate) fn samples(&self) -> &[Sample] {
+    /// The samples of the band's buffer, its apron included, and the gap
+    /// fill's scratch rows, for the gap fill.
+    pub(crate) fn buffer_and_scratch(&mut self) -> (&mut [Sample], &mut GapScratch) {
+        (&mut self.px, &mut self.gaps)
+    }
+
+    /// The samples of the band's buffer, its apron included, row-major.
+    pub(crate) fn all_samples(&self) -> &[Sample] {
         &self.px
+    }
+
+    /// The samples of the band's own rows, row-major (for the resolve
+    /// pass).
+    pub(crate) fn samples(&self) -> &[Sample] {
+        let w = self.width as usize;
+        let a = self.apron as usize * w;
+        &self.px[a..a + self.rows as usize * w]
     }
 }

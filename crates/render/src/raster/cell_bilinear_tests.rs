@@ -5,7 +5,7 @@
 
 use crate::fixed::{test_node as node, Node, Z_FAR};
 use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
-use crate::plan::subdivision::choose_subdivision;
+use crate::plan::subdivision::{choose_subdivision, SUBPIXEL_LIMIT};
 use crate::raster::band::{BandTarget, Sample, PATCH_SAMPLE};
 use crate::raster::cell_bilinear::{draw_cells, draw_cells_bilinear, draw_nodes, BilinearPiece};
 
@@ -99,7 +99,7 @@ fn random_pieces_leave_no_hole_inside_any_drawn_cell() {
                 *m = m.max(v as f32 / 65536.0);
             }
         }
-        let Some((nu, nv)) = choose_subdivision(edges, 1.0) else {
+        let Some((nu, nv)) = choose_subdivision(edges, SUBPIXEL_LIMIT) else {
             continue;
         };
         cut += (nu * nv > 1) as usize;

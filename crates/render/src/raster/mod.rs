@@ -17,5 +17,6 @@ pub(crate) mod cell_edges;
 pub(crate) mod cell_exact;
 pub(crate) mod cell_smooth;
 pub(crate) mod centre_piece;
+pub(crate) mod gap_fill;
 pub(crate) mod splat;
 pub(crate) mod triangle_raster;

@@ -1,0 +1,382 @@
+//! Gap filling: one screen-space pass over a drawn band that closes the
+//! small gaps a sparser sub-node lattice leaves, so that cells need not
+//! place a sample in every pixel they cover.
+//!
+//! With the gap fill on, the plain sub-node drawer cuts cells so that each
+//! sub-cell's extent `max(|u_x| + |v_x|, |u_y| + |v_y|)` stays below
+//! [`crate::plan::subdivision::GAP_FILL_LIMIT`] (1.5 px) instead of 0.95:
+//! about half the samples on magnified cells. Every pixel centre inside
+//! such a cell lies within 0.75 px (max norm) of a sub-node, so a pixel the
+//! lattice missed has drawn pixels on two opposite sides within two steps:
+//! left and right, below and above, or across a diagonal.
+//!
+//! The pass takes every pixel `p` and its four directions. On each side of
+//! `p` along a direction, the *side* is the nearer of the pixels one and
+//! two steps away. The two sides *span* `p` when both are drawn, their
+//! depths differ by at most the tolerance `tol`, and `p` is empty or behind
+//! both by more than `tol`. Of the spanning directions, `p` takes the first
+//! (across, up, rising, falling diagonal) unless a later one's surface is
+//! nearer by more than `tol`; it then gets the sample of the closer side's
+//! pixel (one step before two, the nearer on a tie) at the two sides' mean
+//! depth, and where both sides are sub-nodes of one cell, the sub-node
+//! between them, so it shades where it lies. So a gap inside a surface
+//! closes, and so does a pixel where a gap let a farther surface through;
+//! an outline does not grow, since a pixel past it has no drawn side
+//! beyond. Every test reads the depths as drawn, before the pass.
+//!
+//! A band is drawn with two extra rows above and below
+//! ([`GAP_FILL_APRON`]) so that its first and last rows see both sides;
+//! pieces within [`GAP_FILL_APRON`] pixels of the image's left or right
+//! side keep the dense cut, since past that side nothing is drawn.
+//!
+//! Cost: O(pixels of the band's box): the spanning test in lanes over whole
+//! rows, the fill itself only at the pixels it flags.
+//!
+//! Based on: the screen-space hole filling of point-based renderers, which
+//! complete a sparse set of splats by an image pass.
+
+use crate::fixed::Z_FAR;
+use crate::raster::band::{Band, GapScratch, Sample, PATCH_SAMPLE};
+use crate::raster::band_box::PixelBox;
+
+/// Rows drawn above and below a band when the gap fill is on.
+pub(crate) const GAP_FILL_APRON: i32 = REACH as i32;
+
+/// Largest depth difference (fixed-point units, of [`Z_FAR`] over the
+/// frame's depth range) between the two sides of a gap: 1/64 of the range.
+pub(crate) const GAP_DEPTH_TOLERANCE: i32 = Z_FAR >> 6;
+
+/// Fills the gaps of `band`'s pixels in `b` (image rows and columns, the
+/// rows within the band and its apron), reading the rows and columns around
+/// them. Inlined so that it runs with the band's instruction set
+/// ([`crate::isa`]).
+#[inline(always)]
+pub(crate) fn fill_band_gaps(band: &mut Band, b: PixelBox) {
+    let first = band.y0 - band.apron;
+    let inner = BufferBox {
+        x0: b.x0 as usize,
+        x1: b.x1 as usize,
+        r0: (b.y0 - first) as usize,
+        r1: (b.y1 - first) as usize,
+    };
+    let width = band.width as usize;
+    let (px, scratch) = band.buffer_and_scratch();
+    fill_gaps(px, width, inner, GAP_DEPTH_TOLERANCE, scratch);
+}
+
+/// A box of a band's buffer: columns `x0..x1` and rows `r0..r1`, counted
+/// from the buffer's first row.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BufferBox {
+    pub(crate) x0: usize,
+    pub(crate) x1: usize,
+    pub(crate) r0: usize,
+    pub(crate) r1: usize,
+}
+
+/// Neighbours read on each side of a pixel, along each direction.
+const REACH: usize = 2;
+
+/// The four directions of the opposite pairs, as (column, row) steps.
+const DIRECTIONS: [(isize, isize); 4] = [(1, 0), (0, 1), (1, 1), (1, -1)];
+
+/// Fills the gaps (see the module header) of rows `b.r0 + 2..b.r1 - 2` of
+/// the box `b` of `px` (`width` wide), reading its two outer rows as
+/// neighbours only; past the box's sides nothing is drawn. Inlined so that it runs with the band's instruction set
+/// ([`crate::isa`]).
+#[inline(always)]
+pub(crate) fn fill_gaps(
+    px: &mut [Sample],
+    width: usize,
+    b: BufferBox,
+    tol: i32,
+    s: &mut GapScratch,
+) {
+    let edge = 2 * REACH + 1;
+    if b.x1 < b.x0 + edge || b.r1 < b.r0 + edge {
+        return;
+    }
+    let n = b.x1 - b.x0;
+    // A row's drawn depths with REACH empty entries more on each side
+    // (past the box nothing is drawn, and those pixels are not cleared).
+    let depths = |px: &[Sample], r: usize, out: &mut Vec<i32>| {
+        let row = &px[r * width + b.x0..r * width + b.x1];
+        out.clear();
+        out.extend([Z_FAR; REACH]);
+        out.extend(row.iter().map(|s| s.depth));
+        out.extend([Z_FAR; REACH]);
+    };
+    for k in 0..edge - 1 {
+        depths(px, b.r0 + k, &mut s.rows[k + 1]);
+    }
+    s.flags.resize(n, 0);
+    let place = Place {
+        width,
+        x0: b.x0 as isize,
+    };
+    for r in b.r0 + REACH..b.r1 - REACH {
+        s.rows.rotate_left(1);
+        depths(px, r + REACH, &mut s.rows[edge - 1]);
+        if !flag_row(&s.rows, tol, &mut s.flags) {
+            continue;
+        }
+        for k in 0..n {
+            if s.flags[k] != 0 {
+                let direction = DIRECTIONS[s.flags[k] as usize - 1];
+                fill_pixel(px, place, (k, r), &s.rows, direction, tol);
+            }
+        }
+    }
+}
+
+/// Where the columns of a box lie in the band's buffer.
+#[derive(Debug, Clone, Copy)]
+struct Place {
+    width: usize,
+    x0: isize,
+}
+
+impl Place {
+    /// The buffer index of column `k` of the box (counted from its first)
+    /// in buffer row `r`.
+    #[inline(always)]
+    fn index(self, k: isize, r: usize) -> usize {
+        r * self.width + (self.x0 + k) as usize
+    }
+}
+
+/// Whether the sides `a` and `c` of a pixel at depth `here` span it.
+#[inline(always)]
+fn spans(a: i32, c: i32, here: i32, tol: i32) -> bool {
+    let far = a.max(c);
+    far < Z_FAR && (a - c).abs() <= tol && (here == Z_FAR || far + tol < here)
+}
+
+/// Flags each pixel `k` of the middle row of `rows` (whose entries start
+/// REACH columns before the pixels) that some pair of sides spans with the
+/// first such direction of [`DIRECTIONS`] (`flags[k]`, 1-based; 0 where
+/// none does), a later one where its surface is nearer by more than `tol`;
+/// whether any is. A side is the nearer of the two pixels one and two
+/// steps away. Hot kernel: one pass of lanes over the row.
+#[inline(always)]
+fn flag_row(rows: &[Vec<i32>; 5], tol: i32, flags: &mut [u8]) -> bool {
+    let m = rows[2].len() - 2 * REACH;
+    // Column `k + dx` of row `dy` (both from -2), as a slice of length m:
+    // equal lengths, so the loop runs without bounds checks, in lanes.
+    let at = |dx: isize, dy: isize| {
+        let from = (REACH as isize + dx) as usize;
+        &rows[(REACH as isize + dy) as usize][from..from + m]
+    };
+    let here = at(0, 0);
+    let (w1, w2, e1, e2) = (at(-1, 0), at(-2, 0), at(1, 0), at(2, 0));
+    let (s1, s2, n1, n2) = (at(0, -1), at(0, -2), at(0, 1), at(0, 2));
+    let (sw1, sw2, ne1, ne2) = (at(-1, -1), at(-2, -2), at(1, 1), at(2, 2));
+    let (se1, se2, nw1, nw2) = (at(1, -1), at(2, -2), at(-1, 1), at(-2, 2));
+    let out = &mut flags[..m];
+    let mut any = 0u8;
+    for k in 0..m {
+        let h = here[k];
+        // Each direction's farther side where its pair spans (else MAX);
+        // a later direction replaces an earlier only on a surface nearer
+        // by more than `tol` (a pixel between two surfaces takes the near one).
+        let far = |a: i32, c: i32| {
+            if spans(a, c, h, tol) {
+                a.max(c)
+            } else {
+                i32::MAX
+            }
+        };
+        let fars = [
+            far(w1[k].min(w2[k]), e1[k].min(e2[k])),
+            far(s1[k].min(s2[k]), n1[k].min(n2[k])),
+            far(sw1[k].min(sw2[k]), ne1[k].min(ne2[k])),
+            far(se1[k].min(se2[k]), nw1[k].min(nw2[k])),
+        ];
+        let (mut code, mut best) = ((fars[0] != i32::MAX) as u8, fars[0]);
+        for (d, &f) in fars.iter().enumerate().skip(1) {
+            let nearer = f != i32::MAX && (best == i32::MAX || f + tol < best);
+            code = if nearer { d as u8 + 1 } else { code };
+            best = if nearer { f } else { best };
+        }
+        out[k] = code;
+        any |= code;
+    }
+    any != 0
+}
+
+/// Fills column `k` of the box in buffer row `r` of `px` from the pair of
+/// sides along `(dx, dy)`, which spans it, at the pair's mean depth: the
+/// sample of its closer side (the nearer on a tie), or where both sides are
+/// sub-nodes of one cell, the sub-node between them. `rows` are the drawn
+/// depths of its row and the two above and below (see [`flag_row`]).
+#[inline(always)]
+fn fill_pixel(
+    px: &mut [Sample],
+    place: Place,
+    (k, r): (usize, usize),
+    rows: &[Vec<i32>; 5],
+    (dx, dy): (isize, isize),
+    tol: i32,
+) {
+    // `rows` hold REACH entries more on each side than the box.
+    let column = (k + REACH) as isize;
+    let depth = |dx: isize, dy: isize| rows[(REACH as isize + dy) as usize][(column + dx) as usize];
+    // A side: its depth, its pixel's step and how many steps away that is
+    // (the first pixel unless the second is nearer by more than `tol`).
+    let side = |dx: isize, dy: isize| {
+        let (one, two) = (depth(dx, dy), depth(2 * dx, 2 * dy));
+        if one <= two.saturating_add(tol) {
+            (one, (dx, dy), 1)
+        } else {
+            (two, (2 * dx, 2 * dy), 2)
+        }
+    };
+    let ((a, at_a, da), (c, at_c, dc)) = (side(dx, dy), side(-dx, -dy));
+    let ((near, dn), (other, d_other)) = if (da, a) <= (dc, c) {
+        ((at_a, da), (at_c, dc))
+    } else {
+        ((at_c, dc), (at_a, da))
+    };
+    let at = |(dx, dy): (isize, isize)| place.index(k as isize + dx, r.wrapping_add_signed(dy));
+    let (mut sample, beyond) = (px[at(near)], px[at(other)]);
+    sample.depth = a / 2 + c / 2;
+    if sample.w2 & PATCH_SAMPLE != 0 && sample.w2 == beyond.w2 && sample.w0 >> 16 == beyond.w0 >> 16
+    {
+        sample.w0 = between(sample.w0, beyond.w0, dn as u32, d_other as u32);
+    }
+    px[place.index(k as isize, r)] = sample;
+}
+
+/// The sub-node word of the cell both `near` and `far` lie in, at the
+/// place `d_near / (d_near + d_far)` of the way from `near` to `far`
+/// (rounded).
+#[inline(always)]
+fn between(near: u32, far: u32, d_near: u32, d_far: u32) -> u32 {
+    let part = |w: u32, shift: u32| (w >> shift) & 0xff;
+    let mix = |shift: u32| {
+        let (p, q) = (part(near, shift), part(far, shift));
+        (p * d_far + q * d_near + (d_near + d_far) / 2) / (d_near + d_far)
+    };
+    near & 0xffff_0000 | mix(8) << 8 | mix(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::cell_bilinear::sub_word;
+
+    fn band(width: usize, rows: usize) -> Vec<Sample> {
+        vec![Sample::EMPTY; width * rows]
+    }
+
+    fn drawn(depth: i32, tag: u32) -> Sample {
+        Sample {
+            depth,
+            w0: tag,
+            w1: 0,
+            w2: 0,
+        }
+    }
+
+    fn fill(px: &mut [Sample], width: usize) {
+        let b = BufferBox {
+            x0: 0,
+            x1: width,
+            r0: 0,
+            r1: px.len() / width,
+        };
+        fill_gaps(
+            px,
+            width,
+            b,
+            GAP_DEPTH_TOLERANCE,
+            &mut GapScratch::default(),
+        );
+    }
+
+    /// Which pixels of `px` are drawn, row by row.
+    fn coverage(px: &[Sample], width: usize) -> Vec<Vec<bool>> {
+        px.chunks(width)
+            .map(|row| row.iter().map(|s| s.depth < Z_FAR).collect())
+            .collect()
+    }
+
+    #[test]
+    fn a_lattice_with_gaps_closes_within_its_outline_and_only_there() {
+        // Sub-nodes of one cell every second pixel over the square 4..=12,
+        // then columns three pixels apart (two-pixel gaps) over 4..=13.
+        let (w, h) = (18, 18);
+        let square = |v: usize| (4..=12).contains(&v);
+        let mut px = band(w, h);
+        for r in (4..=12).step_by(2) {
+            for x in (4..=12).step_by(2) {
+                let sub = sub_word(1, 2, x as u32 / 2, r as u32 / 2);
+                px[r * w + x] = Sample {
+                    w2: PATCH_SAMPLE | 5,
+                    ..drawn(1000 + x as i32, sub)
+                };
+            }
+        }
+        fill(&mut px, w);
+        let want: Vec<Vec<bool>> = (0..h)
+            .map(|r| (0..w).map(|x| square(r) && square(x)).collect())
+            .collect();
+        assert_eq!(coverage(&px, w), want);
+        // Between two sub-nodes of the cell: the sub-node between them, at
+        // the mean depth of the two.
+        let filled = px[4 * w + 5];
+        assert_eq!((filled.depth, filled.w0), (1005, sub_word(1, 2, 3, 2)));
+
+        let mut columns = band(w, h);
+        for r in 4..=12 {
+            for x in [4, 7, 10, 13] {
+                columns[r * w + x] = drawn(1000, 1);
+            }
+        }
+        fill(&mut columns, w);
+        let want: Vec<Vec<bool>> = (0..h)
+            .map(|r| (0..w).map(|x| square(r) && (4..=13).contains(&x)).collect())
+            .collect();
+        assert_eq!(coverage(&columns, w), want);
+    }
+
+    #[test]
+    fn a_surface_seen_through_a_gap_gives_way_to_the_near_one_and_depth_steps_stay() {
+        let (w, h) = (7, 5);
+        let at = |x: usize, r: usize| r * w + x;
+        let row = |px: &mut [Sample], depth: i32, tag: u32| {
+            for x in 0..w {
+                px[at(x, 2)] = drawn(depth, tag);
+            }
+        };
+        // A pixel showing a surface far behind its row: replaced.
+        let mut through = band(w, h);
+        row(&mut through, 100, 1);
+        through[at(3, 2)] = drawn(Z_FAR / 2, 2);
+        fill(&mut through, w);
+        assert_eq!(through[at(3, 2)], drawn(100, 1));
+        // A pixel just behind its row (a crease, within the tolerance):
+        // kept.
+        let mut crease = band(w, h);
+        row(&mut crease, 100, 1);
+        let dent = drawn(100 + GAP_DEPTH_TOLERANCE / 2, 3);
+        crease[at(3, 2)] = dent;
+        fill(&mut crease, w);
+        assert_eq!(crease[at(3, 2)], dent);
+        // A gap between two surfaces a step apart: kept.
+        let mut step = band(w, h);
+        step[at(2, 2)] = drawn(100, 1);
+        step[at(4, 2)] = drawn(100 + 2 * GAP_DEPTH_TOLERANCE, 1);
+        fill(&mut step, w);
+        assert_eq!(step[at(3, 2)], Sample::EMPTY);
+        // An empty pixel between a far surface across and a near one up and
+        // down takes the near one, though across comes first.
+        let mut two = band(w, h);
+        row(&mut two, Z_FAR / 2, 2);
+        two[at(3, 2)] = Sample::EMPTY;
+        two[at(3, 1)] = drawn(100, 1);
+        two[at(3, 3)] = drawn(100, 1);
+        fill(&mut two, w);
+        assert_eq!(two[at(3, 2)], drawn(100, 1));
+    }
+}
