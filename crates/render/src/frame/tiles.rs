@@ -342,6 +342,8 @@ pub(crate) fn render_band(
             }
         }
     }
+    let tris_done = Instant::now();
+    // The gap fill is timed with the resolve.
     if band.apron > 0 {
         fill_band_gaps(band, reach);
     }
@@ -352,7 +354,6 @@ pub(crate) fn render_band(
         y1: y1.max(y0),
         ..reach
     };
-    let tris_done = Instant::now();
     resolve_box(
         &job.resolve,
         band.samples(),

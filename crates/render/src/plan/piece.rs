@@ -256,11 +256,11 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else if open_sides {
         mark_open_sides(level, range, &mut work.cell_flags[flags..]);
     }
-    // Plain sub-node pieces leave one-pixel gaps to the gap fill
-    // (`raster::gap_fill`): about a quarter of the samples on magnified
-    // cells. The other drawers keep their own coverage.
-    // Pieces at the image's left or right side keep every pixel's sample:
-    // past that side no sample is drawn to close a gap against.
+    // With the gap fill (`raster::gap_fill`), plain sub-node pieces leave
+    // small gaps to its pass: about half the samples on magnified cells.
+    // The other drawers keep their own coverage, and so do pieces at the
+    // image's left or right side: past it no sample is drawn to close a
+    // gap against.
     let reach = GAP_FILL_APRON;
     let inside = x0 >= reach && x1 < setup.view.width as i32 - reach;
     let plain = bilinear && centres.is_none() && !open_sides;

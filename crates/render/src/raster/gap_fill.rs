@@ -7,8 +7,11 @@
 //! [`crate::plan::subdivision::GAP_FILL_LIMIT`] (1.5 px) instead of 0.95:
 //! about half the samples on magnified cells. Every pixel centre inside
 //! such a cell lies within 0.75 px (max norm) of a sub-node, so a pixel the
-//! lattice missed has drawn pixels on two opposite sides within two steps:
-//! left and right, below and above, or across a diagonal.
+//! lattice missed has a drawn pixel among its eight neighbours, and nearly
+//! always drawn pixels on two opposite sides within two steps: left and
+//! right, below and above, or across a diagonal. Not always: where it has
+//! not, a hole stays (docs/algorithms/render.md, "Gap fill"), which is why
+//! the gap fill is opt-in.
 //!
 //! The pass takes every pixel `p` and its four directions. On each side of
 //! `p` along a direction, the *side* is the nearer of the pixels one and
