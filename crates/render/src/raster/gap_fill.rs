@@ -85,8 +85,8 @@ const DIRECTIONS: [(isize, isize); 4] = [(1, 0), (0, 1), (1, 1), (1, -1)];
 
 /// Fills the gaps (see the module header) of rows `b.r0 + 2..b.r1 - 2` of
 /// the box `b` of `px` (`width` wide), reading its two outer rows as
-/// neighbours only; past the box's sides nothing is drawn. Inlined so that it runs with the band's instruction set
-/// ([`crate::isa`]).
+/// neighbours only; past the box's sides nothing is drawn. Inlined so that
+/// it runs with the band's instruction set ([`crate::isa`]).
 #[inline(always)]
 pub(crate) fn fill_gaps(
     px: &mut [Sample],
@@ -225,10 +225,11 @@ fn fill_pixel(
     let column = (k + REACH) as isize;
     let depth = |dx: isize, dy: isize| rows[(REACH as isize + dy) as usize][(column + dx) as usize];
     // A side: its depth, its pixel's step and how many steps away that is
-    // (the first pixel unless the second is nearer by more than `tol`).
+    // (the first pixel if it is drawn and not behind the second by more
+    // than `tol`).
     let side = |dx: isize, dy: isize| {
         let (one, two) = (depth(dx, dy), depth(2 * dx, 2 * dy));
-        if one <= two.saturating_add(tol) {
+        if one < Z_FAR && one <= two.saturating_add(tol) {
             (one, (dx, dy), 1)
         } else {
             (two, (2 * dx, 2 * dy), 2)
