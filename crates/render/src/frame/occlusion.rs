@@ -104,11 +104,11 @@ pub(crate) fn measure(frame: &Frame<'_>) -> OcclusionStats {
         let rows = (frame.height - y0).min(frame.tile_rows);
         // The band's buffer, its apron included, as the frame drew it; only
         // its own rows are counted.
-        let (first, all) = (y0 - frame.apron, rows + 2 * frame.apron);
-        let w = frame.width as usize;
-        let own = frame.apron as usize * w..(frame.apron + rows) as usize * w;
         s.merged.reset(y0, rows, frame.width, frame.apron);
         s.piece.reset(y0, rows, frame.width, frame.apron);
+        let (first, all) = s.merged.buffer_rows();
+        let w = frame.width as usize;
+        let own = frame.apron as usize * w..(frame.apron + rows) as usize * w;
         s.owner.clear();
         s.owner.resize(all as usize * w, u32::MAX);
         s.written.clear();

@@ -32,7 +32,7 @@ use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::PreparedScene;
 use crate::raster::band::{Band, Sample};
-use crate::raster::gap_fill::GAP_FILL_APRON;
+use crate::raster::gap_fill::GAP_FILL_REACH;
 use crate::shade::phong_items::PhongItems;
 use crate::shade::resolve::Resolve;
 
@@ -258,7 +258,7 @@ impl Renderer {
         let band_count = view.height.div_ceil(tile_rows) as usize;
         // Only patch frames fill gaps (a mesh's `finish` has no patches).
         let apron = if options.fills_gaps() && !patches.is_empty() {
-            GAP_FILL_APRON
+            GAP_FILL_REACH
         } else {
             0
         };

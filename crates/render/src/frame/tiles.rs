@@ -311,7 +311,8 @@ pub(crate) fn render_band(
     // cleared, drawn and resolved (`raster::band_box`). The occlusion skip
     // reads whole tiles of the band, so it keeps the whole band.
     let whole = PixelBox::whole(band.y0, band.rows, band.width);
-    let drawn = PixelBox::whole(band.y0 - band.apron, band.rows + 2 * band.apron, band.width);
+    let (first, all) = band.buffer_rows();
+    let drawn = PixelBox::whole(first, all, band.width);
     let reach = if job.occlusion_skip {
         drawn
     } else {

@@ -34,7 +34,7 @@ use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN
 use crate::plan::work::{ChunkWork, Item, PatchContext};
 use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::centre_piece::CentreStyle;
-use crate::raster::gap_fill::GAP_FILL_APRON;
+use crate::raster::gap_fill::GAP_FILL_REACH;
 use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
@@ -261,8 +261,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // The other drawers keep their own coverage, and so do pieces at the
     // image's left or right side: past it no sample is drawn to close a
     // gap against.
-    let reach = GAP_FILL_APRON;
-    let inside = x0 >= reach && x1 < setup.view.width as i32 - reach;
+    let inside = x0 >= GAP_FILL_REACH && x1 < setup.view.width as i32 - GAP_FILL_REACH;
     let plain = bilinear && centres.is_none() && !open_sides;
     let (nu, nv) = if plain && inside && opts.fills_gaps() {
         choose_subdivision(edges, GAP_FILL_LIMIT).unwrap_or((nu, nv))

@@ -230,12 +230,13 @@ pub(crate) struct Band {
     pub(crate) rows: i32,
     pub(crate) width: i32,
     /// Rows drawn above and below the band's own (0, or
-    /// [`crate::raster::gap_fill::GAP_FILL_APRON`] with the gap fill); the
-    /// buffer holds `rows + 2 * apron` rows from image row `y0 - apron`.
+    /// [`crate::raster::gap_fill::GAP_FILL_REACH`] with the gap fill); the
+    /// buffer holds `rows + 2 * apron` rows from image row `y0 - apron`
+    /// ([`Self::buffer_rows`]).
     pub(crate) apron: i32,
     px: Vec<Sample>,
     /// Scratch rows of the gap fill.
-    pub(crate) gaps: GapScratch,
+    gaps: GapScratch,
     pub(crate) times: BandTimes,
     /// Pixels of the band's rows that show a surface after its resolve.
     pub(crate) covered: u64,
@@ -274,7 +275,7 @@ impl Band {
     /// [`Self::reset`].
     pub(crate) fn clear_box(&mut self, b: PixelBox) {
         let w = self.width as usize;
-        let first = self.y0 - self.apron;
+        let (first, _) = self.buffer_rows();
         if b.x0 == 0 && b.x1 == self.width {
             let rows = (b.y0 - first) as usize..(b.y1 - first) as usize;
             return self.clear_rows(rows);
@@ -298,9 +299,15 @@ impl Band {
         std::mem::swap(&mut self.px, buffer);
     }
 
+    /// The image row of the buffer's first row and the buffer's rows: the
+    /// band's own and its apron above and below.
+    pub(crate) fn buffer_rows(&self) -> (i32, i32) {
+        (self.y0 - self.apron, self.rows + 2 * self.apron)
+    }
+
     /// The buffers for drawing: the band's rows and its apron.
     pub(crate) fn target(&mut self) -> BandTarget<'_> {
-        let (y0, rows) = (self.y0 - self.apron, self.rows + 2 * self.apron);
+        let (y0, rows) = self.buffer_rows();
         BandTarget::new(&mut self.px, self.width, y0, rows)
     }
 
