@@ -54,6 +54,13 @@ pub(crate) const GAP_FILL_REACH: i32 = 2;
 /// frame's depth range) between the two sides of a gap: 1/64 of the range.
 pub(crate) const GAP_DEPTH_TOLERANCE: i32 = Z_FAR >> 6;
 
+/// Largest depth difference between the sides that surround a pixel and
+/// the nearest of them: 1/8 of the range. Looser than
+/// [`GAP_DEPTH_TOLERANCE`]: a slanted surface's sides four pixels apart
+/// differ by more than 1/64 of the range, and a surrounded pixel is
+/// replaced only where it is empty or behind all of them.
+pub(crate) const GAP_SURROUND_TOLERANCE: i32 = Z_FAR >> 3;
+
 /// Fills the gaps of `band`'s pixels in `b` (image rows and columns, the
 /// rows within the band and its apron), reading the rows and columns around
 /// them. Inlined so that it runs with the band's instruction set
@@ -65,7 +72,8 @@ pub(crate) fn fill_band_gaps(band: &mut Band, b: PixelBox) {
     let rows = (b.y0 - first) as usize..(b.y1 - first) as usize;
     let width = band.width as usize;
     let (px, scratch) = band.buffer_and_scratch();
-    fill_gaps(px, width, (cols, rows), GAP_DEPTH_TOLERANCE, scratch);
+    let tolerances = (GAP_DEPTH_TOLERANCE, GAP_SURROUND_TOLERANCE);
+    fill_gaps(px, width, (cols, rows), tolerances, scratch);
 }
 
 /// [`GAP_FILL_REACH`] as an index step.
@@ -84,7 +92,7 @@ pub(crate) fn fill_gaps(
     px: &mut [Sample],
     width: usize,
     (cols, rows): (Range<usize>, Range<usize>),
-    tol: i32,
+    (tol, loose): (i32, i32),
     s: &mut GapScratch,
 ) {
     let edge = 2 * REACH + 1;
@@ -114,11 +122,13 @@ pub(crate) fn fill_gaps(
     for r in rows.start + REACH..rows.end - REACH {
         s.rows.rotate_left(1);
         depths(px, r + REACH, &mut s.rows[edge - 1]);
-        if !flag_row(&s.rows, tol, &mut s.flags) {
+        if !flag_row(&s.rows, (tol, loose), &mut s.flags) {
             continue;
         }
         for k in 0..n {
-            if s.flags[k] != 0 {
+            if s.flags[k] == SURROUNDED {
+                fill_from_nearest(px, place, (k, r), &s.rows, loose);
+            } else if s.flags[k] != 0 {
                 let direction = DIRECTIONS[s.flags[k] as usize - 1];
                 fill_pixel(px, place, (k, r), &s.rows, direction, tol);
             }
@@ -142,21 +152,30 @@ impl Place {
     }
 }
 
-/// Whether the sides `a` and `c` of a pixel at depth `here` span it.
+/// Whether the sides `a` and `c` of a pixel at depth `here` span it: both
+/// drawn, within `tol` of each other, and the pixel empty or behind both
+/// by more than a quarter of `tol`.
 #[inline(always)]
 fn spans(a: i32, c: i32, here: i32, tol: i32) -> bool {
     let far = a.max(c);
-    far < Z_FAR && (a - c).abs() <= tol && (here == Z_FAR || far + tol < here)
+    far < Z_FAR && (a - c).abs() <= tol && (here == Z_FAR || far + (tol >> 2) < here)
 }
 
+/// Code of [`flag_row`] for a pixel that no pair spans but whose sides
+/// surround it ([`surround`]): filled from its nearest neighbour.
+const SURROUNDED: u8 = DIRECTIONS.len() as u8 + 1;
+
 /// Flags each pixel `k` of the middle row of `rows` (whose entries start
-/// REACH columns before the pixels) that some pair of sides spans with the
-/// first such direction of [`DIRECTIONS`] (`flags[k]`, 1-based; 0 where
-/// none does), a later one where its surface is nearer by more than `tol`;
-/// whether any is. A side is the nearer of the two pixels one and two
-/// steps away. Hot kernel: one pass of lanes over the row.
+/// REACH columns before the pixels): where pairs of sides span it
+/// ([`spans`]), with the direction of [`DIRECTIONS`] whose farther side is
+/// nearest (`flags[k]`, 1-based, the first on a tie); else, where its
+/// sides surround it ([`surround`]) and it is empty or behind all of them
+/// by more than a quarter of `tol`, with [`SURROUNDED`]; 0 elsewhere.
+/// Returns whether any pixel is flagged. A side is the nearer of the two
+/// pixels one and two steps away. Hot kernel: one pass of lanes over the
+/// row.
 #[inline(always)]
-fn flag_row(rows: &[Vec<i32>; 5], tol: i32, flags: &mut [u8]) -> bool {
+fn flag_row(rows: &[Vec<i32>; 5], (tol, loose): (i32, i32), flags: &mut [u8]) -> bool {
     let m = rows[2].len() - 2 * REACH;
     // Column `k + dx` of row `dy` (both from -2), as a slice of length m:
     // equal lengths, so the loop runs without bounds checks, in lanes.
@@ -173,9 +192,19 @@ fn flag_row(rows: &[Vec<i32>; 5], tol: i32, flags: &mut [u8]) -> bool {
     let mut any = 0u8;
     for k in 0..m {
         let h = here[k];
-        // Each direction's farther side where its pair spans (else MAX);
-        // a later direction replaces an earlier only on a surface nearer
-        // by more than `tol` (a pixel between two surfaces takes the near one).
+        // The sides counterclockwise from across (east).
+        let sides = [
+            e1[k].min(e2[k]),
+            ne1[k].min(ne2[k]),
+            n1[k].min(n2[k]),
+            nw1[k].min(nw2[k]),
+            w1[k].min(w2[k]),
+            sw1[k].min(sw2[k]),
+            s1[k].min(s2[k]),
+            se1[k].min(se2[k]),
+        ];
+        // Each direction's farther side where its pair spans (else MAX):
+        // a pixel between two surfaces takes the near one.
         let far = |a: i32, c: i32| {
             if spans(a, c, h, tol) {
                 a.max(c)
@@ -184,21 +213,51 @@ fn flag_row(rows: &[Vec<i32>; 5], tol: i32, flags: &mut [u8]) -> bool {
             }
         };
         let fars = [
-            far(w1[k].min(w2[k]), e1[k].min(e2[k])),
-            far(s1[k].min(s2[k]), n1[k].min(n2[k])),
-            far(sw1[k].min(sw2[k]), ne1[k].min(ne2[k])),
-            far(se1[k].min(se2[k]), nw1[k].min(nw2[k])),
+            far(sides[4], sides[0]),
+            far(sides[6], sides[2]),
+            far(sides[5], sides[1]),
+            far(sides[7], sides[3]),
         ];
         let (mut code, mut best) = ((fars[0] != i32::MAX) as u8, fars[0]);
         for (d, &f) in fars.iter().enumerate().skip(1) {
-            let nearer = f != i32::MAX && (best == i32::MAX || f + tol < best);
+            let nearer = f < best;
             code = if nearer { d as u8 + 1 } else { code };
             best = if nearer { f } else { best };
         }
+        let (surrounded, farthest) = surround(&sides, loose);
+        let surrounded = surrounded && (h == Z_FAR || farthest + (tol >> 2) < h);
+        code = if code == 0 && surrounded {
+            SURROUNDED
+        } else {
+            code
+        };
         out[k] = code;
         any |= code;
     }
     any != 0
+}
+
+/// Whether the `sides` (counterclockwise, one per 45°) within `loose` of
+/// the nearest surround the pixel, leaving no closed half-plane through it
+/// empty (no three consecutive directions without one: a straight outline
+/// leaves five), and the farthest of those sides.
+#[inline(always)]
+fn surround(sides: &[i32; 8], loose: i32) -> (bool, i32) {
+    let near = sides.iter().fold(Z_FAR, |m, &d| m.min(d));
+    let limit = near.saturating_add(loose).min(Z_FAR - 1);
+    let (mut missing, mut farthest) = (0u32, near);
+    for (d, &side) in sides.iter().enumerate() {
+        let outside = side > limit;
+        missing |= (outside as u32) << d;
+        farthest = if outside {
+            farthest
+        } else {
+            farthest.max(side)
+        };
+    }
+    let twice = missing | missing << 8;
+    let runs = twice & twice >> 1 & twice >> 2;
+    (runs & 0xff == 0, farthest)
 }
 
 /// Fills column `k` of the box in buffer row `r` of `px` from the pair of
@@ -245,6 +304,40 @@ fn fill_pixel(
     px[place.index(k as isize, r)] = sample;
 }
 
+/// Fills column `k` of the box in buffer row `r` of `px`, a pixel its
+/// sides surround ([`surround`]), with the sample of its nearest drawn
+/// neighbour one step away (within `loose` of the nearest two steps
+/// away), else two steps away, at that neighbour's depth.
+#[inline(always)]
+fn fill_from_nearest(
+    px: &mut [Sample],
+    place: Place,
+    (k, r): (usize, usize),
+    rows: &[Vec<i32>; 5],
+    loose: i32,
+) {
+    let column = (k + REACH) as isize;
+    let depth = |dx: isize, dy: isize| rows[(REACH as isize + dy) as usize][(column + dx) as usize];
+    let nearest = |step: isize| {
+        let ring = DIRECTIONS
+            .iter()
+            .flat_map(|&(dx, dy)| [(dx, dy), (-dx, -dy)]);
+        let steps = ring.map(|(dx, dy)| (step * dx, step * dy));
+        steps
+            .min_by_key(|&(dx, dy)| depth(dx, dy))
+            .unwrap_or((0, 0))
+    };
+    let (one, two) = (nearest(1), nearest(2));
+    let near_one = depth(one.0, one.1);
+    let from = if near_one < Z_FAR && near_one <= depth(two.0, two.1).saturating_add(loose) {
+        one
+    } else {
+        two
+    };
+    let at = place.index(k as isize + from.0, r.wrapping_add_signed(from.1));
+    px[place.index(k as isize, r)] = px[at];
+}
+
 /// The sub-node word of the cell both `near` and `far` lie in, at the
 /// place `d_near / (d_near + d_far)` of the way from `near` to `far`
 /// (rounded).
@@ -278,8 +371,8 @@ mod tests {
 
     fn fill(px: &mut [Sample], width: usize) {
         let whole = (0..width, 0..px.len() / width);
-        let tol = GAP_DEPTH_TOLERANCE;
-        fill_gaps(px, width, whole, tol, &mut GapScratch::default());
+        let tolerances = (GAP_DEPTH_TOLERANCE, GAP_SURROUND_TOLERANCE);
+        fill_gaps(px, width, whole, tolerances, &mut GapScratch::default());
     }
 
     /// Which pixels of `px` are drawn, row by row.
@@ -343,18 +436,18 @@ mod tests {
         through[at(3, 2)] = drawn(Z_FAR / 2, 2);
         fill(&mut through, w);
         assert_eq!(through[at(3, 2)], drawn(100, 1));
-        // A pixel just behind its row (a crease, within the tolerance):
-        // kept.
+        // A pixel just behind its row (a crease, within a quarter of the
+        // tolerance): kept.
         let mut crease = band(w, h);
         row(&mut crease, 100, 1);
-        let dent = drawn(100 + GAP_DEPTH_TOLERANCE / 2, 3);
+        let dent = drawn(100 + GAP_DEPTH_TOLERANCE / 8, 3);
         crease[at(3, 2)] = dent;
         fill(&mut crease, w);
         assert_eq!(crease[at(3, 2)], dent);
-        // A gap between two surfaces a step apart: kept.
+        // A gap between two surfaces far apart in depth: kept.
         let mut step = band(w, h);
         step[at(2, 2)] = drawn(100, 1);
-        step[at(4, 2)] = drawn(100 + 2 * GAP_DEPTH_TOLERANCE, 1);
+        step[at(4, 2)] = drawn(100 + 2 * GAP_SURROUND_TOLERANCE, 1);
         fill(&mut step, w);
         assert_eq!(step[at(3, 2)], Sample::EMPTY);
         // An empty pixel between a far surface across and a near one up and
@@ -366,5 +459,57 @@ mod tests {
         two[at(3, 3)] = drawn(100, 1);
         fill(&mut two, w);
         assert_eq!(two[at(3, 2)], drawn(100, 1));
+    }
+
+    #[test]
+    fn a_pixel_no_pair_spans_closes_where_its_sides_surround_it() {
+        // A rotated sparse lattice as the sphere's magnified cells leave it
+        // (traced at 1000²): the centre pixel's pairs all miss, since its
+        // right, upper and lower neighbours are gaps too. The surface is
+        // slanted: a step across differs by half the pairs' tolerance.
+        let pattern = [
+            "#..######.###",
+            "##..###.#####",
+            "#.##.#.####..",
+            ".####..######",
+            "..####...##.#",
+            "##.##.#######",
+            "###..#####.##",
+            "####..#######",
+            "###.##.#.####",
+        ];
+        let (w, h) = (pattern[0].len(), pattern.len());
+        let mut px = band(w, h);
+        for (r, line) in pattern.iter().enumerate() {
+            for (x, c) in line.bytes().enumerate() {
+                if c == b'#' {
+                    let depth = 1000 + x as i32 * GAP_DEPTH_TOLERANCE / 2;
+                    px[r * w + x] = drawn(depth, r as u32);
+                }
+            }
+        }
+        fill(&mut px, w);
+        for r in 2..h - 2 {
+            for x in 2..w - 2 {
+                assert!(px[r * w + x].depth < Z_FAR, "({x}, {r})");
+            }
+        }
+        // Past a straight outline nothing grows: a drawn half-plane with
+        // every other pixel of its first row missing.
+        let (w, h) = (9, 9);
+        let mut half = band(w, h);
+        for r in 4..h {
+            for x in 0..w {
+                if r > 4 || x % 2 == 0 {
+                    half[r * w + x] = drawn(1000, 1);
+                }
+            }
+        }
+        fill(&mut half, w);
+        let drawn_rows: Vec<bool> = (0..h).map(|r| half[r * w + 4].depth < Z_FAR).collect();
+        assert_eq!(
+            drawn_rows,
+            [false, false, false, false, true, true, true, true, true]
+        );
     }
 }

@@ -214,3 +214,14 @@ fn back_faces_are_culled_and_the_table_rows_are_filled() {
     assert!(s.normals_computed_with_ordering_percent <= s.normals_computed_with_buffer_percent);
     assert!(s.normals_computed_with_buffer_percent < 100.0);
 }
+
+#[test]
+fn the_gap_fill_keeps_the_silhouette_and_fills_the_disc_at_250_to_2000() {
+    // Sparser sub-node lattices closed by the screen-space pass
+    // (`--gap-fill`): the same guarantees as the dense lattice.
+    for (distance, size) in [(700.0, 250), (600.0, 500), (500.0, 1000), (400.0, 2000)] {
+        let mut o = RenderOptions::default();
+        o.gap_fill = true;
+        check_silhouette(distance, size, o);
+    }
+}
