@@ -253,13 +253,13 @@ pub struct RenderOptions {
     /// about 1.5 px apart (sub-cells under 1.5 px instead of 0.95) and
     /// close the gaps this leaves, and the pixels where a farther surface
     /// shows through them, by one screen-space pass per band
-    /// (`raster/gap_fill.rs`). Default false: 10-16 % fewer instructions
-    /// per frame on the scans and the sphere at the same PSNR, but the
-    /// pass can leave a hole where a gap is not flanked along one of its
-    /// four directions (the perfect sphere at 2000²: 48 pixels; see
-    /// docs/algorithms/render.md, "Gap fill"), so the hole-free bound of
-    /// the default does not hold. Triangles (`mode` triangles, meshes) are
-    /// drawn exactly either way.
+    /// (`raster/gap_fill.rs`). Default false: 5-12 % fewer instructions
+    /// per frame on the scans and the sphere at about the same PSNR, and
+    /// the sphere's hole-free tests pass with it, but a pixel on an outline
+    /// that its surface covers by a fraction of a pixel can stay open (a
+    /// turned cube drawn without culling: 38 pixels over 14 views; see
+    /// docs/algorithms/render.md, "Gap fill"). Triangles (`mode`
+    /// triangles, meshes) are drawn exactly either way.
     pub gap_fill: bool,
     /// Cell size (pixels) up to which bilinear cells are drawn by
     /// pixel-centre coverage instead of sub-nodes, 0 (off) or 0.5..=4; with

@@ -7,25 +7,28 @@
 //! [`crate::plan::subdivision::GAP_FILL_LIMIT`] (1.5 px) instead of 0.95:
 //! about half the samples on magnified cells. Every pixel centre inside
 //! such a cell lies within 0.75 px (max norm) of a sub-node, so a pixel the
-//! lattice missed has a drawn pixel among its eight neighbours, and nearly
-//! always drawn pixels on two opposite sides within two steps: left and
-//! right, below and above, or across a diagonal. Not always: where it has
-//! not, a hole stays (docs/algorithms/render.md, "Gap fill"), which is why
-//! the gap fill is opt-in.
+//! lattice missed has a drawn pixel among its eight neighbours, and mostly
+//! drawn pixels on two opposite sides within two steps.
 //!
-//! The pass takes every pixel `p` and its four directions. On each side of
-//! `p` along a direction, the *side* is the nearer of the pixels one and
-//! two steps away. The two sides *span* `p` when both are drawn, their
-//! depths differ by at most the tolerance `tol`, and `p` is empty or behind
-//! both by more than `tol`. Of the spanning directions, `p` takes the first
-//! (across, up, rising, falling diagonal) unless a later one's surface is
-//! nearer by more than `tol`; it then gets the sample of the closer side's
-//! pixel (one step before two, the nearer on a tie) at the two sides' mean
-//! depth, and where both sides are sub-nodes of one cell, the sub-node
-//! between them, so it shades where it lies. So a gap inside a surface
-//! closes, and so does a pixel where a gap let a farther surface through;
-//! an outline does not grow, since a pixel past it has no drawn side
-//! beyond. Every test reads the depths as drawn, before the pass.
+//! The pass takes every pixel `p` and its eight directions (every 45°). On
+//! each, the *side* of `p` is the nearer of the pixels one and two steps
+//! away. Two opposite sides *span* `p` when both are drawn, their depths
+//! differ by at most the tolerance `tol`, and `p` is empty or behind both
+//! by more than `tol / 4`; of the spanning pairs, `p` takes the one whose
+//! farther side is nearest, and gets the sample of its closer side's pixel
+//! (one step before two) at the two sides' mean depth, and where both sides
+//! are sub-nodes of one cell, the sub-node between them, so it shades where
+//! it lies. Where no pair spans `p`, its sides within the looser `loose` of
+//! the nearest may still *surround* it, leaving no closed half-plane
+//! through it empty (no three consecutive directions without one); then,
+//! if it is empty or behind all of those sides by more than `tol / 4`, it
+//! takes its nearest drawn neighbour's sample. So a gap inside a surface
+//! closes, a slanted one too, and so does a pixel where a gap let a farther
+//! surface through; an outline does not grow, since a pixel past a straight
+//! outline has five consecutive directions without a side. Every test reads
+//! the depths as drawn, before the pass. Not a bound: a pixel on an outline
+//! that its surface covers by a hair can stay open (docs/algorithms/render.md,
+//! "Gap fill"), one reason the gap fill is opt-in.
 //!
 //! A band is drawn with two extra rows above and below
 //! ([`GAP_FILL_REACH`]) so that its first and last rows see both sides;
