@@ -12,10 +12,11 @@
 # Needs the Python of bench/llvmpipe_compare.py's setup (PYTHON, default
 # /tmp/venv/bin/python, with moderngl, numpy and pillow) and Mesa's llvmpipe;
 # ROUNDS and FRAMES (default 5 and 30) set each comparison's length;
-# TEXTURED=1 has llvmpipe draw textured OBJ files with their texture.
+# TEXTURED=1 has llvmpipe draw textured OBJ files with their texture;
+# SPATCH_ARGS adds options to `spatch render` (e.g. SPATCH_ARGS=--gap-fill).
 set -eu
 if [ $# -lt 3 ]; then
-    sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
 fi
 spatch=$1
@@ -32,6 +33,7 @@ for mesh in "$@"; do
     for size in $sizes; do
         LP_NUM_THREADS=2 "$python" "$here/llvmpipe_compare.py" --spatch "$spatch" \
             --mesh "$mesh" --scene "$scene" --size "$size" \
-            --rounds "${ROUNDS:-5}" --frames "${FRAMES:-30}" ${TEXTURED:+--textured} | tail -n 1
+            --rounds "${ROUNDS:-5}" --frames "${FRAMES:-30}" ${TEXTURED:+--textured} \
+            ${SPATCH_ARGS:+-- $SPATCH_ARGS} | tail -n 1
     done
 done
