@@ -129,11 +129,20 @@ pub(crate) fn fill_gaps(
             continue;
         }
         for k in 0..n {
+            if s.flags[k] == 0 {
+                continue;
+            }
+            let at = Neighbourhood {
+                rows: &s.rows,
+                place,
+                k,
+                r,
+            };
             if s.flags[k] == SURROUNDED {
-                fill_from_nearest(px, place, (k, r), &s.rows, loose);
-            } else if s.flags[k] != 0 {
+                fill_from_nearest(px, at, loose);
+            } else {
                 let direction = DIRECTIONS[s.flags[k] as usize - 1];
-                fill_pixel(px, place, (k, r), &s.rows, direction, tol);
+                fill_pixel(px, at, direction, tol);
             }
         }
     }
@@ -152,6 +161,33 @@ impl Place {
     #[inline(always)]
     fn index(self, k: isize, r: usize) -> usize {
         r * self.width + (self.x0 + k) as usize
+    }
+}
+
+/// One pixel of the pass: its column `k` of the box and buffer row `r`,
+/// with the drawn depths around it (`rows`, see [`flag_row`]).
+#[derive(Clone, Copy)]
+struct Neighbourhood<'a> {
+    rows: &'a [Vec<i32>; 5],
+    place: Place,
+    k: usize,
+    r: usize,
+}
+
+impl Neighbourhood<'_> {
+    /// The drawn depth `(dx, dy)` steps away (`rows` hold REACH entries
+    /// more on each side than the box).
+    #[inline(always)]
+    fn depth(self, dx: isize, dy: isize) -> i32 {
+        let column = (self.k + REACH) as isize + dx;
+        self.rows[(REACH as isize + dy) as usize][column as usize]
+    }
+
+    /// The buffer index of the pixel `(dx, dy)` steps away.
+    #[inline(always)]
+    fn index(self, (dx, dy): (isize, isize)) -> usize {
+        let row = self.r.wrapping_add_signed(dy);
+        self.place.index(self.k as isize + dx, row)
     }
 }
 
@@ -263,28 +299,17 @@ fn surround(sides: &[i32; 8], loose: i32) -> (bool, i32) {
     (runs & 0xff == 0, farthest)
 }
 
-/// Fills column `k` of the box in buffer row `r` of `px` from the pair of
-/// sides along `(dx, dy)`, which spans it, at the pair's mean depth: the
-/// sample of its closer side (the nearer on a tie), or where both sides are
-/// sub-nodes of one cell, the sub-node between them. `rows` are the drawn
-/// depths of its row and the two above and below (see [`flag_row`]).
+/// Fills the pixel `at` of `px` from the pair of sides along `(dx, dy)`,
+/// which spans it, at the pair's mean depth: the sample of its closer side
+/// (the nearer on a tie), or where both sides are sub-nodes of one cell,
+/// the sub-node between them.
 #[inline(always)]
-fn fill_pixel(
-    px: &mut [Sample],
-    place: Place,
-    (k, r): (usize, usize),
-    rows: &[Vec<i32>; 5],
-    (dx, dy): (isize, isize),
-    tol: i32,
-) {
-    // `rows` hold REACH entries more on each side than the box.
-    let column = (k + REACH) as isize;
-    let depth = |dx: isize, dy: isize| rows[(REACH as isize + dy) as usize][(column + dx) as usize];
+fn fill_pixel(px: &mut [Sample], at: Neighbourhood<'_>, (dx, dy): (isize, isize), tol: i32) {
     // A side: its depth, its pixel's step and how many steps away that is
     // (the first pixel if it is drawn and not behind the second by more
     // than `tol`).
     let side = |dx: isize, dy: isize| {
-        let (one, two) = (depth(dx, dy), depth(2 * dx, 2 * dy));
+        let (one, two) = (at.depth(dx, dy), at.depth(2 * dx, 2 * dy));
         if one < Z_FAR && one <= two.saturating_add(tol) {
             (one, (dx, dy), 1)
         } else {
@@ -297,48 +322,38 @@ fn fill_pixel(
     } else {
         ((at_c, dc), (at_a, da))
     };
-    let at = |(dx, dy): (isize, isize)| place.index(k as isize + dx, r.wrapping_add_signed(dy));
-    let (mut sample, beyond) = (px[at(near)], px[at(other)]);
+    let (mut sample, beyond) = (px[at.index(near)], px[at.index(other)]);
     sample.depth = a / 2 + c / 2;
     if sample.w2 & PATCH_SAMPLE != 0 && sample.w2 == beyond.w2 && sample.w0 >> 16 == beyond.w0 >> 16
     {
         sample.w0 = between(sample.w0, beyond.w0, dn as u32, d_other as u32);
     }
-    px[place.index(k as isize, r)] = sample;
+    px[at.index((0, 0))] = sample;
 }
 
-/// Fills column `k` of the box in buffer row `r` of `px`, a pixel its
-/// sides surround ([`surround`]), with the sample of its nearest drawn
-/// neighbour one step away (within `loose` of the nearest two steps
-/// away), else two steps away, at that neighbour's depth.
+/// Fills the pixel `at` of `px`, which its sides surround ([`surround`]),
+/// with the sample of its nearest drawn neighbour one step away (within
+/// `loose` of the nearest two steps away), else two steps away, at that
+/// neighbour's depth.
 #[inline(always)]
-fn fill_from_nearest(
-    px: &mut [Sample],
-    place: Place,
-    (k, r): (usize, usize),
-    rows: &[Vec<i32>; 5],
-    loose: i32,
-) {
-    let column = (k + REACH) as isize;
-    let depth = |dx: isize, dy: isize| rows[(REACH as isize + dy) as usize][(column + dx) as usize];
+fn fill_from_nearest(px: &mut [Sample], at: Neighbourhood<'_>, loose: i32) {
     let nearest = |step: isize| {
         let ring = DIRECTIONS
             .iter()
             .flat_map(|&(dx, dy)| [(dx, dy), (-dx, -dy)]);
         let steps = ring.map(|(dx, dy)| (step * dx, step * dy));
         steps
-            .min_by_key(|&(dx, dy)| depth(dx, dy))
+            .min_by_key(|&(dx, dy)| at.depth(dx, dy))
             .unwrap_or((0, 0))
     };
     let (one, two) = (nearest(1), nearest(2));
-    let near_one = depth(one.0, one.1);
-    let from = if near_one < Z_FAR && near_one <= depth(two.0, two.1).saturating_add(loose) {
+    let near_one = at.depth(one.0, one.1);
+    let from = if near_one < Z_FAR && near_one <= at.depth(two.0, two.1).saturating_add(loose) {
         one
     } else {
         two
     };
-    let at = place.index(k as isize + from.0, r.wrapping_add_signed(from.1));
-    px[place.index(k as isize, r)] = px[at];
+    px[at.index((0, 0))] = px[at.index(from)];
 }
 
 /// The sub-node word of the cell both `near` and `far` lie in, at the
