@@ -19,10 +19,11 @@ pub(crate) const SUBPIXEL_LIMIT: f32 = 0.95;
 /// Largest sub-cell extent with the gap fill ([`crate::raster::gap_fill`]):
 /// every pixel centre then lies within 0.75 px (max norm) of a sub-node, so
 /// a pixel the lattice misses has a drawn pixel among its eight neighbours
-/// (the pass looks for two opposite ones within two steps, which this does
-/// not guarantee).
-/// Why 1.5: at 1.9 the bunny lost 0.18 dB and its holes tripled, at 1.2 it
-/// placed more samples for the same image (docs/algorithms/render.md).
+/// (the pass looks for two opposite ones within two steps, or drawn ones
+/// around it, which this does not guarantee).
+/// Why 1.5: at 1.9 the bunny lost 0.18 dB and its holes tripled, at 1.7
+/// the mannequin's holes tripled, at 1.2 it placed more samples for the
+/// same image (docs/algorithms/render.md).
 pub(crate) const GAP_FILL_LIMIT: f32 = 1.5;
 /// Extra subdivision for Catmull-Rom cells, which bulge past their corners:
 /// their limit is [`SUBPIXEL_LIMIT`] divided by this.

@@ -35,8 +35,8 @@
 //! pieces within [`GAP_FILL_REACH`] pixels of the image's left or right
 //! side keep the dense cut, since past that side nothing is drawn.
 //!
-//! Cost: O(pixels of the band's box): the spanning test in lanes over whole
-//! rows, the fill itself only at the pixels it flags.
+//! Cost: O(pixels of the band's box): the spanning and surround tests in
+//! lanes over whole rows, the fill itself only at the pixels it flags.
 //!
 //! Based on: the screen-space hole filling of point-based renderers, which
 //! complete a sparse set of splats by an image pass.
