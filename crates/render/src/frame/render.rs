@@ -220,7 +220,11 @@ impl Renderer {
         camera: &Camera,
     ) -> Result<RenderOutput, RenderError> {
         let start = Instant::now();
-        let options = self.options;
+        // Triangles are drawn exactly: no gaps to fill.
+        let options = RenderOptions {
+            gap_fill: false,
+            ..self.options
+        };
         let view = View::new(camera, options.ssaa, mesh.bounds())?;
         let setup = self.setup(&view, &options);
         let normals = mesh.vertex_normals();
@@ -256,8 +260,7 @@ impl Renderer {
         let bin_start = Instant::now();
         let tile_rows = options.band_rows(view.height, self.pool.current_num_threads());
         let band_count = view.height.div_ceil(tile_rows) as usize;
-        // Only patch frames fill gaps (a mesh's `finish` has no patches).
-        let apron = if options.fills_gaps() && !patches.is_empty() {
+        let apron = if options.fills_gaps() {
             GAP_FILL_REACH
         } else {
             0

@@ -16,7 +16,7 @@
 //!   differences and divided by its depth (one reciprocal per node).
 //!
 //! Empty nodes and nodes of no drawable cell are written as
-//! [`EMPTY_NODE`](crate::fixed::EMPTY_NODE). The caller guarantees the
+//! [`crate::fixed::EMPTY_NODE`]. The caller guarantees the
 //! piece lies in front of the near plane (see [`crate::plan::cull`]).
 //!
 //! Cost: O(nodes), no allocation once warm (the output vector and the

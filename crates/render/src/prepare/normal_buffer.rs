@@ -131,8 +131,9 @@ impl SlotSetBuilder {
         }
     }
 
-    /// [`Self::add`] for each node whose `used` flag is set, its slot the
-    /// [`table_slot`] of its differences in `gi` and `gj`. Why by blocks of
+    /// `add` (the tests' one-node reference) for each node whose `used`
+    /// flag is set, its slot the [`table_slot`] of its differences in `gi`
+    /// and `gj`. Why by blocks of
     /// 64 nodes, their slots found first in one branch-free pass (vector
     /// lanes) and then set a bit per node (unused nodes' and outside
     /// nodes' in the spare word): a slot, a test and a branch per node were
@@ -265,7 +266,7 @@ impl NormalBuffer {
 
     /// Counts a lookup of the normal at `slot` (not [`OUTSIDE_TABLE`]) in
     /// the table chosen by [`Self::select`] exactly as
-    /// [`Self::normal_bits_at`] would, for a frame that reads its normals
+    /// `normal_bits_at` (its tests' reference) would, for a frame that reads its normals
     /// from the prepared scene ([`crate::prepare::level_shading::LevelShading`]).
     #[inline(always)]
     pub(crate) fn touch_at(&mut self, level: usize, slot: u16) {
