@@ -383,16 +383,27 @@ def spatch_median_ms(args, camera, extra):
     return json.loads(out)["details"]["bench"]["ms"]["frame"]["median_ms"]
 
 
-def main():
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        k = argv.index("--")
-        argv, extra = argv[:k], argv[k + 1:]
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def split_spatch_flags(argv):
+    """The script's own arguments and the spatch flags after `--`."""
+    if "--" not in argv:
+        return argv, []
+    k = argv.index("--")
+    return argv[:k], argv[k + 1:]
+
+
+def comparison_parser(doc):
+    """An argument parser described by `doc`'s first line, with the arguments every
+    comparison with llvmpipe takes: the spatch binary, the source mesh and the scene."""
+    p = argparse.ArgumentParser(description=doc.split("\n")[0])
     p.add_argument("--spatch", required=True)
     p.add_argument("--mesh", required=True)
     p.add_argument("--scene", required=True)
+    return p
+
+
+def main():
+    argv, extra = split_spatch_flags(sys.argv[1:])
+    p = comparison_parser(__doc__)
     p.add_argument("--size", type=int, default=500)
     p.add_argument("--rounds", type=int, default=3)
     p.add_argument("--frames", type=int, default=20)

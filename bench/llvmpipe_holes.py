@@ -26,7 +26,6 @@ Usage:
 With --max-holes it exits 1 when a size's hole fraction exceeds PERCENT.
 """
 
-import argparse
 import json
 import math
 import os
@@ -37,7 +36,13 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from llvmpipe_compare import look_at, perspective, read_mesh  # noqa: E402
+from llvmpipe_compare import (  # noqa: E402
+    comparison_parser,
+    look_at,
+    perspective,
+    read_mesh,
+    split_spatch_flags,
+)
 
 VERTEX = """
 #version 330
@@ -162,15 +167,8 @@ def compare(reference, patches, tolerance):
 
 
 def main():
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        k = argv.index("--")
-        argv, extra = argv[:k], argv[k + 1:]
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--spatch", required=True)
-    p.add_argument("--mesh", required=True)
-    p.add_argument("--scene", required=True)
+    argv, extra = split_spatch_flags(sys.argv[1:])
+    p = comparison_parser(__doc__)
     p.add_argument("--sizes", type=int, nargs="+", default=[500])
     p.add_argument("--fov", type=float, default=40.0)
     p.add_argument("--tolerance", type=float, default=0.02,
