@@ -228,10 +228,15 @@ def vertex_normals(v, f):
     return (n / np.maximum(length, 1e-30)).astype(np.float32)
 
 
+def box_centre_radius(v):
+    """The centre and half diagonal of the bounding box of the points `v`."""
+    lo, hi = v.min(axis=0).astype(np.float64), v.max(axis=0).astype(np.float64)
+    return (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
+
+
 def measures_camera(v):
     """The camera of MEASURES.md: eye, target, and near/far around the box."""
-    lo, hi = v.min(axis=0).astype(np.float64), v.max(axis=0).astype(np.float64)
-    c, r = (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
+    c, r = box_centre_radius(v)
     d = np.array([1.0, 0.7, 1.3])
     d /= np.linalg.norm(d)
     eye = c + d * r / math.sin(math.radians(20)) * 1.05

@@ -37,6 +37,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from llvmpipe_compare import (  # noqa: E402
+    box_centre_radius,
     comparison_parser,
     look_at,
     perspective,
@@ -142,10 +143,10 @@ def spatch_depth(args, camera, size, extra, work):
 def grow(mask, px):
     """`mask` dilated by a (2 px + 1)² square."""
     out = mask.copy()
+    h, w = mask.shape
     for dy in range(-px, px + 1):
         for dx in range(-px, px + 1):
             shifted = np.zeros_like(mask)
-            h, w = mask.shape
             shifted[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = mask[
                 max(-dy, 0):h + min(-dy, 0), max(-dx, 0):w + min(-dx, 0)
             ]
@@ -177,8 +178,7 @@ def main():
     p.add_argument("--json", action="store_true")
     args = p.parse_args(argv)
     v, f = read_mesh(args.mesh)[:2]
-    lo, hi = v.min(axis=0).astype(np.float64), v.max(axis=0).astype(np.float64)
-    c, r = (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
+    c, r = box_centre_radius(v)
     peer = Reference(v, f)
     rows, failed = [], False
     with tempfile.TemporaryDirectory() as work:
@@ -208,8 +208,8 @@ def main():
         for row in rows:
             print(
                 f"  {row['size']}²: holes {row['hole_pixels']} of {row['reference_pixels']} "
-                f"({row['holes_percent']:.4f} %; {row['see_through_pixels']} see-through), overreach {row['overreach_pixels']} "
-                f"({row['overreach_percent']:.4f} %)"
+                f"({row['holes_percent']:.4f} %; {row['see_through_pixels']} see-through), "
+                f"overreach {row['overreach_pixels']} ({row['overreach_percent']:.4f} %)"
             )
     sys.exit(1 if failed else 0)
 
