@@ -23,7 +23,9 @@ Usage:
   /tmp/venv/bin/python bench/llvmpipe_holes.py --spatch target/release/spatch \\
       --mesh bun_zipper.ply --scene bunny.spatch --sizes 500 1000 [--json] \\
       [--max-holes PERCENT] [-- extra spatch render flags]
-With --max-holes it exits 1 when a size's hole fraction exceeds PERCENT.
+With --max-holes it exits 1 when a size's hole fraction exceeds PERCENT. With --save DIR it
+writes each view's map as DIR/SIZE_VIEW.png: the reference grey, holes left empty red,
+see-through holes blue, overreach green.
 """
 
 import json
@@ -164,7 +166,19 @@ def compare(reference, patches, tolerance):
     holes = inner & (~drawn | behind)
     overreach = drawn & ~grow(covered, 2)
     counts = (inner, holes, inner & behind, covered, overreach)
-    return tuple(int(m.sum()) for m in counts)
+    return tuple(int(m.sum()) for m in counts), (covered, holes & ~behind, holes & behind, overreach)
+
+
+def save_map(path, masks):
+    """One view's comparison as an RGB image (see the module docs for the colours)."""
+    from PIL import Image
+
+    covered, empty, behind, overreach = masks
+    rgb = np.zeros(covered.shape + (3,), dtype=np.uint8)
+    rgb[covered] = (96, 96, 96)
+    for mask, colour in ((empty, (255, 0, 0)), (behind, (0, 96, 255)), (overreach, (0, 255, 0))):
+        rgb[mask] = colour
+    Image.fromarray(rgb).save(path)
 
 
 def main():
@@ -176,6 +190,7 @@ def main():
                    help="depth behind the reference that still covers it, in R (default 0.02)")
     p.add_argument("--max-holes", type=float, help="fail when holes exceed this percent")
     p.add_argument("--json", action="store_true")
+    p.add_argument("--save", metavar="DIR", help="write each view's map of holes as a PNG here")
     args = p.parse_args(argv)
     v, f = read_mesh(args.mesh)[:2]
     c, r = box_centre_radius(v)
@@ -184,11 +199,15 @@ def main():
     with tempfile.TemporaryDirectory() as work:
         for size in args.sizes:
             totals = np.zeros(5, dtype=np.int64)
-            for direction in standard_views():
+            for view, direction in enumerate(standard_views()):
                 camera = Camera(c, r, direction, args.fov)
                 reference = peer.depth(camera, args.fov, size)
                 patches = spatch_depth(args, camera, size, extra, work)
-                totals += compare(reference, patches, args.tolerance * r)
+                counts, masks = compare(reference, patches, args.tolerance * r)
+                totals += counts
+                if args.save:
+                    os.makedirs(args.save, exist_ok=True)
+                    save_map(os.path.join(args.save, f"{size}_{view:02}.png"), masks)
             inner, holes, behind, covered, over = (int(t) for t in totals)
             row = {
                 "size": size,

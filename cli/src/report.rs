@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 use serde_json::{Map, Value};
-use spatch_convert::{ConvertReport, EdgeStats, PrepareCounts, SideCounts};
+use spatch_convert::{ConvertReport, EdgeStats, OrientCounts, PrepareCounts, SideCounts};
 use spatch_earth::GlobeSummary;
 use spatch_eval::{HoleReport, Report, Stages};
 
@@ -94,6 +94,8 @@ pub(crate) struct ConversionDetails {
     pub(crate) colour: &'static str,
     /// What welding and cleaning changed.
     pub(crate) prepare: PrepareCounts,
+    /// What winding the pieces outward changed (`null` with `--keep-winding` or for a tile).
+    pub(crate) orient: Option<OrientCounts>,
     /// How much texture detail the fit kept (`null` when no region is textured).
     pub(crate) texture: Option<spatch_fit::TextureDetail>,
     /// What the colour grids kept (`null` when no patch has one).
@@ -123,6 +125,7 @@ impl ConversionDetails {
             spacing: r.spacing,
             colour: r.colour,
             prepare: r.prepare,
+            orient: r.orient,
             texture: r.texture,
             colour_grids: r.colour_grids,
             edges: r.edges,

@@ -83,6 +83,11 @@ pub(crate) struct PipelineArgs {
     /// Leave out the sharp-edge patches (to compare holes and bytes without them).
     #[arg(long)]
     pub(crate) no_sharp_edges: bool,
+    /// Keep the faces' winding as the file has it. By default every connected piece is wound
+    /// consistently and facing out (a scan or export wound inward would otherwise show its
+    /// inside where the renderer culls back faces)
+    #[arg(long)]
+    pub(crate) keep_winding: bool,
     /// Angle in degrees between two faces' normals from which their edge is sharp (0-180).
     #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().crease_angle_deg, value_parser = crease_angle)]
     pub(crate) crease_angle: f32,
@@ -291,6 +296,7 @@ impl PipelineArgs {
         options.fit.colour_grid_texels = self.colour_grid;
         options.colour_budget = self.colour_budget;
         options.colour_floor_db = self.colour_floor;
+        options.orient = !self.keep_winding;
         options.segment = options.segment.clone().with_cone_angle_deg(self.cone_angle);
         options.write = WriteOptions::with_compression(super::compression(self.compress));
         options.sharp_edges = (!self.no_sharp_edges).then(|| {
@@ -589,7 +595,7 @@ pub(crate) fn summary(
     let stages: Vec<String> = r
         .stages
         .iter()
-        .filter(|s| s.name != "adjacency" || s.seconds >= 0.0005)
+        .filter(|s| !matches!(s.name, "adjacency" | "orient") || s.seconds >= 0.0005)
         .map(|s| format!("{} {:.0} ms", s.name, s.seconds * 1e3))
         .collect();
     text.push_str(&format!(
@@ -605,6 +611,22 @@ pub(crate) fn summary(
             e.node_to_surface.rms_rel * 100.0,
             e.surface_to_patch.max_rel * 100.0,
             e.surface_to_patch.rms_rel * 100.0,
+        ));
+    }
+    if let Some(o) = r
+        .orient
+        .filter(|o| o.flipped_faces + o.conflicting_edges > 0)
+    {
+        text.push_str(&format!(
+            "  winding: {} of {} faces turned over ({} of {} pieces turned whole){}\n",
+            o.flipped_faces,
+            r.triangles,
+            o.reversed_pieces,
+            o.pieces,
+            match o.conflicting_edges {
+                0 => String::new(),
+                n => format!("; {n} edges cannot agree: every patch drawn from both sides"),
+            }
         ));
     }
     if let Some(e) = &r.edges {

@@ -1,6 +1,7 @@
 //! Issue 22 item 4 from the user's side: a thin mesh converts to patches, a mesh no spacing
 //! can sample is refused naming `--spacing` (exit 2, no output), and a cube with every other
-//! triangle wound the wrong way converts with a warning about its error.
+//! triangle wound the wrong way converts as the clean cube does (the converter winds it
+//! outward), or, with `--keep-winding`, with a warning about its error.
 
 use crate::test_command::TestCommand;
 
@@ -74,18 +75,38 @@ fn a_surface_no_spacing_can_sample_is_refused_naming_the_option() {
 }
 
 #[test]
-fn a_cube_with_flipped_triangles_warns_about_its_error() {
+fn a_cube_with_flipped_triangles_is_rewound_or_warns_about_its_error() {
     let t = TestCommand::new();
     std::fs::write(t.path("flipped.obj"), cube_obj(true)).unwrap();
     std::fs::write(t.path("cube.obj"), cube_obj(false)).unwrap();
-    let flipped = t
+    let clean = t.run(&["convert", "cube.obj", "-o", "c.spatch"]).success();
+    assert!(!clean.stdout.contains("error budget"), "{}", clean.stdout);
+    let rewound = t
         .run(&["convert", "flipped.obj", "-o", "f.spatch"])
         .success();
     assert!(
-        flipped.stdout.contains("times the error budget"),
+        rewound
+            .stdout
+            .contains("winding: 6 of 12 faces turned over"),
         "{}",
-        flipped.stdout
+        rewound.stdout
     );
-    let clean = t.run(&["convert", "cube.obj", "-o", "c.spatch"]).success();
-    assert!(!clean.stdout.contains("error budget"), "{}", clean.stdout);
+    assert!(
+        !rewound.stdout.contains("error budget"),
+        "{}",
+        rewound.stdout
+    );
+    let read = |name: &str| std::fs::read(t.path(name)).unwrap();
+    assert!(
+        read("f.spatch") == read("c.spatch"),
+        "the rewound cube differs"
+    );
+    let kept = t
+        .run(&["convert", "flipped.obj", "-o", "k.spatch", "--keep-winding"])
+        .success();
+    assert!(
+        kept.stdout.contains("times the error budget"),
+        "{}",
+        kept.stdout
+    );
 }

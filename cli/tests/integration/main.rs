@@ -70,3 +70,4 @@ mod stats;
 mod test_command;
 mod tiled;
 mod view;
+mod winding;

@@ -19,6 +19,11 @@ pub struct ConvertOptions {
     /// Welding and cleaning of the loaded mesh. Default: exact welding, drop degenerate and
     /// zero-area faces.
     pub prepare: PrepareOptions,
+    /// Wind every connected piece of the mesh consistently and outward before segmenting
+    /// (`spatch_mesh::orient_faces`). Default `true`: culling and the openings' rule assume
+    /// it, and an inward or partly flipped source would otherwise show its inside. Tiles'
+    /// parts ([`convert_part`](crate::convert_part)) keep the source's winding either way.
+    pub orient: bool,
     /// The segmenter's cone and merge angles, region size limit and small-region threshold.
     pub segment: SegmentOptions,
     /// The fitter's spacing, grid, overlap, error budget and colour switch.
@@ -46,6 +51,7 @@ impl Default for ConvertOptions {
     fn default() -> Self {
         Self {
             prepare: PrepareOptions::default(),
+            orient: true,
             segment: SegmentOptions::default(),
             fit: FitOptions::default(),
             write: WriteOptions::default(),

@@ -1,4 +1,5 @@
-//! The pipeline: load → prepare → adjacency → segment → fit → encode, each stage timed.
+//! The pipeline: load → prepare → adjacency → orient → segment → fit → edges → sides →
+//! encode, each stage timed.
 //!
 //! Every stage is a call into the crate that owns it; this file only wires them together and
 //! keeps the clock. The sharp-edge patch generator (a later stage) slots in between fit and
@@ -12,12 +13,14 @@ use crate::owned::{segment_owned, PartOwner};
 use crate::sides::{apply_sides, find_mesh_sides};
 use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
-use spatch_mesh::{build_face_adjacency, load_mesh, prepare_mesh, LoadWarning, TriangleMesh};
+use spatch_mesh::{
+    build_face_adjacency, load_mesh, orient_faces, prepare_mesh, LoadWarning, TriangleMesh,
+};
 use spatch_report::StageClock;
 use spatch_segment::segment;
 
 use crate::colour_budget::{floor_error_levels, hold_colour_budget};
-use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, PrepareCounts};
+use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, OrientCounts, PrepareCounts};
 
 /// What to convert.
 #[derive(Debug, Clone)]
@@ -38,6 +41,8 @@ pub enum Stage {
     Prepare,
     /// Face adjacency.
     Adjacency,
+    /// Winding every piece consistently and outward (`spatch_mesh::orient_faces`).
+    Orient,
     /// Segmentation into regions.
     Segment,
     /// Fitting patches to regions.
@@ -57,6 +62,7 @@ impl Stage {
             Stage::Load => "load",
             Stage::Prepare => "prepare",
             Stage::Adjacency => "adjacency",
+            Stage::Orient => "orient",
             Stage::Segment => "segment",
             Stage::Fit => "fit",
             Stage::Edges => "edges",
@@ -66,10 +72,11 @@ impl Stage {
     }
 
     /// All stages in pipeline order.
-    pub const ALL: [Stage; 8] = [
+    pub const ALL: [Stage; 9] = [
         Stage::Load,
         Stage::Prepare,
         Stage::Adjacency,
+        Stage::Orient,
         Stage::Segment,
         Stage::Fit,
         Stage::Edges,
@@ -155,7 +162,7 @@ fn run_pipeline(
         ConvertInput::Path(path) => load_mesh(path).map(|l| (l.mesh, l.warnings)),
         ConvertInput::Mesh(mesh) => Ok((mesh, Vec::new())),
     })?;
-    let (mesh, prepared) = clock.run(Stage::Prepare, || prepare_mesh(&raw, &options.prepare));
+    let (mut mesh, prepared) = clock.run(Stage::Prepare, || prepare_mesh(&raw, &options.prepare));
     drop(raw);
     if mesh.face_count() == 0 {
         return Err(ConvertError::NoSurface {
@@ -168,7 +175,12 @@ fn run_pipeline(
             faces: prepared.input_faces,
         })?,
     };
-    let adjacency = clock.run(Stage::Adjacency, || build_face_adjacency(&mesh));
+    let mut adjacency = clock.run(Stage::Adjacency, || build_face_adjacency(&mesh));
+    // A tile's part keeps the source's winding: turning a cut-out piece over by its own
+    // volume could disagree with the tiles beside it.
+    let oriented = clock.run(Stage::Orient, || {
+        (options.orient && owner.is_none()).then(|| orient_faces(&mut mesh, &mut adjacency))
+    });
 
     let mut segment_options = options.segment.clone();
     if segment_options.max_extent.is_infinite() {
@@ -231,7 +243,8 @@ fn run_pipeline(
     }
 
     let sides = clock.run(Stage::Sides, || {
-        let mut found = find_mesh_sides(&mesh, &adjacency);
+        let orientable = oriented.is_none_or(|o| o.conflicting_edges == 0);
+        let mut found = find_mesh_sides(&mesh, &adjacency, orientable);
         found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
         if let Some((edge_patches, _)) = &mut edges {
             found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);
@@ -293,6 +306,7 @@ fn run_pipeline(
             output_vertices: prepared.output_vertices,
             output_faces: prepared.output_faces,
         },
+        orient: oriented.map(OrientCounts::from),
         warnings: load_warnings.iter().map(ToString::to_string).collect(),
         edges: edges.map(|(_, s)| s),
         edge_bytes,

@@ -22,6 +22,31 @@ pub struct PrepareCounts {
     pub output_faces: usize,
 }
 
+/// What orientation changed (see `spatch_mesh::OrientReport`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct OrientCounts {
+    /// Connected pieces of the surface.
+    pub pieces: usize,
+    /// Faces whose winding was turned over.
+    pub flipped_faces: usize,
+    /// Pieces turned over as a whole (they faced in).
+    pub reversed_pieces: usize,
+    /// Edges whose two faces no winding makes agree (a non-orientable seam): the scene's
+    /// patches are then marked two-sided.
+    pub conflicting_edges: usize,
+}
+
+impl From<spatch_mesh::OrientReport> for OrientCounts {
+    fn from(r: spatch_mesh::OrientReport) -> Self {
+        Self {
+            pieces: r.pieces,
+            flipped_faces: r.flipped_faces,
+            reversed_pieces: r.reversed_pieces,
+            conflicting_edges: r.conflicting_edges,
+        }
+    }
+}
+
 /// Timings and counts of one conversion.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConvertReport {
@@ -32,7 +57,7 @@ pub struct ConvertReport {
     /// Total wall time of the stages, in seconds.
     pub seconds: f64,
     /// Each stage's wall time, in pipeline order: `load`, `prepare`,
-    /// `adjacency`, `segment`, `fit`, `edges`, `sides`, `encode`.
+    /// `adjacency`, `orient`, `segment`, `fit`, `edges`, `sides`, `encode`.
     pub stages: Vec<StageTime>,
     /// Worker threads available to the parallel stages.
     pub threads: usize,
@@ -61,6 +86,9 @@ pub struct ConvertReport {
     pub diagonal: f64,
     /// What preparation changed.
     pub prepare: PrepareCounts,
+    /// What orientation changed, or `None` when it did not run (turned off, or a tile's
+    /// part).
+    pub orient: Option<OrientCounts>,
     /// What the loader worked around, as readable sentences.
     pub warnings: Vec<String>,
     /// What the sharp-edge stage found and made, or `None` when it was off.

@@ -18,8 +18,14 @@
 //! - More than [`MAX_OPENINGS`] openings (a scan full of small holes): the per-frame test would
 //!   cost more than it saves, so every patch becomes [`Sides::Both`] and no opening is stored.
 //!
-//! Orientation: the cap argument assumes consistently wound triangles, as back-face culling
-//! does.
+//! - A mesh whose winding cannot be made consistent (`orientable` false: a seam where two
+//!   faces disagree whichever way they turn) has no safe side: every patch becomes
+//!   [`Sides::Both`].
+//!
+//! Orientation: the cap argument needs each piece wound consistently and facing out, so that
+//! its back faces the inside of the piece closed over its openings (a bowl wound into its
+//! hollow shows its back from below without any opening in between). The pipeline winds the
+//! mesh so first (`spatch_mesh::orient_faces`).
 //!
 //! Cost: O(edges + vertices) once per conversion (a union-find over boundary vertices).
 
@@ -52,9 +58,30 @@ pub struct MeshSides {
     pub counts: SideCounts,
 }
 
-/// Finds the openings of `mesh` (see the module docs).
-pub fn find_mesh_sides(mesh: &TriangleMesh, adjacency: &FaceAdjacency) -> MeshSides {
+/// Finds the openings of `mesh` (see the module docs); `orientable` says whether its winding
+/// is consistent.
+pub fn find_mesh_sides(
+    mesh: &TriangleMesh,
+    adjacency: &FaceAdjacency,
+    orientable: bool,
+) -> MeshSides {
     let boundary_edges = adjacency.boundary_edge_count();
+    if !orientable {
+        let loops = if boundary_edges == 0 {
+            0
+        } else {
+            boundary_loops(mesh, adjacency).len()
+        };
+        return MeshSides {
+            openings: Vec::new(),
+            sides: Sides::Both,
+            counts: SideCounts {
+                boundary_edges,
+                openings: loops,
+                two_sided_patches: 0,
+            },
+        };
+    }
     if boundary_edges == 0 {
         return MeshSides {
             openings: Vec::new(),

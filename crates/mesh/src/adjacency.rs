@@ -106,6 +106,12 @@ impl FaceAdjacency {
         self.face_edges[face.index()]
     }
 
+    /// Keeps [`face_edges`](Self::face_edges) in step when `face`'s last two corners are
+    /// swapped (corners `a b c` become `a c b`): its edges then run `a→c`, `c→b`, `b→a`.
+    pub(crate) fn swap_last_corners(&mut self, face: FaceId) {
+        self.face_edges[face.index()].swap(0, 2);
+    }
+
     /// Number of edges with exactly one face.
     pub fn boundary_edge_count(&self) -> usize {
         self.edge_offsets

@@ -10,7 +10,7 @@
 //! - [`Bvh`]: ray casting ([`Bvh::ray_cast`], [`Bvh::ray_cast_filtered`]) and closest-point
 //!   queries ([`Bvh::closest_point`]);
 //! - loading: [`load_mesh`] and [`load_point_cloud`] (OBJ, glTF, PLY, OFF, STL, XYZ), then
-//!   [`prepare_mesh`] to weld and clean; [`sample_surface`] for area-uniform samples;
+//!   [`prepare_mesh`] to weld and clean, [`orient_faces`] to wind every piece outward; [`sample_surface`] for area-uniform samples;
 //! - [`triangulate_polygon`]: polygon faces to triangles (fan when convex, else ear clipping);
 //! - typed ids [`FaceId`], [`VertexId`], [`MaterialId`], [`EdgeId`];
 //! - [`MeshError`]: the one error type, naming the file and the element at fault.
@@ -38,6 +38,7 @@ mod ids;
 pub mod load;
 pub mod material;
 mod mesh;
+mod orient;
 mod point_cloud;
 mod prepare;
 mod ray;
@@ -56,6 +57,7 @@ pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
 pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud, MAX_EXTENT};
 pub use material::{Material, Texture};
 pub use mesh::{Aabb, TriangleMesh};
+pub use orient::{orient_faces, OrientReport, FLAT_VOLUME};
 pub use point_cloud::PointCloud;
 pub use prepare::{prepare_mesh, PrepareOptions, PrepareReport, WeldMode};
 pub use ray::{RayHit, EDGE_TOLERANCE};

@@ -65,9 +65,9 @@ pub enum Culling {
     /// none of the scene's openings lies between the eye and it (else it
     /// is drawn from both sides, lit two-sided); a patch seen from both
     /// sides (point clouds) never. A mesh is culled when it is closed
-    /// (every edge shared by two triangles wound oppositely), else drawn
-    /// from both sides. Files without sides (container 1.0) cull every
-    /// patch, as before.
+    /// (every edge shared by two triangles wound oppositely) and wound
+    /// outward (positive signed volume), else drawn from both sides. Files
+    /// without sides (container 1.0) cull every patch, as before.
     #[default]
     Auto,
     /// Drop every patch whose normal cone faces away from the eye (and, for

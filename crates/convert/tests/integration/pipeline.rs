@@ -24,6 +24,7 @@ fn a_torus_converts_with_every_stage_timed() {
             "load",
             "prepare",
             "adjacency",
+            "orient",
             "segment",
             "fit",
             "edges",

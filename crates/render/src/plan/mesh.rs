@@ -8,9 +8,11 @@
 //! shading uses face normals. Triangles are counter-clockwise when seen
 //! from their front (OpenGL). With back-face culling on, triangles facing
 //! away are dropped; otherwise they are lit from their back side. Automatic
-//! culling culls a closed mesh (every directed edge matched by its reverse,
-//! once: no opening can show a back face) and draws an open one from both
-//! sides, as OpenGL without culling does.
+//! culling culls a closed mesh wound outward (every directed edge matched by
+//! its reverse, once: no opening can show a back face; and a positive signed
+//! volume: the fronts face out) and draws any other from both sides, as
+//! OpenGL without culling does (a closed mesh wound inward would otherwise
+//! show its inside).
 //!
 //! Cost: O(vertices + triangles) to set up, then the rasterizer.
 
@@ -44,7 +46,8 @@ pub struct TriangleMesh<'a> {
     positions: &'a [Vec3],
     triangles: &'a [[u32; 3]],
     colours: MeshColours<'a>,
-    /// Every directed edge is matched by its reverse exactly once.
+    /// Every directed edge is matched by its reverse exactly once, and the
+    /// signed volume is positive.
     closed: bool,
 }
 
@@ -97,13 +100,13 @@ impl<'a> TriangleMesh<'a> {
             positions,
             triangles,
             colours,
-            closed: is_closed(triangles),
+            closed: is_closed(triangles) && faces_out(positions, triangles),
         })
     }
 
     /// True when the mesh is closed and consistently wound (each directed
-    /// edge appears once and its reverse once), so back faces never show
-    /// from outside it.
+    /// edge appears once and its reverse once) with its fronts facing out
+    /// (positive signed volume), so back faces never show from outside it.
     pub fn is_closed(&self) -> bool {
         self.closed
     }
@@ -253,9 +256,38 @@ fn is_closed(triangles: &[[u32; 3]]) -> bool {
         .all(|&(a, b)| a != b && edges.binary_search(&(b, a)).is_ok())
 }
 
+/// Whether the signed volume `Σ det(a, b, c) / 6` of `triangles` (about
+/// their first vertex, in f64) is positive: a closed surface wound so its
+/// fronts face out. O(T).
+fn faces_out(positions: &[Vec3], triangles: &[[u32; 3]]) -> bool {
+    let Some(first) = triangles.first() else {
+        return false;
+    };
+    let o = positions[first[0] as usize].as_dvec3();
+    let volume: f64 = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| positions[v as usize].as_dvec3() - o);
+            a.dot(b.cross(c))
+        })
+        .sum();
+    volume > 0.0
+}
+
 #[cfg(test)]
 mod tests {
-    use super::is_closed;
+    use super::{faces_out, is_closed};
+    use glam::Vec3;
+
+    #[test]
+    fn a_closed_mesh_faces_out_only_with_a_positive_volume() {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let outward = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]];
+        assert!(is_closed(&outward) && faces_out(&p, &outward));
+        let inward = outward.map(|[a, b, c]| [a, c, b]);
+        assert!(is_closed(&inward) && !faces_out(&p, &inward));
+        assert!(!faces_out(&p, &[]));
+    }
 
     #[test]
     fn closed_means_every_edge_once_each_way() {
