@@ -1,7 +1,7 @@
 //! Face orientation: consistent winding across shared edges, and outward per piece.
 //!
-//! Back-face culling, and the renderer's rule for what an opening lets the eye see
-//! ([`Sides`](https://docs.rs/spatch-format) in the converter), assume that each connected
+//! Back-face culling, and the renderer's rule for what an opening lets the eye see (the
+//! converter's sides pass, `spatch_convert::find_mesh_sides`), assume that each connected
 //! piece of the surface is wound consistently and that its front faces *out*: away from the
 //! volume the piece encloses, or would enclose once its openings were capped. Meshes from the
 //! wild break both: a scan triangulated in the scanner's image order can face into the
