@@ -282,10 +282,30 @@ impl PatchSurface {
         self.tree.get_or_init(|| CellTree::build(&self.boxes))
     }
 
+    /// Whether searches beyond the grid go through the patches' boxes (`blocks.rs`): the
+    /// blocks are patches of many cells.
+    fn searches_blocks(&self) -> bool {
+        self.blocks.len() * MIN_CELLS_PER_BLOCK <= self.cells.len()
+    }
+
+    /// Most grid cells a query reads before it searches beyond the grid: [`MAX_GRID_CELLS`],
+    /// or as many as there are patches when that search tests and sorts every patch's box
+    /// (a grid cell read costs about one box test). Why: on a dense scene the largest cells
+    /// widen every query's neighbourhood past 64 grid cells (a bunny subdivided to 1.1 M
+    /// triangles, 24,425 patches: 125 cells a query), and each query then sorted all the
+    /// patches' boxes: 803 s to measure its conversion's error.
+    fn grid_cell_limit(&self) -> f64 {
+        if self.searches_blocks() {
+            MAX_GRID_CELLS.max(self.blocks.len() as f64)
+        } else {
+            MAX_GRID_CELLS
+        }
+    }
+
     /// Improves `best` for `p` over every cell: through the patches' boxes when the blocks
     /// are patches of many cells (`blocks.rs`), else through the tree over the cells.
     fn search_everywhere(&self, p: Vec3, best: &mut Best) {
-        if self.blocks.len() * MIN_CELLS_PER_BLOCK <= self.cells.len() {
+        if self.searches_blocks() {
             let index = self.block_index.get_or_init(|| {
                 BlockIndex::build(self.blocks.len(), &self.boxes, |k| {
                     self.cells[k].block as usize
@@ -346,15 +366,16 @@ impl PatchSurface {
         if let Some(grid) = &self.grid {
             // First the cells that can hold a cell containing `p` (its own one, for a point on
             // the surface), then those that can hold one nearer than the best found.
+            let limit = self.grid_cell_limit();
             let first = grid.cells_within(p, 0.0);
-            if first.count() <= MAX_GRID_CELLS {
+            if first.count() <= limit {
                 self.consider_all(p, grid.extras(), &mut best);
                 grid.visit(&first, &CellRange::EMPTY, |items| {
                     self.consider_all(p, items, &mut best)
                 });
                 let r = f64::from(best.distance) * (1.0 + f64::from(PRUNE_SLACK));
                 let rest = grid.cells_within(p, r);
-                if rest.count() <= MAX_GRID_CELLS {
+                if rest.count() <= limit {
                     grid.visit(&rest, &first, |items| {
                         self.consider_all(p, items, &mut best)
                     });
