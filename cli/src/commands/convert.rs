@@ -84,8 +84,9 @@ pub(crate) struct PipelineArgs {
     #[arg(long)]
     pub(crate) no_sharp_edges: bool,
     /// Keep the faces' winding as the file has it. By default every connected piece is wound
-    /// consistently and facing out (a scan or export wound inward would otherwise show its
-    /// inside where the renderer culls back faces)
+    /// consistently and facing out, and a file with a piece wound inward is drawn from both
+    /// sides (an object exported inside out would otherwise show its inside where the renderer
+    /// culls back faces; a room seen from inside keeps its walls)
     #[arg(long)]
     pub(crate) keep_winding: bool,
     /// Angle in degrees between two faces' normals from which their edge is sharp (0-180).
@@ -618,14 +619,15 @@ pub(crate) fn summary(
         .filter(|o| o.flipped_faces + o.conflicting_edges > 0)
     {
         text.push_str(&format!(
-            "  winding: {} of {} faces turned over ({} of {} pieces turned whole){}\n",
+            "  winding: {} of {} faces turned over ({} of {} pieces wound inward){}\n",
             o.flipped_faces,
             r.triangles,
-            o.reversed_pieces,
+            o.inward_pieces,
             o.pieces,
-            match o.conflicting_edges {
-                0 => String::new(),
-                n => format!("; {n} edges cannot agree: every patch drawn from both sides"),
+            match (o.conflicting_edges, o.wound_inward) {
+                (0, false) => String::new(),
+                (0, true) => "; most of it faced in: every patch drawn from both sides".to_owned(),
+                (n, _) => format!("; {n} edges cannot agree: every patch drawn from both sides"),
             }
         ));
     }

@@ -1,7 +1,7 @@
 //! Issue 22 item 4 from the user's side: a thin mesh converts to patches, a mesh no spacing
 //! can sample is refused naming `--spacing` (exit 2, no output), and a cube with every other
-//! triangle wound the wrong way converts as the clean cube does (the converter winds it
-//! outward), or, with `--keep-winding`, with a warning about its error.
+//! triangle wound the wrong way converts to the clean cube's file (the converter rewinds it),
+//! or, with `--keep-winding`, with a warning about its error.
 
 use crate::test_command::TestCommand;
 
@@ -96,6 +96,7 @@ fn a_cube_with_flipped_triangles_is_rewound_or_warns_about_its_error() {
         "{}",
         rewound.stdout
     );
+    // Half its faces were wound wrong, not most: the very file of the clean cube.
     let read = |name: &str| std::fs::read(t.path(name)).unwrap();
     assert!(
         read("f.spatch") == read("c.spatch"),

@@ -1,9 +1,11 @@
-//! `spatch convert` winds every connected piece consistently and outward: a source wound
-//! inward, or with scattered faces turned over, converts to the very file of its outward
-//! twin; `--keep-winding` keeps the file's winding; an open bowl wound into its hollow shows
-//! from below with the default culling.
+//! `spatch convert` winds every connected piece consistently and outward: a source with
+//! scattered faces turned over converts to the very file of its outward twin; one wound
+//! inward to its twin's patches, all marked two-sided (it may be a room seen from inside);
+//! `--keep-winding` keeps the file's winding; an open bowl wound into its hollow shows from
+//! below with the default culling.
 
 use spatch_fixtures::shapes::{open_tube, torus, uv_sphere, Shape};
+use spatch_format::{read_scene, Sides};
 
 use crate::test_command::TestCommand;
 
@@ -51,8 +53,22 @@ fn convert(
     )
 }
 
+/// Asserts that the scenes `a` and `b` hold the same patches apart from their sides, and
+/// that every patch of `b` is two-sided.
+pub(crate) fn same_patches_with_b_two_sided(t: &TestCommand, a: &str, b: &str) {
+    let (a, b) = (
+        read_scene(&t.path(a)).unwrap(),
+        read_scene(&t.path(b)).unwrap(),
+    );
+    assert_eq!(a.patches().len(), b.patches().len());
+    for (p, q) in a.patches().iter().zip(b.patches()) {
+        assert_eq!(q.sides(), Sides::Both);
+        assert!(p.clone().with_sides(Sides::Both) == *q, "a patch differs");
+    }
+}
+
 #[test]
-fn inward_and_scattered_windings_convert_to_the_outward_file() {
+fn inward_and_scattered_windings_convert_to_the_outward_patches() {
     let t = TestCommand::new();
     for (name, shape) in [
         ("sphere", uv_sphere(1.0, 32, 16)),
@@ -69,15 +85,14 @@ fn inward_and_scattered_windings_convert_to_the_outward_file() {
             "{name}: {orient}"
         );
         assert_eq!(
-            (
-                orient["pieces"].as_u64(),
-                orient["reversed_pieces"].as_u64()
-            ),
+            (orient["pieces"].as_u64(), orient["inward_pieces"].as_u64()),
             (Some(1), Some(1))
         );
-        assert!(
-            inward == outward,
-            "{name}: the inward source gives another file"
+        assert!(inward != outward, "{name}: not marked two-sided");
+        same_patches_with_b_two_sided(
+            &t,
+            &format!("{name}_out.spatch"),
+            &format!("{name}_in.spatch"),
         );
         let scattered = turned(&shape, |f| f % 3 == 1);
         let (mixed, orient) = convert(&t, &format!("{name}_mixed"), &scattered, &[]);
@@ -159,7 +174,7 @@ fn an_inward_bowl_shows_from_below_with_default_culling() {
 }
 
 #[test]
-fn a_real_scan_wound_inward_converts_to_the_same_file() {
+fn a_real_scan_wound_inward_converts_to_the_same_patches() {
     let Some(path) = spatch_fixtures::shared_data("bunny/reconstruction/bun_zipper_res2.ply")
     else {
         eprintln!("skipped: ../shared/data/bunny/reconstruction/bun_zipper_res2.ply is missing");
@@ -171,9 +186,50 @@ fn a_real_scan_wound_inward_converts_to_the_same_file() {
         triangles: mesh.triangles.clone(),
     };
     let t = TestCommand::new();
-    let (outward, orient) = convert(&t, "res2", &shape, &[]);
+    let (_, orient) = convert(&t, "res2", &shape, &[]);
     assert_eq!(orient["flipped_faces"], 0, "{orient}");
-    let (inward, orient) = convert(&t, "res2_in", &turned(&shape, |_| true), &[]);
+    let (_, orient) = convert(&t, "res2_in", &turned(&shape, |_| true), &[]);
     assert_eq!(orient["flipped_faces"], shape.triangles.len(), "{orient}");
-    assert!(inward == outward, "the inward scan gives another file");
+    same_patches_with_b_two_sided(&t, "res2.spatch", "res2_in.spatch");
+}
+
+#[test]
+fn a_room_wound_inward_keeps_its_walls_from_inside() {
+    // A closed box wound to face its inside, as a room's model is: rewound outward, it
+    // would cull every wall from an eye inside it; marked two-sided, it fills the view.
+    let t = TestCommand::new();
+    let room = turned(&spatch_fixtures::shapes::cube(4.0), |_| true);
+    let (_, orient) = convert(&t, "room", &room, &[]);
+    assert_eq!(orient["wound_inward"], true, "{orient}");
+    for (eye, target) in [
+        ("0.3,0.2,0.1", "1,0.2,0.1"),
+        ("-0.5,0.5,0.4", "-0.5,-1,0.4"),
+    ] {
+        t.run(&[
+            "render",
+            "room.spatch",
+            "-o",
+            "in.png",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--eye",
+            eye,
+            "--target",
+            target,
+            "--up",
+            "0,0,1",
+            "--fov",
+            "60",
+            "--near",
+            "0.05",
+            "--background",
+            "255,0,255",
+        ])
+        .success();
+        let rgb = image::open(t.path("in.png")).unwrap().to_rgb8();
+        let background = rgb.pixels().filter(|p| p.0 == [255, 0, 255]).count();
+        assert_eq!(background, 0, "from {eye}: {background} px show no wall");
+    }
 }

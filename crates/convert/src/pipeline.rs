@@ -243,8 +243,8 @@ fn run_pipeline(
     }
 
     let sides = clock.run(Stage::Sides, || {
-        let orientable = oriented.is_none_or(|o| o.conflicting_edges == 0);
-        let mut found = find_mesh_sides(&mesh, &adjacency, orientable);
+        let as_wound = oriented.is_none_or(|o| o.conflicting_edges == 0 && !o.wound_inward);
+        let mut found = find_mesh_sides(&mesh, &adjacency, as_wound);
         found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
         if let Some((edge_patches, _)) = &mut edges {
             found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);

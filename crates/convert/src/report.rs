@@ -29,8 +29,11 @@ pub struct OrientCounts {
     pub pieces: usize,
     /// Faces whose winding was turned over.
     pub flipped_faces: usize,
-    /// Pieces turned over as a whole (they faced in).
-    pub reversed_pieces: usize,
+    /// Pieces the file wound inward (most of their area turned over).
+    pub inward_pieces: usize,
+    /// Whether the file wound most of its surface inward: the scene's patches are then
+    /// marked two-sided (it may be a room seen from inside).
+    pub wound_inward: bool,
     /// Edges whose two faces no winding makes agree (a non-orientable seam): the scene's
     /// patches are then marked two-sided.
     pub conflicting_edges: usize,
@@ -41,7 +44,8 @@ impl From<spatch_mesh::OrientReport> for OrientCounts {
         Self {
             pieces: r.pieces,
             flipped_faces: r.flipped_faces,
-            reversed_pieces: r.reversed_pieces,
+            inward_pieces: r.inward_pieces,
+            wound_inward: r.wound_inward,
             conflicting_edges: r.conflicting_edges,
         }
     }

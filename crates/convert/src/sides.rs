@@ -18,14 +18,18 @@
 //! - More than [`MAX_OPENINGS`] openings (a scan full of small holes): the per-frame test would
 //!   cost more than it saves, so every patch becomes [`Sides::Both`] and no opening is stored.
 //!
-//! - A mesh whose winding cannot be made consistent (`orientable` false: a seam where two
-//!   faces disagree whichever way they turn) has no safe side: every patch becomes
-//!   [`Sides::Both`].
+//! - A mesh the file did not wind consistently and mostly outward (`as_wound` false: a seam
+//!   where two faces disagree whichever way they turn, or most of the surface turned over)
+//!   has no safe side: every patch becomes [`Sides::Both`].
 //!
 //! Orientation: the cap argument needs each piece wound consistently and facing out, so that
 //! its back faces the inside of the piece closed over its openings (a bowl wound into its
 //! hollow shows its back from below without any opening in between). The pipeline winds the
-//! mesh so first (`spatch_mesh::orient_faces`).
+//! mesh so first (`spatch_mesh::orient_faces`; a concave piece of a scan, its hollow facing
+//! the scanner, turns over too). But a mesh whose surface it had mostly to turn over is drawn
+//! from both sides: such a file is as often a room meant to be seen from inside (its walls
+//! facing the eye there) as an object exported the wrong way round, and only drawing both
+//! sides shows both right.
 //!
 //! Cost: O(edges + vertices) once per conversion (a union-find over boundary vertices).
 
@@ -58,15 +62,15 @@ pub struct MeshSides {
     pub counts: SideCounts,
 }
 
-/// Finds the openings of `mesh` (see the module docs); `orientable` says whether its winding
-/// is consistent.
+/// Finds the openings of `mesh` (see the module docs); `as_wound` says whether the file wound
+/// its pieces consistently and mostly outward.
 pub fn find_mesh_sides(
     mesh: &TriangleMesh,
     adjacency: &FaceAdjacency,
-    orientable: bool,
+    as_wound: bool,
 ) -> MeshSides {
     let boundary_edges = adjacency.boundary_edge_count();
-    if !orientable {
+    if !as_wound {
         let loops = if boundary_edges == 0 {
             0
         } else {

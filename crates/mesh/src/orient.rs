@@ -53,8 +53,12 @@ pub struct OrientReport {
     pub pieces: usize,
     /// Faces whose last two corners were swapped.
     pub flipped_faces: usize,
-    /// Pieces turned over as a whole: to face out or, when flat, as step 3 says.
-    pub reversed_pieces: usize,
+    /// Pieces the file wound inward: most of their area turned over (to face out or, when
+    /// flat, as step 3 says). A piece with a few faces wound wrong is not one.
+    pub inward_pieces: usize,
+    /// Whether the file wound most of its surface inward (more than half of all the area
+    /// turned over): an object exported inside out, or a room made to be seen from inside.
+    pub wound_inward: bool,
     /// Edges with two faces that no choice of winding makes opposite (non-orientable).
     pub conflicting_edges: usize,
 }
@@ -70,16 +74,26 @@ pub fn orient_faces(mesh: &mut TriangleMesh, adjacency: &mut FaceAdjacency) -> O
         conflicting_edges: 0,
     };
     let mut report = OrientReport::default();
-    let mut sides = Vec::new();
+    let mut pieces = Vec::new();
     for seed in 0..faces {
         if walk.piece_of[seed] == u32::MAX {
-            let members = walk.piece(mesh, adjacency, seed, sides.len() as u32);
-            sides.push(piece_side(mesh, adjacency, &members, &walk.flip));
+            let members = walk.piece(mesh, adjacency, seed, pieces.len() as u32);
+            pieces.push(measure_piece(mesh, adjacency, &members, &walk.flip));
         }
     }
-    let turn = piece_turns(&sides);
-    report.pieces = sides.len();
-    report.reversed_pieces = turn.iter().filter(|&&t| t).count();
+    let turn = piece_turns(&pieces);
+    report.pieces = pieces.len();
+    report.inward_pieces = pieces
+        .iter()
+        .zip(&turn)
+        .filter(|(p, &t)| p.wound_inward(t))
+        .count();
+    let flipped_area: f64 = pieces
+        .iter()
+        .zip(&turn)
+        .map(|(p, &t)| p.flipped_area(t))
+        .sum();
+    report.wound_inward = flipped_area > pieces.iter().map(|p| p.area).sum::<f64>() / 2.0;
     for (flip, &piece) in walk.flip.iter_mut().zip(&walk.piece_of) {
         *flip ^= turn[piece as usize];
     }
@@ -148,22 +162,48 @@ fn runs_forward(mesh: &TriangleMesh, f: usize, a: u32, b: u32) -> bool {
     (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b)
 }
 
-/// Which way a piece faces, as steps 2 and 3 find it.
+/// A piece as steps 2 and 3 measure it, wound as the walk left it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum PieceSide {
-    /// Its volume decides: it faces in (and must turn over) or out; `area` is its area.
-    Decided { faces_in: bool, area: f64 },
-    /// Flat: whether it must turn over to keep the winding most of its area had.
-    Flat { against_input: bool },
+struct PieceMeasure {
+    /// Whether its volume is negative, or `None` when it is flat (step 3).
+    faces_in: Option<bool>,
+    /// Its area.
+    area: f64,
+    /// The area of its faces the walk left as the file has them.
+    kept_area: f64,
+}
+
+impl PieceMeasure {
+    /// Whether the piece turns over, given whether most of the decided area of the file
+    /// faced in (see [`piece_turns`]).
+    fn turns(&self, file_inward: bool) -> bool {
+        self.faces_in
+            .unwrap_or((self.kept_area < self.area / 2.0) ^ file_inward)
+    }
+
+    /// The area of the piece's faces turned over, when the piece turns as `turn` says.
+    fn flipped_area(&self, turn: bool) -> f64 {
+        if turn {
+            self.kept_area
+        } else {
+            self.area - self.kept_area
+        }
+    }
+
+    /// Whether the file wound the piece inward: turned as `turn` says, most of its area
+    /// ends up turned over.
+    fn wound_inward(&self, turn: bool) -> bool {
+        self.flipped_area(turn) > self.area / 2.0
+    }
 }
 
 /// Steps 2 and 3 for the piece `members`, wound as `flip` says.
-fn piece_side(
+fn measure_piece(
     mesh: &TriangleMesh,
     adjacency: &FaceAdjacency,
     members: &[usize],
     flip: &[bool],
-) -> PieceSide {
+) -> PieceMeasure {
     let o = volume_centre(mesh, adjacency, members);
     let (mut volume, mut area, mut kept_area) = (0.0f64, 0.0f64, 0.0f64);
     for &f in members {
@@ -174,36 +214,27 @@ fn piece_side(
         area += face_area;
         kept_area += if flip[f] { 0.0 } else { face_area };
     }
-    if volume.abs() > FLAT_VOLUME * area.powf(1.5) {
-        PieceSide::Decided {
-            faces_in: volume < 0.0,
-            area,
-        }
-    } else {
-        PieceSide::Flat {
-            against_input: kept_area < area / 2.0,
-        }
+    let decided = volume.abs() > FLAT_VOLUME * area.powf(1.5);
+    PieceMeasure {
+        faces_in: decided.then_some(volume < 0.0),
+        area,
+        kept_area,
     }
 }
 
 /// Per piece, whether it turns over: a decided piece when it faces in; a flat one when it
 /// must to keep its input's winding, or else when most of the decided area faced in (the
 /// file is wound inward, so its flat pieces are too).
-fn piece_turns(sides: &[PieceSide]) -> Vec<bool> {
+fn piece_turns(pieces: &[PieceMeasure]) -> Vec<bool> {
     let (mut inward, mut outward) = (0.0, 0.0);
-    for side in sides {
-        if let PieceSide::Decided { faces_in, area } = *side {
-            *(if faces_in { &mut inward } else { &mut outward }) += area;
+    for piece in pieces {
+        match piece.faces_in {
+            Some(true) => inward += piece.area,
+            Some(false) => outward += piece.area,
+            None => {}
         }
     }
-    let file_inward = inward > outward;
-    sides
-        .iter()
-        .map(|side| match *side {
-            PieceSide::Decided { faces_in, .. } => faces_in,
-            PieceSide::Flat { against_input } => against_input ^ file_inward,
-        })
-        .collect()
+    pieces.iter().map(|p| p.turns(inward > outward)).collect()
 }
 
 /// The point the volume of `members` is taken about: the centroid of the vertices of its
@@ -293,6 +324,10 @@ mod tests {
             let (mesh, report) = oriented(mesh);
             assert_eq!(report.conflicting_edges, 0);
             assert_eq!(report.flipped_faces, pattern.count_ones() as usize);
+            // Wound inward only when most of it was (four of eight is not most).
+            let most = pattern.count_ones() > 4;
+            assert_eq!(report.inward_pieces, usize::from(most), "{pattern:b}");
+            assert_eq!(report.wound_inward, most, "{pattern:b}");
             // Same faces, each wound as the outward original (up to a rotation of corners).
             for (got, want) in mesh.triangles.iter().zip(&outward.triangles) {
                 let turned = [
@@ -321,7 +356,7 @@ mod tests {
             .collect();
         bowl.face_uvs = Some(uvs.clone());
         let (bowl, report) = oriented(bowl);
-        assert_eq!((report.reversed_pieces, report.flipped_faces), (1, 4));
+        assert_eq!((report.inward_pieces, report.flipped_faces), (1, 4));
         assert_eq!(bowl.triangles, full.triangles[4..]);
         for (got, was) in bowl.face_uvs.unwrap().iter().zip(&uvs) {
             assert_eq!(*got, [was[0], was[2], was[1]]);
@@ -366,7 +401,7 @@ mod tests {
             t.swap(0, 1);
         }
         let (turned, report) = oriented(inward);
-        assert_eq!((report.reversed_pieces, report.flipped_faces), (2, 9));
+        assert_eq!((report.inward_pieces, report.flipped_faces), (2, 9));
         assert_eq!(turned.triangles.last(), Some(&[7, 8, 6]));
         assert_eq!(turned.face_normal(FaceId(8)), kept.face_normal(FaceId(8)));
     }
@@ -411,7 +446,7 @@ mod tests {
         t.extend(one.triangles.iter().map(|t| [t[0] + 6, t[2] + 6, t[1] + 6]));
         let (mesh, report) = oriented(TriangleMesh::new(p, t).unwrap());
         assert_eq!(
-            (report.pieces, report.reversed_pieces, report.flipped_faces),
+            (report.pieces, report.inward_pieces, report.flipped_faces),
             (2, 1, 8)
         );
         assert!((signed_volume(&mesh) - 8.0 / 3.0).abs() < 1e-9);
