@@ -84,9 +84,9 @@ pub(crate) struct PipelineArgs {
     #[arg(long)]
     pub(crate) no_sharp_edges: bool,
     /// Keep the faces' winding as the file has it. By default every connected piece is wound
-    /// consistently and facing out, and a file with a piece wound inward is drawn from both
-    /// sides (an object exported inside out would otherwise show its inside where the renderer
-    /// culls back faces; a room seen from inside keeps its walls)
+    /// consistently and facing out (a mesh partly wound inward would show its inside where the
+    /// renderer culls back faces), and a file wound mostly inward is drawn from both sides (it
+    /// may be an object exported inside out or a room seen from inside)
     #[arg(long)]
     pub(crate) keep_winding: bool,
     /// Angle in degrees between two faces' normals from which their edge is sharp (0-180).

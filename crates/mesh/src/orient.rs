@@ -29,7 +29,10 @@
 //!
 //! Turning a face over swaps its last two corners (and their UVs); vertex data is not
 //! touched. A consistently wound input comes out unchanged; a whole mesh wound inward
-//! comes out as the same mesh wound outward, face for face.
+//! comes out as the same mesh wound outward, face for face. The report counts the pieces the
+//! file wound inward (most of their area turned over) and says whether most of the whole
+//! surface was: such a file may be a room made to be seen from inside, which a caller may
+//! rather draw from both sides (the converter does).
 //!
 //! Cost: one walk over faces and edges, O(F + E), and one pass of 3×3 determinants.
 //!
