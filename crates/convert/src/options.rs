@@ -22,7 +22,7 @@ pub struct ConvertOptions {
     /// Wind every connected piece of the mesh consistently and outward before segmenting
     /// (`spatch_mesh::orient_faces`). Default `true`: segmentation, culling and the openings'
     /// rule assume it, and a partly flipped source would otherwise show its inside; a source
-    /// with a piece turned over is marked two-sided (see `sides.rs`). Tiles' parts
+    /// wound mostly inward is marked two-sided (see `sides.rs`). Tiles' parts
     /// ([`convert_part`](crate::convert_part)) keep the source's winding either way.
     pub orient: bool,
     /// The segmenter's cone and merge angles, region size limit and small-region threshold.
