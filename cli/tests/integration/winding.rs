@@ -2,7 +2,7 @@
 //! scattered faces turned over converts to the very file of its outward twin; one wound
 //! inward to its twin's patches, all marked two-sided (it may be a room seen from inside);
 //! `--keep-winding` keeps the file's winding; an open bowl wound into its hollow shows from
-//! below with the default culling.
+//! below with the default culling; a room wound inward keeps its walls seen from inside.
 
 use spatch_fixtures::shapes::{open_tube, torus, uv_sphere, Shape};
 use spatch_format::{read_scene, Sides};
