@@ -70,23 +70,7 @@ pub fn find_mesh_sides(
     as_wound: bool,
 ) -> MeshSides {
     let boundary_edges = adjacency.boundary_edge_count();
-    if !as_wound {
-        let loops = if boundary_edges == 0 {
-            0
-        } else {
-            boundary_loops(mesh, adjacency).len()
-        };
-        return MeshSides {
-            openings: Vec::new(),
-            sides: Sides::Both,
-            counts: SideCounts {
-                boundary_edges,
-                openings: loops,
-                two_sided_patches: 0,
-            },
-        };
-    }
-    if boundary_edges == 0 {
+    if boundary_edges == 0 && as_wound {
         return MeshSides {
             openings: Vec::new(),
             sides: Sides::Front,
@@ -99,7 +83,7 @@ pub fn find_mesh_sides(
         openings: loops.len(),
         two_sided_patches: 0,
     };
-    if loops.len() > MAX_OPENINGS {
+    if !as_wound || loops.len() > MAX_OPENINGS {
         return MeshSides {
             openings: Vec::new(),
             sides: Sides::Both,
