@@ -188,8 +188,8 @@ fn an_open_tube_seen_into_one_end() {
     render_and_check(&t, "open_tube_triangles", &scene, &flags);
 }
 
-/// Covered pixels of an RGBA PNG.
-fn covered(path: &Path) -> usize {
+/// Covered pixels of an RGBA PNG (rendered on the default transparent background).
+pub(crate) fn covered(path: &Path) -> usize {
     let image = image::open(path).unwrap().to_rgba8();
     image.pixels().filter(|p| p.0[3] > 0).count()
 }
