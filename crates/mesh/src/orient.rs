@@ -16,8 +16,8 @@
 //!    is undefined there), so they separate pieces. Where the walk meets a face already
 //!    placed the other way (a Möbius band, a badly glued seam), the edge is counted as
 //!    *conflicting* and left.
-//! 2. **Outward.** The piece's signed volume is taken about the centroid `o` of its open-edge
-//!    vertices (edges with one face, or with three or more), or of all its vertices when it
+//! 2. **Outward.** The piece's signed volume is taken about the mean `o` of its open edges'
+//!    endpoints (edges with one face, or with three or more), or of all its edges' when it
 //!    is closed: `Σ det(a − o, b − o, c − o) / 6`. It is the volume of the piece closed by
 //!    the cone from `o` over its open edges (the cone's triangles contain `o` and add
 //!    nothing), so positive means out. A negative piece is turned over.
@@ -240,8 +240,9 @@ fn piece_turns(pieces: &[PieceMeasure]) -> Vec<bool> {
     pieces.iter().map(|p| p.turns(inward > outward)).collect()
 }
 
-/// The point the volume of `members` is taken about: the centroid of the vertices of its
-/// open edges (one face, or three or more), or of all its vertices when it has none.
+/// The point the volume of `members` is taken about: the mean of its open edges' endpoints
+/// (edges of one face, or three or more; each edge as often as its faces in `members` list
+/// it), or of all its edges' when it has none.
 fn volume_centre(mesh: &TriangleMesh, adjacency: &FaceAdjacency, members: &[usize]) -> DVec3 {
     let (mut open, mut open_n, mut all, mut all_n) = (DVec3::ZERO, 0u64, DVec3::ZERO, 0u64);
     for &f in members {
