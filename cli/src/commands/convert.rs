@@ -614,6 +614,13 @@ pub(crate) fn summary(
             e.surface_to_patch.rms_rel * 100.0,
         ));
     }
+    let prepared = &r.prepare;
+    if prepared.dropped_duplicate > 0 {
+        text.push_str(&format!(
+            "  repeated faces: {} dropped ({} of them wound the other way)\n",
+            prepared.dropped_duplicate, prepared.dropped_mirrored
+        ));
+    }
     if let Some(o) = r
         .orient
         .filter(|o| o.flipped_faces + o.conflicting_edges > 0)

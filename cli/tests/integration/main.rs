@@ -60,6 +60,7 @@ mod output_safety;
 mod range_grid;
 mod readme_tour;
 mod render;
+mod repeated_faces;
 mod report_schema;
 mod scan_inputs;
 mod scan_plan;

@@ -243,7 +243,10 @@ fn run_pipeline(
     }
 
     let sides = clock.run(Stage::Sides, || {
-        let as_wound = oriented.is_none_or(|o| o.conflicting_edges == 0 && !o.wound_inward);
+        // A file that gave most faces a twin wound the other way asked for both sides.
+        let mostly_mirrored = 2 * prepared.dropped_mirrored >= prepared.output_faces.max(1);
+        let as_wound = !mostly_mirrored
+            && oriented.is_none_or(|o| o.conflicting_edges == 0 && !o.wound_inward);
         let mut found = find_mesh_sides(&mesh, &adjacency, as_wound);
         found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
         if let Some((edge_patches, _)) = &mut edges {
@@ -303,6 +306,8 @@ fn run_pipeline(
             welded_vertices: prepared.welded_vertices,
             dropped_degenerate: prepared.dropped_degenerate,
             dropped_zero_area: prepared.dropped_zero_area,
+            dropped_duplicate: prepared.dropped_duplicate,
+            dropped_mirrored: prepared.dropped_mirrored,
             output_vertices: prepared.output_vertices,
             output_faces: prepared.output_faces,
         },

@@ -16,6 +16,10 @@ pub struct PrepareCounts {
     pub dropped_degenerate: usize,
     /// Faces dropped for zero area.
     pub dropped_zero_area: usize,
+    /// Faces dropped because an earlier face has the same three vertices (either winding).
+    pub dropped_duplicate: usize,
+    /// Of `dropped_duplicate`, those wound against the face they repeat (a two-sided export).
+    pub dropped_mirrored: usize,
     /// Vertices after.
     pub output_vertices: usize,
     /// Faces after.

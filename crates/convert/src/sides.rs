@@ -20,7 +20,9 @@
 //!
 //! - A mesh the file did not wind consistently and mostly outward (`as_wound` false: a seam
 //!   where two faces disagree whichever way they turn, or most of the surface turned over)
-//!   has no safe side: every patch becomes [`Sides::Both`].
+//!   has no safe side: every patch becomes [`Sides::Both`]. So has a file that gave most of
+//!   its faces a twin wound the other way (a two-sided export: preparation keeps one copy of
+//!   each, and which copy came first says nothing about the outside).
 //!
 //! Orientation: the cap argument needs each piece wound consistently and facing out, so that
 //! its back faces the inside of the piece closed over its openings (a bowl wound into its

@@ -1,5 +1,5 @@
-//! Mesh preparation: weld duplicate vertices, drop degenerate and zero-area faces, drop
-//! unreferenced vertices.
+//! Mesh preparation: weld duplicate vertices, drop degenerate, zero-area and duplicate faces,
+//! drop unreferenced vertices.
 //!
 //! Inputs: a [`TriangleMesh`] and [`PrepareOptions`]. Output: a new mesh and a
 //! [`PrepareReport`] counting every change, so callers can show what was cleaned.
@@ -13,6 +13,12 @@
 //! - a face whose corners share a vertex after welding is *degenerate* and dropped; a face
 //!   whose three distinct corners are exactly collinear (cross product zero, computed in f64)
 //!   is *zero-area* and dropped;
+//! - a face on the same three vertices as an earlier face is a *duplicate* and dropped, also
+//!   when it is wound the other way (a *mirrored* duplicate: exporters write a two-sided
+//!   surface so). Copies leave every edge shared by four faces, which separates every face
+//!   from its neighbours for segmentation and orientation; the first copy is kept (the
+//!   converter then winds it as any other face, and draws a file whose faces mostly came
+//!   with a mirrored twin from both sides, as its author asked);
 //! - per-face data (corner UVs, materials) follows its face; per-vertex data (colours,
 //!   normals) follows its vertex; materials and the origin are kept as they are.
 //!
@@ -53,6 +59,9 @@ pub struct PrepareOptions {
     pub drop_degenerate: bool,
     /// Drop faces of exactly zero area. Default `true`.
     pub drop_zero_area: bool,
+    /// Drop faces on the same three vertices as an earlier face, in either winding.
+    /// Default `true`.
+    pub drop_duplicate: bool,
     /// Drop vertices no face uses. Default `true`.
     pub drop_unreferenced: bool,
 }
@@ -63,6 +72,7 @@ impl PrepareOptions {
         weld: WeldMode::Exact,
         drop_degenerate: true,
         drop_zero_area: true,
+        drop_duplicate: true,
         drop_unreferenced: true,
     };
 }
@@ -86,6 +96,10 @@ pub struct PrepareReport {
     pub dropped_degenerate: usize,
     /// Faces dropped because their corners are collinear.
     pub dropped_zero_area: usize,
+    /// Faces dropped because an earlier face has the same three vertices (both windings).
+    pub dropped_duplicate: usize,
+    /// Of `dropped_duplicate`, the faces wound against the face they repeat.
+    pub dropped_mirrored: usize,
     /// Vertices dropped because no remaining face uses them.
     pub unreferenced_vertices: usize,
     /// Vertices in the output.
@@ -125,9 +139,10 @@ pub fn prepare_mesh(
         .filter(|&(i, &r)| r as usize != i)
         .count();
 
-    // 2. Faces: remap, then drop degenerate and zero-area ones.
+    // 2. Faces: remap, then drop degenerate, zero-area and duplicate ones.
     let mut kept_faces: Vec<u32> = Vec::with_capacity(mesh.triangles.len());
     let mut triangles = Vec::with_capacity(mesh.triangles.len());
+    let mut seen = FaceSet::new(options.drop_duplicate, mesh.triangles.len());
     for (f, t) in mesh.triangles.iter().enumerate() {
         let t = t.map(|i| remap[i as usize]);
         if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -141,6 +156,11 @@ pub fn prepare_mesh(
                 report.dropped_zero_area += 1;
                 continue;
             }
+        }
+        if let Some(mirrored) = seen.repeat_of(t) {
+            report.dropped_duplicate += 1;
+            report.dropped_mirrored += usize::from(mirrored);
+            continue;
         }
         kept_faces.push(f as u32);
         triangles.push(t);
@@ -202,6 +222,40 @@ pub fn prepare_mesh(
     report.output_faces = out.triangles.len();
     debug_assert!(out.validate().is_ok(), "prepare_mesh broke an invariant");
     (out, report)
+}
+
+/// The vertex triples of the faces kept so far, each with its winding, to find repeats.
+struct FaceSet {
+    /// Sorted triple → whether the first face on it was wound in the sorted order's cycle.
+    first: Option<HashMap<[u32; 3], bool>>,
+}
+
+impl FaceSet {
+    /// A set that finds repeats when `enabled`, sized for `faces`.
+    fn new(enabled: bool, faces: usize) -> FaceSet {
+        FaceSet {
+            first: enabled.then(|| HashMap::with_capacity(faces)),
+        }
+    }
+
+    /// Records face `t` (three distinct vertices) and returns `None` when no earlier face
+    /// had its vertices, or `Some(mirrored)` when one had (`mirrored`: wound the other way).
+    fn repeat_of(&mut self, t: [u32; 3]) -> Option<bool> {
+        let first = self.first.as_mut()?;
+        let mut sorted = t;
+        sorted.sort_unstable();
+        // A triangle's winding is one of the two cycles of its vertices: it is the sorted
+        // order's cycle when the smallest vertex is followed by the middle one.
+        let lowest = t.iter().position(|&v| v == sorted[0]).unwrap_or(0);
+        let sorted_cycle = t[(lowest + 1) % 3] == sorted[1];
+        match first.entry(sorted) {
+            std::collections::hash_map::Entry::Occupied(e) => Some(*e.get() != sorted_cycle),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert(sorted_cycle);
+                None
+            }
+        }
+    }
 }
 
 /// Bit pattern of a position with `-0.0` folded into `0.0`.
@@ -314,5 +368,36 @@ mod tests {
         assert_eq!(out.triangles[1][0], 1);
         let (_, exact) = prepare_mesh(&mesh, &PrepareOptions::default());
         assert_eq!(exact.welded_vertices, 0);
+    }
+
+    #[test]
+    fn repeated_faces_go_in_either_winding_and_are_counted() {
+        let positions = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0), // duplicate of 2: a repeat through welding
+        ];
+        let faces = vec![
+            [0, 1, 2],
+            [1, 2, 0], // the same face, same winding, another first corner
+            [2, 1, 0], // mirrored
+            [1, 3, 2],
+            [1, 3, 4], // the same as [1, 3, 2] once welded
+            [4, 3, 1], // mirrored once welded
+        ];
+        let mesh = TriangleMesh::new(positions, faces).unwrap();
+        let (out, report) = prepare_mesh(&mesh, &PrepareOptions::default());
+        assert_eq!(report.dropped_duplicate, 4);
+        assert_eq!(report.dropped_mirrored, 2);
+        assert_eq!(out.triangles, vec![[0, 1, 2], [1, 3, 2]]);
+        let keep = PrepareOptions {
+            drop_duplicate: false,
+            ..PrepareOptions::default()
+        };
+        let (all, none_dropped) = prepare_mesh(&mesh, &keep);
+        assert_eq!(none_dropped.dropped_duplicate, 0);
+        assert_eq!(all.triangles.len(), 6);
     }
 }
