@@ -46,6 +46,6 @@ pub use pipeline::{
     convert, convert_part, convert_with_progress, Conversion, ConvertInput, ProgressEvent, Stage,
 };
 pub use report::{ConvertReport, Counts, OrientCounts, PrepareCounts, StageTime};
-pub use sides::{apply_sides, find_mesh_sides, MeshSides, SideCounts, MAX_OPENINGS};
+pub use sides::{apply_sides, find_mesh_sides, MeshSides, SideCounts, Winding, MAX_OPENINGS};
 /// The sharp-edge stage's options and counts, re-exported for callers of the pipeline.
 pub use spatch_edges::{EdgeOptions, EdgeStats};

@@ -10,7 +10,7 @@ use std::path::Path;
 use spatch_edges::{generate_edge_patches, generate_part_edge_patches};
 
 use crate::owned::{segment_owned, PartOwner};
-use crate::sides::{apply_sides, find_mesh_sides};
+use crate::sides::{apply_sides, find_mesh_sides, Winding};
 use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
 use spatch_format::{encode_scene, Scene};
 use spatch_mesh::{
@@ -245,9 +245,14 @@ fn run_pipeline(
     let sides = clock.run(Stage::Sides, || {
         // A file that gave most faces a twin wound the other way asked for both sides.
         let mostly_mirrored = 2 * prepared.dropped_mirrored >= prepared.output_faces.max(1);
-        let as_wound = !mostly_mirrored
-            && oriented.is_none_or(|o| o.conflicting_edges == 0 && !o.wound_inward);
-        let mut found = find_mesh_sides(&mesh, &adjacency, as_wound);
+        let winding = match oriented {
+            Some(o) if o.conflicting_edges > 0 => Winding::Unknown,
+            Some(o) if o.wound_inward => Winding::Turned,
+            _ if mostly_mirrored => Winding::Turned,
+            _ => Winding::AsWound,
+        };
+        // Patches reach half a cell past open boundaries; a spacing covers that and the fit.
+        let mut found = find_mesh_sides(&mesh, &adjacency, winding, spacing);
         found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
         if let Some((edge_patches, _)) = &mut edges {
             found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);
@@ -274,10 +279,13 @@ fn run_pipeline(
                 choose_channel(surface_only),
                 surface_only.to_vec(),
             )?
-            .with_openings(sides.openings.clone());
+            .with_openings(sides.openings.clone())
+            .with_inside_box(sides.inside_box);
             edge_bytes = encode_scene(&surface, &options.write)?.len();
         }
-        let scene = Scene::new(mesh.origin, channel, patches)?.with_openings(sides.openings);
+        let scene = Scene::new(mesh.origin, channel, patches)?
+            .with_openings(sides.openings)
+            .with_inside_box(sides.inside_box);
         let bytes = encode_scene(&scene, &options.write)?;
         if edge_bytes > 0 {
             edge_bytes = bytes.len().saturating_sub(edge_bytes);

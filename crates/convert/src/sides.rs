@@ -18,11 +18,16 @@
 //! - More than [`MAX_OPENINGS`] openings (a scan full of small holes): the per-frame test would
 //!   cost more than it saves, so every patch becomes [`Sides::Both`] and no opening is stored.
 //!
-//! - A mesh the file did not wind consistently and mostly outward (`as_wound` false: a seam
-//!   where two faces disagree whichever way they turn, or most of the surface turned over)
-//!   has no safe side: every patch becomes [`Sides::Both`]. So has a file that gave most of
-//!   its faces a twin wound the other way (a two-sided export: preparation keeps one copy of
-//!   each, and which copy came first says nothing about the outside).
+//! - A mesh with a seam where two faces disagree whichever way they turn
+//!   ([`Winding::Unknown`]) has no safe side: every patch becomes [`Sides::Both`].
+//! - A mesh whose surface had mostly to be turned over, or whose file gave most faces a twin
+//!   wound the other way (a two-sided export: preparation keeps one copy of each, and which
+//!   copy came first says nothing about the outside), is [`Winding::Turned`]: every patch
+//!   becomes [`Sides::Both`], and when every opening is stored the scene gets an
+//!   [`InsideBox`], the mesh's box grown by the fit's reach. Wound outward, such a surface
+//!   shows its back only to an eye inside the volume it closes (a room seen from inside) or
+//!   through an opening, and the volume lies inside the box: from an eye outside it the
+//!   renderer culls the patches as it culls [`Sides::ThroughOpenings`] ones.
 //!
 //! Orientation: the cap argument needs each piece wound consistently and facing out, so that
 //! its back faces the inside of the piece closed over its openings (a bowl wound into its
@@ -36,7 +41,7 @@
 //! Cost: O(edges + vertices) once per conversion (a union-find over boundary vertices).
 
 use glam::Vec3;
-use spatch_format::{Opening, Patch, Sides};
+use spatch_format::{InsideBox, Opening, Patch, Sides};
 use spatch_mesh::{FaceAdjacency, TriangleMesh};
 
 /// Most openings stored per scene (see the module docs).
@@ -60,24 +65,45 @@ pub struct MeshSides {
     pub openings: Vec<Opening>,
     /// The sides of every patch fitted to the mesh.
     pub sides: Sides,
+    /// The box outside which two-sided patches show their backs only through the openings
+    /// (a mesh wound outward that its file wound the other way), else `None`.
+    pub inside_box: Option<InsideBox>,
     /// What was found.
     pub counts: SideCounts,
 }
 
-/// Finds the openings of `mesh` (see the module docs); `as_wound` says whether the file wound
-/// its pieces consistently and mostly outward.
+/// How far the mesh's winding says where its outside is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Winding {
+    /// Every piece wound consistently and outward, as the file had it.
+    AsWound,
+    /// Wound consistently and outward, but the file had most of it the other way (or gave
+    /// most faces a twin wound the other way): it may be meant to be seen from inside.
+    Turned,
+    /// Some edge's faces cannot agree (a non-orientable seam): nothing says where the
+    /// outside is.
+    Unknown,
+}
+
+/// Finds the openings of `mesh` (see the module docs); `winding` says what the file's
+/// winding tells. Patches of a [`Winding::Turned`] mesh are two-sided, and when every opening
+/// is stored they get an inside box: the mesh's bounding box grown by `reach` (how far a
+/// patch may stand off the mesh), outside which their backs show only through openings.
 pub fn find_mesh_sides(
     mesh: &TriangleMesh,
     adjacency: &FaceAdjacency,
-    as_wound: bool,
+    winding: Winding,
+    reach: f32,
 ) -> MeshSides {
     let boundary_edges = adjacency.boundary_edge_count();
-    if boundary_edges == 0 && as_wound {
-        return MeshSides {
-            openings: Vec::new(),
-            sides: Sides::Front,
-            counts: SideCounts::default(),
-        };
+    let sides = |sides, openings, inside_box, counts| MeshSides {
+        openings,
+        sides,
+        inside_box,
+        counts,
+    };
+    if boundary_edges == 0 && winding == Winding::AsWound {
+        return sides(Sides::Front, Vec::new(), None, SideCounts::default());
     }
     let loops = boundary_loops(mesh, adjacency);
     let counts = SideCounts {
@@ -85,18 +111,25 @@ pub fn find_mesh_sides(
         openings: loops.len(),
         two_sided_patches: 0,
     };
-    if !as_wound || loops.len() > MAX_OPENINGS {
-        return MeshSides {
-            openings: Vec::new(),
-            sides: Sides::Both,
-            counts,
-        };
+    if winding == Winding::Unknown || loops.len() > MAX_OPENINGS {
+        return sides(Sides::Both, Vec::new(), None, counts);
     }
-    MeshSides {
-        openings: loops.iter().filter_map(|l| bounding_opening(l)).collect(),
-        sides: Sides::ThroughOpenings,
-        counts,
+    let openings = loops.iter().filter_map(|l| bounding_opening(l)).collect();
+    match winding {
+        Winding::Turned => sides(Sides::Both, openings, grown_box(mesh, reach), counts),
+        _ => sides(Sides::ThroughOpenings, openings, None, counts),
     }
+}
+
+/// The bounding box of `mesh`'s positions grown by `reach` and a few f32 steps, so that the
+/// stored box still holds every patch fitted within `reach` of the mesh.
+fn grown_box(mesh: &TriangleMesh, reach: f32) -> Option<InsideBox> {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let slack = reach.max(0.0) + 4.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element();
+    InsideBox::new(lo - slack, hi + slack).ok()
 }
 
 /// Gives every patch of `patches` the sides `sides`; returns how many may be seen from behind.

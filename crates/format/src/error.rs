@@ -61,6 +61,9 @@ pub enum FormatError {
         "an opening needs a finite centre, radius and thickness (not below 0) and a unit normal"
     )]
     InvalidOpening,
+    /// An inside box with a non-finite corner or a lower corner above the upper one.
+    #[error("an inside box needs finite corners, the lower not above the upper")]
+    InvalidInsideBox,
     /// A quantizer was given a non-finite or non-positive step.
     #[error("invalid quantizer: {reason}")]
     InvalidQuantizer {
@@ -282,6 +285,9 @@ pub enum Corruption {
         /// Why.
         error: Box<FormatError>,
     },
+    /// The inside box's stored values are refused.
+    #[error("inside box: {0}")]
+    InsideBox(Box<FormatError>),
     /// The scene's stored values are refused (its shared grid, its offset).
     #[error("{0}")]
     Scene(Box<FormatError>),

@@ -53,5 +53,5 @@ pub use grid::GridSize;
 pub use patch::{DisplacementWidth, Patch, EMPTY};
 pub use quantize::{Quantizer, QuantizerPolicy};
 pub use scene::{ColourChannel, MergeError, Scene};
-pub use sides::{Opening, Sides};
+pub use sides::{InsideBox, Opening, Sides};
 pub use summary::{Range, SceneSummary};

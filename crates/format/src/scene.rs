@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use crate::{FormatError, Opening, Patch};
+use crate::{FormatError, InsideBox, Opening, Patch};
 
 /// What colour each node carries, for the whole scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -46,6 +46,7 @@ pub struct Scene {
     channel: ColourChannel,
     patches: Vec<Patch>,
     openings: Vec<Opening>,
+    inside_box: Option<InsideBox>,
 }
 
 impl Scene {
@@ -94,6 +95,7 @@ impl Scene {
             channel,
             patches,
             openings: Vec::new(),
+            inside_box: None,
         })
     }
 
@@ -109,6 +111,25 @@ impl Scene {
     /// The openings of the surface (see [`Scene::with_openings`]); empty for a closed one.
     pub fn openings(&self) -> &[Opening] {
         &self.openings
+    }
+
+    /// The scene with an [`InsideBox`]: the backs of its
+    /// [`Sides::Both`](crate::Sides::Both) patches show only to an eye inside it (or through
+    /// an opening). `None`: they show from anywhere.
+    #[must_use]
+    pub fn with_inside_box(mut self, inside_box: Option<InsideBox>) -> Self {
+        self.inside_box = inside_box;
+        self
+    }
+
+    /// The inside box (see [`Scene::with_inside_box`]), if the scene has one.
+    pub fn inside_box(&self) -> Option<InsideBox> {
+        self.inside_box
+    }
+
+    /// Whether a patch of this scene is two-sided ([`Sides::Both`](crate::Sides::Both)).
+    pub fn has_two_sided_patches(&self) -> bool {
+        self.patches.iter().any(|p| p.sides() == crate::Sides::Both)
     }
 
     /// The model-space position of the patches' local origin.
@@ -196,6 +217,7 @@ impl Scene {
         let (offset, channel) = (first.offset, first.channel);
         let mut patches = Vec::new();
         let mut openings = Vec::new();
+        let mut inside = InsideBoxes::default();
         for (index, scene) in scenes.into_iter().enumerate() {
             if scene.channel != channel {
                 return Err(MergeError::ChannelMismatch {
@@ -205,6 +227,7 @@ impl Scene {
                 });
             }
             let shift = scene.offset - offset;
+            inside.add(&scene, shift)?;
             for o in &scene.openings {
                 openings.push(rebase_opening(o, shift).map_err(MergeError::Format)?);
             }
@@ -214,7 +237,8 @@ impl Scene {
         }
         Ok(Scene::new(offset, channel, patches)
             .map_err(MergeError::Format)?
-            .with_openings(openings))
+            .with_openings(openings)
+            .with_inside_box(inside.merged()))
     }
 
     /// The same scene moved by `shift` (model units, f64): only the offset
@@ -250,6 +274,51 @@ pub(crate) fn rebase_opening(opening: &Opening, shift: DVec3) -> Result<Opening,
         opening.normal(),
         opening.half_thickness(),
     )
+}
+
+/// The inside box of merged scenes: the union of their boxes when every scene with a
+/// two-sided patch has one (a two-sided patch of a scene without one shows its back from
+/// anywhere, which no box can say), else none.
+#[derive(Debug, Default)]
+pub(crate) struct InsideBoxes {
+    union: Option<InsideBox>,
+    unbounded: bool,
+}
+
+impl InsideBoxes {
+    /// Takes in `scene`, placed `shift` from the merged scene's offset.
+    pub(crate) fn add(&mut self, scene: &Scene, shift: DVec3) -> Result<(), MergeError> {
+        match scene.inside_box {
+            Some(b) => {
+                let b = rebase_inside_box(&b, shift).map_err(MergeError::Format)?;
+                self.union = Some(self.union.map_or(b, |u| u.union(&b)));
+            }
+            None => self.unbounded |= scene.has_two_sided_patches(),
+        }
+        Ok(())
+    }
+
+    /// The merged scene's inside box.
+    pub(crate) fn merged(&self) -> Option<InsideBox> {
+        self.union.filter(|_| !self.unbounded)
+    }
+}
+
+/// `b` moved by `shift`, each corner rounded outward so the box still holds what it held.
+pub(crate) fn rebase_inside_box(b: &InsideBox, shift: DVec3) -> Result<InsideBox, FormatError> {
+    let outward = |v: DVec3, down: bool| {
+        v.to_array().map(|x| {
+            let r = x as f32;
+            match (down, f64::from(r).partial_cmp(&x)) {
+                (true, Some(std::cmp::Ordering::Greater)) => r.next_down(),
+                (false, Some(std::cmp::Ordering::Less)) => r.next_up(),
+                _ => r,
+            }
+        })
+    };
+    let min = outward(b.min().as_dvec3() + shift, true);
+    let max = outward(b.max().as_dvec3() + shift, false);
+    InsideBox::new(min.into(), max.into())
 }
 
 /// Why scenes could not be merged.

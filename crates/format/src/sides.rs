@@ -6,6 +6,11 @@
 //! sight from outside to the back of such a patch crosses a surface spanning one of the loops;
 //! spanning surfaces can be chosen inside the loop's convex hull, so inside both the loop's
 //! bounding sphere and the slab its points span about a plane; an [`Opening`] records both.
+//!
+//! A surface whose file wound it inward (or gave each face a twin wound the other way) may
+//! be an object or a room seen from inside; the producer winds it outward and marks its
+//! patches [`Sides::Both`], and an [`InsideBox`] around it says that their backs show only to
+//! an eye inside the box (or through an opening): from outside it they are culled as usual.
 
 use glam::Vec3;
 
@@ -104,6 +109,48 @@ impl Opening {
     }
 }
 
+/// The box (relative to the scene offset) holding every surface of a scene whose
+/// [`Sides::Both`] patches are wound outward but may be meant to be seen from inside (a room):
+/// their backs can show only to an eye inside the box, or, from outside it, through one of
+/// the scene's openings as for [`Sides::ThroughOpenings`] (container 1.4, section `INSD`).
+///
+/// # Guarantees
+/// `min` and `max` are finite and `min <= max` on every axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InsideBox {
+    min: Vec3,
+    max: Vec3,
+}
+
+impl InsideBox {
+    /// The box from `min` to `max`; refuses non-finite corners and `min > max` on an axis.
+    pub fn new(min: Vec3, max: Vec3) -> Result<InsideBox, FormatError> {
+        if !min.is_finite() || !max.is_finite() || min.cmpgt(max).any() {
+            return Err(FormatError::InvalidInsideBox);
+        }
+        Ok(InsideBox { min, max })
+    }
+
+    /// The lowest corner, relative to the scene offset.
+    pub fn min(&self) -> Vec3 {
+        self.min
+    }
+
+    /// The highest corner, relative to the scene offset.
+    pub fn max(&self) -> Vec3 {
+        self.max
+    }
+
+    /// The smallest box holding both.
+    #[must_use]
+    pub fn union(&self, other: &InsideBox) -> InsideBox {
+        InsideBox {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,6 +161,18 @@ mod tests {
             assert_eq!(Sides::from_code(s.code()), Some(s));
         }
         assert_eq!(Sides::from_code(3), None);
+    }
+
+    #[test]
+    fn inside_boxes_must_be_finite_and_ordered() {
+        let b = InsideBox::new(Vec3::ZERO, Vec3::ONE).unwrap();
+        assert_eq!((b.min(), b.max()), (Vec3::ZERO, Vec3::ONE));
+        let c = InsideBox::new(Vec3::splat(-1.0), Vec3::splat(0.5)).unwrap();
+        assert_eq!(b.union(&c).min(), Vec3::splat(-1.0));
+        assert_eq!(b.union(&c).max(), Vec3::ONE);
+        assert!(InsideBox::new(Vec3::ONE, Vec3::ZERO).is_err());
+        assert!(InsideBox::new(Vec3::ZERO, Vec3::new(1.0, f32::NAN, 1.0)).is_err());
+        assert!(InsideBox::new(Vec3::splat(f32::NEG_INFINITY), Vec3::ONE).is_err());
     }
 
     #[test]

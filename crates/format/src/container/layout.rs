@@ -35,6 +35,10 @@ pub(crate) const TAG_SIDES: [u8; 4] = *b"SIDE";
 pub(crate) const TAG_OPENINGS: [u8; 4] = *b"OPEN";
 /// Bytes of one opening: centre 3×f32, radius f32, normal 3×f32, half thickness f32.
 pub(crate) const OPENING_LEN: usize = 32;
+/// The box two-sided patches show their backs inside (minor version 4).
+pub(crate) const TAG_INSIDE_BOX: [u8; 4] = *b"INSD";
+/// Bytes of the inside box: lower corner 3×f32, upper corner 3×f32.
+pub(crate) const INSIDE_BOX_LEN: usize = 24;
 
 /// Per-patch colour grids finer than the nodes (minor version 2).
 pub(crate) const TAG_COLOUR_GRIDS: [u8; 4] = *b"CGRD";

@@ -15,19 +15,19 @@ use glam::DVec3;
 
 use super::layout::{
     ColourStorage, GridStorage, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN, TAG_COLOURS,
-    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
     TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::predictive::{ColourEncoder, DisplacementEncoder};
 use super::records::{
-    file_header, layout_of_full_record, openings_payload, push_colours, push_displacements,
-    push_frame_record, push_residual, section_header, FULL_FRAME_LEN,
+    file_header, inside_box_payload, layout_of_full_record, openings_payload, push_colours,
+    push_displacements, push_frame_record, push_residual, section_header, FULL_FRAME_LEN,
 };
 use super::scratch::Scratch;
 use super::shape::SceneShape;
 use super::shared_colour_grids::shared_grids_section;
 use super::{write_file_atomically_with, Compression, WriteOptions};
-use crate::scene::{rebase_opening, rebase_patch};
+use crate::scene::{rebase_opening, rebase_patch, InsideBoxes};
 use crate::{ColourChannel, ColourGrid, FormatError, MergeError, Opening, Scene};
 
 /// Writes the merge of scenes given one at a time: memory holds one input scene and
@@ -61,6 +61,8 @@ pub struct MergeWriter {
     residuals: Scratch,
     sides: Scratch,
     openings: Vec<Opening>,
+    /// The inside boxes pushed so far ([`Scene::merge`]'s rule).
+    inside: InsideBoxes,
     /// Patches pushed so far.
     patch_count: usize,
     /// The colour grids of the patches that have one, by patch index (kept in memory:
@@ -108,6 +110,7 @@ impl MergeWriter {
             residuals: scratch()?,
             sides: scratch()?,
             openings: Vec::new(),
+            inside: InsideBoxes::default(),
             patch_count: 0,
             colour_grids: Vec::new(),
         })
@@ -127,6 +130,7 @@ impl MergeWriter {
         }
         self.scenes += 1;
         let shift = scene.offset() - offset;
+        self.inside.add(&scene, shift)?;
         for opening in scene.openings() {
             self.openings
                 .push(rebase_opening(opening, shift).map_err(MergeError::Format)?);
@@ -263,6 +267,10 @@ impl MergeWriter {
         if !self.openings.is_empty() {
             let bytes = openings_payload(&self.openings);
             payloads.push((TAG_OPENINGS, CODEC_RAW, 0, Payload::Bytes(bytes)));
+        }
+        if let Some(b) = self.inside.merged() {
+            let bytes = inside_box_payload(&b);
+            payloads.push((TAG_INSIDE_BOX, CODEC_RAW, 0, Payload::Bytes(bytes)));
         }
         if !self.colour_grids.is_empty() {
             let mut grids: Vec<Option<&ColourGrid>> = vec![None; self.patch_count];

@@ -6,8 +6,10 @@
 //! colours, only when the scene stores them), then, from minor version 1,
 //! the optional `ORGR` (origin residuals, only when a frame has one), `SIDE`
 //! (per-patch visible sides, only when a patch is not front-only) and `OPEN`
-//! (the openings of an open surface), and from minor version 2 `CGRD`
-//! (colour grids finer than the nodes, only when a patch has one).
+//! (the openings of an open surface), from minor version 2 `CGRD`
+//! (colour grids finer than the nodes, only when a patch has one), from 3 `CGRX`
+//! (colour grids that may share), and from 4 `INSD` (the box the backs of two-sided
+//! patches show inside, only for a surface that may be meant to be seen from inside).
 
 mod atomic;
 mod bounded;
@@ -42,18 +44,21 @@ pub const VERSION_MAJOR: u8 = 1;
 /// The newest minor version this crate writes: 1 adds the optional `ORGR`,
 /// `SIDE` and `OPEN` sections, 2 the optional `CGRD` (colour grids), 3 `CGRX` (colour
 /// grids that may reuse another patch's, with a finer context model; writers write it
-/// instead of CGRD). A file
+/// instead of CGRD), 4 `INSD` (the inside box of two-sided patches). A file
 /// is written with the lowest minor that describes it, so one that needs none
 /// of them is 1.0, byte for byte as before.
 /// Readers accept any minor of their major.
-pub const VERSION_MINOR: u8 = 3;
+pub const VERSION_MINOR: u8 = 4;
 
 /// The lowest minor version that describes a file holding `tags`.
 pub(crate) fn minor_for(tags: &[[u8; 4]]) -> u8 {
     use layout::{
-        TAG_COLOUR_GRIDS, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
+        TAG_COLOUR_GRIDS, TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS,
+        TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
     };
-    if tags.contains(&TAG_SHARED_COLOUR_GRIDS) {
+    if tags.contains(&TAG_INSIDE_BOX) {
+        4
+    } else if tags.contains(&TAG_SHARED_COLOUR_GRIDS) {
         3
     } else if tags.contains(&TAG_COLOUR_GRIDS) {
         2

@@ -15,11 +15,12 @@ use glam::DVec3;
 use super::colour_grids::read_colour_grids;
 use super::layout::{
     ColourStorage, SceneFields, TAG_COLOURS, TAG_COLOUR_GRIDS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
+    TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS,
+    TAG_SIDES,
 };
 use super::read_frames::{read_frames, read_residuals};
 use super::read_nodes::{read_colours, read_displacements, ColourSource};
-use super::read_sides::{read_openings, read_sides};
+use super::read_sides::{read_inside_box, read_openings, read_sides};
 pub use super::sections::SectionInfo;
 use super::sections::{corrupt, require_raw, split_sections, RawSection};
 use super::shared_colour_grids::read_shared_colour_grids;
@@ -49,12 +50,13 @@ struct Known<'s, 'a> {
     residuals: Option<&'s RawSection<'a>>,
     sides: Option<&'s RawSection<'a>>,
     openings: Option<&'s RawSection<'a>>,
+    inside_box: Option<&'s RawSection<'a>>,
     colour_grids: Option<&'s RawSection<'a>>,
     shared_colour_grids: Option<&'s RawSection<'a>>,
 }
 
 /// The known tags in the order a file must hold them.
-const KNOWN_TAGS: [[u8; 4]; 9] = [
+const KNOWN_TAGS: [[u8; 4]; 10] = [
     TAG_SCENE,
     TAG_FRAMES,
     TAG_DISPLACEMENTS,
@@ -62,6 +64,7 @@ const KNOWN_TAGS: [[u8; 4]; 9] = [
     TAG_ORIGIN_RESIDUALS,
     TAG_SIDES,
     TAG_OPENINGS,
+    TAG_INSIDE_BOX,
     TAG_COLOUR_GRIDS,
     TAG_SHARED_COLOUR_GRIDS,
 ];
@@ -70,7 +73,7 @@ const KNOWN_TAGS: [[u8; 4]; 9] = [
 /// missing required one; sections with other tags (a later minor version's)
 /// are skipped.
 fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, FormatError> {
-    let mut found: [Option<&'s RawSection<'a>>; 9] = [None; 9];
+    let mut found: [Option<&'s RawSection<'a>>; 10] = [None; 10];
     let mut last = None;
     for section in sections {
         let Some(k) = KNOWN_TAGS
@@ -85,7 +88,7 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         found[k] = Some(section);
         last = Some(k);
     }
-    let [scene, frames, displacements, colours, residuals, sides, openings, colour_grids, shared_colour_grids] =
+    let [scene, frames, displacements, colours, residuals, sides, openings, inside_box, colour_grids, shared_colour_grids] =
         found;
     if let (Some(_), Some(shared)) = (colour_grids, shared_colour_grids) {
         return Err(shared.corrupt(Corruption::OutOfOrder));
@@ -98,6 +101,7 @@ fn find_known<'s, 'a>(sections: &'s [RawSection<'a>]) -> Result<Known<'s, 'a>, F
         residuals,
         sides,
         openings,
+        inside_box,
         colour_grids,
         shared_colour_grids,
     })
@@ -133,6 +137,7 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         Some(section) => read_openings(section)?,
         None => Vec::new(),
     };
+    let inside_box = known.inside_box.map(read_inside_box).transpose()?;
 
     let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
     let grid_tag = if known.shared_colour_grids.is_some() {
@@ -173,7 +178,8 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
     }
     let scene = Scene::new(DVec3::from_array(fields.offset), channel, patches)
         .map_err(|e| corrupt("SCNE", Corruption::Scene(Box::new(e))))?
-        .with_openings(openings);
+        .with_openings(openings)
+        .with_inside_box(inside_box);
     let info = ContainerInfo {
         version_major: split.major,
         version_minor: split.minor,

@@ -1,15 +1,17 @@
-//! Readers of the version 1.1 visibility sections: SIDE (which sides of each
-//! patch may be seen) and OPEN (the openings of an open surface).
+//! Readers of the visibility sections: SIDE (which sides of each patch may be
+//! seen) and OPEN (the openings of an open surface), version 1.1, and INSD
+//! (the box the backs of two-sided patches show inside), version 1.4.
 //!
-//! Input: the raw sections. Output: one [`Sides`] per patch, and the openings.
-//! Checked (docs/format.md §10, step 9): both raw; SIDE one known code per
-//! patch; OPEN whole 32-byte records of finite values. O(patches + openings).
+//! Input: the raw sections. Output: one [`Sides`] per patch, the openings and
+//! the inside box. Checked (docs/format.md §10, step 9): all raw; SIDE one
+//! known code per patch; OPEN whole 32-byte records of finite values; INSD 24
+//! bytes, finite corners, the lower not above the upper. O(patches + openings).
 
 use glam::Vec3;
 
-use super::layout::OPENING_LEN;
+use super::layout::{INSIDE_BOX_LEN, OPENING_LEN};
 use super::sections::{f32_at, require_raw, RawSection};
-use crate::{Corruption, FormatError, Opening, Sides};
+use crate::{Corruption, FormatError, InsideBox, Opening, Sides};
 
 /// The checked SIDE payload: raw, one known code per patch.
 pub(super) fn read_sides(
@@ -59,4 +61,20 @@ pub(super) fn read_openings(section: &RawSection<'_>) -> Result<Vec<Opening>, Fo
             })
         })
         .collect()
+}
+
+/// The checked INSD payload: raw, one 24-byte box with finite, ordered corners.
+pub(super) fn read_inside_box(section: &RawSection<'_>) -> Result<InsideBox, FormatError> {
+    require_raw(section)?;
+    let r = section.payload;
+    if r.len() != INSIDE_BOX_LEN {
+        return Err(section.corrupt(Corruption::RecordCount {
+            bytes: r.len(),
+            count: 1,
+            record: INSIDE_BOX_LEN,
+        }));
+    }
+    let min = Vec3::new(f32_at(r, 0), f32_at(r, 4), f32_at(r, 8));
+    let max = Vec3::new(f32_at(r, 12), f32_at(r, 16), f32_at(r, 20));
+    InsideBox::new(min, max).map_err(|e| section.corrupt(Corruption::InsideBox(Box::new(e))))
 }

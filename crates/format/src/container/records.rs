@@ -5,7 +5,7 @@
 use super::layout::{GridStorage, WidthStorage, FRAME_LEN};
 use super::predictive::DisplacementLayout;
 use super::{MAGIC, VERSION_MAJOR, VERSION_MINOR};
-use crate::{DisplacementWidth, FormatError, Opening, Patch, EMPTY};
+use crate::{DisplacementWidth, FormatError, InsideBox, Opening, Patch, EMPTY};
 
 /// Bytes of a FRAM record with every optional field (grid and width).
 pub(crate) const FULL_FRAME_LEN: usize = FRAME_LEN + 5;
@@ -110,6 +110,15 @@ pub(crate) fn openings_payload(openings: &[Opening]) -> Vec<u8> {
             let [nx, ny, nz] = o.normal().to_array();
             [x, y, z, o.radius(), nx, ny, nz, o.half_thickness()]
         })
+        .flat_map(f32::to_le_bytes)
+        .collect()
+}
+
+/// The INSD payload: the lower corner, then the upper one.
+pub(crate) fn inside_box_payload(b: &InsideBox) -> Vec<u8> {
+    [b.min().to_array(), b.max().to_array()]
+        .into_iter()
+        .flatten()
         .flat_map(f32::to_le_bytes)
         .collect()
 }

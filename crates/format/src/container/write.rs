@@ -8,12 +8,13 @@ use std::path::Path;
 use super::colour_grids::grids_of;
 use super::layout::{
     ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
+    TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS,
+    TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::records::{
-    displacement_layout, file_header, openings_payload, push_colours, push_displacements,
-    push_frame_record, push_residual, section_header,
+    displacement_layout, file_header, inside_box_payload, openings_payload, push_colours,
+    push_displacements, push_frame_record, push_residual, section_header,
 };
 use super::shape::SceneShape;
 use super::shared_colour_grids::shared_grids_section;
@@ -121,11 +122,13 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         .has_sides()
         .then(|| scene.patches().iter().map(|p| p.sides().code()).collect());
     let openings = (!scene.openings().is_empty()).then(|| openings_payload(scene.openings()));
+    let inside_box = scene.inside_box().map(|b| inside_box_payload(&b));
     let colour_grids = encode_grids(scene);
     let optional = [
         (TAG_ORIGIN_RESIDUALS, residuals),
         (TAG_SIDES, sides),
         (TAG_OPENINGS, openings),
+        (TAG_INSIDE_BOX, inside_box),
     ];
     let mut tags: Vec<[u8; 4]> = optional
         .iter()

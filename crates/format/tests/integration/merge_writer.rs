@@ -3,7 +3,7 @@
 
 use glam::{DVec3, Vec3};
 use spatch_format::{
-    decode_scene, encode_scene, ColourChannel, Compression, Frame, GridSize, MergeError,
+    decode_scene, encode_scene, ColourChannel, Compression, Frame, GridSize, InsideBox, MergeError,
     MergeWriter, Opening, Patch, Scene, Sides, WriteOptions,
 };
 
@@ -78,6 +78,8 @@ fn shared_grids_flat_colours_sides_and_openings_are_chosen_alike() {
     let red = [255, 0, 0, 255];
     let opening = Opening::new(Vec3::new(1.0, 2.0, 3.0), 0.5, Vec3::Y, 0.1).unwrap();
     let sided = |s: Scene| with_sides(&s, |k| [Sides::Front, Sides::Both][k % 2], vec![opening]);
+    let inside = InsideBox::new(Vec3::splat(-1.0), Vec3::new(1.0, 1.5, 2.0)).unwrap();
+    let boxed = |s: Scene| sided(s).with_inside_box(Some(inside));
     let sets = [
         // One grid and one colour everywhere: shared grid, flat colour, no COLR.
         vec![
@@ -97,6 +99,16 @@ fn shared_grids_flat_colours_sides_and_openings_are_chosen_alike() {
         vec![
             sided(flat_scene(DVec3::ZERO, red)),
             flat_scene(DVec3::Z * 2.5, red),
+        ],
+        // INSD: two boxes joined, the second moved by the offset difference.
+        vec![
+            boxed(flat_scene(DVec3::ZERO, red)),
+            boxed(flat_scene(DVec3::Z * 2.5, red)),
+        ],
+        // A two-sided part without a box drops the box.
+        vec![
+            boxed(flat_scene(DVec3::ZERO, red)),
+            sided(flat_scene(DVec3::Z * 2.5, red)),
         ],
     ];
     for (k, scenes) in sets.iter().enumerate() {

@@ -1,8 +1,10 @@
-//! Visible sides and openings (container 1.1, the `SIDE` and `OPEN` sections).
+//! Visible sides and openings (container 1.1, the `SIDE` and `OPEN` sections) and the inside
+//! box of two-sided patches (1.4, `INSD`).
 
 use glam::{DVec3, Vec3};
 use spatch_format::{
-    decode_scene, encode_scene, inspect, ColourChannel, Opening, Scene, Sides, WriteOptions,
+    decode_scene, encode_scene, inspect, ColourChannel, InsideBox, Opening, Scene, Sides,
+    WriteOptions,
 };
 
 use crate::scenes::{minimal_scene, mixed_scene};
@@ -131,5 +133,85 @@ fn side_and_open_sections_that_lie_are_refused() {
     ] {
         let err = decode_scene(&with_payload(&bytes, "OPEN", payload, 0)).expect_err(what);
         assert!(err.to_string().contains("OPEN"), "{what}: {err}");
+    }
+}
+
+fn unit_box() -> InsideBox {
+    InsideBox::new(Vec3::new(-1.0, -2.0, -3.0), Vec3::new(1.0, 2.0, 3.0)).unwrap()
+}
+
+#[test]
+fn an_inside_box_round_trips_as_insd_after_open_and_makes_the_file_1_4() {
+    let scene = with_sides(
+        &mixed_scene(ColourChannel::Rgb8),
+        |_| Sides::Both,
+        two_openings(),
+    )
+    .with_inside_box(Some(unit_box()));
+    let bytes = encode_scene(&scene, &WriteOptions::default()).unwrap();
+    let (decoded, info) = inspect(&bytes).unwrap();
+    assert_eq!(info.version_minor, 4);
+    let tags: Vec<&str> = info.sections.iter().map(|s| s.tag.as_str()).collect();
+    assert_eq!(
+        tags,
+        ["SCNE", "FRAM", "DISP", "COLR", "SIDE", "OPEN", "INSD"]
+    );
+    let insd = &info.sections[6];
+    assert_eq!(insd.stored_len, 24);
+    let payload = &bytes[insd.offset + 20..insd.offset + 44];
+    let floats: Vec<f32> = payload
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert_eq!(floats, [-1.0, -2.0, -3.0, 1.0, 2.0, 3.0]);
+    assert_eq!(decoded, scene);
+    assert_eq!(decoded.inside_box(), Some(unit_box()));
+}
+
+#[test]
+fn merging_joins_inside_boxes_only_when_every_two_sided_part_has_one() {
+    let boxed = |shift: f64| {
+        let s = with_sides(&minimal_scene(), |_| Sides::Both, Vec::new())
+            .with_inside_box(Some(unit_box()));
+        s.translated(DVec3::new(shift, 0.0, 0.0)).unwrap()
+    };
+    let merged = Scene::merge(vec![boxed(0.0), boxed(10.0)]).unwrap();
+    let b = merged.inside_box().expect("both parts have a box");
+    assert_eq!(b.min(), Vec3::new(-1.0, -2.0, -3.0));
+    assert_eq!(b.max(), Vec3::new(11.0, 2.0, 3.0));
+    // A front-only part without a box leaves the union as it is.
+    let merged = Scene::merge(vec![boxed(0.0), minimal_scene()]).unwrap();
+    assert_eq!(merged.inside_box(), Some(unit_box()));
+    // A two-sided part without one (a point cloud: its backs show from anywhere) drops it.
+    let cloud = with_sides(&minimal_scene(), |_| Sides::Both, Vec::new());
+    let merged = Scene::merge(vec![boxed(0.0), cloud]).unwrap();
+    assert_eq!(merged.inside_box(), None);
+}
+
+#[test]
+fn insd_sections_that_lie_are_refused() {
+    let scene = with_sides(
+        &mixed_scene(ColourChannel::None),
+        |_| Sides::Both,
+        Vec::new(),
+    )
+    .with_inside_box(Some(unit_box()));
+    let bytes = encode_scene(&scene, &WriteOptions::default()).unwrap();
+    let floats = |v: [f32; 6]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
+    let good = floats([0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
+    assert!(decode_scene(&with_payload(&bytes, "INSD", &good, 0)).is_ok());
+    for (payload, codec, what) in [
+        (
+            floats([2.0, 0.0, 0.0, 1.0, 1.0, 1.0]),
+            0,
+            "a lower corner above the upper",
+        ),
+        (floats([0.0, 0.0, f32::NAN, 1.0, 1.0, 1.0]), 0, "a NaN"),
+        (good[..20].to_vec(), 0, "a short box"),
+        ([good.clone(), good.clone()].concat(), 0, "two boxes"),
+        (good.clone(), 1, "a codec"),
+    ] {
+        let err = decode_scene(&with_payload(&bytes, "INSD", &payload, codec)).expect_err(what);
+        assert!(err.to_string().contains("INSD"), "{what}: {err}");
     }
 }

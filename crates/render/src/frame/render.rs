@@ -8,7 +8,7 @@
 use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use spatch_format::Scene;
 
@@ -170,6 +170,7 @@ impl Renderer {
             z_offset,
             base_colour: Vec3::new(r as f32, g as f32, b as f32),
             portals: &[],
+            two_sided_through_openings: false,
         }
     }
 
@@ -182,8 +183,10 @@ impl Renderer {
         let start = Instant::now();
         let options = self.options;
         let view = View::new(camera, options.ssaa, scene.bounds)?;
+        let outside = |(lo, hi): (DVec3, DVec3)| !(view.eye.cmpge(lo) & view.eye.cmple(hi)).all();
         let setup = FrameSetup {
             portals: &scene.portals,
+            two_sided_through_openings: scene.inside_box.is_some_and(outside),
             ..self.setup(&view, &options)
         };
         let count = scene.patches.len();

@@ -123,6 +123,10 @@ pub(crate) struct FrameSetup<'a> {
     pub(crate) base_colour: Vec3,
     /// The scene's openings (automatic culling); empty for meshes.
     pub(crate) portals: &'a [Portal],
+    /// The eye lies outside the scene's inside box: two-sided patches show
+    /// their backs only through openings this frame
+    /// ([`spatch_format::InsideBox`]).
+    pub(crate) two_sided_through_openings: bool,
 }
 
 /// The output and scratch space of one chunk.

@@ -12,7 +12,7 @@
 
 use glam::DVec3;
 use rayon::prelude::*;
-use spatch_format::{Opening, Scene};
+use spatch_format::{InsideBox, Opening, Scene};
 
 use crate::camera::Camera;
 use crate::error::CameraProblem;
@@ -38,6 +38,10 @@ pub struct PreparedScene {
     pub(crate) patches: Vec<PreparedPatch>,
     /// The scene's openings in model space.
     pub(crate) portals: Vec<Portal>,
+    /// The scene's inside box in model space ([`spatch_format::InsideBox`]):
+    /// outside it, two-sided patches show their backs only through
+    /// openings.
+    pub(crate) inside_box: Option<(DVec3, DVec3)>,
     pub(crate) bounds: Option<(DVec3, DVec3)>,
     pub(crate) sphere: Option<(DVec3, f64)>,
     skipped: usize,
@@ -76,7 +80,7 @@ impl PreparedScene {
             .par_iter()
             .map(|patch| PreparedPatch::new(patch, offset, isa))
             .collect();
-        Self::assemble(built, offset, scene.openings(), trim)
+        Self::assemble(built, offset, (scene.openings(), scene.inside_box()), trim)
     }
 
     /// [`Self::prepare`] taking the scene's nodes instead of copying them
@@ -84,20 +88,22 @@ impl PreparedScene {
     pub(crate) fn prepare_owned(scene: Scene, trim: bool, isa: Isa) -> Self {
         let offset = scene.offset();
         let openings = scene.openings().to_vec();
+        let inside_box = scene.inside_box();
         let built: Vec<Option<PreparedPatch>> = scene
             .into_patches()
             .into_par_iter()
             .map(|patch| PreparedPatch::from_owned(patch, offset, isa))
             .collect();
-        Self::assemble(built, offset, &openings, trim)
+        Self::assemble(built, offset, (&openings, inside_box), trim)
     }
 
     /// The scene of the patches `built` (`None`: no drawable cell, left
-    /// out), trimmed when `trim` says, in drawing order.
+    /// out) with its openings and inside box, trimmed when `trim` says, in
+    /// drawing order.
     fn assemble(
         built: Vec<Option<PreparedPatch>>,
         offset: DVec3,
-        openings: &[Opening],
+        (openings, inside_box): (&[Opening], Option<InsideBox>),
         trim: bool,
     ) -> Self {
         let skipped = built.iter().filter(|b| b.is_none()).count();
@@ -131,9 +137,12 @@ impl PreparedScene {
                 half_thickness: f64::from(o.half_thickness()),
             })
             .collect();
+        let inside_box =
+            inside_box.map(|b| (offset + b.min().as_dvec3(), offset + b.max().as_dvec3()));
         Self {
             patches,
             portals,
+            inside_box,
             bounds,
             sphere,
             skipped,
