@@ -615,10 +615,10 @@ pub(crate) fn summary(
         ));
     }
     let prepared = &r.prepare;
-    if prepared.dropped_duplicate > 0 {
+    if prepared.dropped_duplicate + prepared.kept_repeats > 0 {
         text.push_str(&format!(
-            "  repeated faces: {} dropped ({} of them wound the other way)\n",
-            prepared.dropped_duplicate, prepared.dropped_mirrored
+            "  repeated faces: {} dropped ({} of them wound the other way), {} kept (flaps of copies)\n",
+            prepared.dropped_duplicate, prepared.dropped_mirrored, prepared.kept_repeats
         ));
     }
     if let Some(o) = r

@@ -1,7 +1,8 @@
 //! `spatch convert` drops faces that repeat an earlier face's three vertices: a source listing
 //! faces twice converts to the very file of the clean source; a two-sided export (each face
 //! followed by a twin wound the other way) to the clean source's patches, all drawn from both
-//! sides whichever copy comes first.
+//! sides whichever copy comes first; a decimated scan's fins (a face and its mirrored twin
+//! hanging off the surface by one edge) stay as they are.
 
 use spatch_fixtures::shapes::{uv_sphere, Shape};
 use spatch_format::{read_scene, Sides};
@@ -102,4 +103,33 @@ fn two_sided_exports_are_drawn_from_both_sides() {
     );
     let scene = read_scene(&t.path("few.spatch")).unwrap();
     assert!(scene.patches().iter().all(|p| p.sides() == Sides::Front));
+}
+
+#[test]
+fn a_decimated_scans_fins_stay_and_open_nothing() {
+    let Some(path) = spatch_fixtures::shared_data("bunny/reconstruction/bun_zipper_res2.ply")
+    else {
+        eprintln!("skipped: ../shared/data/bunny/reconstruction/bun_zipper_res2.ply is missing");
+        return;
+    };
+    let t = TestCommand::new();
+    let path = path.to_string_lossy().into_owned();
+    let args = [
+        "convert",
+        &path,
+        "-o",
+        "r.spatch",
+        "-q",
+        "--no-error",
+        "--report",
+        "r.json",
+    ];
+    t.run(&args).success();
+    let details = &t.json::<serde_json::Value>("r.json")["details"];
+    let prepared = &details["prepare"];
+    // 87 repeats: 75 in fins (dropping a twin would open the fin), 12 inside the surface.
+    assert_eq!(prepared["kept_repeats"], 75, "{prepared}");
+    assert_eq!(prepared["dropped_duplicate"], 12, "{prepared}");
+    // The openings are the scan's own five, as before repeats were looked for.
+    assert_eq!(details["sides"]["openings"], 5, "{}", details["sides"]);
 }

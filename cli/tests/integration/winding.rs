@@ -180,8 +180,8 @@ fn a_real_scan_wound_inward_converts_to_the_same_patches() {
         triangles: mesh.triangles.clone(),
     };
     let t = TestCommand::new();
-    // The decimated scan holds 87 repeated faces (83 of them mirrored pairs): of each pair
-    // the first is kept, and the few of those wound against their piece are turned.
+    // The decimated scan holds 87 repeated faces (repeated_faces.rs): the 12 inside the
+    // surface are dropped, the few faces wound against their piece turned.
     let (_, orient) = convert(&t, "res2", &shape, &[]);
     let as_given = orient["flipped_faces"].as_u64().unwrap();
     assert!(as_given < 20, "{orient}");

@@ -316,6 +316,7 @@ fn run_pipeline(
             dropped_zero_area: prepared.dropped_zero_area,
             dropped_duplicate: prepared.dropped_duplicate,
             dropped_mirrored: prepared.dropped_mirrored,
+            kept_repeats: prepared.kept_repeats,
             output_vertices: prepared.output_vertices,
             output_faces: prepared.output_faces,
         },

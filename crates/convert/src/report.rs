@@ -20,6 +20,8 @@ pub struct PrepareCounts {
     pub dropped_duplicate: usize,
     /// Of `dropped_duplicate`, those wound against the face they repeat (a two-sided export).
     pub dropped_mirrored: usize,
+    /// Repeated faces kept because dropping them would open the surface (a flap of copies).
+    pub kept_repeats: usize,
     /// Vertices after.
     pub output_vertices: usize,
     /// Faces after.

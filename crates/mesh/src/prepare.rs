@@ -13,12 +13,16 @@
 //! - a face whose corners share a vertex after welding is *degenerate* and dropped; a face
 //!   whose three distinct corners are exactly collinear (cross product zero, computed in f64)
 //!   is *zero-area* and dropped;
-//! - a face on the same three vertices as an earlier face is a *duplicate* and dropped, also
-//!   when it is wound the other way (a *mirrored* duplicate: exporters write a two-sided
-//!   surface so). Copies leave every edge shared by four faces, which separates every face
-//!   from its neighbours for segmentation and orientation; the first copy is kept (the
-//!   converter then winds it as any other face, and draws a file whose faces mostly came
-//!   with a mirrored twin from both sides, as its author asked);
+//! - a face on the same three vertices as an earlier face is a *repeat*, also when it is
+//!   wound the other way (a *mirrored* repeat: exporters write a two-sided surface so).
+//!   Repeats leave every edge they share with the surface used by three or four faces,
+//!   which separates their faces from their neighbours for segmentation and orientation, so
+//!   they are dropped and the first copy kept (the converter then winds it as any other
+//!   face, and draws a file whose faces mostly came with a mirrored twin from both sides, as
+//!   its author asked). Except where the repeats are few and dropping one would open the
+//!   surface: copies that no other face joins along an edge form a flap of zero thickness
+//!   (a decimated scan's fin, attached along one edge), closed as it is and open once
+//!   halved, so they are kept;
 //! - per-face data (corner UVs, materials) follows its face; per-vertex data (colours,
 //!   normals) follows its vertex; materials and the origin are kept as they are.
 //!
@@ -100,6 +104,9 @@ pub struct PrepareReport {
     pub dropped_duplicate: usize,
     /// Of `dropped_duplicate`, the faces wound against the face they repeat.
     pub dropped_mirrored: usize,
+    /// Repeated faces kept because dropping them would open the surface (flaps of copies
+    /// that no other face joins along an edge).
+    pub kept_repeats: usize,
     /// Vertices dropped because no remaining face uses them.
     pub unreferenced_vertices: usize,
     /// Vertices in the output.
@@ -143,6 +150,7 @@ pub fn prepare_mesh(
     let mut kept_faces: Vec<u32> = Vec::with_capacity(mesh.triangles.len());
     let mut triangles = Vec::with_capacity(mesh.triangles.len());
     let mut seen = FaceSet::new(options.drop_duplicate, mesh.triangles.len());
+    let mut repeats: Vec<Repeat> = Vec::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         let t = t.map(|i| remap[i as usize]);
         if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -157,13 +165,21 @@ pub fn prepare_mesh(
                 continue;
             }
         }
-        if let Some(mirrored) = seen.repeat_of(t) {
-            report.dropped_duplicate += 1;
-            report.dropped_mirrored += usize::from(mirrored);
-            continue;
+        if let Some((first, mirrored)) = seen.repeat_of(t, triangles.len() as u32) {
+            repeats.push(Repeat {
+                at: triangles.len() as u32,
+                first,
+                mirrored,
+            });
         }
         kept_faces.push(f as u32);
         triangles.push(t);
+    }
+    if !repeats.is_empty() {
+        let dropped = drop_repeats(&mut triangles, &mut kept_faces, &repeats);
+        report.dropped_duplicate = dropped.0;
+        report.dropped_mirrored = dropped.1;
+        report.kept_repeats = repeats.len() - dropped.0;
     }
 
     // 3. Vertices: keep representatives that a face uses (or all representatives).
@@ -224,10 +240,76 @@ pub fn prepare_mesh(
     (out, report)
 }
 
+/// A face on the vertices of an earlier one.
+#[derive(Clone, Copy, Debug)]
+struct Repeat {
+    /// Its index among the faces.
+    at: u32,
+    /// The index of the first face on its vertices.
+    first: u32,
+    /// Whether it is wound against that face.
+    mirrored: bool,
+}
+
+/// Drops the `repeats` of `triangles` (and their entries in `kept_faces`) by the module's
+/// rule; returns how many were dropped and how many of those were mirrored.
+fn drop_repeats(
+    triangles: &mut Vec<[u32; 3]>,
+    kept_faces: &mut Vec<u32>,
+    repeats: &[Repeat],
+) -> (usize, usize) {
+    let unique = triangles.len() - repeats.len();
+    let mut drop = vec![false; triangles.len()];
+    if 2 * repeats.len() >= unique {
+        // Most faces repeated: the file was written twice over, or two-sided.
+        for r in repeats {
+            drop[r.at as usize] = true;
+        }
+    } else {
+        let edge_key = |a: u32, b: u32| (a.min(b), a.max(b));
+        let mut edge_faces: HashMap<(u32, u32), u32> = HashMap::new();
+        for t in triangles.iter() {
+            for k in 0..3 {
+                *edge_faces
+                    .entry(edge_key(t[k], t[(k + 1) % 3]))
+                    .or_default() += 1;
+            }
+        }
+        let mut copies: HashMap<u32, u32> = HashMap::new();
+        for r in repeats {
+            *copies.entry(r.first).or_insert(1) += 1;
+        }
+        for r in repeats {
+            let t = triangles[r.first as usize];
+            let group = copies[&r.first];
+            // Some other face joins each edge: dropping the copy opens nothing.
+            drop[r.at as usize] =
+                (0..3).all(|k| edge_faces[&edge_key(t[k], t[(k + 1) % 3])] > group);
+        }
+    }
+    let dropped = repeats.iter().filter(|r| drop[r.at as usize]);
+    let counts = (
+        dropped.clone().count(),
+        dropped.filter(|r| r.mirrored).count(),
+    );
+    let mut index = 0;
+    triangles.retain(|_| {
+        index += 1;
+        !drop[index - 1]
+    });
+    let mut index = 0;
+    kept_faces.retain(|_| {
+        index += 1;
+        !drop[index - 1]
+    });
+    counts
+}
+
 /// The vertex triples of the faces kept so far, each with its winding, to find repeats.
 struct FaceSet {
-    /// Sorted triple → whether the first face on it was wound in the sorted order's cycle.
-    first: Option<HashMap<[u32; 3], bool>>,
+    /// Sorted triple → the first face on it and whether it was wound in the sorted order's
+    /// cycle.
+    first: Option<HashMap<[u32; 3], (u32, bool)>>,
 }
 
 impl FaceSet {
@@ -238,9 +320,10 @@ impl FaceSet {
         }
     }
 
-    /// Records face `t` (three distinct vertices) and returns `None` when no earlier face
-    /// had its vertices, or `Some(mirrored)` when one had (`mirrored`: wound the other way).
-    fn repeat_of(&mut self, t: [u32; 3]) -> Option<bool> {
+    /// Records face `t` (three distinct vertices), face number `at`, and returns `None` when
+    /// no earlier face had its vertices, or `Some((first, mirrored))` when face `first` had
+    /// (`mirrored`: wound the other way).
+    fn repeat_of(&mut self, t: [u32; 3], at: u32) -> Option<(u32, bool)> {
         let first = self.first.as_mut()?;
         let mut sorted = t;
         sorted.sort_unstable();
@@ -249,9 +332,12 @@ impl FaceSet {
         let lowest = t.iter().position(|&v| v == sorted[0]).unwrap_or(0);
         let sorted_cycle = t[(lowest + 1) % 3] == sorted[1];
         match first.entry(sorted) {
-            std::collections::hash_map::Entry::Occupied(e) => Some(*e.get() != sorted_cycle),
+            std::collections::hash_map::Entry::Occupied(e) => {
+                let (first, cycle) = *e.get();
+                Some((first, cycle != sorted_cycle))
+            }
             std::collections::hash_map::Entry::Vacant(e) => {
-                e.insert(sorted_cycle);
+                e.insert((at, sorted_cycle));
                 None
             }
         }
@@ -399,5 +485,56 @@ mod tests {
         let (all, none_dropped) = prepare_mesh(&mesh, &keep);
         assert_eq!(none_dropped.dropped_duplicate, 0);
         assert_eq!(all.triangles.len(), 6);
+    }
+
+    #[test]
+    fn a_few_repeats_go_inside_the_surface_but_a_flap_of_copies_stays() {
+        // An open fan of four triangles around vertex 0, a fin (1, 0, 5) hanging off edge
+        // (0, 1) with its mirrored twin, and a mirrored repeat of the fan's (0, 2, 3).
+        let positions = vec![
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.5, 0.0, 1.0),
+        ];
+        let fan = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]];
+        let mut faces = fan.to_vec();
+        faces.extend([[1, 0, 5], [0, 1, 5], [3, 2, 0]]);
+        let mesh = TriangleMesh::new(positions.clone(), faces).unwrap();
+        let (out, report) = prepare_mesh(&mesh, &PrepareOptions::default());
+        // Both repeats stay: the fin's edges (0, 5) and (1, 5) and the fan's rim edge (2, 3)
+        // join no other face, so dropping either copy would open an edge that is closed.
+        assert_eq!(report.dropped_duplicate, 0);
+        assert_eq!(report.kept_repeats, 2);
+        assert_eq!(out.triangles.len(), 7);
+
+        // Closed: an octahedron with one face repeated mirrored and another as written.
+        let octahedron = vec![
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ];
+        let closed = [
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        let mut faces = closed.to_vec();
+        faces.extend([[4, 2, 0], [2, 1, 4]]);
+        let mesh = TriangleMesh::new(octahedron, faces).unwrap();
+        let (out, report) = prepare_mesh(&mesh, &PrepareOptions::default());
+        assert_eq!((report.dropped_duplicate, report.dropped_mirrored), (2, 1));
+        assert_eq!(report.kept_repeats, 0);
+        assert_eq!(out.triangles, closed.to_vec());
     }
 }
