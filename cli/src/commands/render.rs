@@ -84,7 +84,8 @@ impl ShadingArg {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum CullArg {
     /// Cull patches facing away unless the scene marks them two-sided (an
-    /// opening shows their back): those are drawn from both sides.
+    /// opening shows their back, or the source was wound inward and the eye
+    /// is inside its box): those are drawn from both sides.
     Auto,
     /// Drop every patch facing away, marked or not (closed surfaces).
     Back,
