@@ -94,6 +94,23 @@ fn two_sided_exports_are_drawn_from_both_sides() {
     let scene = read_scene(&t.path("mirror_first.spatch")).unwrap();
     assert!(!scene.patches().is_empty());
     assert!(scene.patches().iter().all(|p| p.sides() == Sides::Both));
+    // Wound outward, with a box: from outside it culled as a closed surface.
+    assert!(scene.inside_box().is_some());
+    // With --keep-winding the kept copies face either way: two-sided everywhere, no box.
+    let ply = "mirror_first.ply";
+    t.run(&[
+        "convert",
+        ply,
+        "-o",
+        "kept.spatch",
+        "-q",
+        "--no-error",
+        "--keep-winding",
+    ])
+    .success();
+    let scene = read_scene(&t.path("kept.spatch")).unwrap();
+    assert!(scene.patches().iter().all(|p| p.sides() == Sides::Both));
+    assert_eq!(scene.inside_box(), None);
 
     // A few mirrored twins (a seam modelled two-sided) leave the rest culled.
     let (_, prepared) = convert(&t, "few", &with_repeats(&sphere, |f| f % 9 == 0, true));

@@ -245,11 +245,14 @@ fn run_pipeline(
     let sides = clock.run(Stage::Sides, || {
         // A file that gave most faces a twin wound the other way asked for both sides.
         let mostly_mirrored = 2 * prepared.dropped_mirrored >= prepared.output_faces.max(1);
+        // Not oriented (`--keep-winding`, a tile's part), the copy kept of each mirrored pair
+        // is wound as it came: nothing says where such a file's outside is.
         let winding = match oriented {
             Some(o) if o.conflicting_edges > 0 => Winding::Unknown,
-            Some(o) if o.wound_inward => Winding::Turned,
-            _ if mostly_mirrored => Winding::Turned,
-            _ => Winding::AsWound,
+            Some(o) if o.wound_inward || mostly_mirrored => Winding::Turned,
+            Some(_) => Winding::AsWound,
+            None if mostly_mirrored => Winding::Unknown,
+            None => Winding::AsWound,
         };
         // Patches reach half a cell past open boundaries; a spacing covers that and the fit.
         let mut found = find_mesh_sides(&mesh, &adjacency, winding, spacing);

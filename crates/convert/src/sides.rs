@@ -22,7 +22,8 @@
 //!   ([`Winding::Unknown`]) has no safe side: every patch becomes [`Sides::Both`].
 //! - A mesh whose surface had mostly to be turned over, or whose file gave most faces a twin
 //!   wound the other way (a two-sided export: preparation keeps one copy of each, and which
-//!   copy came first says nothing about the outside), is [`Winding::Turned`]: every patch
+//!   copy came first says nothing about the outside), once oriented, is
+//!   [`Winding::Turned`] (not oriented, the two-sided export is [`Winding::Unknown`]): every patch
 //!   becomes [`Sides::Both`], and when every opening is stored the scene gets an
 //!   [`InsideBox`], the mesh's box grown by the fit's reach. Wound outward, such a surface
 //!   shows its back only to an eye inside the volume it closes (a room seen from inside) or
