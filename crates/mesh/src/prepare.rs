@@ -63,8 +63,8 @@ pub struct PrepareOptions {
     pub drop_degenerate: bool,
     /// Drop faces of exactly zero area. Default `true`.
     pub drop_zero_area: bool,
-    /// Drop faces on the same three vertices as an earlier face, in either winding.
-    /// Default `true`.
+    /// Drop faces on the same three vertices as an earlier face, in either winding, except
+    /// flaps of copies (see the module docs). Default `true`.
     pub drop_duplicate: bool,
     /// Drop vertices no face uses. Default `true`.
     pub drop_unreferenced: bool,
@@ -259,50 +259,47 @@ fn drop_repeats(
     repeats: &[Repeat],
 ) -> (usize, usize) {
     let unique = triangles.len() - repeats.len();
+    // Most faces repeated: the file was written twice over, or two-sided.
+    let all = 2 * repeats.len() >= unique;
+    let opens_nothing = (!all).then(|| repeats_opening_nothing(triangles, repeats));
     let mut drop = vec![false; triangles.len()];
-    if 2 * repeats.len() >= unique {
-        // Most faces repeated: the file was written twice over, or two-sided.
-        for r in repeats {
-            drop[r.at as usize] = true;
-        }
-    } else {
-        let edge_key = |a: u32, b: u32| (a.min(b), a.max(b));
-        let mut edge_faces: HashMap<(u32, u32), u32> = HashMap::new();
-        for t in triangles.iter() {
-            for k in 0..3 {
-                *edge_faces
-                    .entry(edge_key(t[k], t[(k + 1) % 3]))
-                    .or_default() += 1;
-            }
-        }
-        let mut copies: HashMap<u32, u32> = HashMap::new();
-        for r in repeats {
-            *copies.entry(r.first).or_insert(1) += 1;
-        }
-        for r in repeats {
-            let t = triangles[r.first as usize];
-            let group = copies[&r.first];
-            // Some other face joins each edge: dropping the copy opens nothing.
-            drop[r.at as usize] =
-                (0..3).all(|k| edge_faces[&edge_key(t[k], t[(k + 1) % 3])] > group);
-        }
+    for (k, r) in repeats.iter().enumerate() {
+        drop[r.at as usize] = opens_nothing.as_ref().is_none_or(|o| o[k]);
     }
     let dropped = repeats.iter().filter(|r| drop[r.at as usize]);
     let counts = (
         dropped.clone().count(),
         dropped.filter(|r| r.mirrored).count(),
     );
-    let mut index = 0;
-    triangles.retain(|_| {
-        index += 1;
-        !drop[index - 1]
-    });
-    let mut index = 0;
-    kept_faces.retain(|_| {
-        index += 1;
-        !drop[index - 1]
-    });
+    let mut flags = drop.iter();
+    triangles.retain(|_| flags.next() == Some(&false));
+    let mut flags = drop.iter();
+    kept_faces.retain(|_| flags.next() == Some(&false));
     counts
+}
+
+/// For each of `repeats`, whether another face than its copies joins each of its edges, so
+/// that dropping it opens no edge.
+fn repeats_opening_nothing(triangles: &[[u32; 3]], repeats: &[Repeat]) -> Vec<bool> {
+    let edges =
+        |t: [u32; 3]| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])));
+    let mut faces_on: HashMap<(u32, u32), u32> = HashMap::new();
+    for &t in triangles {
+        for e in edges(t) {
+            *faces_on.entry(e).or_default() += 1;
+        }
+    }
+    let mut copies: HashMap<u32, u32> = HashMap::new();
+    for r in repeats {
+        *copies.entry(r.first).or_insert(1) += 1;
+    }
+    repeats
+        .iter()
+        .map(|r| {
+            let group = copies[&r.first];
+            edges(triangles[r.first as usize]).all(|e| faces_on[&e] > group)
+        })
+        .collect()
 }
 
 /// The vertex triples of the faces kept so far, each with its winding, to find repeats.
@@ -502,7 +499,7 @@ mod tests {
         let fan = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]];
         let mut faces = fan.to_vec();
         faces.extend([[1, 0, 5], [0, 1, 5], [3, 2, 0]]);
-        let mesh = TriangleMesh::new(positions.clone(), faces).unwrap();
+        let mesh = TriangleMesh::new(positions, faces).unwrap();
         let (out, report) = prepare_mesh(&mesh, &PrepareOptions::default());
         // Both repeats stay: the fin's edges (0, 5) and (1, 5) and the fan's rim edge (2, 3)
         // join no other face, so dropping either copy would open an edge that is closed.
