@@ -156,6 +156,9 @@ pub(crate) struct ChunkWork {
     pub(crate) vertices: Vec<ClipVertex>,
     /// Scratch of [`drop_undrawn_nodes`](crate::raster::splat::drop_undrawn_nodes).
     pub(crate) splat_scratch: Vec<u8>,
+    /// Flat and Gouraud: the nodes of the piece being planned to shade (their
+    /// index in [`Self::node_attributes`], normal and albedo).
+    pub(crate) to_shade: Vec<(u32, glam::Vec3, glam::Vec3)>,
 }
 
 impl ChunkWork {
