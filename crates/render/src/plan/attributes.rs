@@ -8,8 +8,9 @@
 //! Normals are reconstructed in patch space from displacement differences
 //! ([`crate::prepare::normals`]) through the chunk's normal buffer.
 //!
-//! Cost: one normal-buffer probe and one shading per used node (Gouraud,
-//! flat), or one bitset word per 64 slots for a Phong level drawn whole.
+//! Cost: one shading per used node, four at a time (Gouraud, from the
+//! level's kept normals; flat, from its cell's corners or a normal-buffer
+//! probe), or one bitset word per 64 slots for a Phong level drawn whole.
 
 use glam::{Vec3, Vec4};
 
@@ -159,11 +160,11 @@ pub(crate) fn fill_attributes(
     shade_nodes(setup, ctx.frame, &work.to_shade, &mut work.node_attributes);
 }
 
-/// Shades `nodes` (index into `out`, normal, albedo) four at a time
-/// ([`crate::lighting::Material::shade4_with`], bit-identical to
-/// [`crate::lighting::Material::shade`] one by
-/// one) into their entries of `out`. Why lanes: the scalar shading of each
-/// node was a fifth of a flat or Gouraud frame (perf, bunny 1000²).
+/// Shades `nodes` (index into `out`, normal, albedo) into their entries of
+/// `out`, four at a time ([`crate::lighting::Material::shade4_with`],
+/// bit-identical to [`crate::lighting::Material::shade`] one by one). Why
+/// lanes: the scalar shading of each node was a fifth of a flat or Gouraud
+/// frame (perf, bunny 1000²).
 fn shade_nodes(
     setup: &FrameSetup<'_>,
     frame: &ShadeFrame,
