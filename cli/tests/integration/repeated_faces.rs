@@ -8,7 +8,7 @@ use spatch_fixtures::shapes::{uv_sphere, Shape};
 use spatch_format::{read_scene, Sides};
 
 use crate::test_command::TestCommand;
-use crate::winding::same_patches_with_b_two_sided;
+use crate::winding::{convert_shape, same_patches_with_b_two_sided};
 
 /// `shape` with the faces `repeat` picks (by index) listed once more after all faces, wound
 /// the other way when `mirrored`.
@@ -26,28 +26,8 @@ fn with_repeats(shape: &Shape, repeat: impl Fn(usize) -> bool, mirrored: bool) -
 /// Converts `shape` (written as `name.ply`); returns the file's bytes and the report's
 /// `details.prepare`.
 fn convert(t: &TestCommand, name: &str, shape: &Shape) -> (Vec<u8>, serde_json::Value) {
-    std::fs::write(t.path(&format!("{name}.ply")), shape.to_ply_ascii()).unwrap();
-    let (ply, out, report) = (
-        format!("{name}.ply"),
-        format!("{name}.spatch"),
-        format!("{name}.json"),
-    );
-    let args = [
-        "convert",
-        &ply,
-        "-o",
-        &out,
-        "-q",
-        "--no-error",
-        "--report",
-        &report,
-    ];
-    t.run(&args).success();
-    let report: serde_json::Value = t.json(&report);
-    (
-        std::fs::read(t.path(&out)).unwrap(),
-        report["details"]["prepare"].clone(),
-    )
+    let (bytes, details) = convert_shape(t, name, shape, &[]);
+    (bytes, details["prepare"].clone())
 }
 
 #[test]

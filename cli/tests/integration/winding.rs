@@ -22,8 +22,8 @@ fn turned(shape: &Shape, turn: impl Fn(usize) -> bool) -> Shape {
 }
 
 /// Converts `shape` (written as `name.ply`) with `extra` options; returns the file's bytes
-/// and the report's `details.orient`.
-fn convert(
+/// and the report's `details`.
+pub(crate) fn convert_shape(
     t: &TestCommand,
     name: &str,
     shape: &Shape,
@@ -50,8 +50,19 @@ fn convert(
     let report: serde_json::Value = t.json(&report);
     (
         std::fs::read(t.path(&out)).unwrap(),
-        report["details"]["orient"].clone(),
+        report["details"].clone(),
     )
+}
+
+/// [`convert_shape`], returning the file's bytes and the report's `details.orient`.
+fn convert(
+    t: &TestCommand,
+    name: &str,
+    shape: &Shape,
+    extra: &[&str],
+) -> (Vec<u8>, serde_json::Value) {
+    let (bytes, details) = convert_shape(t, name, shape, extra);
+    (bytes, details["orient"].clone())
 }
 
 /// Asserts that the scenes `a` and `b` hold the same patches apart from their sides, and
