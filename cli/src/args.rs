@@ -58,7 +58,8 @@ pub(crate) enum Command {
         after_help = "Example:\n  spatch earth -o earth.spatch\n  spatch earth --colour map.jpg --level high --report r.json -o earth.spatch\n  spatch earth --elevation relief.png --sea-level 92 -o relief.spatch"
     )]
     Earth(commands::earth::EarthArgs),
-    /// Report what a .spatch file holds: counts, bytes per section, precision, bounds.
+    /// Report what a .spatch file holds: counts, bytes per section, precision, bounds, and
+    /// which sides of its patches may show (openings, inside box).
     #[command(
         after_help = "Example:\n  spatch stats sphere.spatch\n  spatch stats sphere.spatch --json"
     )]

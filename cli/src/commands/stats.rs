@@ -27,6 +27,47 @@ fn codec_name(codec: u8) -> &'static str {
     }
 }
 
+/// Patches per visible sides: front only, through openings, both.
+fn side_counts(scene: &Scene) -> [usize; 3] {
+    let mut counts = [0; 3];
+    for p in scene.patches() {
+        counts[usize::from(p.sides().code())] += 1;
+    }
+    counts
+}
+
+/// What says where a scene's backs show: patches per sides, openings and the inside box.
+fn visibility_json(scene: &Scene) -> Value {
+    let [front, through_openings, both] = side_counts(scene);
+    let inside_box = scene
+        .inside_box()
+        .map(|b| json!({ "min": b.min().to_array(), "max": b.max().to_array() }));
+    json!({
+        "front": front,
+        "through_openings": through_openings,
+        "both": both,
+        "openings": scene.openings().len(),
+        "inside_box": inside_box,
+    })
+}
+
+/// The table row of [`visibility_json`].
+fn visibility_row(scene: &Scene) -> String {
+    let [front, through, both] = side_counts(scene);
+    let mut text = format!(
+        "front {front}, through openings {through}, both {both}; {} openings",
+        scene.openings().len()
+    );
+    if let Some(b) = scene.inside_box() {
+        let (lo, hi) = (b.min(), b.max());
+        text.push_str(&format!(
+            "; both only from inside {:.6} {:.6} {:.6} .. {:.6} {:.6} {:.6} (offset-relative)",
+            lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+        ));
+    }
+    text
+}
+
 fn to_json(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> Value {
     let mut sections = Map::new();
     for section in &info.sections {
@@ -73,6 +114,7 @@ fn to_json(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) ->
         "offset": scene.offset().to_array(),
         "bounds": bounds,
         "frame_lengths": lengths,
+        "sides": visibility_json(scene),
     })
 }
 
@@ -127,6 +169,7 @@ fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> S
             row(name, format!("{:.6} .. {:.6}", r.min, r.max));
         }
     }
+    row("sides", visibility_row(scene));
     t.push_str("  sections (tag codec stored raw):\n");
     for section in &info.sections {
         t.push_str(&format!(

@@ -34,6 +34,11 @@ fn json_has_every_documented_key_with_right_values() {
         );
     }
     assert!((v["frame_lengths"]["az"]["max"].as_f64().unwrap() - 0.001).abs() < 1e-9);
+    // A closed sphere: every patch front-only, no opening, no inside box.
+    assert_eq!(v["sides"]["front"], 200);
+    assert_eq!(v["sides"]["both"], 0);
+    assert_eq!(v["sides"]["openings"], 0);
+    assert!(v["sides"]["inside_box"].is_null());
 }
 
 #[test]

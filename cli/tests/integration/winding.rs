@@ -252,13 +252,26 @@ fn from_outside_its_box_a_surface_wound_inward_draws_its_outward_twins_image() {
         ("room", spatch_fixtures::shapes::cube(4.0)),
     ] {
         convert(&t, &format!("{name}_out"), &shape, &[]);
-        convert(&t, &format!("{name}_in"), &turned(&shape, |_| true), &[]);
-        let stats = t.run(&["stats", &format!("{name}_in.spatch")]).success();
-        assert!(
-            stats.stdout.contains("INSD"),
-            "{name}: no inside box\n{}",
-            stats.stdout
-        );
+        let inward = turned(&shape, |_| true);
+        let (_, details) = convert_shape(&t, &format!("{name}_in"), &inward, &[]);
+        let spacing = details["spacing"].as_f64().unwrap();
+        let stats = t
+            .run(&["stats", &format!("{name}_in.spatch"), "--json"])
+            .success();
+        let stats: serde_json::Value = serde_json::from_str(&stats.stdout).unwrap();
+        assert!(stats["sections"]["INSD"].is_object(), "{name}: no INSD");
+        let sides = &stats["sides"];
+        assert_eq!(sides["both"], stats["patches"], "{name}: {sides}");
+        // The box is the shape's (the unit sphere's, the 4-unit cube's) grown by the spacing.
+        let reach = if name == "sphere" { 1.0 } else { 2.0 } + spacing;
+        for axis in 0..3 {
+            let (lo, hi) = (
+                sides["inside_box"]["min"][axis].as_f64().unwrap(),
+                sides["inside_box"]["max"][axis].as_f64().unwrap(),
+            );
+            let near = |a: f64, b: f64| (a - b).abs() < 1e-5;
+            assert!(near(lo, -reach) && near(hi, reach), "{name}: {sides}");
+        }
         let image = |which: &str| {
             let (scene, out) = (
                 format!("{name}_{which}.spatch"),
