@@ -125,12 +125,9 @@ pub fn find_mesh_sides(
 /// The bounding box of `mesh`'s positions grown by `reach` and a few f32 steps, so that the
 /// stored box still holds every patch fitted within `reach` of the mesh.
 fn grown_box(mesh: &TriangleMesh, reach: f32) -> Option<InsideBox> {
-    let (lo, hi) = mesh.positions.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let slack = reach.max(0.0) + 4.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element();
-    InsideBox::new(lo - slack, hi + slack).ok()
+    let b = mesh.bounds();
+    let slack = reach.max(0.0) + 4.0 * f32::EPSILON * b.min.abs().max(b.max.abs()).max_element();
+    InsideBox::new(b.min - slack, b.max + slack).ok()
 }
 
 /// Gives every patch of `patches` the sides `sides`; returns how many may be seen from behind.
