@@ -19,8 +19,6 @@
 //!
 //! Cost: O(visible nodes) per frame.
 
-use spatch_format::Sides;
-
 use crate::lighting::ShadeFrame;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass};
@@ -45,11 +43,11 @@ pub(crate) fn plan_chunk(
     for (local, p) in patches.iter().enumerate() {
         let index = first_index + local as u32;
         work.counters.patches += 1;
-        let sides = match p.sides {
-            Sides::Both if setup.two_sided_through_openings => Sides::ThroughOpenings,
-            sides => sides,
-        };
-        let mode = (setup.options.culling, sides);
+        let mode = (
+            setup.options.culling,
+            p.sides,
+            setup.two_sided_through_openings,
+        );
         let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
         if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
             work.counters.culled_backface += 1;

@@ -112,10 +112,12 @@ pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye:
 /// cells then face-tested): always under [`Culling::Back`], never under
 /// [`Culling::None`]; under [`Culling::Auto`] as the patch's [`Sides`] say,
 /// a patch of an open surface only when no opening can lie between the eye
-/// and it ([`seen_through_portals`]).
+/// and it ([`seen_through_portals`]), and a two-sided one likewise when
+/// `outside_box` (the eye is outside the scene's inside box,
+/// [`spatch_format::InsideBox`]), else never.
 #[inline(always)]
 pub(crate) fn back_culled(
-    (culling, sides): (Culling, Sides),
+    (culling, sides, outside_box): (Culling, Sides, bool),
     portals: &[Portal],
     eye: DVec3,
     centre: DVec3,
@@ -123,8 +125,9 @@ pub(crate) fn back_culled(
 ) -> bool {
     match (culling, sides) {
         (Culling::Back, _) | (Culling::Auto, Sides::Front) => true,
-        (Culling::None, _) | (Culling::Auto, Sides::Both) => false,
-        (Culling::Auto, Sides::ThroughOpenings) => {
+        (Culling::None, _) => false,
+        (Culling::Auto, Sides::Both) if !outside_box => false,
+        (Culling::Auto, Sides::ThroughOpenings | Sides::Both) => {
             !seen_through_portals(portals, eye, centre, radius)
         }
     }
