@@ -28,6 +28,7 @@ use crate::plan::chunk::plan_chunk;
 use crate::plan::counters::Counters;
 use crate::plan::cull::Frustum;
 use crate::plan::mesh::{plan_mesh_chunk, TriangleMesh};
+use crate::plan::sides::PortalsInView;
 use crate::plan::work::{ChunkWork, FrameSetup, PATCH_CHUNK};
 use crate::prepare::patch::PreparedPatch;
 use crate::prepare::scene::PreparedScene;
@@ -38,6 +39,9 @@ use crate::shade::resolve::Resolve;
 
 /// Triangles per unit of parallel set-up work for meshes.
 const TRIANGLE_CHUNK: usize = 4096;
+
+/// The portals of a frame without openings (meshes).
+static NO_PORTALS: PortalsInView = PortalsInView::NONE;
 
 /// An image and what it took to render it.
 #[derive(Debug, Clone)]
@@ -169,7 +173,7 @@ impl Renderer {
             z_scale,
             z_offset,
             base_colour: Vec3::new(r as f32, g as f32, b as f32),
-            portals: &[],
+            portals: &NO_PORTALS,
             two_sided_through_openings: false,
         }
     }
@@ -184,8 +188,9 @@ impl Renderer {
         let options = self.options;
         let view = View::new(camera, options.ssaa, scene.bounds)?;
         let outside = |(lo, hi): (DVec3, DVec3)| !(view.eye.cmpge(lo) & view.eye.cmple(hi)).all();
+        let portals = PortalsInView::new(&scene.portals, view.eye);
         let setup = FrameSetup {
-            portals: &scene.portals,
+            portals: &portals,
             two_sided_through_openings: scene.inside_box.is_some_and(outside),
             ..self.setup(&view, &options)
         };

@@ -21,8 +21,9 @@
 
 use crate::lighting::ShadeFrame;
 use crate::plan::cell_triangles::emit_cell_triangles;
-use crate::plan::cull::{back_culled, cone_faces_away, cone_faces_eye, BoxClass};
+use crate::plan::cull::{cone_faces_away, cone_faces_eye, BoxClass};
 use crate::plan::piece::plan_piece;
+use crate::plan::sides::back_culled;
 use crate::plan::split::{split_patch, NodeRange};
 use crate::plan::work::{ChunkWork, FrameSetup, PatchContext};
 use crate::prepare::patch::PreparedPatch;
@@ -48,7 +49,12 @@ pub(crate) fn plan_chunk(
             p.sides,
             setup.two_sided_through_openings,
         );
-        let culled = back_culled(mode, setup.portals, eye, p.centre, p.radius);
+        // A patch whose cone faces the eye entirely shows only its front,
+        // whatever the openings: its back is culled without the portal
+        // test (a raw scan's frame spent more on that test than on the
+        // rest of its planning).
+        let facing_eye = cone_faces_eye(&p.cone, p.centre, p.radius, eye);
+        let culled = facing_eye || back_culled(mode, setup.portals, p.centre, p.radius);
         if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {
             work.counters.culled_backface += 1;
             work.counters.cull_ns += work.clock.lap();
@@ -61,7 +67,7 @@ pub(crate) fn plan_chunk(
         // (dark specks along fandisk's creases, issue 21 item 3).
         let to_eye = (!culled).then(|| eye - p.centre);
         // No cell of a patch facing the eye entirely can face away.
-        let cell_test = culled && !cone_faces_eye(&p.cone, p.centre, p.radius, eye);
+        let cell_test = culled && !facing_eye;
         frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
         let root = NodeRange::of_grid(p.grid);

@@ -25,11 +25,7 @@ use std::sync::LazyLock;
 
 use glam::{DVec3, Mat3, Vec3};
 
-use spatch_format::Sides;
-
-use crate::options::Culling;
 use crate::prepare::cone::NormalCone;
-use crate::prepare::scene::Portal;
 
 /// True when no point of the sphere `(centre, radius)` can see a normal of
 /// `cone` facing the eye: the angle between the cone's axis and the
@@ -37,7 +33,7 @@ use crate::prepare::scene::Portal;
 /// the sphere spreads from the eye. Compared as cosines (the cone keeps
 /// its half angle's sine and cosine), so no inverse trigonometry per
 /// patch: the `acos` and `asin` calls of the angle forms (here, in
-/// [`cone_faces_eye`] and in [`seen_through_portals`]) were about 0.5 M
+/// [`cone_faces_eye`] and in [`crate::plan::sides`]) were about 0.5 M
 /// instructions of each bunny frame (callgrind, 500²).
 #[inline(always)]
 pub(crate) fn cone_faces_away(cone: &NormalCone, centre: DVec3, radius: f64, eye: DVec3) -> bool {
@@ -70,12 +66,12 @@ static FRONT_MARGIN_SIN_COS: LazyLock<(f64, f64)> = LazyLock::new(|| FRONT_MARGI
 /// How far (in cosine) the cone and portal tests lean to the safe side:
 /// their cosine forms round differently from the angle forms they stand
 /// for.
-const COS_SLACK: f64 = 1e-12;
+pub(crate) const COS_SLACK: f64 = 1e-12;
 
 /// `sin` and `cos` of the angle by which a sphere of `radius` seen from
 /// `distance` (larger) spreads around its centre's direction.
 #[inline(always)]
-fn spread(radius: f64, distance: f64) -> (f64, f64) {
+pub(crate) fn spread(radius: f64, distance: f64) -> (f64, f64) {
     let s = radius / distance;
     (s, (1.0 - s * s).max(0.0).sqrt())
 }
@@ -106,89 +102,6 @@ pub(crate) fn cone_faces_eye(cone: &NormalCone, centre: DVec3, radius: f64, eye:
     let cos_angle = to_eye.dot(cone.axis) / distance;
     cos_angle > sin_g * cos_s + cos_g * sin_s + COS_SLACK
 }
-
-/// Whether `culling` lets the back of a patch with `sides` and bounding
-/// sphere `(centre, radius)` be culled this frame (its normal cone and
-/// cells then face-tested): always under [`Culling::Back`], never under
-/// [`Culling::None`]; under [`Culling::Auto`] as the patch's [`Sides`] say,
-/// a patch of an open surface only when no opening can lie between the eye
-/// and it ([`seen_through_portals`]), and a two-sided one likewise when
-/// `outside_box` (the eye is outside the scene's inside box,
-/// [`spatch_format::InsideBox`]), else never.
-#[inline(always)]
-pub(crate) fn back_culled(
-    (culling, sides, outside_box): (Culling, Sides, bool),
-    portals: &[Portal],
-    eye: DVec3,
-    centre: DVec3,
-    radius: f64,
-) -> bool {
-    match (culling, sides) {
-        (Culling::Back, _) | (Culling::Auto, Sides::Front) => true,
-        (Culling::None, _) => false,
-        (Culling::Auto, Sides::Both) if !outside_box => false,
-        (Culling::Auto, Sides::ThroughOpenings | Sides::Both) => {
-            !seen_through_portals(portals, eye, centre, radius)
-        }
-    }
-}
-
-/// True when a line from `eye` to a point of the sphere `(centre, radius)`
-/// may cross one of `portals` before reaching it. Why this is safe: a line
-/// of sight from outside the model to the back of an open surface crosses
-/// a surface spanning one of its boundary loops, which fits inside the
-/// loop's sphere and slab. Conservative: a portal does not count when the
-/// eye and the whole patch sphere lie on one side of its slab (the line
-/// never crosses it), or the patch lies entirely nearer than it; else the
-/// cone from the eye around the portal's sphere is tested against the
-/// patch's sphere (angles widened by [`PORTAL_MARGIN`]). Cost: a few
-/// operations per portal.
-pub(crate) fn seen_through_portals(
-    portals: &[Portal],
-    eye: DVec3,
-    centre: DVec3,
-    radius: f64,
-) -> bool {
-    let to_patch = centre - eye;
-    let patch_distance = to_patch.length();
-    if patch_distance <= radius {
-        return true;
-    }
-    let (sin_b, cos_b) = spread(radius, patch_distance);
-    let (sin_m, cos_m) = *PORTAL_MARGIN_SIN_COS;
-    portals.iter().any(|portal| {
-        let to_portal = portal.centre - eye;
-        let distance = to_portal.length();
-        if distance <= portal.radius {
-            return true;
-        }
-        let h = portal.half_thickness;
-        let eye_side = (eye - portal.centre).dot(portal.normal);
-        let patch_side = (centre - portal.centre).dot(portal.normal);
-        let one_side = (eye_side > h && patch_side - radius > h)
-            || (eye_side < -h && patch_side + radius < -h);
-        if one_side || patch_distance + radius < distance - portal.radius {
-            return false;
-        }
-        // The angle between the two directions within the two spreads
-        // (a, b) and the margin, compared as cosines.
-        let (sin_a, cos_a) = spread(portal.radius, distance);
-        let (sin_ab, cos_ab) = (sin_a * cos_b + cos_a * sin_b, cos_a * cos_b - sin_a * sin_b);
-        // a + b + margin at or past 180°: every angle is within it.
-        if cos_ab <= -cos_m {
-            return true;
-        }
-        let cos = to_patch.dot(to_portal) / (patch_distance * distance);
-        cos >= cos_ab * cos_m - sin_ab * sin_m - COS_SLACK
-    })
-}
-
-/// Extra angle (radians) of the portal test, for the rounding of the
-/// stored opening and patch spheres.
-pub(crate) const PORTAL_MARGIN: f64 = 1e-3;
-
-/// `sin` and `cos` of [`PORTAL_MARGIN`], computed once.
-static PORTAL_MARGIN_SIN_COS: LazyLock<(f64, f64)> = LazyLock::new(|| PORTAL_MARGIN.sin_cos());
 
 /// Where a box lies with respect to the view.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -304,7 +217,7 @@ mod tests {
         use std::f64::consts::FRAC_PI_2;
         let mut rng = XorShift(0x2021_cafe);
         let mut unit = move || rng.unit() as f64;
-        let (mut away, mut facing, mut seen) = (0, 0, 0);
+        let (mut away, mut facing) = (0, 0);
         for _ in 0..20_000 {
             let dir = |u: &mut dyn FnMut() -> f64| {
                 DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize_or(DVec3::X)
@@ -328,81 +241,9 @@ mod tests {
                     facing += (f < 0.0) as u32;
                 }
             }
-            // One portal on the far side of the patch from the eye's
-            // slab test's point of view: only the cone part decides.
-            let portal = Portal {
-                centre: dir(&mut unit) * 2.0,
-                radius: 0.05 + 0.5 * unit(),
-                normal: dir(&mut unit),
-                half_thickness: 1e3,
-            };
-            let (to_patch, to_portal) = (centre - eye, portal.centre - eye);
-            let (dp, dq) = (to_patch.length(), to_portal.length());
-            if dp > radius && dq > portal.radius && dp + radius >= dq - portal.radius {
-                let cos = (to_patch.dot(to_portal) / (dp * dq)).clamp(-1.0, 1.0);
-                let limit = (portal.radius / dq).asin() + (radius / dp).asin() + PORTAL_MARGIN;
-                let g = cos.acos() - limit;
-                if g.abs() > 1e-9 {
-                    let got = seen_through_portals(&[portal], eye, centre, radius);
-                    assert_eq!(got, g <= 0.0);
-                    seen += got as u32;
-                }
-            }
         }
         // Both answers occur often enough to mean something.
-        assert!(
-            away > 1000 && facing > 1000 && seen > 500,
-            "{away} {facing} {seen}"
-        );
-    }
-
-    #[test]
-    fn a_patch_is_seen_through_a_portal_only_beyond_it_and_in_its_cone() {
-        let eye = DVec3::new(0.0, 0.0, 10.0);
-        // A disc in the plane z = 0 would be edge-on: the slab is the
-        // plane x = 0, seen face-on from the eye on the z axis... so use
-        // a slab facing the eye: normal z, thin.
-        let portal = [Portal {
-            centre: DVec3::ZERO,
-            radius: 1.0,
-            normal: DVec3::Z,
-            half_thickness: 0.1,
-        }];
-        let seen = |c: DVec3, r: f64| seen_through_portals(&portal, eye, c, r);
-        // Behind the opening, in line with it: seen.
-        assert!(seen(DVec3::new(0.0, 0.0, -3.0), 0.5));
-        // Behind it but far off to the side: not seen.
-        assert!(!seen(DVec3::new(8.0, 0.0, -3.0), 0.5));
-        // In line but entirely nearer than the opening: not seen through it.
-        assert!(!seen(DVec3::new(0.0, 0.0, 5.0), 0.5));
-        // Reaching into the opening's cone: seen.
-        assert!(seen(DVec3::new(2.0, 0.0, -3.0), 1.5));
-        // Eye and patch on the same side of the slab: not through it.
-        let side = [Portal {
-            normal: DVec3::Y,
-            ..portal[0]
-        }];
-        let above = DVec3::new(0.0, 5.0, 10.0);
-        assert!(!seen_through_portals(
-            &side,
-            above,
-            DVec3::new(0.0, 1.0, -3.0),
-            0.5
-        ));
-        assert!(seen_through_portals(
-            &side,
-            above,
-            DVec3::new(0.0, -1.0, -3.0),
-            0.5
-        ));
-        // No portal at all: never; the eye inside the opening: always.
-        assert!(!seen_through_portals(&[], eye, DVec3::ZERO, 1.0));
-        assert!(seen_through_portals(
-            &portal,
-            DVec3::new(0.0, 0.5, 0.0),
-            DVec3::new(9.0, 0.0, 0.0),
-            0.1
-        ));
+        assert!(away > 1000 && facing > 1000, "{away} {facing}");
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Planning, once per frame and patch: everything decided before any
 //! pixel is touched, into flat per-chunk work for the bands. In use order:
-//! culling, splitting, lane conversions, the node positions' scratch,
+//! culling, which backs to cull, splitting, lane conversions, the node positions' scratch,
 //! projection, cell measurement, subdivision, counters, the chunk's work
 //! and the per-patch context, attributes, cells as triangles, the piece,
 //! the chunk, meshes.
@@ -19,6 +19,7 @@ pub(crate) mod node_xy;
 pub(crate) mod open_sides;
 pub(crate) mod piece;
 pub(crate) mod project;
+pub(crate) mod sides;
 pub(crate) mod split;
 pub(crate) mod subdivision;
 pub(crate) mod work;

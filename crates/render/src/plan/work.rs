@@ -16,10 +16,10 @@ use crate::options::RenderOptions;
 use crate::plan::counters::{Counters, StageClock};
 use crate::plan::cull::Frustum;
 use crate::plan::node_xy::NodeXY;
+use crate::plan::sides::PortalsInView;
 use crate::plan::split::SplitWork;
 use crate::prepare::normal_buffer::NormalBuffer;
 use crate::prepare::patch::PreparedPatch;
-use crate::prepare::scene::Portal;
 use crate::raster::centre_piece::CentreStyle;
 use crate::raster::triangle_raster::{ClipVertex, ScreenTriangle};
 
@@ -121,8 +121,9 @@ pub(crate) struct FrameSetup<'a> {
     pub(crate) z_scale: f32,
     pub(crate) z_offset: f32,
     pub(crate) base_colour: Vec3,
-    /// The scene's openings (automatic culling); empty for meshes.
-    pub(crate) portals: &'a [Portal],
+    /// The scene's openings seen from this frame's eye (automatic
+    /// culling); none for meshes.
+    pub(crate) portals: &'a PortalsInView,
     /// The eye lies outside the scene's inside box: two-sided patches show
     /// their backs only through openings this frame
     /// ([`spatch_format::InsideBox`]).

@@ -3,7 +3,8 @@
 //! eight-lane vectors of its kernels, normal reconstruction and the slots
 //! of node differences, the normal buffer, the mip pyramid, how far a
 //! level strays from the one below, the normal cone, a level's shading
-//! inputs, the prepared patch, overlap trimming, the prepared scene.
+//! inputs, the prepared patch, the openings as portals, overlap trimming,
+//! the prepared scene.
 
 pub(crate) mod coarse_fit;
 pub(crate) mod cone;
@@ -14,5 +15,6 @@ pub(crate) mod normal_buffer;
 pub(crate) mod normals;
 pub(crate) mod overlap;
 pub(crate) mod patch;
+pub(crate) mod portals;
 pub(crate) mod scene;
 pub(crate) mod wide;

@@ -1,7 +1,7 @@
 //! A scene prepared for rendering, done once and reused for every frame:
 //! its patches prepared ([`crate::prepare::patch`]), optionally with their
 //! overlaps trimmed ([`crate::prepare::overlap`]), in drawing order, its
-//! openings as portals, its bounds.
+//! openings as portals ([`crate::prepare::portals`]), its bounds.
 //!
 //! Patches are ordered by their shading ratios (`|az|/|ax|`, `|az|/|ay|`)
 //! so that the normal buffer ([`crate::prepare::normal_buffer`]) stays
@@ -19,25 +19,15 @@ use crate::error::CameraProblem;
 use crate::isa::Isa;
 use crate::prepare::overlap::trim_overlaps;
 use crate::prepare::patch::PreparedPatch;
-
-/// An opening of the scene's surface in model space: a sphere and a slab
-/// holding one boundary loop ([`spatch_format::Opening`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Portal {
-    pub(crate) centre: DVec3,
-    pub(crate) radius: f64,
-    /// Unit normal of the slab's plane (through `centre`).
-    pub(crate) normal: DVec3,
-    pub(crate) half_thickness: f64,
-}
+use crate::prepare::portals::Portals;
 
 /// A scene prepared for rendering (see the module header). Build it once
 /// and render it many times.
 #[derive(Debug, Clone)]
 pub struct PreparedScene {
     pub(crate) patches: Vec<PreparedPatch>,
-    /// The scene's openings in model space.
-    pub(crate) portals: Vec<Portal>,
+    /// The scene's openings in model space, grouped.
+    pub(crate) portals: Portals,
     /// The scene's inside box in model space ([`spatch_format::InsideBox`]):
     /// outside it, two-sided patches show their backs only through
     /// openings.
@@ -128,15 +118,7 @@ impl PreparedScene {
             let r = corners().map(|p| (p - c).length()).fold(0.0, f64::max);
             (c, r)
         });
-        let portals = openings
-            .iter()
-            .map(|o| Portal {
-                centre: offset + o.centre().as_dvec3(),
-                radius: f64::from(o.radius()),
-                normal: o.normal().as_dvec3(),
-                half_thickness: f64::from(o.half_thickness()),
-            })
-            .collect();
+        let portals = Portals::new(openings, offset);
         let inside_box =
             inside_box.map(|b| (offset + b.min().as_dvec3(), offset + b.max().as_dvec3()));
         Self {
