@@ -545,10 +545,20 @@ fn one_line_reason(error: &ParseError) -> String {
         .and_then(|rest| rest.split('\'').next())
         .map(str::trim)
         .filter(|q| !q.is_empty());
-    // Control characters of the file (a stray CR, ...) are shown escaped, never raw.
-    let first = first.escape_debug();
+    let first = controls_escaped(first);
     match quoted {
-        Some(q) => format!("{first}: cannot read '{}'", q.escape_debug()),
-        None => first.to_string(),
+        Some(q) => format!("{first}: cannot read '{}'", controls_escaped(q)),
+        None => first,
     }
+}
+
+/// `text` with its control characters (a stray CR of the file, ...) escaped, never raw; the
+/// rest as it is (`str::escape_debug` also escaped the reader's apostrophes: "Couldn\'t").
+fn controls_escaped(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_debug().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
 }

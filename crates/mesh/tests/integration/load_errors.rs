@@ -368,3 +368,28 @@ fn garbage_bodies_do_not_panic() {
         }
     }
 }
+
+/// An ASCII PLY whose body the reader cannot parse is refused in one line that quotes the
+/// line it could not read (the reader's apostrophes unescaped, the line's stray carriage
+/// return not written raw).
+#[test]
+fn an_unreadable_ply_line_is_quoted_plainly() {
+    let dir = tempfile::tempdir().unwrap();
+    let header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                  property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let body = "0 0 0\nnan 0 0\r\n0 1 0\n3 0 1 2\n";
+    let path = write(dir.path(), "bad.ply", format!("{header}{body}").as_bytes());
+    match load_mesh(&path) {
+        Err(e @ MeshError::Ply { .. }) => {
+            let message = e.to_string();
+            assert_eq!(message.lines().count(), 1, "{message}");
+            assert!(
+                !message.contains('\r') && !message.contains("\\'"),
+                "{message}"
+            );
+            assert!(message.contains("Couldn't read"), "{message}");
+            assert!(message.ends_with("cannot read 'nan 0 0'"), "{message}");
+        }
+        other => panic!("expected a PLY error, got {other:?}"),
+    }
+}
