@@ -165,6 +165,28 @@ fn spot_with_its_texture() {
     check_golden("spot_textured", &t.path("demo/spot.png"));
 }
 
+/// Flat shading of a coloured scan: each cell's colour from its first corner's albedo, read
+/// by the resolve pass from the level's prepared cell normals (the same image as when the
+/// planning shaded every node).
+#[test]
+fn spot_flat_with_its_node_colours() {
+    let t = TestCommand::new();
+    t.run(&[
+        "demo",
+        "-o",
+        "demo",
+        "--size",
+        "128",
+        "--no-error",
+        "--texels-per-node",
+        "0",
+        "--colour-grid",
+        "0",
+    ])
+    .success();
+    render_and_check(&t, "spot_flat", "demo/spot.spatch", &["--shading", "flat"]);
+}
+
 #[test]
 fn spot_with_its_colour_grids() {
     // The demo's own conversion: colour grids on, so the pieces cut 4 and

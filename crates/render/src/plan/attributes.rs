@@ -1,16 +1,19 @@
 //! Per-node attributes for the shading model, written beside the projected
-//! nodes after traversal ([`ChunkWork::node_attributes`]): the shaded
-//! colour (flat: the cell's; Gouraud: the node's) or, for Phong, nothing
-//! but the normal-buffer lookups the nodes make (the resolve pass reads the
-//! prepared level's normals and albedos,
-//! [`crate::prepare::level_shading::LevelShading`]).
+//! nodes after traversal ([`ChunkWork::node_attributes`]): Gouraud, the
+//! node's shaded colour; Phong, nothing but the normal-buffer lookups the
+//! nodes make (the resolve pass reads the prepared level's normals and
+//! albedos, [`crate::prepare::level_shading::LevelShading`]); flat,
+//! nothing (the resolve pass reads the level's prepared cell normals,
+//! [`PreparedPatch::flat_shading`]). The attributes of a vertex of cells
+//! drawn as triangles ([`node_attributes`]) carry the shaded colour for
+//! flat too.
 //!
 //! Normals are reconstructed in patch space from displacement differences
 //! ([`crate::prepare::normals`]) through the chunk's normal buffer.
 //!
-//! Cost: one shading per used node, four at a time (Gouraud, from the
-//! level's kept normals; flat, from its cell's corners or a normal-buffer
-//! probe), or one bitset word per 64 slots for a Phong level drawn whole.
+//! Cost: Gouraud, one shading per used node, four at a time, from the
+//! level's kept normals; Phong, one bitset word per 64 slots for a level
+//! drawn whole.
 
 use glam::{Vec3, Vec4};
 
@@ -19,9 +22,10 @@ use crate::lighting::{Lanes, ShadeFrame, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::split::NodeRange;
 use crate::plan::work::{ChunkWork, FrameSetup, PatchContext};
+use crate::prepare::level_shading::flat_node_normal;
 use crate::prepare::mip::MipLevel;
 use crate::prepare::normal_buffer::NormalBuffer;
-use crate::prepare::normals::{node_differences, reconstruct_normal, OUTSIDE_TABLE};
+use crate::prepare::normals::{node_differences, OUTSIDE_TABLE};
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::triangle_raster::TRI_ATTRS;
 
@@ -47,7 +51,7 @@ pub(crate) fn node_attributes(
             [n.x, n.y, n.z, albedo.x, albedo.y, albedo.z]
         }
         Shading::Gouraud => shaded(node_normal(normals, ctx, m, level, i, j)),
-        Shading::Flat => shaded(flat_normal(normals, ctx, m, level, i, j)),
+        Shading::Flat => shaded(flat_node_normal(level, ctx.patch.ratios_at(m), i, j)),
     }
 }
 
@@ -58,29 +62,6 @@ fn node_albedo(level: &MipLevel, at: usize, base: Vec3) -> Vec3 {
         Some(c) => Vec3::new(c[at][0] as f32, c[at][1] as f32, c[at][2] as f32),
         None => base,
     }
-}
-
-/// The flat-shading normal of node `(i, j)`: its cell's (the cell it is
-/// the lower corner of, or the last one), from the four corners'
-/// displacements, or the node's own where that cell is not drawn.
-#[inline]
-fn flat_normal(
-    normals: &mut NormalBuffer,
-    ctx: &PatchContext<'_>,
-    m: usize,
-    level: &MipLevel,
-    i: usize,
-    j: usize,
-) -> Vec3 {
-    let (ci, cj) = (i.min(level.cols - 2), j.min(level.rows - 2));
-    if !level.cell_is_drawable(ci, cj) {
-        return node_normal(normals, ctx, m, level, i, j);
-    }
-    let ratios = ctx.patch.ratios_at(m);
-    let d = |a: usize, b: usize| level.displacements[b * level.cols + a] as i32;
-    let du = d(ci + 1, cj) + d(ci + 1, cj + 1) - d(ci, cj) - d(ci, cj + 1);
-    let dv = d(ci, cj + 1) + d(ci + 1, cj + 1) - d(ci, cj) - d(ci + 1, cj);
-    reconstruct_normal(du, dv, ratios.0, ratios.1)
 }
 
 /// The patch-space normal of node `(i, j)` of `level` (level `m` of the
@@ -108,7 +89,7 @@ pub(crate) fn node_normal(
 /// Writes the attributes of the used nodes of `range` of level `m`
 /// (projected from node `first` on in the chunk's node array) for the
 /// shading model: for Phong only the normal-buffer lookups are counted
-/// ([`fill_phong_attributes`]).
+/// ([`fill_phong_attributes`]), for flat nothing (see the module header).
 #[inline(always)]
 pub(crate) fn fill_attributes(
     work: &mut ChunkWork,
@@ -118,6 +99,13 @@ pub(crate) fn fill_attributes(
     first: usize,
 ) {
     let (p, setup) = (ctx.patch, ctx.setup);
+    if setup.options.shading == Shading::Flat {
+        // The resolve pass reads the level's cell normals
+        // ([`PreparedPatch::flat_shading`]), built here on a frame's first
+        // use, on the planning threads.
+        p.flat_shading(m);
+        return;
+    }
     if setup.options.shading == Shading::Phong {
         if setup.options.normal_counts {
             fill_phong_attributes(work, p, m, range, first);
@@ -128,7 +116,7 @@ pub(crate) fn fill_attributes(
         }
         return;
     }
-    if setup.options.shading == Shading::Gouraud && setup.options.normal_counts {
+    if setup.options.normal_counts {
         // The normal lookups counted as for Phong (Gouraud reads the same normals).
         fill_phong_attributes(work, p, m, range, first);
     }
@@ -136,7 +124,7 @@ pub(crate) fn fill_attributes(
     // resolve ([`crate::prepare::level_shading::LevelShading`]) rather than
     // the chunk's normal buffer: a probe and a reconstruction per node took
     // a third of its planning (perf, bunny 1000²).
-    let kept = (setup.options.shading == Shading::Gouraud).then(|| p.shading(m));
+    let kept = p.shading(m);
     let level = p.level(m);
     // One entry per node from `first` on, as the node array.
     work.node_attributes.truncate(first);
@@ -147,10 +135,7 @@ pub(crate) fn fill_attributes(
         for i in range.i0..=range.i1 {
             if work.nodes[k][0] != EMPTY_NODE {
                 let at = j * level.cols + i;
-                let n = match kept {
-                    Some(shading) => shading.normals[at].truncate(),
-                    None => flat_normal(&mut work.normals, ctx, m, level, i, j),
-                };
+                let n = kept.normals[at].truncate();
                 let albedo = node_albedo(level, at, setup.base_colour);
                 work.to_shade.push((k as u32, n, albedo));
             }

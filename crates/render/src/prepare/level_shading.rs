@@ -2,18 +2,22 @@
 //! patch-space normals rounded as projected nodes carry them, and albedos
 //! as bytes, built once per scene the first time a Phong frame draws the
 //! level ([`crate::prepare::patch::PreparedPatch::shading`]), eight nodes
-//! at a time in lanes.
+//! at a time in lanes; for flat shading, each node's normal is that of
+//! the cell it is the first corner of ([`LevelShading::flat`],
+//! [`crate::prepare::patch::PreparedPatch::flat_shading`]).
 
 use std::sync::OnceLock;
 
-use glam::Vec4;
+use glam::{Vec3, Vec4};
 use spatch_format::EMPTY;
 
 use crate::fixed::ATTR_ONE;
 use crate::isa::Isa;
 use crate::prepare::mip::MipLevel;
 use crate::prepare::normal_buffer::{SlotSet, SlotSetBuilder};
-use crate::prepare::normals::{grid_differences, unit_normals};
+use crate::prepare::normals::{
+    grid_differences, node_differences, reconstruct_normal, unit_normals,
+};
 use crate::prepare::wide::{Portable, Wide, LANES};
 
 /// The shading inputs of one mip level's nodes, row-major like its grid.
@@ -86,6 +90,53 @@ impl LevelShading {
             ),
         })
     }
+}
+
+impl LevelShading {
+    /// The flat-shading inputs of a level with shading ratios `ratios`:
+    /// per filled node, the normal flat shading gives it (the normal of
+    /// the cell it is the first corner of, the last column's and row's
+    /// nodes that of the cell before them; the node's own unit normal
+    /// where that cell is not drawable, as the normal buffer gives it),
+    /// zero for empty nodes; the albedos as [`Self::new`] keeps them. Read
+    /// with every weight on a sample's first corner, they give each pixel
+    /// the colour flat shading gives its cell's first corner.
+    pub(crate) fn flat(level: &MipLevel, ratios: (f32, f32)) -> Self {
+        let (cols, rows) = (level.cols, level.rows);
+        let mut normals = vec![Vec4::ZERO; cols * rows];
+        for j in 0..rows {
+            for i in 0..cols {
+                if level.displacements[j * cols + i] != EMPTY {
+                    normals[j * cols + i] = flat_node_normal(level, ratios, i, j).extend(0.0);
+                }
+            }
+        }
+        Self {
+            normals,
+            colours: level_colours(level),
+        }
+    }
+}
+
+/// The normal flat shading gives filled node `(i, j)` of `level` (see
+/// [`LevelShading::flat`]); not unit when it is a cell's.
+pub(crate) fn flat_node_normal(level: &MipLevel, ratios: (f32, f32), i: usize, j: usize) -> Vec3 {
+    let (ci, cj) = (i.min(level.cols - 2), j.min(level.rows - 2));
+    if level.cell_is_drawable(ci, cj) {
+        return cell_normal(level, ratios, ci, cj);
+    }
+    let d = &level.displacements;
+    let (gi, gj) = node_differences(d, level.cols, level.rows, i, j, EMPTY);
+    reconstruct_normal(gi, gj, ratios.0, ratios.1).normalize()
+}
+
+/// The flat-shading normal of cell `(ci, cj)` of `level` (shading ratios
+/// `ratios`), from its four corners' displacements; not unit.
+fn cell_normal(level: &MipLevel, ratios: (f32, f32), ci: usize, cj: usize) -> Vec3 {
+    let d = |a: usize, b: usize| level.displacements[b * level.cols + a] as i32;
+    let du = d(ci + 1, cj) + d(ci + 1, cj + 1) - d(ci, cj) - d(ci, cj + 1);
+    let dv = d(ci, cj + 1) + d(ci + 1, cj + 1) - d(ci, cj) - d(ci + 1, cj);
+    reconstruct_normal(du, dv, ratios.0, ratios.1)
 }
 
 /// Per-node lanes inputs of one level's shading, their room reused.

@@ -2,7 +2,10 @@
 //! item its level's prepared normals and albedos from the piece's first
 //! node on and its shade frame, and the bilinear weights of the sub-nodes
 //! of every subdivision the frame uses. Built once per frame, after
-//! planning and binning.
+//! planning and binning. A flat frame is resolved the same way, from its
+//! levels' cell normals ([`LevelShading::flat`]) with every weight on a
+//! sample's first corner: each pixel gets its cell's normal and its first
+//! corner's albedo.
 //!
 //! Cost: O(items) per frame, plus `(nu + 1) · (nv + 1)` weights per
 //! distinct subdivision.
@@ -13,6 +16,8 @@ use crate::lighting::ShadeFrame;
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 use crate::prepare::level_shading::albedo_lanes;
+#[cfg(doc)]
+use crate::prepare::level_shading::LevelShading;
 use crate::prepare::patch::PreparedPatch;
 use crate::shade::colour_grid::{grid_place, GridPlace};
 
@@ -69,8 +74,7 @@ pub(crate) struct PhongItems<'a> {
 
 impl<'a> PhongItems<'a> {
     /// The table for the draw items `items` (`(chunk, item)`) of `chunks`,
-    /// which refer to `patches` and `frames`; empty unless `shading` is
-    /// Phong.
+    /// which refer to `patches` and `frames`; empty for Gouraud.
     pub(crate) fn new(
         shading: Shading,
         items: &[(u32, u32)],
@@ -79,9 +83,10 @@ impl<'a> PhongItems<'a> {
         frames: &[ShadeFrame],
     ) -> Self {
         let mut table = Self::default();
-        if shading != Shading::Phong {
+        if shading == Shading::Gouraud {
             return table;
         }
+        let flat = shading == Shading::Flat;
         table.frames = frames
             .iter()
             .map(|f| [f.light.extend(0.0), f.half.extend(0.0), f.view.extend(0.0)])
@@ -99,8 +104,10 @@ impl<'a> PhongItems<'a> {
                     let start = table.weights.len() as u32;
                     for a in 0..=nu as u32 {
                         for b in 0..=nv as u32 {
-                            let (w, offset) =
-                                sub_node_place(a, b, nu as u32, nv as u32, shift as u32);
+                            let (w, offset) = match flat {
+                                true => ([1.0, 0.0, 0.0, 0.0], 0),
+                                false => sub_node_place(a, b, nu as u32, nv as u32, shift as u32),
+                            };
                             table.weights.push(w.map(Vec4::splat));
                             table.offsets.push(offset);
                         }
@@ -109,13 +116,14 @@ impl<'a> PhongItems<'a> {
                     start
                 }
             };
-            let (entry, colours) = PhongItem::new(item, patches, &table.frames, start);
+            let (entry, colours) = PhongItem::new(item, patches, &table.frames, (start, flat));
             table.items.push(entry);
             table.colours.push(colours);
         }
         table.uncoloured = table.colours.iter().all(|c| c.is_empty());
         table.shifted = table.items.iter().any(|item| item.shift != 0);
-        if patches.iter().any(|p| p.colour_grid.is_some()) {
+        // Flat shading keeps its cells' colours, not the colour grids'.
+        if !flat && patches.iter().any(|p| p.colour_grid.is_some()) {
             table.grids = items
                 .iter()
                 .map(|&(c, i)| grid_place(patches, &chunks[c as usize].items[i as usize]))
@@ -156,22 +164,24 @@ pub(crate) struct PhongItem<'a> {
 
 impl<'a> PhongItem<'a> {
     /// The entry of `item` (of a patch of `patches`, shaded in one of
-    /// `frames`) whose weights start at `weights`, and its albedos (empty
-    /// for the base albedo).
+    /// `frames`) whose weights start at `weights`, from its level's
+    /// flat-shading inputs when `flat`, and its albedos (empty for the
+    /// base albedo).
     fn new(
         item: &Item,
         patches: &'a [PreparedPatch],
         frames: &[[Vec4; 3]],
-        weights: u32,
+        (weights, flat): (u32, bool),
     ) -> (Self, &'a [[u8; 4]]) {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let shift = item.shade_shift as usize;
-        let (cols, shading) = if shift == 0 {
-            (patch.level(m).cols, patch.shading(m))
-        } else {
-            ((patch.level(m).cols - 1) * 2 + 1, patch.fine_shading(m))
+        let (cols, shading) = match (flat, shift) {
+            (true, _) => (patch.level(m).cols, patch.flat_shading(m)),
+            (false, 0) => (patch.level(m).cols, patch.shading(m)),
+            (false, _) => ((patch.level(m).cols - 1) * 2 + 1, patch.fine_shading(m)),
         };
+        debug_assert!(!flat || shift == 0, "coarse geometry is Phong's alone");
         let start = (item.j0 as usize * cols + item.i0 as usize) << shift;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
         let [light, half, view] = frames[item.frame as usize];

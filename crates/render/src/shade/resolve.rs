@@ -18,9 +18,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::fixed::{attr_from_bits, NodeAttributes, Z_FAR};
-#[cfg(test)]
-use crate::lighting::ShadeFrame;
-use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ANY_POWER};
+use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
 #[cfg(test)]
@@ -117,7 +115,7 @@ pub(crate) fn resolve_band(
     eye_depth: &mut [f32],
 ) {
     debug_assert!(rgba.len() == px.len() && eye_depth.len() == px.len());
-    if r.shading == Shading::Phong {
+    if r.shading != Shading::Gouraud {
         resolve_phong(r, px, rgba, eye_depth);
         return;
     }
@@ -149,21 +147,28 @@ pub(crate) fn resolve_band(
     }
 }
 
-/// [`resolve_band`] for Phong: the band in groups of four pixels
+/// [`resolve_band`] for Phong and flat: the band in groups of four pixels
 /// ([`resolve_phong_pixels`]).
 #[inline(always)]
 fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
     // The default shininess, 32, is five squarings (see
     // [`Material::shade4_with`]).
     // And the mapping of coarse-geometry items only when the frame has
-    // some (see `PhongItem::corner`).
+    // some (see `PhongItem::corner`; never flat).
     // Why calls rather than a function pointer: inlined, they run with the
     // caller's instruction set (`crate::isa`).
-    match (r.material.squarings() == 5, r.phong.shifted) {
-        (true, false) => resolve_phong_pixels::<5, false>(r, px, rgba, eye_depth),
-        (true, true) => resolve_phong_pixels::<5, true>(r, px, rgba, eye_depth),
-        (false, false) => resolve_phong_pixels::<ANY_POWER, false>(r, px, rgba, eye_depth),
-        (false, true) => resolve_phong_pixels::<ANY_POWER, true>(r, px, rgba, eye_depth),
+    let flat = r.shading == Shading::Flat;
+    match (r.material.squarings() == 5, r.phong.shifted, flat) {
+        (true, false, false) => resolve_phong_pixels::<5, false, false>(r, px, rgba, eye_depth),
+        (true, true, _) => resolve_phong_pixels::<5, true, false>(r, px, rgba, eye_depth),
+        (false, false, false) => {
+            resolve_phong_pixels::<ANY_POWER, false, false>(r, px, rgba, eye_depth)
+        }
+        (false, true, _) => resolve_phong_pixels::<ANY_POWER, true, false>(r, px, rgba, eye_depth),
+        (true, false, true) => resolve_phong_pixels::<5, false, true>(r, px, rgba, eye_depth),
+        (false, false, true) => {
+            resolve_phong_pixels::<ANY_POWER, false, true>(r, px, rgba, eye_depth)
+        }
     }
 }
 
@@ -178,8 +183,10 @@ fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth
 /// waste lanes on silhouette edges (callgrind, `profile_sphere 500 1`).
 /// Inlined so that it runs with the band's instruction set
 /// ([`crate::isa`]).
+/// With `FLAT`, a group that is not four patch samples is resolved pixel
+/// by pixel ([`resolve_flat_group`]).
 #[inline(always)]
-fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool>(
+fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: bool>(
     r: &Resolve<'_>,
     px: &[Sample],
     rgba: &mut [[u8; 4]],
@@ -192,7 +199,7 @@ fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool>(
         let s: &[Sample; 4] = s.try_into().expect("groups of four");
         let rgba: &mut [[u8; 4]; 4] = rgba.try_into().expect("groups of four");
         let eye: &mut [f32; 4] = eye.try_into().expect("groups of four");
-        resolve_group::<SQUARINGS, SHIFTED>(r, s, rgba, eye);
+        resolve_any_group::<SQUARINGS, SHIFTED, FLAT>(r, s, rgba, eye);
     }
     // The last pixels of a band whose size is not a multiple of four,
     // padded with empty pixels.
@@ -202,9 +209,23 @@ fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool>(
         let mut s = [Sample::EMPTY; 4];
         s[..n].copy_from_slice(&px[done..]);
         let (mut c, mut e) = ([[0u8; 4]; 4], [0f32; 4]);
-        resolve_group::<SQUARINGS, SHIFTED>(r, &s, &mut c, &mut e);
+        resolve_any_group::<SQUARINGS, SHIFTED, FLAT>(r, &s, &mut c, &mut e);
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
+    }
+}
+
+/// [`resolve_flat_group`] when `FLAT`, else [`resolve_group`].
+#[inline(always)]
+fn resolve_any_group<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: bool>(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    match FLAT {
+        true => resolve_flat_group::<SQUARINGS>(r, s, rgba, eye),
+        false => resolve_group::<SQUARINGS, SHIFTED>(r, s, rgba, eye),
     }
 }
 
@@ -268,6 +289,49 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
         return;
     }
     resolve_general_group(r, s, rgba, eye);
+}
+
+/// [`resolve_group`] for a flat frame: four patch samples as Phong's (the
+/// items read their cells' normals with every weight on the first corner,
+/// [`crate::shade::phong_items`]); any other group pixel by pixel, a patch
+/// sample shaded alone (the same operations as a lane,
+/// [`Material::shade`]), a triangle sample taking the colour it carries.
+#[inline(always)]
+fn resolve_flat_group<const SQUARINGS: u32>(
+    r: &Resolve<'_>,
+    s: &[Sample; 4],
+    rgba: &mut [[u8; 4]; 4],
+    eye: &mut [f32; 4],
+) {
+    if s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2 & PATCH_SAMPLE != 0 {
+        return resolve_group::<SQUARINGS, false>(r, s, rgba, eye);
+    }
+    let depths = eye_depths(r, s);
+    for k in 0..4 {
+        (rgba[k], eye[k]) = match (s[k].depth < Z_FAR, s[k].w2 & PATCH_SAMPLE != 0) {
+            (false, _) => (r.background, f32::INFINITY),
+            (true, true) => (flat_patch_sample(r, &s[k]), depths[k]),
+            (true, false) => (s[k].w0.to_le_bytes(), depths[k]),
+        };
+    }
+}
+
+/// The flat colour of one patch sample: its cell's normal and first
+/// corner's albedo ([`phong_lane`]) shaded in its item's frame.
+#[inline(always)]
+fn flat_patch_sample(r: &Resolve<'_>, s: &Sample) -> [u8; 4] {
+    let lane = phong_lane(r.phong, s);
+    let albedo = match lane.frame & BASE_ALBEDO {
+        0 => Vec3::new(lane.normal_red.w, lane.green_blue.x, lane.green_blue.y),
+        _ => r.base_albedo,
+    };
+    let [light, half, view] = r.phong.frames[(lane.frame & !BASE_ALBEDO) as usize];
+    let frame = ShadeFrame {
+        light: light.truncate(),
+        half: half.truncate(),
+        view: view.truncate(),
+    };
+    to_rgba8(r.material.shade(lane.normal_red.truncate(), &frame, albedo))
 }
 
 /// [`resolve_group`] for four covered patch samples whose items all have
@@ -566,28 +630,20 @@ fn lerp4(n: [&NodeAttributes; 4], w: [f32; 4]) -> Vec4 {
     attr4(n[0]) * w[0] + attr4(n[1]) * w[1] + attr4(n[2]) * w[2] + attr4(n[3]) * w[3]
 }
 
-/// Shades a patch sample with flat or Gouraud colours: the cell's colour,
-/// or the colours of its corners interpolated at its sub-node.
+/// Shades a patch sample with Gouraud colours: the colours of its cell's
+/// corners interpolated at its sub-node (relit by the patch's colour grid
+/// where it has one).
 #[inline]
 fn resolve_patch_sample(r: &Resolve<'_>, item: u32, sub: u32) -> [u8; 4] {
     let (item, n, w) = sample_cell(r, item, sub);
-    let colour = match r.shading {
-        Shading::Flat => Vec3::new(
-            attr_to_f32f(n[0][0]),
-            attr_to_f32f(n[0][1]),
-            attr_to_f32f(n[0][2]),
+    let lit = lerp4(n, w).truncate();
+    let colour = match grid_place(r.patches, item) {
+        Some(place) => relight(
+            lit,
+            corner_albedo(&r.patches[item.frame as usize], item, sub, w),
+            place.albedo(sub),
         ),
-        Shading::Gouraud | Shading::Phong => {
-            let lit = lerp4(n, w).truncate();
-            match grid_place(r.patches, item) {
-                Some(place) => relight(
-                    lit,
-                    corner_albedo(&r.patches[item.frame as usize], item, sub, w),
-                    place.albedo(sub),
-                ),
-                None => lit,
-            }
-        }
+        None => lit,
     };
     to_rgba8(colour)
 }
