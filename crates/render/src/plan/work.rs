@@ -157,9 +157,9 @@ pub(crate) struct ChunkWork {
     pub(crate) vertices: Vec<ClipVertex>,
     /// Scratch of [`drop_undrawn_nodes`](crate::raster::splat::drop_undrawn_nodes).
     pub(crate) splat_scratch: Vec<u8>,
-    /// Flat and Gouraud: the nodes of the piece being planned to shade (their
-    /// index in [`Self::node_attributes`], normal and albedo).
-    pub(crate) to_shade: Vec<(u32, glam::Vec3, glam::Vec3)>,
+    /// Gouraud: the nodes of the piece being planned to shade (their index
+    /// in [`Self::node_attributes`] and in their level's arrays).
+    pub(crate) to_shade: Vec<(u32, u32)>,
 }
 
 impl ChunkWork {
