@@ -51,8 +51,7 @@ pub(crate) fn plan_chunk(
         );
         // A patch whose cone faces the eye entirely shows only its front,
         // whatever the openings: its back is culled without the portal
-        // test (a raw scan's frame spent more on that test than on the
-        // rest of its planning).
+        // test (a raw scan spent about half its planning on that test).
         let facing_eye = cone_faces_eye(&p.cone, p.centre, p.radius, eye);
         let culled = facing_eye || back_culled(mode, setup.portals, p.centre, p.radius);
         if culled && cone_faces_away(&p.cone, p.centre, p.radius, eye) {

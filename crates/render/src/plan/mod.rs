@@ -1,9 +1,9 @@
 //! Planning, once per frame and patch: everything decided before any
 //! pixel is touched, into flat per-chunk work for the bands. In use order:
-//! culling, which backs to cull, splitting, lane conversions, the node positions' scratch,
-//! projection, cell measurement, subdivision, counters, the chunk's work
-//! and the per-patch context, attributes, cells as triangles, the piece,
-//! the chunk, meshes.
+//! culling, which backs to cull (the portal test), splitting, lane
+//! conversions, the node positions' scratch, projection, cell measurement,
+//! subdivision, counters, the chunk's work and the per-patch context,
+//! attributes, cells as triangles, the piece, the chunk, meshes.
 
 pub(crate) mod attributes;
 pub(crate) mod cell_triangles;

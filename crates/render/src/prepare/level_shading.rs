@@ -90,9 +90,7 @@ impl LevelShading {
             ),
         })
     }
-}
 
-impl LevelShading {
     /// The flat-shading inputs of a level with shading ratios `ratios`:
     /// per filled node, the normal flat shading gives it (the normal of
     /// the cell it is the first corner of, the last column's and row's

@@ -107,9 +107,10 @@ impl Clone for BaseNodes {
 /// boxed. Why boxed: a level's parts inline took 432 bytes, written when
 /// the patch was prepared (every part's empty state) whether a frame ever
 /// built them or not; for the bunny's 2,532 patches of five levels that
-/// was 5.5 MB, where boxes take 72 bytes a level and allocate only what
-/// is built (with the prepared patches ordered in place, 480 fewer page
-/// faults of a one-image bunny render; `perf stat`, 2 threads).
+/// was 5.5 MB, where boxes take 72 bytes a level (88 since flat shading's
+/// inputs have their own) and allocate only what is built (with the
+/// prepared patches ordered in place, 480 fewer page faults of a one-image
+/// bunny render; `perf stat`, 2 threads).
 #[derive(Debug, Clone, Default)]
 struct LazyLevel {
     /// The level ([`PreparedPatch::level`]): level 0 from the patch's

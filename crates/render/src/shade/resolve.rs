@@ -3,12 +3,13 @@
 //! of colour and linear eye depth.
 //!
 //! A patch sample ([`crate::raster::band`]) names its draw item, cell and
-//! sub-node: flat and Gouraud take the colours its corner nodes carry
-//! (the cell's, or interpolated bilinearly); Phong interpolates the
-//! prepared level's normals and albedos ([`PhongItems`]) and shades four
-//! neighbouring pixels at a time in lanes, bit-identical to shading them
-//! one by one ([`Material::shade`]). A triangle sample carries its colour,
-//! or its normal, albedo and frame.
+//! sub-node: Gouraud interpolates the colours its corner nodes carry;
+//! Phong interpolates the prepared level's normals and albedos
+//! ([`PhongItems`]) and shades four neighbouring pixels at a time in
+//! lanes, bit-identical to shading them one by one ([`Material::shade`]);
+//! flat does the same with its level's cell normals and every weight on
+//! the first corner. A triangle sample carries its colour, or its normal,
+//! albedo and frame.
 //!
 //! So Phong costs one shading per pixel however many samples were drawn
 //! over it.
