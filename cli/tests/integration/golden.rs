@@ -144,11 +144,9 @@ fn the_sphere_in_every_shading_and_both_modes() {
     }
 }
 
-#[test]
-fn spot_with_its_texture() {
-    let t = TestCommand::new();
-    // The golden image is the texture-blind conversion (texture spacing and colour grids
-    // off).
+/// Runs `spatch demo` into `demo/` at 128² with the texture-blind conversion (texture
+/// spacing and colour grids off: Spot with a colour per node).
+fn texture_blind_demo(t: &TestCommand) {
     t.run(&[
         "demo",
         "-o",
@@ -162,6 +160,14 @@ fn spot_with_its_texture() {
         "0",
     ])
     .success();
+}
+
+#[test]
+fn spot_with_its_texture() {
+    let t = TestCommand::new();
+    // The golden image is the texture-blind conversion (texture spacing and colour grids
+    // off).
+    texture_blind_demo(&t);
     check_golden("spot_textured", &t.path("demo/spot.png"));
 }
 
@@ -171,19 +177,7 @@ fn spot_with_its_texture() {
 #[test]
 fn spot_flat_with_its_node_colours() {
     let t = TestCommand::new();
-    t.run(&[
-        "demo",
-        "-o",
-        "demo",
-        "--size",
-        "128",
-        "--no-error",
-        "--texels-per-node",
-        "0",
-        "--colour-grid",
-        "0",
-    ])
-    .success();
+    texture_blind_demo(&t);
     render_and_check(&t, "spot_flat", "demo/spot.spatch", &["--shading", "flat"]);
 }
 

@@ -315,7 +315,8 @@ fn find_repeats(triangles: &[[u32; 3]]) -> Vec<Repeat> {
         .collect();
     keys.par_sort_unstable();
     let mut repeats = Vec::new();
-    for group in keys.chunk_by(|a, b| a.0 == b.0) {
+    // Only groups of two or more hold a repeat: a face alone costs no winding test.
+    for group in keys.chunk_by(|a, b| a.0 == b.0).filter(|g| g.len() > 1) {
         let first = group[0].1;
         let cycle = sorted_cycle(triangles[first as usize]);
         repeats.extend(group[1..].iter().map(|&(_, at)| Repeat {
