@@ -98,14 +98,17 @@ pub(crate) fn splat_sample(t: &mut BandTarget<'_>, px: i32, py: i32, z: i32, sub
 }
 
 /// Writes a triangle sample with its payload if it is in the band and
-/// passes the depth test.
+/// passes the depth test; its attributes are computed (`attrs`) only then.
+/// Why lazily: a pixel's perspective-correct attributes and their
+/// conversions cost more than its depth test, and a magnified cell's
+/// triangles are drawn where other patches already lie.
 #[inline(always)]
 pub(crate) fn splat<const N: usize, P: Payload<N>>(
     t: &mut BandTarget<'_>,
     px: i32,
     py: i32,
     z: i32,
-    attrs: &[i32; N],
+    attrs: impl FnOnce() -> [i32; N],
     payload: &P,
 ) {
     let row = py - t.y0;
@@ -113,7 +116,7 @@ pub(crate) fn splat<const N: usize, P: Payload<N>>(
         let idx = row as usize * t.width as usize + px as usize;
         if z < t.px[idx].depth {
             t.px[idx].depth = z;
-            payload.store(t, idx, attrs);
+            payload.store(t, idx, &attrs());
         }
     }
 }

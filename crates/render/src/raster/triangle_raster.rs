@@ -242,8 +242,8 @@ pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
         for x in x_lo..x_hi {
             let w = 1.0 / iw;
             let z = depth_to_fixed(w * zs + zo);
-            let attrs: [i32; N] = std::array::from_fn(|c| attr_to_fixed(av[c] * w));
-            splat(t, x, y, z, &attrs, payload);
+            let attrs = || std::array::from_fn(|c| attr_to_fixed(av[c] * w));
+            splat(t, x, y, z, attrs, payload);
             iw += w_plane.0;
             for c in 0..N {
                 av[c] += a_planes[c].0;
