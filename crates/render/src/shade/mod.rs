@@ -1,9 +1,11 @@
 //! Deferred shading: the resolve pass that shades each covered pixel of a
 //! band once, after every sample has been drawn. In use order:
-//! the draw items as Phong reads them, the resolve pass.
+//! shaded colours as RGBA8, the draw items as Phong reads them, the resolve
+//! pass.
 
 pub(crate) mod colour_grid;
 pub(crate) mod phong_items;
 pub(crate) mod resolve;
 #[cfg(test)]
 mod resolve_tests;
+pub(crate) mod rgba;

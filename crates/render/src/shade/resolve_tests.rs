@@ -11,7 +11,8 @@ use crate::plan::work::{ChunkWork, Item};
 use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::raster::band_box::PixelBox;
 use crate::shade::phong_items::PhongItems;
-use crate::shade::resolve::{phong_reference, resolve_band, resolve_box, to_rgba8, Resolve};
+use crate::shade::resolve::{phong_reference, resolve_band, resolve_box, Resolve};
+use crate::shade::rgba::to_rgba8;
 use crate::test_rng::XorShift;
 
 /// Two 9 × 9 patches with colours, bumpy, with a few empty nodes.

@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""How steep a line of sight must be to cross a spanning surface of each
+opening of a mesh at most once (docs/algorithms/render.md, "Open surfaces").
+
+For every boundary loop of a PLY mesh (triangles, ASCII or binary little
+endian): its outward normal n (the Newell normal of the loop walked
+against its faces' winding, as a cap closing the hole would be wound),
+its radius and half thickness along n, and L, the largest slope of the
+loop over its plane: max |h(p) - h(q)| / |p' - q'| over pairs of points
+of the loop (h the height along n, p' the projection), sampled at
+SAMPLES points per edge. A spanning surface that is a graph over the plane
+with that slope exists, and a line making less than atan(1 / L) with n
+crosses it at most once. With --eye-direction, the angle between each
+loop's n and the direction from the eye toward the model (the line of
+sight a patch beyond the opening would be seen along).
+
+Usage: bench/opening_steepness.py MESH.ply [--samples N]
+           [--eye-direction X,Y,Z]
+Needs numpy.
+"""
+import argparse
+import sys
+from collections import defaultdict
+
+import numpy as np
+
+PLY_TYPES = {
+    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
+    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
+    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+}
+
+
+def read_ply(path):
+    """Vertices (n x 3) and triangles (m x 3) of a PLY file."""
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"ply":
+            sys.exit(f"{path}: not a PLY file")
+        fmt, elements = None, []
+        while True:
+            words = f.readline().decode("ascii", "replace").split()
+            if not words:
+                continue
+            if words[0] == "end_header":
+                break
+            if words[0] == "format":
+                fmt = words[1]
+            elif words[0] == "element":
+                elements.append((words[1], int(words[2]), []))
+            elif words[0] == "property":
+                elements[-1][2].append(words[1:])
+        if fmt not in ("ascii", "binary_little_endian"):
+            sys.exit(f"{path}: format {fmt} is not read here")
+        data = {}
+        for name, count, props in elements:
+            data[name] = read_element(f, fmt, count, props)
+    names = [p[-1] for p in elements[0][2]]
+    v = data["vertex"]
+    vertices = np.stack([v[:, names.index(c)] for c in "xyz"], axis=1).astype(np.float64)
+    return vertices, data["face"]
+
+
+def read_element(f, fmt, count, props):
+    """The rows of one element: a float array, or triangles for a face list."""
+    is_list = props and props[0][0] == "list"
+    if fmt == "ascii":
+        rows = [f.readline().split() for _ in range(count)]
+        if is_list:
+            if any(r[0] != b"3" for r in rows):
+                sys.exit("only triangles are read here")
+            return np.array([[int(x) for x in r[1:4]] for r in rows])
+        return np.array([[float(x) for x in r] for r in rows])
+    if is_list:
+        if len(props) != 1:
+            sys.exit("faces with properties besides their vertex list are not read here")
+        _, count_type, index_type, _ = props[0]
+        dtype = np.dtype([("n", PLY_TYPES[count_type]), ("i", "<" + PLY_TYPES[index_type], 3)])
+        rows = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype)
+        if (rows["n"] != 3).any():
+            sys.exit("only triangles are read here")
+        return rows["i"].astype(np.int64)
+    dtype = np.dtype([(p[-1], "<" + PLY_TYPES[p[0]]) for p in props])
+    rows = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype)
+    return np.stack([rows[p[-1]].astype(np.float64) for p in props], axis=1)
+
+
+def boundary_loops(faces):
+    """Each boundary loop as vertex indices, in the direction of its faces' edges."""
+    edges = defaultdict(int)
+    for a, b, c in faces:
+        for e in ((a, b), (b, c), (c, a)):
+            edges[e] += 1
+    nxt = {a: b for (a, b) in edges if (b, a) not in edges}
+    loops, seen = [], set()
+    for start in nxt:
+        if start in seen:
+            continue
+        loop, v = [], start
+        while v not in seen and v in nxt:
+            seen.add(v)
+            loop.append(v)
+            v = nxt[v]
+        loops.append(loop)
+    return loops
+
+
+def steepness(points, samples):
+    """Outward normal, radius, half thickness and largest slope L of a loop
+    given in cap order."""
+    n = np.cross(points, np.roll(points, -1, axis=0)).sum(axis=0)
+    n /= np.linalg.norm(n)
+    centre = points.mean(axis=0)
+    h = (points - centre) @ n
+    u = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(n, u)
+    q = np.stack([(points - centre) @ u, (points - centre) @ w], axis=1)
+    t = np.arange(samples) / samples
+    qs = (q[:, None] * (1 - t)[None, :, None] + np.roll(q, -1, 0)[:, None] * t[None, :, None]).reshape(-1, 2)
+    hs = (h[:, None] * (1 - t) + np.roll(h, -1)[:, None] * t).reshape(-1)
+    slope = 0.0
+    for k in range(0, len(qs), 512):
+        dq = np.linalg.norm(qs[k:k + 512, None] - qs[None], axis=2)
+        dh = np.abs(hs[k:k + 512, None] - hs[None])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(dq > 0, dh / dq, 0.0)
+        slope = max(slope, ratio.max())
+    radius = np.linalg.norm(q, axis=1).max()
+    return n, radius, (h.max() - h.min()) / 2, slope
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("mesh")
+    parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument("--eye-direction", default="1,0.7,1.3",
+                        help="direction from the model toward the eye (spatch's automatic camera)")
+    args = parser.parse_args()
+    vertices, faces = read_ply(args.mesh)
+    toward_eye = np.array([float(x) for x in args.eye_direction.split(",")])
+    sight = -toward_eye / np.linalg.norm(toward_eye)
+    print("vertices  radius      half-thickness/radius  L      atan(1/L)  angle(sight, n)")
+    for loop in boundary_loops(faces):
+        if len(loop) < 3:
+            continue
+        n, radius, half, slope = steepness(vertices[loop][::-1], args.samples)
+        limit = np.degrees(np.arctan2(1.0, slope))
+        angle = np.degrees(np.arccos(np.clip(sight @ n, -1, 1)))
+        print(f"{len(loop):8d}  {radius:.4e}  {half / radius:21.3f}  {slope:5.3f}  "
+              f"{limit:8.1f}°  {angle:14.1f}°")
+
+
+if __name__ == "__main__":
+    main()
