@@ -22,7 +22,10 @@ import argparse
 import sys
 from collections import defaultdict
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError:
+    sys.exit("opening_steepness.py needs numpy (e.g. python3 -m venv /tmp/venv && /tmp/venv/bin/pip install numpy)")
 
 PLY_TYPES = {
     "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
