@@ -2,8 +2,8 @@
 """How steep a line of sight must be to cross a spanning surface of each
 opening of a mesh at most once (docs/algorithms/render.md, "Open surfaces").
 
-For every boundary loop of a PLY mesh (triangles, ASCII or binary little
-endian): its outward normal n (the Newell normal of the loop walked
+For every boundary loop of a PLY mesh (read as bench/llvmpipe_compare.py
+reads it): its outward normal n (the Newell normal of the loop walked
 against its faces' winding, as a cap closing the hole would be wound),
 its radius and half thickness along n, and L, the largest slope of the
 loop over its plane: max |h(p) - h(q)| / |p' - q'| over pairs of points
@@ -19,6 +19,7 @@ Usage: bench/opening_steepness.py MESH.ply [--samples N]
 Needs numpy.
 """
 import argparse
+import os
 import sys
 from collections import defaultdict
 
@@ -27,66 +28,8 @@ try:
 except ImportError:
     sys.exit("opening_steepness.py needs numpy (e.g. python3 -m venv /tmp/venv && /tmp/venv/bin/pip install numpy)")
 
-PLY_TYPES = {
-    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
-    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
-    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
-}
-
-
-def read_ply(path):
-    """Vertices (n x 3) and triangles (m x 3) of a PLY file."""
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"ply":
-            sys.exit(f"{path}: not a PLY file")
-        fmt, elements = None, []
-        while True:
-            words = f.readline().decode("ascii", "replace").split()
-            if not words:
-                continue
-            if words[0] == "end_header":
-                break
-            if words[0] == "format":
-                fmt = words[1]
-            elif words[0] == "element":
-                elements.append((words[1], int(words[2]), []))
-            elif words[0] == "property":
-                elements[-1][2].append(words[1:])
-        if fmt not in ("ascii", "binary_little_endian"):
-            sys.exit(f"{path}: format {fmt} is not read here")
-        data = {}
-        for name, count, props in elements:
-            data[name] = read_element(f, fmt, count, props)
-    names = [p[-1] for p in elements[0][2]]
-    v = data["vertex"]
-    vertices = np.stack([v[:, names.index(c)] for c in "xyz"], axis=1).astype(np.float64)
-    return vertices, data["face"]
-
-
-def read_element(f, fmt, count, props):
-    """The rows of one element: a float array, or triangles for a face list."""
-    is_list = props and props[0][0] == "list"
-    if fmt == "ascii":
-        rows = [f.readline().split() for _ in range(count)]
-        if is_list:
-            if any(r[0] != b"3" for r in rows):
-                sys.exit("only triangles are read here")
-            return np.array([[int(x) for x in r[1:4]] for r in rows])
-        return np.array([[float(x) for x in r] for r in rows])
-    if is_list:
-        if len(props) != 1:
-            sys.exit("faces with properties besides their vertex list are not read here")
-        _, count_type, index_type, _ = props[0]
-        dtype = np.dtype([("n", PLY_TYPES[count_type]), ("i", "<" + PLY_TYPES[index_type], 3)])
-        rows = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype)
-        if (rows["n"] != 3).any():
-            sys.exit("only triangles are read here")
-        return rows["i"].astype(np.int64)
-    dtype = np.dtype([(p[-1], "<" + PLY_TYPES[p[0]]) for p in props])
-    rows = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype)
-    return np.stack([rows[p[-1]].astype(np.float64) for p in props], axis=1)
-
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from llvmpipe_compare import read_ply  # noqa: E402
 
 def boundary_loops(faces):
     """Each boundary loop as vertex indices, in the direction of its faces' edges."""
@@ -141,6 +84,8 @@ def main():
                         help="direction from the model toward the eye (spatch's automatic camera)")
     args = parser.parse_args()
     vertices, faces = read_ply(args.mesh)
+    vertices = vertices.astype(np.float64)
+    faces = faces.tolist()
     toward_eye = np.array([float(x) for x in args.eye_direction.split(",")])
     sight = -toward_eye / np.linalg.norm(toward_eye)
     print("vertices  radius      half-thickness/radius  L      atan(1/L)  angle(sight, n)")
