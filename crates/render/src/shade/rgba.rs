@@ -6,9 +6,10 @@
 
 use glam::{Vec3, Vec4};
 
-/// Red, green and blue lanes in 0..=255 (as [`crate::lighting::Material::shade4_with`] returns
-/// them) truncated to bytes and packed as RGBA8 words (alpha 255), as
-/// `truncate_to_bytes` gives them.
+/// Red, green and blue lanes in 0..=255 (as
+/// [`crate::lighting::Material::shade4_with`] returns them) truncated to
+/// bytes and packed as RGBA8 words (alpha 255), as `truncate_to_bytes`
+/// gives them.
 #[inline(always)]
 pub(crate) fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
     // Why spelled out: `array::map` here became an out-of-line call per
@@ -31,8 +32,8 @@ pub(crate) fn pack_rgba(c: [Vec4; 3]) -> [u32; 4] {
     [word(0), word(1), word(2), word(3)]
 }
 
-/// RGB floats in 0..=255 (as [`crate::lighting::Material::shade`] returns them) to RGBA8.
-/// Why through `i32`: the values are already in range, and the saturating
+/// RGB floats in 0..=255 (as [`crate::lighting::Material::shade`] returns
+/// them) to RGBA8. Why through `i32`: the values are already in range, and the saturating
 /// float-to-`u8` conversion costs about twice as many instructions; the
 /// result is the same (truncation).
 #[inline(always)]
