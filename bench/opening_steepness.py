@@ -8,11 +8,13 @@ against its faces' winding, as a cap closing the hole would be wound),
 its radius and half thickness along n, and L, the largest slope of the
 loop over its plane: max |h(p) - h(q)| / |p' - q'| over pairs of points
 of the loop (h the height along n, p' the projection), sampled at
-SAMPLES points per edge. A spanning surface that is a graph over the plane
-with that slope exists, and a line making less than atan(1 / L) with n
-crosses it at most once. With --eye-direction, the angle between each
-loop's n and the direction from the eye toward the model (the line of
-sight a patch beyond the opening would be seen along).
+SAMPLES points per edge. When the projected loop is simple, a spanning
+surface that is a graph over the plane with that slope exists, and a line
+making less than atan(1 / L) with n crosses it at most once. Sampling can
+only miss steeper pairs, so L is a lower bound: enough to show where such
+a rule cannot apply. Last, the angle between n and the line of sight of
+spatch's automatic camera (--eye-direction: the direction from the model
+toward the eye).
 
 Usage: bench/opening_steepness.py MESH.ply [--samples N]
            [--eye-direction X,Y,Z]
@@ -21,7 +23,6 @@ Needs numpy.
 import argparse
 import os
 import sys
-from collections import defaultdict
 
 try:
     import numpy as np
@@ -31,12 +32,10 @@ except ImportError:
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from llvmpipe_compare import read_ply  # noqa: E402
 
+
 def boundary_loops(faces):
     """Each boundary loop as vertex indices, in the direction of its faces' edges."""
-    edges = defaultdict(int)
-    for a, b, c in faces:
-        for e in ((a, b), (b, c), (c, a)):
-            edges[e] += 1
+    edges = {e for a, b, c in faces for e in ((a, b), (b, c), (c, a))}
     nxt = {a: b for (a, b) in edges if (b, a) not in edges}
     loops, seen = [], set()
     for start in nxt:
