@@ -3,8 +3,9 @@
 
 What a scan full of small holes hands a user: the surface with `COUNT` faces left out,
 chosen at random (seeded) among faces that share no vertex with another left-out face, so
-each is an opening of its own. `spatch convert` stores at most 256 openings; more are merged
-into records of neighbouring holes (docs/algorithms/render.md, "Open surfaces").
+each is an opening of its own. `spatch convert` stores at most 256 openings; a mesh with more
+is drawn from both sides everywhere (merging them was measured and not kept:
+docs/algorithms/render.md, "Open surfaces").
 
 Usage: python3 bench/punch_holes.py IN.(ply|obj) OUT.ply COUNT [--seed S]
 Needs numpy (the setup of bench/llvmpipe_compare.py).
