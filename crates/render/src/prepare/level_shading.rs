@@ -171,6 +171,21 @@ fn level_colours(level: &MipLevel) -> Vec<[u8; 4]> {
 /// A stored albedo ([`LevelShading::colours`]) as floats, `w` = 0: exact.
 #[inline(always)]
 pub(crate) fn albedo_lanes(c: [u8; 4]) -> Vec4 {
+    // Why the bytes widened in one register on x86-64 (SSE2, always there,
+    // so the check folds away; pulp's token makes the intrinsics safe): the
+    // portable form converts the four bytes one by one and builds the
+    // vector from scalars, about 20 instructions per corner, four corners
+    // per coloured pixel (mannequin 500²: callgrind, see
+    // docs/algorithms/render.md, "Resolve"). Both forms give the same
+    // exact floats.
+    #[cfg(target_arch = "x86_64")]
+    if let Some(sse2) = pulp::core_arch::x86::Sse2::try_new() {
+        let bytes = sse2._mm_cvtsi32_si128(i32::from_le_bytes(c));
+        let zero = sse2._mm_setzero_si128();
+        let words = sse2._mm_unpacklo_epi8(bytes, zero);
+        let ints = sse2._mm_unpacklo_epi16(words, zero);
+        return sse2._mm_cvtepi32_ps(ints).into();
+    }
     glam::U8Vec4::from_array(c).as_vec4()
 }
 
@@ -247,4 +262,21 @@ fn used_slots(level: &MipLevel, gi: &[i32], gj: &[i32]) -> SlotSet {
     let mut slots = SlotSetBuilder::default();
     slots.add_used(&level.used, gi, gj);
     slots.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The widened bytes equal glam's one-by-one conversion for every byte
+    /// in every channel.
+    #[test]
+    fn albedo_lanes_convert_every_byte_exactly() {
+        for v in 0..=255u8 {
+            for c in [[v, 0, 0, 0], [0, v, 0, 0], [0, 0, v, 0], [v, 255 - v, v / 2, v / 3]] {
+                let lanes = albedo_lanes(c);
+                assert_eq!(lanes, glam::U8Vec4::from_array(c).as_vec4(), "{c:?}");
+            }
+        }
+    }
 }
