@@ -273,7 +273,12 @@ mod tests {
     #[test]
     fn albedo_lanes_convert_every_byte_exactly() {
         for v in 0..=255u8 {
-            for c in [[v, 0, 0, 0], [0, v, 0, 0], [0, 0, v, 0], [v, 255 - v, v / 2, v / 3]] {
+            for c in [
+                [v, 0, 0, 0],
+                [0, v, 0, 0],
+                [0, 0, v, 0],
+                [v, 255 - v, v / 2, v / 3],
+            ] {
                 let lanes = albedo_lanes(c);
                 assert_eq!(lanes, glam::U8Vec4::from_array(c).as_vec4(), "{c:?}");
             }

@@ -37,7 +37,7 @@
 
 use crate::fixed::{Node, EMPTY_NODE};
 use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
-use crate::raster::band::{splat_sample, BandTarget};
+use crate::raster::band::{keep_nearer, splat_sample, BandTarget};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
 /// rasterizer (cheaper per pixel at that size, and exact).
@@ -401,12 +401,7 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
     let z = (v[2] >> EXT) as i32;
     // The slice index still checks: a broken caller panics, never writes
     // elsewhere.
-    let s = &mut t.px[idx];
-    if z < s.depth {
-        s.depth = z;
-        s.w0 = word;
-        s.w2 = item;
-    }
+    keep_nearer(&mut t.px[idx], z, word, item);
 }
 
 // The row walk of the bilinear cell drawer: a whole row of cells placed

@@ -33,7 +33,7 @@
 use std::hint::black_box;
 
 use crate::fixed::{Node, XY_FRAC_BITS};
-use crate::raster::band::BandTarget;
+use crate::raster::band::{keep_nearer, BandTarget};
 
 /// Steps per cell side of the recorded place `(u, v)` of a pixel centre
 /// (the `nu × nv` the resolve's weight table reads): at most half a step
@@ -266,11 +266,7 @@ fn draw_centre<C: CentreTest>(
         return;
     };
     let s = &mut t.px[((py - t.y0) * t.width + px) as usize];
-    if z < s.depth {
-        s.depth = z;
-        s.w0 = sub0 + (a << 8) + b;
-        s.w2 = item;
-    }
+    keep_nearer(s, z, sub0 + (a << 8) + b, item);
 }
 
 /// Draws one cell as [`draw_cell`] does but always through the general

@@ -30,7 +30,7 @@
 
 use crate::fixed::{Node, EMPTY_NODE, XY_FRAC_BITS, XY_ONE};
 use crate::grid::CELL_DRAW;
-use crate::raster::band::BandTarget;
+use crate::raster::band::{keep_nearer, BandTarget};
 use crate::raster::cell_bilinear::sub_word;
 
 /// Half a pixel in position units.
@@ -140,11 +140,7 @@ pub(crate) fn draw_splats(t: &mut BandTarget<'_>, piece: &SplatPiece<'_>, item: 
                 let base = (py - t.y0) as usize * width;
                 // One bounds check per row of the footprint.
                 for s in &mut t.px[base + c0..base + c1] {
-                    if z < s.depth {
-                        s.depth = z;
-                        s.w0 = sub;
-                        s.w2 = item;
-                    }
+                    keep_nearer(s, z, sub, item);
                 }
             }
         }
