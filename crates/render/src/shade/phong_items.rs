@@ -44,10 +44,6 @@ pub(crate) struct Lane {
 #[derive(Debug, Default)]
 pub(crate) struct PhongItems<'a> {
     pub(crate) items: Vec<PhongItem<'a>>,
-    /// Per item, its level's prepared albedos from the piece's first node
-    /// on; empty for the base albedo. Why apart from [`PhongItem`]: 32-byte
-    /// items index with a shift (callgrind, `profile_sphere 500 1`).
-    pub(crate) colours: Vec<&'a [[u8; 4]]>,
     /// True when no item has colours (all take the base albedo).
     pub(crate) uncoloured: bool,
     /// True when some item is shaded from the level below its nodes'
@@ -93,7 +89,6 @@ impl<'a> PhongItems<'a> {
             .collect();
         let mut built: Vec<(u16, u16, u8, u32)> = Vec::new();
         table.items.reserve(items.len());
-        table.colours.reserve(items.len());
         for &(c, i) in items {
             let item = &chunks[c as usize].items[i as usize];
             let (nu, nv, shift) = (item.nu, item.nv, item.shade_shift);
@@ -116,11 +111,10 @@ impl<'a> PhongItems<'a> {
                     start
                 }
             };
-            let (entry, colours) = PhongItem::new(item, patches, &table.frames, (start, flat));
+            let entry = PhongItem::new(item, patches, &table.frames, (start, flat));
             table.items.push(entry);
-            table.colours.push(colours);
         }
-        table.uncoloured = table.colours.iter().all(|c| c.is_empty());
+        table.uncoloured = table.items.iter().all(|item| item.colours.is_empty());
         table.shifted = table.items.iter().any(|item| item.shift != 0);
         // Flat shading keeps its cells' colours, not the colour grids'.
         if !flat && patches.iter().any(|p| p.colour_grid.is_some()) {
@@ -135,8 +129,7 @@ impl<'a> PhongItems<'a> {
 }
 
 /// A draw item as the Phong resolve pass reads it: its level's prepared
-/// normals from the piece's first node on (its albedos are in
-/// [`PhongItems::colours`]).
+/// normals and albedos from the piece's first node on.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PhongItem<'a> {
     /// The light vector of the item's shade frame (`w` = 0).
@@ -147,6 +140,10 @@ pub(crate) struct PhongItem<'a> {
     /// when one-sided).
     pub(crate) view: Vec4,
     pub(crate) normals: &'a [Vec4],
+    /// The level's prepared albedos from the piece's first node on; empty
+    /// for the base albedo. Why in the item: the pixel's item is read
+    /// anyway, so its albedos need no second lookup by item index.
+    pub(crate) colours: &'a [[u8; 4]],
     /// Nodes per row of the shading grid (`u16`: index sums cannot overflow, no
     /// checks).
     pub(crate) cols: u16,
@@ -165,14 +162,13 @@ pub(crate) struct PhongItem<'a> {
 impl<'a> PhongItem<'a> {
     /// The entry of `item` (of a patch of `patches`, shaded in one of
     /// `frames`) whose weights start at `weights`, from its level's
-    /// flat-shading inputs when `flat`, and its albedos (empty for the
-    /// base albedo).
+    /// flat-shading inputs when `flat`.
     fn new(
         item: &Item,
         patches: &'a [PreparedPatch],
         frames: &[[Vec4; 3]],
         (weights, flat): (u32, bool),
-    ) -> (Self, &'a [[u8; 4]]) {
+    ) -> Self {
         let patch = &patches[item.frame as usize];
         let m = item.level as usize;
         let shift = item.shade_shift as usize;
@@ -185,23 +181,23 @@ impl<'a> PhongItem<'a> {
         let start = (item.j0 as usize * cols + item.i0 as usize) << shift;
         let uniform = item.uniform_albedo || shading.colours.is_empty();
         let [light, half, view] = frames[item.frame as usize];
-        let entry = Self {
-            light,
-            half,
-            view,
-            normals: &shading.normals[start..],
-            cols: cols as u16,
-            stride: item.nv + 1,
-            shift: shift as u32,
-            weights,
-            frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
-        };
         let colours: &[[u8; 4]] = if uniform {
             &[]
         } else {
             &shading.colours[start..]
         };
-        (entry, colours)
+        Self {
+            light,
+            half,
+            view,
+            normals: &shading.normals[start..],
+            colours,
+            cols: cols as u16,
+            stride: item.nv + 1,
+            shift: shift as u32,
+            weights,
+            frame: item.frame | if uniform { BASE_ALBEDO } else { 0 },
+        }
     }
 
     /// The normal interpolated at sample `sub` (`w` unused): the same
@@ -218,14 +214,13 @@ impl<'a> PhongItem<'a> {
         bilinear(self.normals, k, self.cols as usize, w, |n| n)
     }
 
-    /// The normal and albedo (from `colours`, the item's) interpolated at
-    /// sample `sub`: the same operations in the same order as
-    /// `phong_reference`. `SHIFTED` false: no item of the frame has a shift.
+    /// The normal and albedo interpolated at sample `sub`: the same
+    /// operations in the same order as `phong_reference`. `SHIFTED` false:
+    /// no item of the frame has a shift.
     #[inline(always)]
     pub(crate) fn interpolate<const SHIFTED: bool>(
         &self,
         sub: u32,
-        colours: &[[u8; 4]],
         weights: &[[Vec4; 4]],
         offsets: &[u32],
     ) -> Lane {
@@ -237,7 +232,7 @@ impl<'a> PhongItem<'a> {
             frame: self.frame,
         };
         if self.frame & BASE_ALBEDO == 0 {
-            let c = bilinear(colours, k, cols, w, albedo_lanes);
+            let c = bilinear(self.colours, k, cols, w, albedo_lanes);
             lane.normal_red.w = c.x;
             lane.green_blue = Vec2::new(c.y, c.z);
         }

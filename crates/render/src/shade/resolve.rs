@@ -280,8 +280,7 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
         }
         let own = it[0].frame | it[1].frame | it[2].frame | it[3].frame;
         if own & BASE_ALBEDO == 0 && r.phong.grids.is_empty() {
-            let ids = [id(0), id(1), id(2), id(3)];
-            return resolve_coloured_group::<SQUARINGS, SHIFTED>(r, s, it, ids, rgba, eye);
+            return resolve_coloured_group::<SQUARINGS, SHIFTED>(r, s, it, rgba, eye);
         }
     }
     let near = s[0].depth.min(s[1].depth).min(s[2].depth.min(s[3].depth));
@@ -346,20 +345,18 @@ fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
     r: &Resolve<'_>,
     s: &[Sample; 4],
     it: [&PhongItem<'_>; 4],
-    ids: [usize; 4],
     rgba: &mut [[u8; 4]; 4],
     eye: &mut [f32; 4],
 ) {
     *eye = eye_depths(r, s);
-    let (weights, offsets, colours) =
-        (&r.phong.weights[..], &r.phong.offsets[..], &r.phong.colours);
+    let (weights, offsets) = (&r.phong.weights[..], &r.phong.offsets[..]);
     // Why spelled out: a closure per lane became an out-of-line call,
     // compiled without the band's instruction set (`crate::isa`).
     let g = [
-        it[0].interpolate::<SHIFTED>(s[0].w0, colours[ids[0]], weights, offsets),
-        it[1].interpolate::<SHIFTED>(s[1].w0, colours[ids[1]], weights, offsets),
-        it[2].interpolate::<SHIFTED>(s[2].w0, colours[ids[2]], weights, offsets),
-        it[3].interpolate::<SHIFTED>(s[3].w0, colours[ids[3]], weights, offsets),
+        it[0].interpolate::<SHIFTED>(s[0].w0, weights, offsets),
+        it[1].interpolate::<SHIFTED>(s[1].w0, weights, offsets),
+        it[2].interpolate::<SHIFTED>(s[2].w0, weights, offsets),
+        it[3].interpolate::<SHIFTED>(s[3].w0, weights, offsets),
     ];
     let normals = [
         g[0].normal_red,
@@ -450,7 +447,7 @@ fn resolve_general_group(
 fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     if s.w2 & PATCH_SAMPLE != 0 {
         let i = (s.w2 & !PATCH_SAMPLE) as usize;
-        let mut lane = t.items[i].interpolate::<true>(s.w0, t.colours[i], &t.weights, &t.offsets);
+        let mut lane = t.items[i].interpolate::<true>(s.w0, &t.weights, &t.offsets);
         if let Some(place) = t.grids.get(i).copied().flatten() {
             let a = place.albedo(s.w0);
             lane.normal_red.w = a.x;
