@@ -18,11 +18,11 @@
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::fixed::{attr_to_bits, NodeAttributes, EMPTY_NODE, NODE_ATTRIBUTES};
-use crate::lighting::{Lanes, ShadeFrame, ANY_POWER};
+use crate::lighting::{byte_lanes, Lanes, ShadeFrame, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::split::NodeRange;
 use crate::plan::work::{ChunkWork, FrameSetup, PatchContext};
-use crate::prepare::level_shading::{albedo_lanes, flat_node_normal, LevelShading};
+use crate::prepare::level_shading::{flat_node_normal, LevelShading};
 use crate::prepare::mip::MipLevel;
 use crate::prepare::normal_buffer::NormalBuffer;
 use crate::prepare::normals::{node_differences, OUTSIDE_TABLE};
@@ -180,7 +180,7 @@ fn shade_nodes<const SQUARINGS: u32>(
         let normal = at.map(|a| a.map_or(Vec4::ZERO, |a| kept.normals[a]));
         let albedo = match kept.colours.is_empty() {
             true => base,
-            false => rows(at.map(|a| a.map_or(Vec4::ZERO, |a| albedo_lanes(kept.colours[a])))),
+            false => rows(at.map(|a| a.map_or(Vec4::ZERO, |a| byte_lanes(kept.colours[a])))),
         };
         let rgb = setup.material.shade4_with::<SQUARINGS>(&Lanes {
             normal: rows(normal),

@@ -27,7 +27,7 @@ pub(crate) struct LevelShading {
     /// would carry it ([`crate::fixed::attr_to_bits`] rounding), zero for
     /// empty nodes.
     pub(crate) normals: Vec<Vec4>,
-    /// Albedo (RGB bytes and a zero byte, [`albedo_lanes`] as floats) when
+    /// Albedo (RGB bytes and a zero byte, [`byte_lanes`] as floats) when
     /// the level has colours, else empty. Why bytes: the resolve pass reads
     /// four corners' albedos per pixel, and at four bytes rather than a
     /// sixteen-byte vector a coloured scan's shading inputs take 20 bytes
@@ -168,27 +168,6 @@ fn level_colours(level: &MipLevel) -> Vec<[u8; 4]> {
     })
 }
 
-/// A stored albedo ([`LevelShading::colours`]) as floats, `w` = 0: exact.
-#[inline(always)]
-pub(crate) fn albedo_lanes(c: [u8; 4]) -> Vec4 {
-    // Why the bytes widened in one register on x86-64 (SSE2, always there,
-    // so the check folds away; pulp's token makes the intrinsics safe): the
-    // portable form converts the four bytes one by one and builds the
-    // vector from scalars, four corners per coloured pixel (mannequin 500²:
-    // 38.21 → 36.19 M instructions per frame, callgrind; see
-    // docs/algorithms/render.md, "Resolve"). Both forms give the same
-    // exact floats.
-    #[cfg(target_arch = "x86_64")]
-    if let Some(sse2) = pulp::core_arch::x86::Sse2::try_new() {
-        let bytes = sse2._mm_cvtsi32_si128(i32::from_le_bytes(c));
-        let zero = sse2._mm_setzero_si128();
-        let words = sse2._mm_unpacklo_epi8(bytes, zero);
-        let ints = sse2._mm_unpacklo_epi16(words, zero);
-        return sse2._mm_cvtepi32_ps(ints).into();
-    }
-    glam::U8Vec4::from_array(c).as_vec4()
-}
-
 /// The unit normals of nodes with differences `scratch.gi`, `scratch.gj`
 /// and displacements `d`, rounded as projected nodes carry them
 /// ([`crate::fixed::attr_to_bits`]); empty nodes get zero. Why eight nodes
@@ -262,26 +241,4 @@ fn used_slots(level: &MipLevel, gi: &[i32], gj: &[i32]) -> SlotSet {
     let mut slots = SlotSetBuilder::default();
     slots.add_used(&level.used, gi, gj);
     slots.finish()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The widened bytes equal glam's one-by-one conversion for every byte
-    /// in every channel.
-    #[test]
-    fn albedo_lanes_convert_every_byte_exactly() {
-        for v in 0..=255u8 {
-            for c in [
-                [v, 0, 0, 0],
-                [0, v, 0, 0],
-                [0, 0, v, 0],
-                [v, 255 - v, v / 2, v / 3],
-            ] {
-                let lanes = albedo_lanes(c);
-                assert_eq!(lanes, glam::U8Vec4::from_array(c).as_vec4(), "{c:?}");
-            }
-        }
-    }
 }

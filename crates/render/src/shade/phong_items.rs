@@ -12,10 +12,9 @@
 
 use glam::{Vec2, Vec4};
 
-use crate::lighting::ShadeFrame;
+use crate::lighting::{byte_lanes, ShadeFrame};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
-use crate::prepare::level_shading::albedo_lanes;
 #[cfg(doc)]
 use crate::prepare::level_shading::LevelShading;
 use crate::prepare::patch::PreparedPatch;
@@ -232,7 +231,7 @@ impl<'a> PhongItem<'a> {
             frame: self.frame,
         };
         if self.frame & BASE_ALBEDO == 0 {
-            let c = bilinear(self.colours, k, cols, w, albedo_lanes);
+            let c = bilinear(self.colours, k, cols, w, byte_lanes);
             lane.normal_red.w = c.x;
             lane.green_blue = Vec2::new(c.y, c.z);
         }

@@ -19,11 +19,11 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::fixed::{attr_from_bits, NodeAttributes, Z_FAR};
+#[cfg(test)]
+use crate::lighting::byte_lanes;
 use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame, ANY_POWER};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
-#[cfg(test)]
-use crate::prepare::level_shading::albedo_lanes;
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::raster::band_box::PixelBox;
@@ -636,7 +636,7 @@ pub(crate) fn phong_reference(
     let albedo = if item.uniform_albedo {
         r.base_albedo
     } else {
-        lerp(&|k| albedo_lanes(shading.colours[k]))
+        lerp(&|k| byte_lanes(shading.colours[k]))
     };
     let normal = lerp(&|k| shading.normals[k]);
     let c = r
