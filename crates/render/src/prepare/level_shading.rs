@@ -27,7 +27,7 @@ pub(crate) struct LevelShading {
     /// would carry it ([`crate::fixed::attr_to_bits`] rounding), zero for
     /// empty nodes.
     pub(crate) normals: Vec<Vec4>,
-    /// Albedo (RGB bytes and a zero byte, [`byte_lanes`] as floats) when
+    /// Albedo (RGB bytes and a zero byte, [`crate::lighting::byte_lanes`] as floats) when
     /// the level has colours, else empty. Why bytes: the resolve pass reads
     /// four corners' albedos per pixel, and at four bytes rather than a
     /// sixteen-byte vector a coloured scan's shading inputs take 20 bytes
