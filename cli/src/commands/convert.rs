@@ -640,8 +640,19 @@ pub(crate) fn summary(
     }
     if let Some(e) = &r.edges {
         text.push_str(&format!(
-            "  sharp edges: {} creases in {} chains, {} corners; {} edge + {} corner patches, {} bytes\n",
-            e.creases, e.chains, e.corners, e.edge_patches, e.corner_patches, r.edge_bytes
+            "  sharp edges: {} creases in {} chains{}, {} corners; {} edge + {} corner patches, {} bytes\n",
+            e.creases,
+            e.chains,
+            // Why said: a scene whose creases all lie inside surface
+            // patches (the built-in Earth's 12) read as found and lost.
+            match e.covered_creases {
+                0 => String::new(),
+                n => format!(" ({n} covered by the surface patches)"),
+            },
+            e.corners,
+            e.edge_patches,
+            e.corner_patches,
+            r.edge_bytes
         ));
     }
     if let Some(t) = &r.texture {

@@ -52,6 +52,26 @@ fn edge_patches_go_only_where_the_surface_leaves_a_gap_unless_asked() {
     // The fitted faces end exactly on the cube's straight edges.
     assert_eq!(gaps["covered_creases"], 12, "{gaps}");
     assert_eq!(gaps["edge_patches"], 0, "{gaps}");
+    // The summary says where the creases went rather than only that none
+    // was patched.
+    let shown = t
+        .run(&[
+            "convert",
+            &cube,
+            "-o",
+            "cube.spatch",
+            "--no-error",
+            "--spacing",
+            "0.2",
+        ])
+        .success();
+    assert!(
+        shown
+            .stdout
+            .contains("12 creases in 12 chains (12 covered by the surface patches), 8 corners"),
+        "{}",
+        shown.stdout
+    );
 
     let all = edge_stats(&t, &cube, &["--all-creases"]);
     assert_eq!(all["covered_creases"], 0, "{all}");
