@@ -73,3 +73,16 @@ fn an_unwritable_output_is_an_error_without_partial_files() {
     );
     assert_eq!(std::fs::read_dir(t.dir()).unwrap().count(), 0);
 }
+
+#[test]
+fn a_point_cloud_given_to_convert_is_refused_with_the_command_that_reads_it() {
+    let t = TestCommand::new();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    std::fs::write(t.path("points.ply"), ply).unwrap();
+    let run = t.run(&["convert", "points.ply", "-o", "points.spatch"]);
+    run.assert_one_clear_line("points.ply");
+    assert!(run.stderr.contains("no faces"), "{}", run.stderr);
+    assert!(run.stderr.contains("spatch from-cloud"), "{}", run.stderr);
+    assert!(!t.path("points.spatch").exists());
+}

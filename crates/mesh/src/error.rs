@@ -39,7 +39,7 @@ pub enum MeshError {
         path: PathBuf,
     },
     /// The file holds vertices but no triangles (faces, or glTF triangle primitives).
-    #[error("{}: the file has no faces (is it a point cloud?)", path.display())]
+    #[error("{}: the file has no faces (a point cloud? `spatch from-cloud` converts those)", path.display())]
     NoFaces {
         /// The file.
         path: PathBuf,
