@@ -29,7 +29,12 @@ trap 'rm -rf "$work"' EXIT
 for mesh in "$@"; do
     name=$(basename "$mesh")
     scene="$work/${name%.*}.spatch"
-    "$spatch" convert "$mesh" -o "$scene" --no-error -q
+    # A mesh spatch refuses (say a raw scan without faces) is reported and
+    # skipped; the other meshes are still timed.
+    if ! "$spatch" convert "$mesh" -o "$scene" --no-error -q; then
+        echo "$name: not converted, skipped"
+        continue
+    fi
     for size in $sizes; do
         LP_NUM_THREADS=2 "$python" "$here/llvmpipe_compare.py" --spatch "$spatch" \
             --mesh "$mesh" --scene "$scene" --size "$size" \
