@@ -24,8 +24,8 @@ use crate::report::{stages_from, tool, ConversionDetails, Holes};
 #[derive(Debug, clap::Args)]
 pub(crate) struct ConvertArgs {
     /// Input mesh: .obj (with .mtl and textures), .gltf, .glb (also quantized or
-    /// meshopt-compressed, as gltfpack writes), .ply (faces or tristrips), .off or .stl (binary or
-    /// ASCII).
+    /// meshopt-compressed, as gltfpack writes), .ply (faces, tristrips, or a raw range scan's
+    /// range_grid, joined along the scanner's grid), .off or .stl (binary or ASCII).
     #[arg(value_name = "MESH")]
     input: PathBuf,
     /// Output .spatch file (`-`: standard output).

@@ -1,13 +1,14 @@
 //! `spatch from-cloud --range-grid`: a thin sheet scanned from both sides by two structured
 //! scans keeps its two sides apart with the grids (each view draws only the side facing
 //! it) and averages them into one middle surface without (`--range-grid off`); `--align-scans`
-//! moves structured scans by their offset before the consensus.
+//! moves structured scans by their offset before the consensus; `spatch convert` joins a
+//! raw scan's samples along its grid.
 
 use crate::test_command::TestCommand;
 
 /// A 61 × 61 grid of 1 mm steps at height `z` in the scan's own frame, as an ASCII PLY with
 /// its `range_grid` (the Stanford raw-scan layout; the scanner looks down −z).
-fn write_sheet_scan(path: &std::path::Path, z: f64) {
+pub(crate) fn write_sheet_scan(path: &std::path::Path, z: f64) {
     let side = 61;
     let mut text = format!(
         "ply\nformat ascii 1.0\nobj_info num_cols {side}\nobj_info num_rows {side}\n\
@@ -151,4 +152,26 @@ fn the_error_is_measured_against_the_given_or_the_aligned_points() {
     eprintln!("cloud→patch rms: against the given points {given:.2e}, the aligned {aligned:.2e}");
     assert!((0.2e-3..0.4e-3).contains(&given), "{given}");
     assert!(aligned < 0.05e-3, "{aligned}");
+}
+
+#[test]
+fn convert_joins_a_raw_scan_along_its_grid() {
+    let t = TestCommand::new();
+    write_sheet_scan(&t.path("side.ply"), 0.0);
+    t.run(&[
+        "convert",
+        "side.ply",
+        "-o",
+        "side.spatch",
+        "--report",
+        "side.json",
+    ])
+    .success();
+    let report: serde_json::Value = t.json("side.json");
+    // Two triangles per square of four samples: 60 × 60 squares.
+    assert_eq!(report["details"]["triangles"], 2 * 60 * 60, "{report}");
+    let rms = report["error"]["surface_to_patch"]["rms_rel"]
+        .as_f64()
+        .unwrap();
+    assert!(rms < 1e-4, "{report}");
 }

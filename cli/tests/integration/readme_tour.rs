@@ -61,6 +61,7 @@ fn write_scan_inputs(t: &TestCommand) {
     t.run(&["export", "a.spatch", "-o", "scans.ply"]).success();
     t.run(&["export", "a.spatch", "-o", "a.ply"]).success();
     std::fs::write(t.path("bun.conf"), "bmesh scan.ply 0 0 0 0 0 0 1\n").unwrap();
+    crate::range_grid::write_sheet_scan(&t.path("bun000.ply"), 0.0);
     crate::scan_inputs::write_las(&t.path("b.laz"), &crate::scan_inputs::sheet(3.0));
     crate::scan_inputs::write_las(&t.path("site.las"), &crate::scan_inputs::sheet(3.0));
     let lines = |format: &dyn Fn(&[f64; 3]) -> String| -> String {

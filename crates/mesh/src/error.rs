@@ -466,6 +466,33 @@ pub enum PlyProblem {
         /// How many vertices there are.
         vertex_count: u64,
     },
+    /// A `range_grid` element without both `obj_info num_cols` and `num_rows` lines.
+    RangeGridWithoutSize,
+    /// A `range_grid` element whose sample count is not `num_cols × num_rows`.
+    RangeGridSize {
+        /// `obj_info num_cols`.
+        cols: u64,
+        /// `obj_info num_rows`.
+        rows: u64,
+        /// Samples in the element.
+        samples: u64,
+    },
+    /// A `range_grid` sample names a vertex past the vertices (or a negative one).
+    RangeGridIndex {
+        /// Index of the sample in the grid.
+        sample: u64,
+        /// The index.
+        index: i64,
+        /// How many vertices there are.
+        vertex_count: u64,
+    },
+    /// A `range_grid` sample lists more than one vertex.
+    RangeGridList {
+        /// Index of the sample in the grid.
+        sample: u64,
+        /// Length of its list.
+        len: u64,
+    },
 }
 
 impl fmt::Display for PlyProblem {
@@ -495,6 +522,31 @@ impl fmt::Display for PlyProblem {
                 f,
                 "PLY triangle strip {strip} refers to vertex {index}, but there are \
                  {vertex_count} vertices"
+            ),
+            PlyProblem::RangeGridWithoutSize => write!(
+                f,
+                "PLY range_grid without its size (obj_info num_cols and num_rows lines)"
+            ),
+            PlyProblem::RangeGridSize {
+                cols,
+                rows,
+                samples,
+            } => write!(
+                f,
+                "PLY range_grid of {samples} samples, but obj_info says {cols} × {rows}"
+            ),
+            PlyProblem::RangeGridIndex {
+                sample,
+                index,
+                vertex_count,
+            } => write!(
+                f,
+                "PLY range_grid sample {sample} refers to vertex {index}, but there are \
+                 {vertex_count} vertices"
+            ),
+            PlyProblem::RangeGridList { sample, len } => write!(
+                f,
+                "PLY range_grid sample {sample} lists {len} vertices (0 or 1 expected)"
             ),
         }
     }

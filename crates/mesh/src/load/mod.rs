@@ -52,6 +52,7 @@ pub mod off;
 pub mod ply;
 mod ply_fast;
 mod ply_scalar;
+mod range_grid;
 pub mod stl;
 mod texture;
 mod tristrips;

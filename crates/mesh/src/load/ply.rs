@@ -5,10 +5,10 @@
 //! `r g b [a]` or `diffuse_red ...`); the `face` element gives polygons through a
 //! `vertex_indices` or `vertex_index` list of any integer type, split into triangles, or,
 //! when there is no `face` element, a `tristrips` element's `vertex_indices` lists (strips
-//! with `-1` restarts, see `tristrips`). Other
-//! vertex properties (confidence, intensity, ...) and other elements (`range_grid` of raw
-//! scans, `edge`, `material`, ...) before or after are skipped; reading stops once the needed
-//! elements are read.
+//! with `-1` restarts, see `tristrips`), or else a raw scan's `range_grid` (its samples
+//! joined as the scanner's grid, see `range_grid`). Other
+//! vertex properties (confidence, intensity, ...) and other elements (`edge`, `material`,
+//! ...) before or after are skipped; reading stops once the needed elements are read.
 //!
 //! Colour scale follows the property type: `uchar`/`char` are bytes, `ushort`/`short` are
 //! 16-bit (divided by 257), `float`/`double` are `0..=1`, wider integers are clamped to
@@ -29,6 +29,7 @@ use ply_rs_bw::ply::{
     ElementDef, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
+use super::range_grid::{grid_size, range_grid_triangles};
 use super::tristrips::strips_to_triangles;
 use super::{build_point_cloud, LoadedMesh, LoadedPointCloud, MeshBuilder};
 use crate::error::{Element, PlyProblem};
@@ -72,6 +73,16 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
                         problem,
                     },
                 )?;
+        }
+        FaceLayout::RangeGrid(size) => {
+            let lists: Vec<&[i64]> = data.faces.iter().map(|f| &f.indices[..]).collect();
+            builder.triangles =
+                range_grid_triangles(&lists, size, &builder.positions).map_err(|problem| {
+                    MeshError::PlyStructure {
+                        path: path.to_path_buf(),
+                        problem,
+                    }
+                })?;
         }
     }
     if data.layout.normals {
@@ -161,6 +172,9 @@ enum FaceLayout {
     Polygons,
     /// A `tristrips` element: strips with `-1` restarts.
     Strips,
+    /// A raw scan's `range_grid` element of `[cols, rows]` samples, each listing zero or
+    /// one vertex.
+    RangeGrid([usize; 2]),
 }
 
 struct PlyData {
@@ -249,9 +263,15 @@ fn read_ply_from<R: BufRead>(
         .elements
         .values()
         .find(|e| is_face_element(&e.name))
-        .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)));
+        .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)))
+        .or_else(|| header.elements.values().find(|e| e.name == "range_grid"));
     let face_layout = match face_def {
         Some(def) if is_strip_element(&def.name) => FaceLayout::Strips,
+        // (Only a mesh needs the grid's size: a point cloud reads the vertices alone.)
+        Some(def) if def.name == "range_grid" && want_faces => {
+            let size = grid_size(header.obj_infos.iter().map(String::as_str));
+            FaceLayout::RangeGrid(size.ok_or_else(|| structure(PlyProblem::RangeGridWithoutSize))?)
+        }
         _ => FaceLayout::Polygons,
     };
     if let Some(face_def) = face_def.filter(|_| want_faces) {

@@ -146,3 +146,17 @@ fn a_cloud_is_not_a_mesh() {
         Err(spatch_mesh::MeshError::NoFaces { .. })
     ));
 }
+
+#[test]
+fn raw_range_scans_load_as_meshes_joined_along_their_grid() {
+    // The counts `bench/range_grid_mesh.py` (numpy, written apart from this reader) gives
+    // the same scans with the same rule.
+    for (scan, points, triangles) in [
+        ("bunny/data/bun000.ply", 40_256, 75_496),
+        ("bunny/data/chin.ply", 37_738, 68_435),
+    ] {
+        let loaded = load_mesh(require_shared!(scan)).unwrap();
+        assert_eq!(loaded.mesh.positions.len(), points, "{scan}");
+        assert_eq!(loaded.mesh.triangles.len(), triangles, "{scan}");
+    }
+}
