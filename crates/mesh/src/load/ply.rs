@@ -264,11 +264,11 @@ fn read_ply_from<R: BufRead>(
         .values()
         .find(|e| is_face_element(&e.name))
         .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)))
-        .or_else(|| header.elements.values().find(|e| e.name == "range_grid"));
+        .or_else(|| header.elements.values().find(|e| is_range_grid(&e.name)));
     let face_layout = match face_def {
         Some(def) if is_strip_element(&def.name) => FaceLayout::Strips,
         // (Only a mesh needs the grid's size: a point cloud reads the vertices alone.)
-        Some(def) if def.name == "range_grid" && want_faces => {
+        Some(def) if is_range_grid(&def.name) && want_faces => {
             let size = grid_size(header.obj_infos.iter().map(String::as_str));
             FaceLayout::RangeGrid(size.ok_or_else(|| structure(PlyProblem::RangeGridWithoutSize))?)
         }
@@ -336,6 +336,10 @@ fn is_face_element(name: &str) -> bool {
 
 fn is_strip_element(name: &str) -> bool {
     matches!(name, "tristrips" | "tristrip")
+}
+
+fn is_range_grid(name: &str) -> bool {
+    name == "range_grid"
 }
 
 fn is_index_list(name: &str) -> bool {
