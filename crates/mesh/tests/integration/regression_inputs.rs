@@ -1,4 +1,4 @@
-//! Inputs of the STL, glTF and tristrips fuzz targets kept under `testdata/regression/`
+//! Inputs of the STL, glTF, tristrips and range-grid fuzz targets kept under `testdata/regression/`
 //! (seeds and corpus samples that reach the readers' error paths): each loads or fails with
 //! a one-line error, never a panic.
 
@@ -44,4 +44,15 @@ fn ply_tristrips_load_inputs() {
 property float y\nproperty float z\nelement tristrips 2\n\
 property list int int vertex_indices\nend_header\n";
     assert!(replay("ply_tristrips_load", header, "ply") > 0);
+}
+
+#[test]
+fn ply_range_grid_load_inputs() {
+    // The target's header: twelve vertices, a 4 × 3 grid.
+    let header = b"ply\nformat ascii 1.0\nobj_info num_cols 4\nobj_info num_rows 3\n\
+element vertex 12\nproperty float x\nproperty float y\nproperty float z\n\
+element range_grid 12\nproperty list uchar int vertex_indices\nend_header\n";
+    // The seeds load (whole, with holes, with a depth jump) or fail on one line (a bad
+    // index, a list of two, a short grid).
+    assert!(replay("ply_range_grid_load", header, "ply") >= 3);
 }
