@@ -11,9 +11,5 @@ element vertex 12\nproperty float x\nproperty float y\nproperty float z\n\
 element range_grid 12\nproperty list uchar int vertex_indices\nend_header\n";
 
 fuzz_target!(|data: &[u8]| {
-    let path = spatch_fuzz::scratch_file("input.ply");
-    let mut bytes = HEADER.to_vec();
-    bytes.extend_from_slice(data);
-    std::fs::write(&path, bytes).expect("scratch write");
-    let _ = spatch_mesh::load_mesh(&path);
+    spatch_fuzz::load_mesh_after(HEADER, data, "input.ply");
 });

@@ -10,9 +10,5 @@ property float y\nproperty float z\nelement tristrips 2\n\
 property list int int vertex_indices\nend_header\n";
 
 fuzz_target!(|data: &[u8]| {
-    let path = spatch_fuzz::scratch_file("input.ply");
-    let mut bytes = HEADER.to_vec();
-    bytes.extend_from_slice(data);
-    std::fs::write(&path, bytes).expect("scratch write");
-    let _ = spatch_mesh::load_mesh(&path);
+    spatch_fuzz::load_mesh_after(HEADER, data, "input.ply");
 });
