@@ -75,9 +75,9 @@ pub fn load_ply_mesh(path: &Path) -> Result<LoadedMesh, MeshError> {
                 )?;
         }
         FaceLayout::RangeGrid(size) => {
-            let lists: Vec<&[i64]> = data.faces.iter().map(|f| &f.indices[..]).collect();
+            let lists = data.faces.iter().map(|f| &f.indices);
             builder.triangles =
-                range_grid_triangles(&lists, size, &builder.positions).map_err(|problem| {
+                range_grid_triangles(lists, size, &builder.positions).map_err(|problem| {
                     MeshError::PlyStructure {
                         path: path.to_path_buf(),
                         problem,

@@ -39,9 +39,9 @@ pub(crate) fn grid_size<'a>(obj_infos: impl IntoIterator<Item = &'a str>) -> Opt
 }
 
 /// Triangles of a `cols × rows` range grid whose samples list their vertex in `cells`
-/// (row by row), over `positions`.
+/// (row by row, as read), over `positions`.
 pub(crate) fn range_grid_triangles(
-    cells: &[impl AsRef<[i64]>],
+    cells: impl ExactSizeIterator<Item = impl AsRef<[i64]>>,
     [cols, rows]: [usize; 2],
     positions: &[DVec3],
 ) -> Result<Vec<[u32; 3]>, PlyProblem> {
@@ -83,11 +83,10 @@ pub(crate) fn range_grid_triangles(
 /// Each sample's vertex, `None` for an empty list; a longer list or an index outside the
 /// `vertex_count` vertices is refused.
 fn sample_vertices(
-    cells: &[impl AsRef<[i64]>],
+    cells: impl Iterator<Item = impl AsRef<[i64]>>,
     vertex_count: usize,
 ) -> Result<Vec<Option<u32>>, PlyProblem> {
     cells
-        .iter()
         .enumerate()
         .map(|(sample, list)| match *list.as_ref() {
             [] => Ok(None),
@@ -147,13 +146,13 @@ mod tests {
     #[test]
     fn every_square_of_four_samples_gives_two_triangles_and_a_gap_takes_its_own() {
         let (cells, positions) = grid(&[]);
-        let t = range_grid_triangles(&cells, [4, 3], &positions).unwrap();
+        let t = range_grid_triangles(cells.iter(), [4, 3], &positions).unwrap();
         assert_eq!(t.len(), 2 * 3 * 2);
         // The first square: (a, c, b) and (b, c, d) in image order.
         assert_eq!(t[..2], [[0, 4, 1], [1, 4, 5]]);
         // Sample 5 empty: the four squares around it keep one triangle each at most.
         let (cells, positions) = grid(&[5]);
-        let t = range_grid_triangles(&cells, [4, 3], &positions).unwrap();
+        let t = range_grid_triangles(cells.iter(), [4, 3], &positions).unwrap();
         assert_eq!(t.len(), 12 - 6);
     }
 
@@ -162,7 +161,7 @@ mod tests {
         let (cells, mut positions) = grid(&[]);
         // Sample 6 (column 2, row 1) four steps behind: its edges are over 4 steps long.
         positions[6].z = 4.0;
-        let t = range_grid_triangles(&cells, [4, 3], &positions).unwrap();
+        let t = range_grid_triangles(cells.iter(), [4, 3], &positions).unwrap();
         assert_eq!(t.len(), 12 - 6, "{t:?}");
         assert!(t.iter().all(|t| !t.contains(&6)));
     }
@@ -171,13 +170,13 @@ mod tests {
     fn a_grid_of_the_wrong_size_or_a_bad_list_is_refused() {
         let (cells, positions) = grid(&[]);
         assert!(matches!(
-            range_grid_triangles(&cells, [5, 3], &positions),
+            range_grid_triangles(cells.iter(), [5, 3], &positions),
             Err(PlyProblem::RangeGridSize { samples: 12, .. })
         ));
         let mut bad = cells.clone();
         bad[3] = vec![12];
         assert!(matches!(
-            range_grid_triangles(&bad, [4, 3], &positions),
+            range_grid_triangles(bad.iter(), [4, 3], &positions),
             Err(PlyProblem::RangeGridIndex {
                 sample: 3,
                 index: 12,
@@ -186,12 +185,12 @@ mod tests {
         ));
         bad[3] = vec![-1];
         assert!(matches!(
-            range_grid_triangles(&bad, [4, 3], &positions),
+            range_grid_triangles(bad.iter(), [4, 3], &positions),
             Err(PlyProblem::RangeGridIndex { index: -1, .. })
         ));
         bad[3] = vec![1, 2];
         assert!(matches!(
-            range_grid_triangles(&bad, [4, 3], &positions),
+            range_grid_triangles(bad.iter(), [4, 3], &positions),
             Err(PlyProblem::RangeGridList { sample: 3, len: 2 })
         ));
     }
@@ -199,8 +198,14 @@ mod tests {
     #[test]
     fn an_empty_grid_has_no_triangles() {
         let none: [Vec<i64>; 0] = [];
-        assert_eq!(range_grid_triangles(&none, [0, 0], &[]), Ok(Vec::new()));
-        assert_eq!(range_grid_triangles(&none, [0, 7], &[]), Ok(Vec::new()));
+        assert_eq!(
+            range_grid_triangles(none.iter(), [0, 0], &[]),
+            Ok(Vec::new())
+        );
+        assert_eq!(
+            range_grid_triangles(none.iter(), [0, 7], &[]),
+            Ok(Vec::new())
+        );
     }
 
     #[test]
