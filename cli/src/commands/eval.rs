@@ -111,6 +111,15 @@ pub(crate) struct EvalArgs {
     /// --mip-tolerance`; 0..=2, default 0.25, 0 = off; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_MIP_TOLERANCE, conflicts_with = "sweep")]
     mip_tolerance: f32,
+    /// Level-one limit of the patch renders in pixels (see `spatch render
+    /// --level-one-limit`; 0 = off, the default; not with --sweep).
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 0.0,
+        conflicts_with = "sweep"
+    )]
+    level_one_limit: f32,
     /// Centre limit of the patch renders in pixels (see `spatch render
     /// --centre-limit`; 0 = off; not with --sweep).
     #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_CENTRE_LIMIT, conflicts_with = "sweep")]
@@ -193,6 +202,7 @@ impl EvalArgs {
         render.centre_limit = self.centre_limit;
         render.mip_limit = self.mip_limit;
         render.mip_tolerance = self.mip_tolerance;
+        render.level_one_limit = self.level_one_limit;
         // The eval times whole frames only: no clock reads per patch.
         render.stage_times = false;
         render

@@ -151,6 +151,7 @@ fn the_mip_limit_reaches_the_patch_renders() {
         ("--mip-limit", "0"),
         ("--splat-limit", "9"),
         ("--mip-tolerance", "3"),
+        ("--level-one-limit", "20"),
     ] {
         let run = t.run(&["eval", "ball.spatch", "--source", &ball, option, value]);
         assert_eq!(run.code, 2, "{option}: {}", run.stderr);

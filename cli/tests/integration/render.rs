@@ -162,6 +162,47 @@ fn a_mip_tolerance_takes_full_grids_past_the_mip_limit() {
 }
 
 #[test]
+fn a_level_one_limit_takes_level_one_past_the_mip_limit() {
+    // At 64² the mip limit alone (no tolerance) keeps the small sphere's
+    // near patches at level 0; a level-one limit of 16 px takes them to
+    // level 1.
+    let t = TestCommand::new();
+    let name = t.small_sphere("s.spatch");
+    let levels = |limit: &str| {
+        t.run(&[
+            "render",
+            &name,
+            "-o",
+            "s.png",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--mip-tolerance",
+            "0",
+            "--level-one-limit",
+            limit,
+            "--stats",
+            "stats.json",
+        ])
+        .success();
+        let stats: serde_json::Value = t.json("stats.json");
+        let levels = stats["mip_levels"].as_array().expect("levels").clone();
+        levels
+            .iter()
+            .map(|n| n.as_u64().unwrap())
+            .collect::<Vec<_>>()
+    };
+    let (off, on) = (levels("0"), levels("16"));
+    assert!(off[0] > 0 && on[0] < off[0], "off {off:?}, on {on:?}");
+    assert_eq!(off.iter().sum::<u64>(), on.iter().sum::<u64>());
+    let run = t.run(&["render", &name, "-o", "x.png", "--level-one-limit", "20"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(!t.path("x.png").exists());
+}
+
+#[test]
 fn camera_flags_and_modes_are_honoured() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");

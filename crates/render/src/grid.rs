@@ -39,6 +39,17 @@ pub(crate) const CELL_OPEN_LEFT: u8 = 64;
 /// ([`crate::raster::cell_exact`]); set on every drawn cell of a piece
 /// that asks for exact outlines ([`crate::plan::piece`]).
 pub(crate) const CELL_EXACT: u8 = 128;
+/// A cell drawn by the finer cells (quarters) it holds, not whole: level
+/// 1's cells along a patch's outline ([`crate::prepare::quarters`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct QuarteredCell {
+    /// The cell's index in its level, row by row.
+    pub(crate) cell: u32,
+    /// Bit `a + 2 b` set when quarter `(a, b)` (`a` along the row) holds a
+    /// drawable finer cell; never 0.
+    pub(crate) quarters: u8,
+}
+
 /// Every open-side flag.
 pub(crate) const CELL_OPEN: u8 =
     CELL_OPEN_BOTTOM | CELL_OPEN_RIGHT | CELL_OPEN_TOP | CELL_OPEN_LEFT;

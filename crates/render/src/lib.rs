@@ -27,16 +27,19 @@
 //!
 //! 1. Vocabulary, shared by every stage: `error`, `options`, `fixed`
 //!    (fixed-point formats and the projected node), `grid` (cell flags,
-//!    closing and edge masks, node weights), `camera`, `lighting`
+//!    closing and edge masks, node weights, cells drawn by quarters),
+//!    `camera`, `lighting`
 //!    (Blinn-Phong in patch space, packed normals and colours).
 //! 2. `prepare/`, once per scene: normal reconstruction and slots, the
-//!    normal buffer, the mip pyramid, the normal cone, the prepared patch,
-//!    overlap trimming, the prepared scene.
+//!    normal buffer, the corner fill and level 1's cells by quarters, the
+//!    mip pyramid, the normal cone, the prepared patch, overlap trimming,
+//!    the prepared scene.
 //! 3. `raster/`, the kernels that write samples into a band: the band
-//!    store, bilinear cells and nodes, Catmull-Rom cells, node splats,
-//!    the scan-line triangle rasterizer.
+//!    store, bilinear cells and nodes, cells by quarters, Catmull-Rom
+//!    cells, node splats, the scan-line triangle rasterizer.
 //! 4. `plan/`, once per frame and patch: culling, splitting, lane
-//!    conversions, projection, cell measurement, subdivision, counters,
+//!    conversions, projection, cell measurement, the cells by quarters a
+//!    frame draws, subdivision, counters,
 //!    the chunk's work, attributes, cells as triangles, the piece, the
 //!    chunk, meshes.
 //! 5. `shade/`, the deferred resolve: the Phong items, the per-pixel

@@ -24,6 +24,7 @@ use crate::raster::band::{
 use crate::raster::band_box::{band_box, PixelBox};
 use crate::raster::cell_bilinear::{draw_cells_bilinear, draw_nodes, BilinearPiece};
 use crate::raster::cell_edges::draw_cells_open;
+use crate::raster::cell_quarters::draw_quartered_cells;
 use crate::raster::cell_smooth::draw_cells_smooth;
 use crate::raster::centre_piece::draw_cells_centres;
 use crate::raster::gap_fill::fill_band_gaps;
@@ -213,6 +214,10 @@ pub(crate) fn draw_item(
             draw_cells_open(t, &piece, nu, nv, id);
         } else {
             draw_cells_bilinear(t, &piece, nu, nv, id);
+        }
+        let [q0, q1] = item.quartered.map(|q| q as usize);
+        if q1 > q0 {
+            draw_quartered_cells(t, &piece, &chunk.quartered[q0..q1], [nu, nv], id);
         }
     }
 }

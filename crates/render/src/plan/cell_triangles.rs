@@ -19,6 +19,7 @@ use crate::plan::split::NodeRange;
 use crate::plan::work::{ChunkWork, PatchContext};
 use crate::prepare::mip::MipLevel;
 use crate::prepare::normal_buffer::NormalBuffer;
+use crate::prepare::patch::grid_level;
 use crate::raster::triangle_raster::{clip_and_project, ClipOutcome, ClipVertex, TRI_ATTRS};
 
 /// Emits every drawable cell of `range` (level `m`) as two triangles,
@@ -134,7 +135,7 @@ fn grid_attributes(
         Shading::Phong => n,
         _ => ctx.setup.material.shade(n, ctx.frame, Vec3::splat(255.0)) / 255.0,
     };
-    let step = (1u32 << m) as f32;
+    let step = (1u32 << grid_level(m)) as f32;
     [
         light.x,
         light.y,

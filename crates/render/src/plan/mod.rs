@@ -2,8 +2,9 @@
 //! pixel is touched, into flat per-chunk work for the bands. In use order:
 //! culling, which backs to cull (the portal test), splitting, lane
 //! conversions, the node positions' scratch, projection, cell measurement,
-//! subdivision, counters, the chunk's work and the per-patch context,
-//! attributes, cells as triangles, the piece, the chunk, meshes.
+//! the level-1 cells drawn by quarters, subdivision, counters, the chunk's
+//! work and the per-patch context, attributes, cells as triangles, the
+//! piece, the chunk, meshes.
 
 pub(crate) mod attributes;
 pub(crate) mod cell_triangles;
@@ -19,6 +20,7 @@ pub(crate) mod node_xy;
 pub(crate) mod open_sides;
 pub(crate) mod piece;
 pub(crate) mod project;
+pub(crate) mod quartered;
 pub(crate) mod sides;
 pub(crate) mod split;
 pub(crate) mod subdivision;

@@ -29,9 +29,11 @@ use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides,
 use crate::plan::project::{
     level_map, nearest_box_depth, project_nodes_exact, project_nodes_trilinear, Projector,
 };
+use crate::plan::quartered::{drop_quartered_corners, gather_quartered};
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
 use crate::plan::work::{ChunkWork, Item, PatchContext};
+use crate::prepare::patch::{PreparedPatch, QUARTERED_ONE};
 use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::centre_piece::CentreStyle;
 use crate::raster::gap_fill::GAP_FILL_REACH;
@@ -84,6 +86,8 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // 2. Mip level.
     // (Stage timers: what follows is charged to traversal at its laps.)
     let (mut m, mut shift) = (0, 0);
+    // Level 1 taken past the limit, its outline kept by quarters.
+    let mut quartered_lift = false;
     // The level the mip limit alone chose, when the tolerance went past it.
     let mut lifted = usize::MAX;
     if whole && opts.mip && p.level_count() > 1 {
@@ -109,15 +113,21 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
                 (m, lifted) = (coarser, m);
             }
         }
+        if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
+            (m, lifted, quartered_lift) = (1, 0, true);
+        }
         // Coarse geometry: the level above draws, this one shades.
-        if coarse_geometry(opts) && m + 1 < p.level_count() {
+        if coarse_geometry(opts) && !quartered_lift && m + 1 < p.level_count() {
             let near = extent * ((2u32 << m) as f32) < opts.geometry_limit;
             let tol = opts.geometry_tolerance;
             shift = (near && (tol == 0.0 || p.coarse_error(m + 1) <= tol)) as usize;
         }
     }
     let m = m + shift;
-    let level = p.level(m);
+    // The level the item names: level 1 with its outline by quarters when
+    // lifted so.
+    let named = if quartered_lift { QUARTERED_ONE } else { m };
+    let level = p.level(named);
     let range = if m == 0 {
         piece
     } else {
@@ -172,7 +182,21 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
-    let edges = measure.edges.map(|e| e as f32 / XY_ONE);
+    // Level 1's cells drawn by quarters, when it is drawn and shaded: the
+    // cut covers them too.
+    let quarters = work.quartered.len();
+    let mut edges = measure.edges;
+    if quartered_lift {
+        let q = gather_quartered(
+            &level.quartered,
+            &work.xy,
+            cols,
+            back_sign,
+            &mut work.quartered,
+        );
+        edges = [0, 1, 2, 3].map(|k| edges[k].max(q[k]));
+    }
+    let edges = edges.map(|e| e as f32 / XY_ONE);
     let mut split = choose_subdivision(edges, SUBPIXEL_LIMIT);
     if smooth && split != Some((1, 1)) {
         split = choose_subdivision(edges, SUBPIXEL_LIMIT / SMOOTH_MARGIN);
@@ -196,16 +220,14 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else {
         (splat[0] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
     };
+    let marks = [first, flags, spans, quarters];
     if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
-        work.nodes.truncate(first);
-        work.cell_flags.truncate(flags);
-        work.row_spans.truncate(spans);
+        drop_planned(work, marks);
         work.counters.traverse_ns += work.clock.lap();
         return;
     }
     let Some((nu, nv)) = split else {
-        work.nodes.truncate(first);
-        work.row_spans.truncate(spans);
+        drop_planned(work, [first, work.cell_flags.len(), spans, quarters]);
         work.counters.traverse_ns += work.clock.lap();
         if lifted < m {
             work.cell_flags.truncate(flags);
@@ -217,7 +239,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         // The measured flags choose the cells: those facing away are left
         // out. Why: fandisk's 51 oversized pieces drew 2,954 such cells
         // beside 3,858 facing the eye (43 % of their triangles).
-        emit_cell_triangles(work, ctx, m, range, Some(flags));
+        emit_cell_triangles(work, ctx, named, range, Some(flags));
         work.cell_flags.truncate(flags);
         work.counters.setup_ns += work.clock.lap();
         return;
@@ -251,6 +273,16 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
             && centres.is_none()
             && nu.max(nv) > OPEN_SIDE_CUT
             && measure.backfacing_cells > 0);
+    // The sub-node drawers (with or without open sides) also draw the cells
+    // by quarters; a lifted piece that another would take keeps the
+    // limit's level.
+    if quartered_lift && (!bilinear || centres.is_some()) {
+        drop_planned(work, marks);
+        work.counters.mip[m] -= 1;
+        work.counters.cells_backface -= measure.backfacing_cells;
+        work.counters.traverse_ns += work.clock.lap();
+        return replan_unlifted(work, ctx, piece);
+    }
     if exact {
         mark_exact_cells(&mut work.cell_flags[flags..]);
     } else if open_sides {
@@ -268,9 +300,22 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else {
         (nu, nv)
     };
+    // A lifted piece cut 1 × 1 (cells under a pixel where the box's
+    // estimate said otherwise) places its nodes, not its cells: those only
+    // the quartered cells use would lie past the patch's data.
+    if (nu, nv) == (1, 1) && work.quartered.len() > quarters {
+        let cells = &work.quartered[quarters..];
+        drop_quartered_corners(
+            cells,
+            &work.cell_flags[flags..],
+            cols,
+            &mut work.nodes[first..],
+        );
+        work.quartered.truncate(quarters);
+    }
     work.counters.traverse_ns += work.clock.lap();
     // 5. Attributes.
-    fill_attributes(work, ctx, m, range, first);
+    fill_attributes(work, ctx, named, range, first);
     work.counters.normals_ns += work.clock.lap();
     // After the attributes, which it keeps: only positions are dropped.
     if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
@@ -308,7 +353,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         flags: flags as u32,
         spans: spans as u32,
         uniform_albedo: level.colours.is_none(),
-        level: m as u8,
+        level: named as u8,
         shade_shift: shift as u8,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
@@ -325,7 +370,32 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         splat,
         open_sides,
         centres,
+        quartered: [quarters as u32, work.quartered.len() as u32],
     });
+}
+
+/// Whether the patch `p` may take level 1 past the mip limit, its
+/// outline kept by quarters ([`RenderOptions::level_one_limit`]): the
+/// limit set above the mip limit, bilinear cells drawn by sub-nodes (no
+/// splats, pixel-centre cells or gap fill, whose drawers do not draw by
+/// quarters), and no colour grid (drawn by pixel centres).
+fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
+    opts.level_one_limit > opts.mip_limit
+        && opts.cells == CellScheme::Bilinear
+        && opts.splat_limit == 0.0
+        && !centre_cells(opts)
+        && !opts.fills_gaps()
+        && p.colour_grid.is_none()
+}
+
+/// Forgets what planning pushed for a piece it drops: the chunk's nodes,
+/// cell flags, row spans and quartered cells from the lengths `marks`
+/// they had before it.
+fn drop_planned(work: &mut ChunkWork, [nodes, flags, spans, quarters]: [usize; 4]) {
+    work.nodes.truncate(nodes);
+    work.cell_flags.truncate(flags);
+    work.row_spans.truncate(spans);
+    work.quartered.truncate(quarters);
 }
 
 /// Whether whole patches with exact levels may go past the mip limit

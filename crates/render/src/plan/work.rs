@@ -11,6 +11,7 @@ use glam::{Mat3, Vec3};
 
 use crate::camera::View;
 use crate::fixed::{Node, NodeAttributes};
+use crate::grid::QuarteredCell;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
 use crate::plan::counters::{Counters, StageClock};
@@ -76,6 +77,9 @@ pub(crate) struct Item {
     /// ([`crate::raster::centre_piece`]); `nu × nv` is then the resolve's
     /// grid of recorded places, not a cut.
     pub(crate) centres: Option<CentreStyle>,
+    /// The piece's level-1 cells drawn by quarters: a range of its chunk's
+    /// [`ChunkWork::quartered`] (empty for most pieces).
+    pub(crate) quartered: [u32; 2],
 }
 
 #[cfg(test)]
@@ -106,6 +110,7 @@ impl Item {
             splat: [0, 0],
             open_sides: false,
             centres: None,
+            quartered: [0, 0],
         }
     }
 }
@@ -144,6 +149,9 @@ pub(crate) struct ChunkWork {
     /// Pixel rows spanned by each row of cells of each item (see
     /// [`crate::plan::measure::measure_cells`]).
     pub(crate) row_spans: Vec<[i32; 2]>,
+    /// The level-1 cells drawn by quarters of the items that have some
+    /// ([`crate::plan::quartered`]).
+    pub(crate) quartered: Vec<QuarteredCell>,
     pub(crate) counters: Counters,
     /// The clock of the stage timers in `counters`.
     pub(crate) clock: StageClock,
@@ -173,6 +181,7 @@ impl ChunkWork {
         self.triangles.clear();
         self.cell_flags.clear();
         self.row_spans.clear();
+        self.quartered.clear();
         self.counters = Counters::default();
         self.clock = StageClock::new(stage_times);
         self.normals.clear();

@@ -113,8 +113,31 @@ pub(crate) fn fill_corners(fine: FinerLevel<'_>, size: [usize; 2], d: &mut [u16]
 }
 
 /// [`fill_corners`] with `sweeps` sweeps of the fit (0: the prior alone).
-fn fill_corners_with(fine: FinerLevel<'_>, [hc, hr]: [usize; 2], d: &mut [u16], sweeps: usize) {
-    let wanted = wanted_corners(fine, [hc, hr]);
+fn fill_corners_with(fine: FinerLevel<'_>, size: [usize; 2], d: &mut [u16], sweeps: usize) {
+    let wanted = wanted_corners(fine, size);
+    fill_wanted(fine, size, d, &wanted, sweeps);
+}
+
+/// Fills the empty nodes of `d` that `wanted` marks, as [`fill_corners`]
+/// does (the nodes already filled are held): the corners of the level-1
+/// cells drawn by quarters ([`crate::prepare::quarters`]).
+pub(crate) fn fill_wanted_corners(
+    fine: FinerLevel<'_>,
+    size: [usize; 2],
+    d: &mut [u16],
+    wanted: &[bool],
+) {
+    fill_wanted(fine, size, d, wanted, FIT_SWEEPS);
+}
+
+/// The two steps of [`fill_corners`] over the empty nodes `wanted` marks.
+fn fill_wanted(
+    fine: FinerLevel<'_>,
+    [hc, hr]: [usize; 2],
+    d: &mut [u16],
+    wanted: &[bool],
+    sweeps: usize,
+) {
     let holes: Vec<(usize, u16)> = (0..d.len())
         .filter(|&k| wanted[k] && d[k] == EMPTY)
         .filter_map(|k| extrapolated(d, [hc, hr], k).map(|prior| (k, prior)))

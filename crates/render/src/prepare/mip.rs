@@ -22,9 +22,12 @@ use std::sync::OnceLock;
 
 use spatch_format::EMPTY;
 
-use crate::grid::{close_cells, drawn_cells, drawn_edge_masks, push_weights, CELL_DRAW};
-use crate::prepare::corner_fill::{fill_corners, FinerLevel};
+use crate::grid::{
+    close_cells, drawn_cells, drawn_edge_masks, push_weights, QuarteredCell, CELL_DRAW,
+};
+use crate::prepare::corner_fill::{fill_corners, fill_wanted_corners, FinerLevel};
 use crate::prepare::normals::grid_slots;
+use crate::prepare::quarters::{quartered_cells, quartered_corners};
 
 /// Most levels kept per patch (including level 0).
 pub(crate) const MAX_MIP_LEVELS: usize = 6;
@@ -61,6 +64,10 @@ pub(crate) struct MipLevel {
     pub(crate) cell_flags: Vec<u8>,
     /// Closing counts of [`Self::cell_flags`]: right, top, both.
     pub(crate) closing: [u64; 3],
+    /// Level 1: the cells drawn by the level-0 cells they hold, not whole
+    /// ([`crate::prepare::quarters`]; not in [`Self::cell_flags`], their
+    /// corners [`Self::used`]). Empty at the other levels.
+    pub(crate) quartered: Vec<QuarteredCell>,
     /// The edge masks of [`Self::edge_masks`], found on first use.
     edge_masks: OnceLock<(Vec<i32>, Vec<i32>)>,
 }
@@ -81,7 +88,7 @@ impl MipLevel {
             spacing,
             (displacements, colours),
             OnceLock::new(),
-            (drawn, range),
+            (drawn, range, Vec::new()),
         )
     }
 
@@ -99,20 +106,21 @@ impl MipLevel {
             self.spacing,
             (std::mem::take(&mut self.displacements), self.colours.take()),
             std::mem::take(&mut self.normal_slots),
-            (drawn, None),
+            (drawn, None, std::mem::take(&mut self.quartered)),
         );
     }
 
     /// A level drawing the cells whose flag in `drawn` is [`CELL_DRAW`]
     /// (each with four filled corners; the others 0), which becomes its
-    /// [`Self::cell_flags`]; `range` as in [`Self::new`].
+    /// [`Self::cell_flags`], and the cells `quartered` by quarters; `range`
+    /// as in [`Self::new`].
     #[inline(always)]
     fn with_drawn_cells(
         [cols, rows]: [usize; 2],
         spacing: u32,
         (displacements, colours): (Vec<u16>, Option<Vec<[u8; 4]>>),
         normal_slots: OnceLock<Vec<u16>>,
-        (mut cell_flags, range): (Vec<u8>, Option<(u16, u16)>),
+        (mut cell_flags, range, quartered): (Vec<u8>, Option<(u16, u16)>, Vec<QuarteredCell>),
     ) -> Self {
         let (ccols, crows) = (cols - 1, rows - 1);
         cell_flags.truncate(ccols * crows);
@@ -144,6 +152,10 @@ impl MipLevel {
                 *a |= c;
             }
         }
+        if !quartered.is_empty() {
+            let corners = quartered_corners(&quartered, [cols, rows]);
+            used.iter_mut().zip(corners).for_each(|(u, c)| *u |= c);
+        }
         let (lo, hi) = range.unwrap_or_else(|| used_range(&displacements, &used));
         let d_range = if lo > hi { (0, 0) } else { (lo, hi) };
         let closing = close_cells(&mut cell_flags, ccols, crows);
@@ -160,6 +172,7 @@ impl MipLevel {
             drawable_cells,
             cell_flags,
             closing,
+            quartered,
             edge_masks: OnceLock::new(),
         }
     }
@@ -206,6 +219,17 @@ impl MipLevel {
             (um, vm)
         });
         Some((um, vm))
+    }
+
+    /// The level as the halving into the level above reads it.
+    pub(crate) fn as_finer(&self) -> FinerLevel<'_> {
+        FinerLevel {
+            cols: self.cols,
+            rows: self.rows,
+            displacements: &self.displacements,
+            cell_flags: &self.cell_flags,
+            spacing: self.spacing,
+        }
     }
 
     /// True when every cell of the level is drawn.
@@ -343,14 +367,7 @@ pub(crate) fn build_mip_pyramid(patch: &spatch_format::Patch) -> Vec<MipLevel> {
 /// number of cells, see [`padded`]), or `None` when a side has fewer than
 /// three nodes.
 pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
-    let finer = FinerLevel {
-        cols: level.cols,
-        rows: level.rows,
-        displacements: &level.displacements,
-        cell_flags: &level.cell_flags,
-        spacing: level.spacing,
-    };
-    halve(finer, level.colours.as_deref())
+    halve(level.as_finer(), level.colours.as_deref())
 }
 
 /// The level above `finer` (with per-node `colours`), as
@@ -359,6 +376,29 @@ pub(crate) fn halve_level(level: &MipLevel) -> Option<MipLevel> {
 /// straight from a patch's nodes when level 0 itself is not drawn
 /// ([`crate::prepare::patch::PreparedPatch::level`]).
 pub(crate) fn halve(finer: FinerLevel<'_>, colours: Option<&[[u8; 4]]>) -> Option<MipLevel> {
+    halve_with(finer, colours, false)
+}
+
+/// [`halve`] for level 0 (`finer`), with the cells along the outline that
+/// hold one or two level-0 cells kept as cells drawn by quarters
+/// ([`crate::prepare::quarters`]): their corners filled, listed in
+/// [`MipLevel::quartered`], those corners used. A level of its own beside
+/// level 1 ([`crate::prepare::patch::QUARTERED_ONE`]): filling more
+/// corners changes the normals of the outline's nodes and the level's
+/// box, so level 1 drawn within the mip limit keeps its images.
+pub(crate) fn halve_quartered(
+    finer: FinerLevel<'_>,
+    colours: Option<&[[u8; 4]]>,
+) -> Option<MipLevel> {
+    halve_with(finer, colours, true)
+}
+
+/// [`halve`], with cells by quarters when `quarters` (level 0 only).
+fn halve_with(
+    finer: FinerLevel<'_>,
+    colours: Option<&[[u8; 4]]>,
+    quarters: bool,
+) -> Option<MipLevel> {
     let (hc, hr) = (halved_side(finer.cols)?, halved_side(finer.rows)?);
     let grid = padded(&finer, colours);
     let cols = grid.cols;
@@ -369,6 +409,12 @@ pub(crate) fn halve(finer: FinerLevel<'_>, colours: Option<&[[u8; 4]]>) -> Optio
         }
     }
     fill_corners(finer, [hc, hr], &mut displacements);
+    let drawn = drawn_cells(&displacements, hc, hr);
+    let quartered = if quarters && finer.spacing == 1 {
+        quartered_level_one(finer, [hc, hr], &mut displacements, &drawn)
+    } else {
+        Vec::new()
+    };
     let colours = grid.colours.as_ref().map(|src| {
         let mut out = Vec::with_capacity(hc * hr);
         for j in 0..hr {
@@ -378,12 +424,34 @@ pub(crate) fn halve(finer: FinerLevel<'_>, colours: Option<&[[u8; 4]]>) -> Optio
         }
         out
     });
-    Some(MipLevel::new(
+    Some(MipLevel::with_drawn_cells(
         [hc, hr],
         finer.spacing * 2,
         (displacements, colours),
-        None,
+        OnceLock::new(),
+        (drawn, None, quartered),
     ))
+}
+
+/// The cells of level 1 (`size` nodes, halved from `finer`, its corners
+/// filled for the cells drawn whole, `drawn`) to draw by quarters
+/// ([`crate::prepare::quarters`]), their empty corners filled in `d`.
+fn quartered_level_one(
+    finer: FinerLevel<'_>,
+    size: [usize; 2],
+    d: &mut [u16],
+    drawn: &[u8],
+) -> Vec<QuarteredCell> {
+    let mut cells = quartered_cells(finer, size, drawn);
+    fill_wanted_corners(finer, size, d, &quartered_corners(&cells, size));
+    let cols = size[0];
+    let filled = |k: usize| d[k] != EMPTY;
+    cells.retain(|c| {
+        let k = c.cell as usize;
+        let first = (k / (cols - 1)) * cols + k % (cols - 1);
+        filled(first) && filled(first + 1) && filled(first + cols) && filled(first + cols + 1)
+    });
+    cells
 }
 
 /// A level's nodes, as [`halve_level`] reads them.
@@ -542,6 +610,66 @@ mod tests {
             }
             assert_eq!(level.drawable_cells as usize, level.cell_flags.len());
         }
+    }
+
+    #[test]
+    fn level_one_by_quarters_draws_every_level_zero_cell() {
+        // Random grids with holes: halved with quarters, level 1 is level 1
+        // with more corners filled, and every drawable level-0 cell lies in
+        // a level-1 cell drawn whole or in a held quarter of a quartered
+        // cell (whose corners are filled).
+        let mut rng = crate::test_rng::XorShift(0x0004_1a27);
+        let mut quartered = 0;
+        for case in 0..400 {
+            let (cols, rows) = (3 + rng.below(31), 3 + rng.below(31));
+            let holes = [3, 30, 70][case % 3];
+            let d: Vec<u16> = (0..cols * rows)
+                .map(|_| match rng.below(100) < holes {
+                    true => EMPTY,
+                    false => rng.below(50) as u16,
+                })
+                .collect();
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
+            let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+            let Some(base) = base_level(&patch) else {
+                continue;
+            };
+            let plain = halve_level(&base).unwrap();
+            let by_quarters = halve_quartered(base.as_finer(), None).unwrap();
+            assert_eq!(plain.cell_flags, by_quarters.cell_flags);
+            for (k, (&a, &b)) in plain
+                .displacements
+                .iter()
+                .zip(&by_quarters.displacements)
+                .enumerate()
+            {
+                assert!(a == EMPTY || a == b, "{cols} x {rows}: node {k} moved");
+            }
+            let hc = by_quarters.cols;
+            let mut held = vec![0u8; (hc - 1) * (by_quarters.rows - 1)];
+            for q in &by_quarters.quartered {
+                held[q.cell as usize] = q.quarters;
+                let first = (q.cell as usize / (hc - 1)) * hc + q.cell as usize % (hc - 1);
+                for n in [first, first + 1, first + hc, first + hc + 1] {
+                    assert!(by_quarters.displacements[n] != EMPTY && by_quarters.used[n]);
+                }
+            }
+            quartered += by_quarters.quartered.len();
+            let fc = base.cols - 1;
+            for (k, &f) in base.cell_flags.iter().enumerate() {
+                let (i, j) = (k % fc, k / fc);
+                let coarse = (j / 2) * (hc - 1) + i / 2;
+                let quarter = (i % 2) + 2 * (j % 2);
+                let whole = by_quarters.cell_flags[coarse] & CELL_DRAW != 0;
+                if f & CELL_DRAW != 0 {
+                    assert!(
+                        whole || held[coarse] >> quarter & 1 != 0,
+                        "{cols} x {rows}, {holes} %: cell {i}, {j} not drawn"
+                    );
+                }
+            }
+        }
+        assert!(quartered > 1000, "{quartered} quartered cells");
     }
 
     #[test]

@@ -24,7 +24,9 @@ use crate::prepare::coarse_fit::coarse_gap;
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::corner_fill::FinerLevel;
 use crate::prepare::level_shading::{level_slot_set, LevelShading};
-use crate::prepare::mip::{coarse_level_count, halve, halve_level, level_zero, MipLevel};
+use crate::prepare::mip::{
+    coarse_level_count, halve, halve_level, halve_quartered, level_zero, MipLevel, MAX_MIP_LEVELS,
+};
 use crate::prepare::normal_buffer::SlotSet;
 
 /// One patch ready to draw.
@@ -64,6 +66,9 @@ pub(crate) struct PreparedPatch {
     /// per kind) were four allocations per patch, 1.4 M instructions of a
     /// one-frame bunny render (callgrind).
     levels: Vec<LazyLevel>,
+    /// Level 1 with its outline cells drawn by quarters
+    /// ([`QUARTERED_ONE`]), built the first time a frame asks for it.
+    quartered_one: LazyLevel,
     /// The instruction set the preparation kernels run with, here and on
     /// first use ([`Self::level`], [`Self::shading`]).
     isa: Isa,
@@ -208,6 +213,7 @@ impl PreparedPatch {
             nodes: BaseNodes::default(),
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
+            quartered_one: LazyLevel::default(),
             isa,
         })
     }
@@ -231,19 +237,38 @@ impl PreparedPatch {
     /// that draw it, and the quarter of the bunny's patches that face away
     /// at the automatic view were 8 M instructions of a one-frame render
     /// (callgrind, `spatch render bunny.spatch -o out.png --threads 1`).
+    /// [`QUARTERED_ONE`] names level 1 with its outline cells drawn by
+    /// quarters.
     pub(crate) fn level(&self, m: usize) -> &MipLevel {
-        self.levels[m].level.get_or_init(|| {
+        self.lazy(m).level.get_or_init(|| {
             Box::new(match m {
                 0 => (self.isa).run(
                     #[inline(always)]
                     || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
                 ),
                 1 => self
-                    .level_one_from_nodes()
+                    .level_one_from_nodes(halve)
                     .unwrap_or_else(|| halve_level(self.level(0)).expect("a counted level halves")),
+                QUARTERED_ONE => self
+                    .level_one_from_nodes(halve_quartered)
+                    .unwrap_or_else(|| {
+                        let base = self.level(0);
+                        halve_quartered(base.as_finer(), base.colours.as_deref())
+                            .expect("a counted level halves")
+                    }),
                 _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
             })
         })
+    }
+
+    /// What is built on first use for level `m` ([`QUARTERED_ONE`]
+    /// included).
+    fn lazy(&self, m: usize) -> &LazyLevel {
+        if m == QUARTERED_ONE {
+            &self.quartered_one
+        } else {
+            &self.levels[m]
+        }
     }
 
     /// Level 1 halved straight from the patch's nodes, while level 0 is not
@@ -252,7 +277,8 @@ impl PreparedPatch {
     /// (most of the bunny's at 500²), level 0's used nodes, closing flags
     /// and box were built only to be halved: 1,800 level-0 builds of a
     /// one-image bunny render.
-    fn level_one_from_nodes(&self) -> Option<MipLevel> {
+    /// `halving` is [`halve`] or [`halve_quartered`].
+    fn level_one_from_nodes(&self, halving: Halving) -> Option<MipLevel> {
         let nodes = self.nodes.lock();
         let (displacements, colours) = &*nodes;
         if displacements.is_empty() {
@@ -266,7 +292,7 @@ impl PreparedPatch {
             cell_flags: &drawn_cells(displacements, cols, rows),
             spacing: 1,
         };
-        Some(halve(finer, colours.as_deref()).expect("a counted level halves"))
+        Some(halving(finer, colours.as_deref()).expect("a counted level halves"))
     }
 
     /// Level 0, built if no frame has asked for it yet, for changes that
@@ -301,13 +327,13 @@ impl PreparedPatch {
     /// render cost 3 M instructions more (callgrind, `spatch render
     /// bunny.spatch -o out.png --threads 1 --json`).
     pub(crate) fn counted_shading(&self, m: usize) -> &LevelShading {
-        self.build_shading(m, Some(&self.levels[m].slots))
+        self.build_shading(m, Some(&self.lazy(m).slots))
     }
 
     /// The shading inputs of level `m`, built with `slots` as
     /// [`LevelShading::new`] takes it.
     fn build_shading(&self, m: usize, slots: Option<&OnceLock<Box<SlotSet>>>) -> &LevelShading {
-        self.levels[m].shading.get_or_init(|| {
+        self.lazy(m).shading.get_or_init(|| {
             Box::new(LevelShading::with_isa(
                 self.isa,
                 self.level(m),
@@ -323,7 +349,7 @@ impl PreparedPatch {
     /// reconstructed for every node of every frame (2.1 ms of a one-thread
     /// 500² bunny frame, where Phong reads its prepared normals).
     pub(crate) fn flat_shading(&self, m: usize) -> &LevelShading {
-        (self.levels[m].flat_shading)
+        (self.lazy(m).flat_shading)
             .get_or_init(|| Box::new(LevelShading::flat(self.level(m), self.ratios_at(m))))
     }
 
@@ -338,7 +364,7 @@ impl PreparedPatch {
     /// render bunny.spatch -o out.png --threads 1`). A counting frame finds
     /// them with the shading inputs ([`Self::counted_shading`]).
     pub(crate) fn slot_set(&self, m: usize) -> &SlotSet {
-        (self.levels[m].slots).get_or_init(|| Box::new(level_slot_set(self.isa, self.level(m))))
+        (self.lazy(m).slots).get_or_init(|| Box::new(level_slot_set(self.isa, self.level(m))))
     }
 
     /// The shading inputs of level `g - 1` (`g` at least 1) for cells of
@@ -430,8 +456,27 @@ impl PreparedPatch {
 
     /// Shading ratios at mip level `m` (node spacing doubles per level).
     pub(crate) fn ratios_at(&self, m: usize) -> (f32, f32) {
-        let s = (1u32 << m) as f32;
+        let s = (1u32 << grid_level(m)) as f32;
         (self.ratios.0 / s, self.ratios.1 / s)
+    }
+}
+
+/// A way to halve level 0 into level 1 ([`halve`], [`halve_quartered`]).
+type Halving = fn(FinerLevel<'_>, Option<&[[u8; 4]]>) -> Option<MipLevel>;
+
+/// The level index of level 1 with its outline cells drawn by quarters
+/// ([`crate::prepare::mip::halve_quartered`]), past the pyramid's
+/// ([`MAX_MIP_LEVELS`]): [`PreparedPatch::level`] and the shading inputs
+/// take it as any level, and draw items carry it.
+pub(crate) const QUARTERED_ONE: usize = MAX_MIP_LEVELS + 1;
+
+/// The pyramid level whose grid level `m` has: 1 for [`QUARTERED_ONE`],
+/// else `m`.
+pub(crate) fn grid_level(m: usize) -> usize {
+    if m == QUARTERED_ONE {
+        1
+    } else {
+        m
     }
 }
 

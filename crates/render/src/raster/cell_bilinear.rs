@@ -299,6 +299,40 @@ pub(crate) fn draw_cell<const CLIP: bool>(
     }
 }
 
+/// Places, for each row `b` of sub-nodes `0..=nv` of one cell cut
+/// `nu × nv` (`r` their reciprocals), the run of sub-nodes `a0..=a1` that
+/// `run(b)` names (none when `None`), each sample pushed back by `z_bias`:
+/// the cells drawn by quarters ([`crate::raster::cell_quarters`]). `CLIP`
+/// as for [`draw_cell`].
+#[inline(always)]
+pub(crate) fn draw_cell_runs<const CLIP: bool>(
+    t: &mut BandTarget<'_>,
+    c: [&Node; 4],
+    ([_, nv], r, z_bias): ([u32; 2], Reciprocals, i64),
+    (sub0, item): (u32, u32),
+    run: impl Fn(u32) -> Option<(u32, u32)>,
+) {
+    let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
+    let (sx, sy, sz) = (s(0), s(1), s(2));
+    let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
+    let y_origin = if CLIP { 0 } else { y_lo << (16 + EXT) };
+    let mut start = [sx[0], sy[0] - y_origin, sz[0] + (z_bias << EXT)];
+    let mut step = [sx[2], sy[2], sz[2]];
+    for b in 0..=nv {
+        if let Some((a0, a1)) = run(b) {
+            let v = [0, 1, 2].map(|k| start[k] + a0 as i64 * step[k]);
+            let row = Row {
+                nu: a1 - a0 + 1,
+                right: 0,
+                band: [y_lo, y_hi],
+                item,
+            };
+            row.draw::<CLIP>(t, v, step, sub0 + (a0 << 8) + b);
+        }
+        next_row(&mut start, &mut step, [sx, sy, sz]);
+    }
+}
+
 /// What every row of sub-nodes of one cell shares (see [`draw_cell`]).
 #[derive(Clone, Copy)]
 struct Row {

@@ -17,7 +17,7 @@ use glam::Vec3;
 use spatch_format::ColourGrid;
 
 use crate::plan::work::Item;
-use crate::prepare::patch::PreparedPatch;
+use crate::prepare::patch::{grid_level, PreparedPatch};
 
 /// Where an item's samples lie on its patch's colour grid.
 #[derive(Debug, Clone, Copy)]
@@ -51,7 +51,7 @@ impl GridPlace<'_> {
 #[inline]
 pub(crate) fn grid_place<'a>(patches: &'a [PreparedPatch], item: &Item) -> Option<GridPlace<'a>> {
     let grid = patches.get(item.frame as usize)?.colour_grid.as_ref()?;
-    let step = (1u32 << item.level) as f32;
+    let step = (1u32 << grid_level(item.level as usize)) as f32;
     Some(GridPlace {
         grid,
         i0: f32::from(item.i0) * step,

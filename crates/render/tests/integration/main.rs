@@ -12,6 +12,7 @@
 //! - `camera`: degenerate cameras and options refused.
 //! - `crease`: a patch bent over a crease keeps its front lit with
 //!   back-face culling (issue 21 item 3).
+//! - `level_one`: level 1 past the mip limit keeps level 0's outline.
 //! - `layers`: the modules of `src/` form one layered order without
 //!   import circles (reads the sources).
 
@@ -20,6 +21,7 @@ mod camera;
 mod common;
 mod crease;
 mod layers;
+mod level_one;
 mod mesh;
 mod modes;
 mod near_plane;

@@ -1,0 +1,86 @@
+//! Level 1 past the mip limit (`RenderOptions::level_one_limit`): a patch
+//! with an irregular outline drawn at level 1 keeps the outline level 0
+//! draws, because level 1 draws its outline cells by the level-0 cells
+//! they hold; off by default.
+
+use glam::{DVec3, Vec3};
+use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene, EMPTY};
+use spatch_render::{PreparedScene, RenderOptions, RenderOutput, Renderer};
+
+use crate::common::known_camera;
+
+/// Nodes per side of the test patch.
+const SIDE: u32 = 33;
+
+/// One patch facing the known camera: a shallow bowl of `SIDE × SIDE`
+/// nodes `spacing` apart, filled inside a wavy disc (radius 12 ± 3 nodes,
+/// five lobes), so that its outline crosses level-1 cells in every way.
+fn wavy_disc(spacing: f32) -> Scene {
+    let view = DVec3::new(0.3, 0.5, 0.8).normalize().as_vec3();
+    let ax = view.cross(Vec3::Y).normalize();
+    let ay = view.cross(ax);
+    let c = (SIDE - 1) as f32 / 2.0;
+    let origin = -(ax + ay) * c * spacing;
+    let frame = Frame::new(origin, ax * spacing, ay * spacing, view * 0.01).unwrap();
+    let d = (0..SIDE * SIDE)
+        .map(|k| {
+            let (x, y) = ((k % SIDE) as f32 - c, (k / SIDE) as f32 - c);
+            let r = x.hypot(y);
+            let edge = 12.0 + 3.0 * (5.0 * y.atan2(x)).sin();
+            if r <= edge {
+                (2000.0 + 3.0 * r * r) as u16
+            } else {
+                EMPTY
+            }
+        })
+        .collect();
+    let grid = GridSize::new(SIDE, SIDE).unwrap();
+    let patch = Patch::new(frame, grid, d, None).unwrap();
+    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap()
+}
+
+fn draw(prepared: &PreparedScene, level_one_limit: f32) -> RenderOutput {
+    let mut o = RenderOptions::default();
+    o.level_one_limit = level_one_limit;
+    Renderer::new(o)
+        .unwrap()
+        .render(prepared, &known_camera(600.0, 500))
+        .unwrap()
+}
+
+#[test]
+fn level_one_past_the_limit_keeps_level_zeros_outline() {
+    // Level-0 cells of about 2 px: the mip limit (3 px) keeps level 0,
+    // a level-one limit of 6 px takes level 1.
+    let prepared = PreparedScene::new(&wavy_disc(1.3));
+    let (zero, one) = (draw(&prepared, 0.0), draw(&prepared, 6.0));
+    assert_eq!(zero.stats.mip_levels, vec![1]);
+    assert_eq!(one.stats.mip_levels, vec![0, 1]);
+    let (mut lost, mut gained) = (0, 0);
+    for y in 0..500 {
+        for x in 0..500 {
+            let (a, b) = (zero.image.is_covered(x, y), one.image.is_covered(x, y));
+            lost += (a && !b) as usize;
+            gained += (b && !a) as usize;
+        }
+    }
+    let covered = zero.image.covered_count();
+    assert!(covered > 1000, "{covered} pixels covered");
+    // The outline is about 2π · 12 nodes · 2 px ≈ 150 px long. Without
+    // the cells by quarters level 1 loses 134 pixels along it; with them
+    // none, and it reaches past it by under a pixel (cells over three
+    // level-0 cells drawn whole, sub-nodes within half a sub-cell).
+    assert!(
+        lost <= 4 && gained <= 120,
+        "lost {lost}, gained {gained} of {covered}"
+    );
+}
+
+#[test]
+fn a_level_one_limit_out_of_range_is_refused() {
+    for bad in [-1.0, 0.05, 17.0, f32::NAN] {
+        let mut o = RenderOptions::default();
+        o.level_one_limit = bad;
+        assert!(Renderer::new(o).is_err(), "{bad}");
+    }
+}
