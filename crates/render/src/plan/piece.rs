@@ -114,7 +114,10 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
             }
         }
         if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
-            (m, lifted, quartered_lift) = (1, 0, true);
+            let moves = p.quartered_rms_gap() * pixels_per_code(&proj0, piece, p.base_d_range());
+            if moves <= LEVEL_ONE_TOLERANCE {
+                (m, lifted, quartered_lift) = (1, 0, true);
+            }
         }
         // Coarse geometry: the level above draws, this one shades.
         if coarse_geometry(opts) && !quartered_lift && m + 1 < p.level_count() {
@@ -387,6 +390,15 @@ fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
         && !opts.fills_gaps()
         && p.colour_grid.is_none()
 }
+
+/// How far (pixels, root mean square over level 0's nodes) level 1 drawn
+/// by quarters may move a patch's surface for
+/// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px: fandisk's
+/// curved fillets and creases then keep level 0 (its holes and specks as
+/// without the lift), while the bunny's patches, whose largest gap is
+/// their noise, nearly all lift (docs/algorithms/render.md, "Level 1 past
+/// the limit").
+const LEVEL_ONE_TOLERANCE: f32 = 0.25;
 
 /// Forgets what planning pushed for a piece it drops: the chunk's nodes,
 /// cell flags, row spans and quartered cells from the lengths `marks`

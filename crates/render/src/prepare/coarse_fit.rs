@@ -1,5 +1,7 @@
 //! How far a mip level's surface strays from the level below it: the
-//! per-patch test behind [`crate::RenderOptions::geometry_tolerance`].
+//! per-patch tests behind [`crate::RenderOptions::geometry_tolerance`],
+//! [`crate::RenderOptions::mip_tolerance`] and
+//! [`crate::RenderOptions::level_one_limit`].
 //!
 //! Coarse geometry ([`crate::RenderOptions::geometry_limit`]) draws level
 //! `g`'s cells, bilinear between every other node of level `g - 1`. Each
@@ -33,11 +35,51 @@ pub(crate) fn coarse_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
 /// (with filled or padded nodes), of `coarse_size`.
 pub(crate) fn grid_gap(
     fine: &[u16],
-    [fine_cols, fine_rows]: [usize; 2],
+    fine_size: [usize; 2],
     coarse: &[u16],
     coarse_size: [usize; 2],
 ) -> f32 {
     let mut worst = 0f32;
+    for_each_gap(fine, fine_size, coarse, coarse_size, |g| {
+        worst = worst.max(g)
+    });
+    worst
+}
+
+/// The root mean square of the gaps [`coarse_gap`] takes the largest of
+/// (0 when no node is compared). Why beside the largest: a scan's noise
+/// puts some node of nearly every patch far from the coarser surface, so
+/// the largest gap says little about how far the surface moves as a whole
+/// ([`crate::RenderOptions::level_one_limit`]'s test).
+pub(crate) fn coarse_rms_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
+    let (mut sum, mut n) = (0f64, 0u32);
+    let (f, c) = (&fine.displacements, &coarse.displacements);
+    for_each_gap(
+        f,
+        [fine.cols, fine.rows],
+        c,
+        [coarse.cols, coarse.rows],
+        |g| {
+            sum += f64::from(g * g);
+            n += 1;
+        },
+    );
+    if n == 0 {
+        0.0
+    } else {
+        (sum / f64::from(n)).sqrt() as f32
+    }
+}
+
+/// Calls `gap` with the distance of each filled node of `fine` from the
+/// bilinear surface of the drawn cell of `coarse` that holds it.
+fn for_each_gap(
+    fine: &[u16],
+    [fine_cols, fine_rows]: [usize; 2],
+    coarse: &[u16],
+    coarse_size: [usize; 2],
+    mut gap: impl FnMut(f32),
+) {
     for j in 0..fine_rows {
         for i in 0..fine_cols {
             let d = fine[j * fine_cols + i];
@@ -45,11 +87,10 @@ pub(crate) fn grid_gap(
                 continue;
             }
             if let Some(b) = bilinear_at(coarse, coarse_size, i, j) {
-                worst = worst.max((d as f32 - b).abs());
+                gap((d as f32 - b).abs());
             }
         }
     }
-    worst
 }
 
 /// The bilinear displacement of `coarse` (`cols × rows` nodes) at the
@@ -100,5 +141,7 @@ mod tests {
         let fine = level(9, 9, |i, j| if (i, j) == (3, 5) { 1250 } else { 1000 });
         let coarse = halve_level(&fine).unwrap();
         assert_eq!(coarse_gap(&fine, &coarse), 250.0);
+        // One node of 81 off by 250: the root mean square is 250 / 9.
+        assert!((coarse_rms_gap(&fine, &coarse) - 250.0 / 9.0).abs() < 1e-3);
     }
 }

@@ -20,7 +20,7 @@ use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::grid::drawn_cells;
 use crate::isa::Isa;
-use crate::prepare::coarse_fit::coarse_gap;
+use crate::prepare::coarse_fit::{coarse_gap, coarse_rms_gap};
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::corner_fill::FinerLevel;
 use crate::prepare::level_shading::{level_slot_set, LevelShading};
@@ -129,7 +129,9 @@ struct LazyLevel {
     /// level's grid ([`PreparedPatch::fine_shading`]).
     fine_shading: OnceLock<Box<LevelShading>>,
     /// Above level 0: how far the level below strays from this level's
-    /// surface, in codes ([`PreparedPatch::coarse_gap`]).
+    /// surface, in codes ([`PreparedPatch::coarse_gap`]; for
+    /// [`QUARTERED_ONE`], the root mean square,
+    /// [`PreparedPatch::quartered_rms_gap`]).
     coarse_gap: OnceLock<f32>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
@@ -419,6 +421,17 @@ impl PreparedPatch {
         *self.levels[g]
             .coarse_gap
             .get_or_init(|| coarse_gap(self.level(g - 1), self.level(g)))
+    }
+
+    /// The root mean square distance, in codes, of level 0's filled nodes
+    /// from the cells of level 1 drawn by quarters ([`QUARTERED_ONE`]),
+    /// measured the first time a frame asks. Why on first use: only the
+    /// pieces [`crate::RenderOptions::level_one_limit`] would lift ask.
+    pub(crate) fn quartered_rms_gap(&self) -> f32 {
+        *self
+            .quartered_one
+            .coarse_gap
+            .get_or_init(|| coarse_rms_gap(self.level(0), self.level(QUARTERED_ONE)))
     }
 
     /// True when level `g` keeps level 0's outline exactly: level 0 draws

@@ -9,54 +9,68 @@
 //! neighbour faces away, the outline recedes by up to a level-0 cell, and
 //! at 1000² that opened notches a few pixels deep along the bunny's ears.
 //!
-//! So level 1 keeps, beside its whole cells, the cells it would leave out
-//! that hold at least one drawable level-0 cell, each with the quarters it
-//! holds ([`QuarteredCell`]): their empty corners are filled as the
-//! corner fill fills the others (extrapolated, then fitted to the finer
-//! nodes inside, the corners already filled held), and the drawer places
-//! only the sub-nodes of the quarters they hold
-//! ([`crate::raster::cell_quarters`]). Level 1 then draws what level 0 draws
-//! (up to the three-quarter cells, as before), without widening the
-//! outline where one or two quarters are held.
+//! So a second level 1 ([`crate::prepare::patch::QUARTERED_ONE`], built
+//! only for the pieces [`crate::RenderOptions::level_one_limit`] lifts)
+//! draws its cells that hold some but not all of their level-0 cells by
+//! the quarters they hold ([`QuarteredCell`]): their empty corners are
+//! filled as the corner fill fills the others (extrapolated, then fitted
+//! to the finer nodes inside, the corners already filled held), and the
+//! drawer places only the sub-nodes of the held quarters
+//! ([`crate::raster::cell_quarters`]). That level draws what level 0 draws,
+//! neither dropping the cells over one or two quarters nor overhanging
+//! the missing quarter of those over three.
 //!
 //! Levels above 1 keep their rule (cells holding two finer cells or more
 //! are filled): their dropped cells are rarer, and a quarter of a level-2
 //! cell is a level-1 cell.
 //!
-//! Cost: O(cells) per level 1, once per scene; a list of 5 bytes per
+//! Cost: O(cells) per quartered level 1, built on first use; 8 bytes per
 //! quartered cell (about 13 % of the bunny's level-1 cells).
 
 use crate::grid::{QuarteredCell, CELL_DRAW};
 use crate::prepare::corner_fill::FinerLevel;
 
-/// The cells of the level halved from `fine` (`hc × hr` nodes) that hold a
-/// drawable finer cell but are not drawn whole (`drawn`, the halved level's
-/// flags per cell), with the quarters they hold.
+/// The cells of the level halved from `fine` (`hc × hr` nodes) that hold
+/// some but not all of the finer cells they span (fewer at a padded
+/// side), with the quarters they hold; their flags in `drawn` (the halved
+/// level's, per cell) are cleared, so that they are drawn by quarters
+/// only. A cell holding none keeps its flag (an interior hole under a
+/// coarse cell, which level 1 covers as before).
 pub(crate) fn quartered_cells(
     fine: FinerLevel<'_>,
     [hc, hr]: [usize; 2],
-    drawn: &[u8],
+    drawn: &mut [u8],
 ) -> Vec<QuarteredCell> {
     let (fc, fr) = (fine.cols - 1, fine.rows - 1);
-    let mut held = vec![0u8; (hc - 1) * (hr - 1)];
+    let (ccols, crows) = (hc - 1, hr - 1);
+    let mut held = vec![0u8; ccols * crows];
     for (k, &f) in fine.cell_flags.iter().enumerate() {
         if f & CELL_DRAW != 0 {
             let (i, j) = (k % fc, k / fc);
-            held[(j / 2) * (hc - 1) + i / 2] |= 1 << ((i % 2) + 2 * (j % 2));
+            held[(j / 2) * ccols + i / 2] |= 1 << ((i % 2) + 2 * (j % 2));
         }
     }
-    debug_assert!(fc <= 2 * (hc - 1) && fr <= 2 * (hr - 1));
-    held.iter()
-        .zip(drawn)
-        .enumerate()
-        .filter(|&(_, (&q, &d))| q != 0 && d & CELL_DRAW == 0)
-        .map(|(k, (&quarters, _))| QuarteredCell {
-            cell: k as u32,
-            quarters,
-        })
-        .collect()
+    debug_assert!(fc <= 2 * ccols && fr <= 2 * crows);
+    let mut cells = Vec::new();
+    for (k, (&quarters, flag)) in held.iter().zip(drawn.iter_mut()).enumerate() {
+        let (i, j) = (k % ccols, k / ccols);
+        // Quarter (a, b) is bit a + 2 b; a padded side spans one column
+        // or row of finer cells.
+        let (two_columns, two_rows) = (2 * i + 1 < fc, 2 * j + 1 < fr);
+        let spanned = 1
+            | u8::from(two_columns) << 1
+            | u8::from(two_rows) << 2
+            | u8::from(two_columns && two_rows) << 3;
+        if quarters != 0 && quarters != spanned {
+            *flag &= !CELL_DRAW;
+            cells.push(QuarteredCell {
+                cell: k as u32,
+                quarters,
+            });
+        }
+    }
+    cells
 }
-
 /// Per node of an `hc × hr` level, whether it is a corner of one of
 /// `cells`.
 pub(crate) fn quartered_corners(cells: &[QuarteredCell], [hc, hr]: [usize; 2]) -> Vec<bool> {
@@ -91,8 +105,8 @@ mod tests {
             cell_flags: &flags,
             spacing: 1,
         };
-        let drawn = [CELL_DRAW, 0, 0, 0];
-        let cells = quartered_cells(fine, [3, 3], &drawn);
+        let mut drawn = [CELL_DRAW, 0, 0, 0];
+        let cells = quartered_cells(fine, [3, 3], &mut drawn);
         assert_eq!(
             cells,
             vec![
@@ -116,7 +130,7 @@ mod tests {
     }
 
     #[test]
-    fn a_cell_drawn_whole_is_not_quartered() {
+    fn a_cell_holding_all_its_quarters_is_not_quartered() {
         let flags = vec![CELL_DRAW; 4];
         let d = vec![7u16; 9];
         let fine = FinerLevel {
@@ -126,7 +140,22 @@ mod tests {
             cell_flags: &flags,
             spacing: 1,
         };
-        assert!(quartered_cells(fine, [2, 2], &[CELL_DRAW]).is_empty());
-        assert_eq!(quartered_cells(fine, [2, 2], &[0]).len(), 1);
+        assert!(quartered_cells(fine, [2, 2], &mut [CELL_DRAW]).is_empty());
+        // Three of four held: drawn by quarters, no longer whole.
+        let three = [CELL_DRAW, CELL_DRAW, CELL_DRAW, 0];
+        let fine = FinerLevel {
+            cell_flags: &three,
+            ..fine
+        };
+        let mut drawn = [CELL_DRAW];
+        let cells = quartered_cells(fine, [2, 2], &mut drawn);
+        assert_eq!(
+            cells,
+            vec![QuarteredCell {
+                cell: 0,
+                quarters: 0b0111
+            }]
+        );
+        assert_eq!(drawn, [0]);
     }
 }
