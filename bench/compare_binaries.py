@@ -10,16 +10,21 @@ faster). With --one-frame each turn times the whole command
 `spatch render SCENE -o PNG` instead (wall clock of the process: reading,
 preparation, the first frame, the PNG). Binaries from before the shared
 report schema (their `--json` has `ms` at the top) are read too, so a
-binary as old as issue 21's can be compared. Standard library only.
+binary as old as issue 21's can be compared. --second-args gives flags to
+the second run only, so one binary can be timed with and without a knob
+(pass it twice). Standard library only.
 
 Usage:
   python3 bench/compare_binaries.py OLD_SPATCH NEW_SPATCH SCENE \\
-      [--rounds 10] [--frames 30] [--one-frame] [-- extra spatch render flags]
+      [--rounds 10] [--frames 30] [--one-frame] [--second-args "FLAGS"] \\
+      [-- extra spatch render flags]
 Example:
   python3 bench/compare_binaries.py /tmp/spatch_main target/release/spatch \\
       bunny.spatch --rounds 10 --frames 30 -- --threads 1
   python3 bench/compare_binaries.py /tmp/spatch_main target/release/spatch \\
       bunny.spatch --rounds 15 --one-frame -- --threads 2
+  python3 bench/compare_binaries.py target/release/spatch target/release/spatch \\
+      bunny.spatch --second-args "--level-one-limit 6" -- --threads 2 --width 1000 --height 1000
 """
 
 import argparse
@@ -59,23 +64,28 @@ def main():
     parser.add_argument(
         "--one-frame", action="store_true", help="time the whole one-image command instead"
     )
+    parser.add_argument(
+        "--second-args", default="", help="flags for the second run only (split at spaces)"
+    )
     argv = sys.argv[1:]
     extra = argv[argv.index("--") + 1 :] if "--" in argv else []
     args = parser.parse_args(argv[: argv.index("--")] if "--" in argv else argv)
     if args.rounds < 1 or args.frames < 1:
         sys.exit("compare_binaries: --rounds and --frames must be at least 1")
-    runs = {args.first: [], args.second: []}
+    turns = [(args.first, extra), (args.second, extra + args.second_args.split())]
+    runs = [[], []]
     png = os.path.join(tempfile.mkdtemp(prefix="compare_binaries_"), "out.png")
     for k in range(args.rounds):
-        for binary in (args.first, args.second):
+        for (binary, flags), times in zip(turns, runs):
             if args.one_frame:
-                runs[binary].append(one_frame(binary, args.scene, png, extra))
+                times.append(one_frame(binary, args.scene, png, flags))
             else:
-                runs[binary].append(median_frame(binary, args.scene, args.frames, extra))
-        print(f"round {k + 1}: {runs[args.first][-1]:.3f} ms, {runs[args.second][-1]:.3f} ms")
-    first, second = (statistics.median(runs[b]) for b in (args.first, args.second))
-    print(f"{args.first}: median {first:.3f} ms, min {min(runs[args.first]):.3f} ms")
-    print(f"{args.second}: median {second:.3f} ms, min {min(runs[args.second]):.3f} ms")
+                times.append(median_frame(binary, args.scene, args.frames, flags))
+        print(f"round {k + 1}: {runs[0][-1]:.3f} ms, {runs[1][-1]:.3f} ms")
+    first, second = (statistics.median(times) for times in runs)
+    for (binary, flags), times, median in zip(turns, runs, (first, second)):
+        name = " ".join([binary, *flags[len(extra) :]])
+        print(f"{name}: median {median:.3f} ms, min {min(times):.3f} ms")
     unit = "one-image commands" if args.one_frame else f"{args.frames} frames"
     print(f"second / first: {second / first:.3f} over {args.rounds} rounds of {unit}")
 

@@ -171,15 +171,17 @@ pub struct RenderOptions {
     pub mip_tolerance: f32,
     /// With `mip`, the largest cell (pixels, estimated as for `mip_limit`)
     /// that level 1 may draw where `mip_limit` keeps a patch at level 0;
-    /// 0 (the default) or up to 16. Level 1 then keeps the patch's outline
-    /// by drawing its cells along the outline by the level-0 cells they
-    /// hold (docs/algorithms/render.md, "Level 1 past the limit"), and the
-    /// frame projects a quarter of the nodes: the bunny at 1000² with 6
-    /// draws in 0.76 of the default's time (4.4× llvmpipe instead of
-    /// 2.9×) at the same PSNR against the source, but a model whose
-    /// level-0 cells carry detail loses it (the mannequin at 500²: 26.55 →
-    /// 25.61 dB). Off by default for that trade. Patches with a colour
-    /// grid, and pieces another drawer than the sub-node one would take,
+    /// 0 (the default, off) or 0.1..=16. Such a patch takes a level 1 of
+    /// its own, whose cells along the outline are drawn by the level-0
+    /// cells they hold (so the outline is level 0's), while that level
+    /// moves its surface by at most 0.25 px (root mean square over level
+    /// 0's nodes). The frame projects a quarter of the nodes: with 6, the
+    /// bunny at 1000² in 0.76 of the default's time (3.9× llvmpipe instead
+    /// of 3.1×; 27.45 → 27.68 dB against the source), the mannequin at 500²
+    /// in 0.61–0.77 (5.9× instead of 4.0×) but 26.55 → 25.78 dB (its
+    /// colours are averaged over twice the span), fandisk's holes at 500²
+    /// 0.020 → 0.080 % (docs/algorithms/render.md, "Level 1 past the
+    /// limit"). Off by default for those losses. Patches with a colour grid
     /// keep the limit's level.
     pub level_one_limit: f32,
     /// Largest footprint half-width (pixels) of the splatting path for
