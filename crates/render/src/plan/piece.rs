@@ -185,8 +185,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
-    // Level 1's cells drawn by quarters, when it is drawn and shaded: the
-    // cut covers them too.
+    // A lifted piece's cells by quarters: the cut covers them too.
     let quarters = work.quartered.len();
     let mut edges = measure.edges;
     if quartered_lift {
@@ -230,6 +229,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         return;
     }
     let Some((nu, nv)) = split else {
+        // The flags stay for the triangles below.
         drop_planned(work, [first, work.cell_flags.len(), spans, quarters]);
         work.counters.traverse_ns += work.clock.lap();
         if lifted < m {
@@ -393,11 +393,11 @@ fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
 
 /// How far (pixels, root mean square over level 0's nodes) level 1 drawn
 /// by quarters may move a patch's surface for
-/// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px: fandisk's
-/// curved fillets and creases then keep level 0 (its holes and specks as
-/// without the lift), while the bunny's patches, whose largest gap is
-/// their noise, nearly all lift (docs/algorithms/render.md, "Level 1 past
-/// the limit").
+/// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px and the mean:
+/// the largest distance is a scan's noise and kept every bunny patch at
+/// level 0, while at 0.25 px 1,696 of the bunny's 1,884 pieces at 1000²
+/// lift and fandisk's PSNR at 500² stays within 0.12 dB (without a test:
+/// 2.65 dB lower; docs/algorithms/render.md, "Level 1 past the limit").
 const LEVEL_ONE_TOLERANCE: f32 = 0.25;
 
 /// Forgets what planning pushed for a piece it drops: the chunk's nodes,
