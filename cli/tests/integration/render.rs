@@ -123,38 +123,29 @@ fn a_mip_limit_reports_its_cost_against_the_default() {
     assert!(mip.get("psnr_db").is_some());
 }
 
+/// The pieces per mip level (`--stats`) of a 64² render of `scene` with
+/// `flags`.
+fn mip_levels_at_64(t: &TestCommand, scene: &str, flags: &[&str]) -> Vec<u64> {
+    let size = ["--width", "64", "--height", "64", "--stats", "stats.json"];
+    let args = [&["render", scene, "-o", "s.png"][..], &size, flags].concat();
+    t.run(&args).success();
+    let stats: serde_json::Value = t.json("stats.json");
+    let levels = stats["mip_levels"].as_array().expect("levels");
+    levels.iter().map(|n| n.as_u64().unwrap()).collect()
+}
+
 #[test]
 fn a_mip_tolerance_takes_full_grids_past_the_mip_limit() {
     // The small sphere's grids are full: at 64² the default tolerance takes
     // some of them to level 1, which the limit alone keeps at level 0.
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
-    let levels = |tolerance: &str| {
-        t.run(&[
-            "render",
-            &name,
-            "-o",
-            "s.png",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--mip-tolerance",
-            tolerance,
-            "--stats",
-            "stats.json",
-        ])
-        .success();
-        let stats: serde_json::Value = t.json("stats.json");
-        let levels = stats["mip_levels"].as_array().expect("levels").clone();
-        levels
-            .iter()
-            .skip(1)
-            .map(|n| n.as_u64().unwrap())
-            .sum::<u64>()
+    let coarse = |tolerance: &str| {
+        let levels = mip_levels_at_64(&t, &name, &["--mip-tolerance", tolerance]);
+        levels.iter().skip(1).sum::<u64>()
     };
-    assert_eq!(levels("0"), 0);
-    assert!(levels("0.25") > 0);
+    assert_eq!(coarse("0"), 0);
+    assert!(coarse("0.25") > 0);
     let run = t.run(&["render", &name, "-o", "x.png", "--mip-tolerance", "3"]);
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
@@ -169,29 +160,8 @@ fn a_level_one_limit_takes_level_one_past_the_mip_limit() {
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     let levels = |limit: &str| {
-        t.run(&[
-            "render",
-            &name,
-            "-o",
-            "s.png",
-            "--width",
-            "64",
-            "--height",
-            "64",
-            "--mip-tolerance",
-            "0",
-            "--level-one-limit",
-            limit,
-            "--stats",
-            "stats.json",
-        ])
-        .success();
-        let stats: serde_json::Value = t.json("stats.json");
-        let levels = stats["mip_levels"].as_array().expect("levels").clone();
-        levels
-            .iter()
-            .map(|n| n.as_u64().unwrap())
-            .collect::<Vec<_>>()
+        let flags = ["--mip-tolerance", "0", "--level-one-limit", limit];
+        mip_levels_at_64(&t, &name, &flags)
     };
     let (off, on) = (levels("0"), levels("16"));
     assert!(off[0] > 0 && on[0] < off[0], "off {off:?}, on {on:?}");

@@ -88,6 +88,18 @@ pub(crate) fn quartered_corners(cells: &[QuarteredCell], [hc, hr]: [usize; 2]) -
 mod tests {
     use super::*;
 
+    /// Flat displacements of a `side × side` level 0 with cell flags
+    /// `flags`, as the halving reads it.
+    fn level_zero<'a>(side: usize, d: &'a [u16], flags: &'a [u8]) -> FinerLevel<'a> {
+        FinerLevel {
+            cols: side,
+            rows: side,
+            displacements: &d[..side * side],
+            cell_flags: flags,
+            spacing: 1,
+        }
+    }
+
     #[test]
     fn cells_holding_one_or_two_quarters_are_listed_with_them() {
         // A 5 × 5 finer grid (4 × 4 cells) halves to 3 × 3 (2 × 2 cells).
@@ -98,13 +110,7 @@ mod tests {
             flags[j * 4 + i] = CELL_DRAW;
         }
         let d = vec![100u16; 25];
-        let fine = FinerLevel {
-            cols: 5,
-            rows: 5,
-            displacements: &d,
-            cell_flags: &flags,
-            spacing: 1,
-        };
+        let fine = level_zero(5, &d, &flags);
         let mut drawn = [CELL_DRAW, 0, 0, 0];
         let cells = quartered_cells(fine, [3, 3], &mut drawn);
         assert_eq!(
@@ -131,22 +137,11 @@ mod tests {
 
     #[test]
     fn a_cell_holding_all_its_quarters_is_not_quartered() {
-        let flags = vec![CELL_DRAW; 4];
         let d = vec![7u16; 9];
-        let fine = FinerLevel {
-            cols: 3,
-            rows: 3,
-            displacements: &d,
-            cell_flags: &flags,
-            spacing: 1,
-        };
+        let fine = level_zero(3, &d, &[CELL_DRAW; 4]);
         assert!(quartered_cells(fine, [2, 2], &mut [CELL_DRAW]).is_empty());
         // Three of four held: drawn by quarters, no longer whole.
-        let three = [CELL_DRAW, CELL_DRAW, CELL_DRAW, 0];
-        let fine = FinerLevel {
-            cell_flags: &three,
-            ..fine
-        };
+        let fine = level_zero(3, &d, &[CELL_DRAW, CELL_DRAW, CELL_DRAW, 0]);
         let mut drawn = [CELL_DRAW];
         let cells = quartered_cells(fine, [2, 2], &mut drawn);
         assert_eq!(
