@@ -121,7 +121,7 @@ pub(crate) fn measure(frame: &Frame<'_>) -> OcclusionStats {
             // The piece's rows in the buffer.
             let r0 = (item.y0 - first).clamp(0, all) as usize;
             let r1 = (item.y1 + 1 - first).clamp(0, all) as usize;
-            draw_item(&mut s.piece.target(), chunk, item, id, frame.cells);
+            draw_item(&mut s.piece.target(), chunk, k, id, frame.cells);
             behind += merge_piece(&mut s, r0 * w..r1 * w, own.clone(), &mut counts);
             s.piece.clear_rows(r0..r1);
             if skipped {

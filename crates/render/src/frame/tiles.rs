@@ -172,10 +172,11 @@ pub(crate) struct BandJob<'a> {
 pub(crate) fn draw_item(
     t: &mut BandTarget<'_>,
     chunk: &ChunkWork,
-    item: &Item,
+    k: u32,
     id: u32,
     cells: CellScheme,
 ) {
+    let item = &chunk.items[k as usize];
     let (cols, rows) = (item.cols as usize, item.rows as usize);
     let first = item.first as usize;
     let nodes = &chunk.nodes[first..first + cols * rows];
@@ -215,9 +216,12 @@ pub(crate) fn draw_item(
         } else {
             draw_cells_bilinear(t, &piece, nu, nv, id);
         }
-        let [q0, q1] = item.quartered.map(|q| q as usize);
-        if q1 > q0 {
-            draw_quartered_cells(t, &piece, &chunk.quartered[q0..q1], [nu, nv], id);
+        if !chunk.quartered_ranges.is_empty() {
+            let ranges = &chunk.quartered_ranges;
+            if let Ok(r) = ranges.binary_search_by_key(&k, |r| r.item) {
+                let [q0, q1] = ranges[r].cells.map(|q| q as usize);
+                draw_quartered_cells(t, &piece, &chunk.quartered[q0..q1], [nu, nv], id);
+            }
         }
     }
 }
@@ -280,7 +284,7 @@ fn draw_unhidden_pieces(
         let chunk = &job.chunks[c as usize];
         let item = &chunk.items[i as usize];
         if !skip.hidden(t.px, item) {
-            draw_item(t, chunk, item, id, job.cells);
+            draw_item(t, chunk, i, id, job.cells);
             skip.drawn(item);
         }
     }
@@ -332,7 +336,7 @@ pub(crate) fn render_band(
         for &id in job.bins.items_of(index) {
             let (c, k) = job.bins.all_items[id as usize];
             let chunk = &job.chunks[c as usize];
-            draw_item(&mut t, chunk, &chunk.items[k as usize], id, job.cells);
+            draw_item(&mut t, chunk, k, id, job.cells);
         }
     }
     let cells_done = Instant::now();

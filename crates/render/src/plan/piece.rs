@@ -32,7 +32,8 @@ use crate::plan::project::{
 use crate::plan::quartered::{drop_quartered_corners, gather_quartered};
 use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
-use crate::plan::work::{ChunkWork, Item, PatchContext};
+use crate::plan::work::{ChunkWork, Item, PatchContext, QuarteredRange};
+use crate::prepare::mip::MipLevel;
 use crate::prepare::patch::{PreparedPatch, QUARTERED_ONE};
 use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::centre_piece::CentreStyle;
@@ -187,17 +188,11 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     work.counters.cells_backface += measure.backfacing_cells;
     // A lifted piece's cells by quarters: the cut covers them too.
     let quarters = work.quartered.len();
-    let mut edges = measure.edges;
-    if quartered_lift {
-        let q = gather_quartered(
-            &level.quartered,
-            &work.xy,
-            cols,
-            back_sign,
-            &mut work.quartered,
-        );
-        edges = [0, 1, 2, 3].map(|k| edges[k].max(q[k]));
-    }
+    let edges = if quartered_lift {
+        widen_by_quartered(work, level, cols, back_sign, measure.edges)
+    } else {
+        measure.edges
+    };
     let edges = edges.map(|e| e as f32 / XY_ONE);
     let mut split = choose_subdivision(edges, SUBPIXEL_LIMIT);
     if smooth && split != Some((1, 1)) {
@@ -280,11 +275,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // by quarters; a lifted piece that another would take keeps the
     // limit's level.
     if quartered_lift && (!bilinear || centres.is_some()) {
-        drop_planned(work, marks);
-        work.counters.mip[m] -= 1;
-        work.counters.cells_backface -= measure.backfacing_cells;
-        work.counters.traverse_ns += work.clock.lap();
-        return replan_unlifted(work, ctx, piece);
+        return unlift(work, ctx, piece, marks, measure.backfacing_cells);
     }
     if exact {
         mark_exact_cells(&mut work.cell_flags[flags..]);
@@ -303,18 +294,8 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else {
         (nu, nv)
     };
-    // A lifted piece cut 1 × 1 (cells under a pixel where the box's
-    // estimate said otherwise) places its nodes, not its cells: those only
-    // the quartered cells use would lie past the patch's data.
-    if (nu, nv) == (1, 1) && work.quartered.len() > quarters {
-        let cells = &work.quartered[quarters..];
-        drop_quartered_corners(
-            cells,
-            &work.cell_flags[flags..],
-            cols,
-            &mut work.nodes[first..],
-        );
-        work.quartered.truncate(quarters);
+    if quartered_lift && (nu, nv) == (1, 1) {
+        nodes_without_quarters(work, marks, cols);
     }
     work.counters.traverse_ns += work.clock.lap();
     // 5. Attributes.
@@ -346,6 +327,12 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     } else {
         (nu, nv)
     };
+    if work.quartered.len() > quarters {
+        work.quartered_ranges.push(QuarteredRange {
+            item: work.items.len() as u32,
+            cells: [quarters as u32, work.quartered.len() as u32],
+        });
+    }
     work.items.push(Item {
         first: first as u32,
         cols: cols as u16,
@@ -373,8 +360,70 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         splat,
         open_sides,
         centres,
-        quartered: [quarters as u32, work.quartered.len() as u32],
     });
+}
+
+/// The measured `edges` of a piece lifted to level 1 by quarters, widened
+/// by those of its cells by quarters that do not face away, which it
+/// keeps in `work` ([`gather_quartered`]). Why out of line, and the two
+/// below: the planner is inlined, and its common path's layout moves the
+/// frame (see [`replan_unlifted`]).
+#[inline(never)]
+fn widen_by_quartered(
+    work: &mut ChunkWork,
+    level: &MipLevel,
+    cols: usize,
+    back_sign: i64,
+    edges: [i64; 4],
+) -> [i64; 4] {
+    let q = gather_quartered(
+        &level.quartered,
+        &work.xy,
+        cols,
+        back_sign,
+        &mut work.quartered,
+    );
+    [0, 1, 2, 3].map(|k| edges[k].max(q[k]))
+}
+
+/// Drops a piece lifted to level 1 by quarters that a drawer without
+/// quarters would take (`marks` as for [`drop_planned`]; `backfacing`
+/// its cells counted as facing away) and plans it at the limit's level.
+#[inline(never)]
+#[cold]
+fn unlift(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    piece: NodeRange,
+    marks: [usize; 4],
+    backfacing: u64,
+) {
+    drop_planned(work, marks);
+    work.counters.mip[1] -= 1;
+    work.counters.cells_backface -= backfacing;
+    work.counters.traverse_ns += work.clock.lap();
+    replan_unlifted(work, ctx, piece);
+}
+
+/// A lifted piece cut 1 × 1 (cells under a pixel where the box's estimate
+/// said otherwise) places its nodes, not its cells: empties those only its
+/// cells by quarters use (they lie past the patch's data) and forgets the
+/// cells (`marks` as for [`drop_planned`]; `cols` nodes a row).
+#[inline(never)]
+#[cold]
+fn nodes_without_quarters(
+    work: &mut ChunkWork,
+    [first, flags, _, quarters]: [usize; 4],
+    cols: usize,
+) {
+    let cells = &work.quartered[quarters..];
+    drop_quartered_corners(
+        cells,
+        &work.cell_flags[flags..],
+        cols,
+        &mut work.nodes[first..],
+    );
+    work.quartered.truncate(quarters);
 }
 
 /// Whether the patch `p` may take level 1 past the mip limit, its

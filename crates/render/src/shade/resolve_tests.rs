@@ -121,7 +121,6 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             splat: [0, 0],
             open_sides: false,
             centres: None,
-            quartered: [0, 0],
         });
     }
     let items: Vec<(u32, u32)> = (0..8).map(|i| (0, i)).collect();
