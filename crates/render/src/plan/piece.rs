@@ -218,7 +218,10 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         (splat[0] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
     };
     let marks = [first, flags, spans, quarters];
-    if measure.drawable_cells == 0 || y1 + pad < 0 || y0 - pad >= height {
+    // (A lifted piece may draw by quarters only: a small patch whose one
+    // level-1 cell holds three of its four level-0 cells.)
+    let nothing = measure.drawable_cells == 0 && work.quartered.len() == quarters;
+    if nothing || y1 + pad < 0 || y0 - pad >= height {
         drop_planned(work, marks);
         work.counters.traverse_ns += work.clock.lap();
         return;

@@ -51,7 +51,8 @@ impl NodeRange {
         // ≈ 3 M instructions per 500² sphere frame (callgrind,
         // `profile_sphere 500 1`).
         if *self == Self::whole(level) {
-            return (level.drawable_cells > 0).then_some(level.d_range);
+            let draws = level.drawable_cells > 0 || !level.quartered.is_empty();
+            return draws.then_some(level.d_range);
         }
         let mut lo = u16::MAX;
         let mut hi = 0u16;
