@@ -378,10 +378,13 @@ impl PreparedPatch {
     /// `g`'s padding adds) take those of the nearest filled node of level
     /// `g`, so a sample anywhere in a drawn cell of level `g` interpolates
     /// filled inputs. Built the first time a frame asks for it, and kept.
+    /// For [`QUARTERED_ONE`], level 0's on its grid (a lifted patch with
+    /// colours, [`crate::RenderOptions::level_one_limit`]).
     pub(crate) fn fine_shading(&self, g: usize) -> &LevelShading {
-        self.levels[g].fine_shading.get_or_init(|| {
-            let (fine, coarse) = (self.level(g - 1), self.level(g));
-            let (sf, sc) = (self.shading(g - 1), self.shading(g));
+        self.lazy(g).fine_shading.get_or_init(|| {
+            let below = grid_level(g) - 1;
+            let (fine, coarse) = (self.level(below), self.level(g));
+            let (sf, sc) = (self.shading(below), self.shading(g));
             let (cols, rows) = (2 * (coarse.cols - 1) + 1, 2 * (coarse.rows - 1) + 1);
             let coloured = !sf.colours.is_empty() && !sc.colours.is_empty();
             let (mut normals, mut colours) = (Vec::with_capacity(cols * rows), Vec::new());
