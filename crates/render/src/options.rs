@@ -178,11 +178,11 @@ pub struct RenderOptions {
     /// 0's nodes). The frame projects a quarter of the nodes: with 6, the
     /// bunny at 1000² in 0.76 of the default's time (3.9× llvmpipe instead
     /// of 3.1×; 27.45 → 27.68 dB against the source), the mannequin at 500²
-    /// in 0.61–0.77 (5.9× instead of 4.0×) but 26.55 → 25.78 dB (its
-    /// colours are averaged over twice the span), fandisk's holes at 500²
-    /// 0.020 → 0.080 % (docs/algorithms/render.md, "Level 1 past the
-    /// limit"). Off by default for those losses. Patches with a colour grid
-    /// keep the limit's level.
+    /// in 0.85 (5.5× instead of 4.5×; 26.55 → 26.37 dB: a lifted patch with
+    /// node colours is shaded from level 0), but fandisk's holes at 500²
+    /// 0.020 → 0.080 % and its fillets' highlights lost
+    /// (docs/algorithms/render.md, "Level 1 past the limit"). Off by default
+    /// for those losses. Patches with a colour grid keep the limit's level.
     pub level_one_limit: f32,
     /// Largest footprint half-width (pixels) of the splatting path for
     /// pixel-sized cells, 0 or 0.5..=3; 0 (the default) disables it. A

@@ -16,6 +16,16 @@ const SIDE: u32 = 33;
 /// camera, centred on the origin, node `(x, y)` (from the centre) at
 /// displacement `d(x, y)`.
 fn facing_patch(side: u32, spacing: f32, d: impl Fn(f32, f32) -> u16) -> Scene {
+    facing_patch_coloured(side, spacing, d, None)
+}
+
+/// [`facing_patch`] with node colours `colour(i)` by node column `i`.
+fn facing_patch_coloured(
+    side: u32,
+    spacing: f32,
+    d: impl Fn(f32, f32) -> u16,
+    colour: Option<fn(u32) -> [u8; 4]>,
+) -> Scene {
     let view = DVec3::new(0.3, 0.5, 0.8).normalize().as_vec3();
     let ax = view.cross(Vec3::Y).normalize();
     let ay = view.cross(ax);
@@ -25,9 +35,14 @@ fn facing_patch(side: u32, spacing: f32, d: impl Fn(f32, f32) -> u16) -> Scene {
     let d = (0..side * side)
         .map(|k| d((k % side) as f32 - c, (k / side) as f32 - c))
         .collect();
+    let colours = colour.map(|c| (0..side * side).map(|k| c(k % side)).collect());
+    let channel = match colour {
+        Some(_) => ColourChannel::Rgb8,
+        None => ColourChannel::None,
+    };
     let grid = GridSize::new(side, side).unwrap();
-    let patch = Patch::new(frame, grid, d, None).unwrap();
-    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap()
+    let patch = Patch::new(frame, grid, d, colours).unwrap();
+    Scene::new(DVec3::ZERO, channel, vec![patch]).unwrap()
 }
 
 /// A shallow bowl of `SIDE × SIDE` nodes `spacing` apart, filled inside a
@@ -106,6 +121,29 @@ fn a_patch_drawn_by_quarters_alone_is_drawn() {
         covered_only_by(&one, &zero) <= covered,
         "level 1 drew past them"
     );
+}
+
+#[test]
+fn a_lifted_patch_with_colours_keeps_level_zeros_colours() {
+    // Node columns alternately red and blue: level 1's colours, averaged
+    // over twice the span, would be purple; the lifted patch is shaded from
+    // level 0, so its pixels keep level 0's colours.
+    let stripes: fn(u32) -> [u8; 4] = |i| match i % 2 {
+        0 => [255, 0, 0, 255],
+        _ => [0, 0, 255, 255],
+    };
+    let scene = facing_patch_coloured(SIDE, 1.3, |_, _| 2000, Some(stripes));
+    let prepared = PreparedScene::new(&scene);
+    let (zero, one) = (draw(&prepared, 0.0), draw(&prepared, 6.0));
+    assert_eq!(one.stats.mip_levels, vec![0, 1]);
+    let redness = |o: &RenderOutput| {
+        let p = o.image.pixels();
+        let covered = p.iter().filter(|c| c[3] > 0);
+        covered.map(|c| (c[0] as i32 - c[2] as i32).abs()).sum::<i32>() as f64
+            / o.image.covered_count() as f64
+    };
+    let (a, b) = (redness(&zero), redness(&one));
+    assert!(a > 60.0 && (a - b).abs() < 0.1 * a, "level 0 {a}, lifted {b}");
 }
 
 #[test]
