@@ -139,11 +139,16 @@ fn a_lifted_patch_with_colours_keeps_level_zeros_colours() {
     let redness = |o: &RenderOutput| {
         let p = o.image.pixels();
         let covered = p.iter().filter(|c| c[3] > 0);
-        covered.map(|c| (c[0] as i32 - c[2] as i32).abs()).sum::<i32>() as f64
+        covered
+            .map(|c| (c[0] as i32 - c[2] as i32).abs())
+            .sum::<i32>() as f64
             / o.image.covered_count() as f64
     };
     let (a, b) = (redness(&zero), redness(&one));
-    assert!(a > 60.0 && (a - b).abs() < 0.1 * a, "level 0 {a}, lifted {b}");
+    assert!(
+        a > 60.0 && (a - b).abs() < 0.1 * a,
+        "level 0 {a}, lifted {b}"
+    );
 }
 
 #[test]
