@@ -386,7 +386,7 @@ fn away_cells_small<const BACK: i64>(xs: &[i32], ys: &[i32], cols: usize, away: 
 /// back-face sign, 0 for no test). Returns the drawn and back-facing
 /// counts.
 #[inline(always)]
-fn mark_row<const BACK: i64>(
+pub(crate) fn mark_row<const BACK: i64>(
     xl: &[i32],
     yl: &[i32],
     xh: &[i32],

@@ -8,13 +8,18 @@
 
 use crate::fixed::{Node, EMPTY_NODE};
 use crate::grid::{QuarteredCell, CELL_DRAW};
+use crate::plan::measure::{mark_row, row_edges_wide};
 use crate::plan::node_xy::NodeXY;
+
+/// [`mark_row`] for one back-face sign.
+type MarkRow = fn(&[i32], &[i32], &[i32], &[i32], &[u8], &mut [u8]) -> (u64, u64);
 
 /// Appends to `out` the cells of `cells` (of a whole level `cols` nodes
 /// wide, projected into `xy`) that do not face away (`back_sign` as for
 /// [`crate::plan::measure::measure_cells`]: 0 tests nothing), and returns
-/// the largest `|x|`, `|y|` of their u and v edges (position units), as
-/// the measured edges of the drawn cells are.
+/// the largest `|x|`, `|y|` of their u and v edges (position units): each
+/// cell as a row of one cell for the measured cells' own tests
+/// ([`mark_row`], [`row_edges_wide`]).
 pub(crate) fn gather_quartered(
     cells: &[QuarteredCell],
     xy: &NodeXY,
@@ -22,43 +27,30 @@ pub(crate) fn gather_quartered(
     back_sign: i64,
     out: &mut Vec<QuarteredCell>,
 ) -> [i64; 4] {
-    let mut edges = [0i64; 4];
+    let mark: MarkRow = match back_sign {
+        1 => mark_row::<1>,
+        -1 => mark_row::<-1>,
+        _ => mark_row::<0>,
+    };
+    let mut edges = [0u64; 4];
     for &c in cells {
         let k = c.cell as usize;
         let first = (k / (cols - 1)) * cols + k % (cols - 1);
-        let at = |n: usize| (xy.xs[n] as i64, xy.ys[n] as i64);
-        let (a, b, p, d) = (
-            at(first),
-            at(first + 1),
-            at(first + cols),
-            at(first + cols + 1),
-        );
-        if back_sign != 0 && faces_away([a, b, p, d], back_sign) {
+        let (low, high) = (first..first + 2, first + cols..first + cols + 2);
+        let (xl, yl) = (&xy.xs[low.clone()], &xy.ys[low]);
+        let (xh, yh) = (&xy.xs[high.clone()], &xy.ys[high]);
+        let mut flag = [0u8];
+        mark(xl, yl, xh, yh, &[CELL_DRAW], &mut flag);
+        if flag[0] == 0 {
             continue;
         }
-        let span = |p: (i64, i64), q: (i64, i64)| ((q.0 - p.0).abs(), (q.1 - p.1).abs());
-        let (u0, u1, v0, v1) = (span(a, b), span(p, d), span(a, p), span(b, d));
-        let cell = [
-            u0.0.max(u1.0),
-            u0.1.max(u1.1),
-            v0.0.max(v1.0),
-            v0.1.max(v1.1),
-        ];
+        let cell = row_edges_wide(xl, yl, xh, yh, &flag);
         for (e, c) in edges.iter_mut().zip(cell) {
             *e = (*e).max(c);
         }
         out.push(c);
     }
-    edges
-}
-
-/// True when the cell with corners `[a, b, c, d]` (`(0, 0), (1, 0), (0, 1),
-/// (1, 1)`) faces away at all four corners, the test of the measured cells.
-fn faces_away([a, b, c, d]: [(i64, i64); 4], back_sign: i64) -> bool {
-    let edge = |p: (i64, i64), q: (i64, i64)| (q.0 - p.0, q.1 - p.1);
-    let away = |u: (i64, i64), v: (i64, i64)| (u.0 * v.1 - u.1 * v.0) * back_sign > 0;
-    let (u0, v0, u1, v1) = (edge(a, b), edge(a, c), edge(c, d), edge(b, d));
-    away(u0, v0) && away(u0, v1) && away(u1, v0) && away(u1, v1)
+    edges.map(|e| e as i64)
 }
 
 /// Empties the nodes of a `cols`-wide whole-level piece (`nodes`, its
@@ -77,15 +69,11 @@ pub(crate) fn drop_quartered_corners(
         let k = c.cell as usize;
         let (ci, cj) = (k % (cols - 1), k / (cols - 1));
         for (i, j) in [(ci, cj), (ci + 1, cj), (ci, cj + 1), (ci + 1, cj + 1)] {
-            let around = [
-                (i.wrapping_sub(1), j.wrapping_sub(1)),
-                (i, j.wrapping_sub(1)),
-            ];
-            let around = around
-                .into_iter()
-                .chain([(i.wrapping_sub(1), j), (i, j)])
-                .filter(|&(a, b)| a < cols - 1 && b < rows - 1);
-            if !around.into_iter().any(|(a, b)| drawn(a, b)) {
+            // The (up to) four cells around node (i, j).
+            let (left, below) = (i.wrapping_sub(1), j.wrapping_sub(1));
+            let around = [(left, below), (i, below), (left, j), (i, j)];
+            let inside = |a: usize, b: usize| a < cols - 1 && b < rows - 1;
+            if !around.iter().any(|&(a, b)| inside(a, b) && drawn(a, b)) {
                 nodes[j * cols + i][0] = EMPTY_NODE;
             }
         }
