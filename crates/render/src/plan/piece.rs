@@ -53,13 +53,25 @@ pub(crate) fn plan_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: No
     plan_piece_with(work, ctx, piece, true);
 }
 
-/// [`plan_piece_with`] without the levels past the mip limit, for the rare
-/// piece lifted too far. Why out of line: a call back into the inlined
+/// Drops a piece planned at a level `m` past the mip limit (`marks` as
+/// for [`drop_planned`]; `backfacing` its cells counted as facing away)
+/// and plans it again with [`plan_piece_with`] without those levels: the
+/// rare piece lifted too far, or lifted by quarters where a drawer without
+/// quarters would take it. Why out of line: a call back into the inlined
 /// planner kept the compiler from laying out its common path as before
 /// (bunny 500²: 45.5 → 47.1 M instructions per frame).
 #[inline(never)]
 #[cold]
-fn replan_unlifted(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange) {
+fn replan_unlifted(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    piece: NodeRange,
+    (marks, m, backfacing): ([usize; 4], usize, u64),
+) {
+    drop_planned(work, marks);
+    work.counters.mip[m] -= 1;
+    work.counters.cells_backface -= backfacing;
+    work.counters.traverse_ns += work.clock.lap();
     plan_piece_with(work, ctx, piece, false);
 }
 
@@ -236,15 +248,12 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         return;
     }
     let Some((nu, nv)) = split else {
+        if lifted < m {
+            return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+        }
         // The flags stay for the triangles below.
         drop_planned(work, [first, work.cell_flags.len(), spans, quarters]);
         work.counters.traverse_ns += work.clock.lap();
-        if lifted < m {
-            work.cell_flags.truncate(flags);
-            work.counters.mip[m] -= 1;
-            work.counters.cells_backface -= measure.backfacing_cells;
-            return replan_unlifted(work, ctx, piece);
-        }
         work.counters.oversized_pieces += 1;
         // The measured flags choose the cells: those facing away are left
         // out. Why: fandisk's 51 oversized pieces drew 2,954 such cells
@@ -287,7 +296,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     // by quarters; a lifted piece that another would take keeps the
     // limit's level.
     if quartered_lift && (!bilinear || centres.is_some()) {
-        return unlift(work, ctx, piece, marks, measure.backfacing_cells);
+        return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
     }
     if exact {
         mark_exact_cells(&mut work.cell_flags[flags..]);
@@ -377,7 +386,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
 
 /// The measured `edges` of a piece lifted to level 1 by quarters, widened
 /// by those of its cells by quarters that do not face away, which it
-/// keeps in `work` ([`gather_quartered`]). Why out of line, and the two
+/// keeps in `work` ([`gather_quartered`]). Why out of line, and the one
 /// below: the planner is inlined, and its common path's layout moves the
 /// frame (see [`replan_unlifted`]).
 #[inline(never)]
@@ -396,25 +405,6 @@ fn widen_by_quartered(
         &mut work.quartered,
     );
     [0, 1, 2, 3].map(|k| edges[k].max(q[k]))
-}
-
-/// Drops a piece lifted to level 1 by quarters that a drawer without
-/// quarters would take (`marks` as for [`drop_planned`]; `backfacing`
-/// its cells counted as facing away) and plans it at the limit's level.
-#[inline(never)]
-#[cold]
-fn unlift(
-    work: &mut ChunkWork,
-    ctx: &PatchContext<'_>,
-    piece: NodeRange,
-    marks: [usize; 4],
-    backfacing: u64,
-) {
-    drop_planned(work, marks);
-    work.counters.mip[1] -= 1;
-    work.counters.cells_backface -= backfacing;
-    work.counters.traverse_ns += work.clock.lap();
-    replan_unlifted(work, ctx, piece);
 }
 
 /// A lifted piece cut 1 × 1 (cells under a pixel where the box's estimate
