@@ -248,16 +248,8 @@ impl PreparedPatch {
                     #[inline(always)]
                     || level_zero(self.grid, self.nodes.take(), Some(self.d_range)),
                 ),
-                1 => self
-                    .level_one_from_nodes(halve)
-                    .unwrap_or_else(|| halve_level(self.level(0)).expect("a counted level halves")),
-                QUARTERED_ONE => self
-                    .level_one_from_nodes(halve_quartered)
-                    .unwrap_or_else(|| {
-                        let base = self.level(0);
-                        halve_quartered(base.as_finer(), base.colours.as_deref())
-                            .expect("a counted level halves")
-                    }),
+                1 => self.level_one(halve),
+                QUARTERED_ONE => self.level_one(halve_quartered),
                 _ => halve_level(self.level(m - 1)).expect("a counted level halves"),
             })
         })
@@ -271,6 +263,15 @@ impl PreparedPatch {
         } else {
             &self.levels[m]
         }
+    }
+
+    /// Level 1 by `halving` ([`halve`] or [`halve_quartered`]): from the
+    /// patch's nodes while level 0 is not built, else from level 0.
+    fn level_one(&self, halving: Halving) -> MipLevel {
+        self.level_one_from_nodes(halving).unwrap_or_else(|| {
+            let base = self.level(0);
+            halving(base.as_finer(), base.colours.as_deref()).expect("a counted level halves")
+        })
     }
 
     /// Level 1 halved straight from the patch's nodes, while level 0 is not
@@ -592,12 +593,7 @@ mod tests {
             let (cols, rows) = (2 + rng.below(19), 2 + rng.below(19));
             let holes = [0, 5, 30, 70][case % 4];
             let step = [2, 20, 200][case % 3];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| match rng.below(100) < holes {
-                    true => EMPTY,
-                    false => (1000 + rng.below(step)) as u16,
-                })
-                .collect();
+            let d = rng.holed_grid((cols * rows) as usize, holes, 1000, step);
             let z = 0.002 + rng.unit() * 0.05;
             let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * z).unwrap();
             let grid = GridSize::new(cols, rows).unwrap();
@@ -621,12 +617,7 @@ mod tests {
         for case in 0..200 {
             let (cols, rows) = (3 + rng.below(18), 3 + rng.below(18));
             let holes = [0, 5, 30][case % 3];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| match rng.below(100) < holes {
-                    true => EMPTY,
-                    false => (500 + rng.below(60)) as u16,
-                })
-                .collect();
+            let d = rng.holed_grid((cols * rows) as usize, holes, 500, 60);
             let colours = (case % 2 == 0).then(|| {
                 (0..cols * rows)
                     .map(|_| [rng.below(256) as u8, rng.below(256) as u8, 90, 255])

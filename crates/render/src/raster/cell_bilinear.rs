@@ -271,15 +271,8 @@ pub(crate) fn draw_cell<const CLIP: bool>(
     sub0: u32,
     item: u32,
 ) {
-    let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
-    let (sx, sy, sz) = (s(0), s(1), s(2));
+    let (mut start, mut step, channels) = cell_differences::<CLIP>(t, c, r);
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
-    let xy_shift = 16 + EXT;
-    // Unclipped, y is kept relative to the band's first row (an exact
-    // shift of whole pixels), so a sample's row needs no subtraction.
-    let y_origin = if CLIP { 0 } else { y_lo << xy_shift };
-    let mut start = [sx[0], sy[0] - y_origin, sz[0]];
-    let mut step = [sx[2], sy[2], sz[2]];
     let rows = Row {
         nu,
         right,
@@ -295,8 +288,26 @@ pub(crate) fn draw_cell<const CLIP: bool>(
             break;
         }
         rows.draw::<CLIP>(t, start, step, sub0 + b);
-        next_row(&mut start, &mut step, [sx, sy, sz]);
+        next_row(&mut start, &mut step, channels);
     }
+}
+
+/// The forward differences ([`setup`]) of x, y and depth over the cell
+/// with corners `c` for a band `t`: the first sub-node, the column step
+/// and the channels for [`next_row`]. Unclipped (`CLIP = false`), y is
+/// kept relative to the band's first row (an exact shift of whole
+/// pixels), so a sample's row needs no subtraction.
+#[inline(always)]
+fn cell_differences<const CLIP: bool>(
+    t: &BandTarget<'_>,
+    c: [&Node; 4],
+    r: Reciprocals,
+) -> ([i64; 3], [i64; 3], [[i64; 4]; 3]) {
+    let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
+    let (sx, sy, sz) = (s(0), s(1), s(2));
+    let y_origin = if CLIP { 0 } else { (t.y0 as i64) << (16 + EXT) };
+    let start = [sx[0], sy[0] - y_origin, sz[0]];
+    (start, [sx[2], sy[2], sz[2]], [sx, sy, sz])
 }
 
 /// Places, for each row `b` of sub-nodes `0..=nv` of one cell cut
@@ -312,12 +323,9 @@ pub(crate) fn draw_cell_runs<const CLIP: bool>(
     (sub0, item): (u32, u32),
     run: impl Fn(u32) -> Option<(u32, u32)>,
 ) {
-    let s = |ch: usize| setup(c[0][ch], c[1][ch], c[2][ch], c[3][ch], r);
-    let (sx, sy, sz) = (s(0), s(1), s(2));
+    let (mut start, mut step, channels) = cell_differences::<CLIP>(t, c, r);
+    start[2] += z_bias << EXT;
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
-    let y_origin = if CLIP { 0 } else { y_lo << (16 + EXT) };
-    let mut start = [sx[0], sy[0] - y_origin, sz[0] + (z_bias << EXT)];
-    let mut step = [sx[2], sy[2], sz[2]];
     for b in 0..=nv {
         if let Some((a0, a1)) = run(b) {
             let v = [0, 1, 2].map(|k| start[k] + a0 as i64 * step[k]);
@@ -329,7 +337,7 @@ pub(crate) fn draw_cell_runs<const CLIP: bool>(
             };
             row.draw::<CLIP>(t, v, step, sub0 + (a0 << 8) + b);
         }
-        next_row(&mut start, &mut step, [sx, sy, sz]);
+        next_row(&mut start, &mut step, channels);
     }
 }
 
