@@ -215,12 +215,7 @@ mod tests {
         for case in 0..400 {
             let (cols, rows) = (2 + rng.below(19) as usize, 2 + rng.below(19) as usize);
             let holes = [0, 10, 50, 90][case % 4];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| match rng.below(100) < holes {
-                    true => EMPTY,
-                    false => rng.below(u32::from(EMPTY)) as u16,
-                })
-                .collect();
+            let d = rng.holed_grid(cols * rows, holes, 0, u32::from(EMPTY));
             let filled = |i: usize, j: usize| d[j * cols + i] != EMPTY;
             let expected: Vec<u8> = (0..rows - 1)
                 .flat_map(|j| (0..cols - 1).map(move |i| (i, j)))

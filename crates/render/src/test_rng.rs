@@ -34,6 +34,24 @@ impl XorShift {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
 
+    /// Displacements of a grid of `nodes` nodes for tests: each empty with
+    /// probability `holes` % ([`spatch_format::EMPTY`]), else
+    /// `base + below(span)`.
+    pub(crate) fn holed_grid(
+        &mut self,
+        nodes: usize,
+        holes: u32,
+        base: u32,
+        span: u32,
+    ) -> Vec<u16> {
+        (0..nodes)
+            .map(|_| match self.below(100) < holes {
+                true => spatch_format::EMPTY,
+                false => (base + self.below(span)) as u16,
+            })
+            .collect()
+    }
+
     /// A square cell of side `s_min + s_span · u` with its first corner
     /// in `[4, 12)²` pixels, each corner moved by up to ±2 px: the corners
     /// in ring order (00, 10, 11, 01) and the side. For the cell drawers'

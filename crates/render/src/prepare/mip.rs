@@ -625,12 +625,7 @@ mod tests {
         for case in 0..400 {
             let (cols, rows) = (3 + rng.below(31), 3 + rng.below(31));
             let holes = [3, 30, 70][case % 3];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| match rng.below(100) < holes {
-                    true => EMPTY,
-                    false => rng.below(50) as u16,
-                })
-                .collect();
+            let d = rng.holed_grid((cols * rows) as usize, holes, 0, 50);
             let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
             let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
             let Some(base) = base_level(&patch) else {
@@ -694,15 +689,7 @@ mod tests {
             };
             let (cols, rows) = (side(&mut rng), side(&mut rng));
             let holes = [0, 3, 30, 70, 95][case % 5];
-            let d: Vec<u16> = (0..cols * rows)
-                .map(|_| {
-                    if rng.below(100) < holes {
-                        EMPTY
-                    } else {
-                        rng.below(50) as u16
-                    }
-                })
-                .collect();
+            let d = rng.holed_grid((cols * rows) as usize, holes, 0, 50);
             let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
             let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
             let Some(base) = base_level(&patch) else {
