@@ -252,7 +252,7 @@ pub(crate) struct RenderArgs {
     /// bunny at 1000² with 6: 0.76 of the frame, PSNR against the source
     /// 27.45 → 27.68 dB; the mannequin at 500²: 0.85, 0.2 dB less); CAD
     /// models lose detail and gain holes (fandisk)
-    #[arg(long, value_name = "PX", default_value_t = 0.0)]
+    #[arg(long, value_name = "PX", default_value_t = RenderOptions::DEFAULT_LEVEL_ONE_LIMIT)]
     level_one_limit: f32,
     /// Splat the nodes of pixel-sized cells as rectangles of half-width up
     /// to PX pixels (0.5..=3) instead of subdividing the cells, and take

@@ -337,6 +337,9 @@ impl RenderOptions {
     /// Default mip tolerance (pixels a coarser level may move a full
     /// grid's surface).
     pub const DEFAULT_MIP_TOLERANCE: f32 = 0.25;
+    /// Default level-one limit (pixels of level 1's estimated cell extent
+    /// where the mip limit keeps a patch at level 0).
+    pub const DEFAULT_LEVEL_ONE_LIMIT: f32 = 6.0;
     /// How many times `mip_limit` the cells of a level taken under
     /// [`Self::mip_tolerance`] may reach, as estimated from the patch's
     /// projected box: 4, 12 px at the default limit, below the 15 px where
@@ -435,7 +438,7 @@ impl Default for RenderOptions {
             mip: true,
             mip_limit: Self::DEFAULT_MIP_LIMIT,
             mip_tolerance: Self::DEFAULT_MIP_TOLERANCE,
-            level_one_limit: 0.0,
+            level_one_limit: Self::DEFAULT_LEVEL_ONE_LIMIT,
             splat_limit: Self::DEFAULT_SPLAT_LIMIT,
             geometry_limit: Self::DEFAULT_GEOMETRY_LIMIT,
             geometry_tolerance: Self::DEFAULT_GEOMETRY_TOLERANCE,

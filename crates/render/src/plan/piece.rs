@@ -127,8 +127,10 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
             }
         }
         if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
-            let moves = p.quartered_rms_gap() * pixels_per_code(&proj0, piece, p.base_d_range());
-            if moves <= LEVEL_ONE_TOLERANCE {
+            let gaps = p.quartered_gaps();
+            let scale = pixels_per_code(&proj0, piece, p.base_d_range());
+            if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.largest * scale <= LEVEL_ONE_LARGEST
+            {
                 (m, lifted, quartered_lift) = (1, 0, true);
             }
         }
@@ -432,7 +434,11 @@ fn nodes_without_quarters(
 /// outline kept by quarters ([`RenderOptions::level_one_limit`]): the
 /// limit set above the mip limit, bilinear cells drawn by sub-nodes (no
 /// splats, pixel-centre cells or gap fill, whose drawers do not draw by
-/// quarters), and no colour grid (drawn by pixel centres).
+/// quarters), no colour grid (drawn by pixel centres), and node colours
+/// only under Phong, which shades a lifted patch from level 0. Why: flat,
+/// Gouraud and unlit shading interpolate the drawn level's colours, and
+/// level 1's are averages over twice the span (a checkerboard of node
+/// colours seen unlit, 24.51 → 20.77 dB).
 fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
     opts.level_one_limit > opts.mip_limit
         && opts.cells == CellScheme::Bilinear
@@ -440,16 +446,27 @@ fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
         && !centre_cells(opts)
         && !opts.fills_gaps()
         && p.colour_grid.is_none()
+        && (opts.shading == Shading::Phong || !p.has_node_colours())
 }
 
 /// How far (pixels, root mean square over level 0's nodes) level 1 drawn
 /// by quarters may move a patch's surface for
 /// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px and the mean:
-/// the largest distance is a scan's noise and kept every bunny patch at
-/// level 0, while at 0.25 px 1,696 of the bunny's 1,884 pieces at 1000²
-/// lift and fandisk's PSNR at 500² stays within 0.12 dB (without a test:
-/// 2.65 dB lower; docs/algorithms/render.md, "Level 1 past the limit").
+/// the largest distance is a scan's noise (bound as `--mip-tolerance`
+/// bounds it, it kept every bunny patch at level 0), so the mean bounds
+/// the surface's move and [`LEVEL_ONE_LARGEST`] only what level 1 cuts
+/// off; with both, 1,385 of the bunny's 1,884 pieces at 1000² lift
+/// (without a test fandisk scored 2.65 dB lower; docs/algorithms/render.md,
+/// "Level 1 past the limit").
 const LEVEL_ONE_TOLERANCE: f32 = 0.25;
+
+/// How far (pixels) level 1 drawn by quarters may move any one of level
+/// 0's nodes for [`RenderOptions::level_one_limit`] to lift the patch.
+/// Why: the mean alone lifted fandisk's patches whose creases level 1
+/// cuts off, and its holes at 500² went 0.020 → 0.080 %; with 0.5 px they
+/// stay at 0.020 % (1 px: 0.046 %), and the bunny at 1000² keeps four
+/// fifths of its lifted pieces.
+const LEVEL_ONE_LARGEST: f32 = 0.5;
 
 /// Forgets what planning pushed for a piece it drops: the chunk's nodes,
 /// cell flags, row spans and quartered cells from the lengths `marks`

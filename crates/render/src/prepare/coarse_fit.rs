@@ -9,7 +9,8 @@
 //! off that surface by `|d − bilinear(d of the cell's corners)|` codes
 //! along the patch's height axis. The largest such gap, measured once per
 //! scene, says whether the coarse surface moves samples enough to change
-//! which patch wins or to let a thin rim's back show through.
+//! which patch wins or to let a thin rim's back show through; the root
+//! mean square, how far the surface moves as a whole.
 //!
 //! Cost: O(nodes of level `g - 1`), once per patch and level.
 
@@ -17,12 +18,26 @@ use spatch_format::EMPTY;
 
 use crate::prepare::mip::MipLevel;
 
-/// The largest gap, in displacement codes, between a filled node of
-/// `fine` and the bilinear surface of the cell of `coarse` (the level
-/// above `fine`) that holds it; nodes in cells of `coarse` with an empty
-/// corner (not drawn) are skipped. 0 when no node is compared.
-pub(crate) fn coarse_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
-    grid_gap(
+/// How far the filled nodes of a level lie from the bilinear surface of
+/// the level above, in displacement codes: the largest distance and the
+/// root mean square (both 0 when no node is compared).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Gaps {
+    /// The largest distance: a crease or a step the coarse level cuts off
+    /// (and a scan's noise, which puts some node of nearly every patch far
+    /// from the coarser surface).
+    pub largest: f32,
+    /// The root mean square distance: how far the surface moves as a
+    /// whole.
+    pub rms: f32,
+}
+
+/// The gaps between the filled nodes of `fine` and the bilinear surface
+/// of the cell of `coarse` (the level above `fine`) that holds each;
+/// nodes in cells of `coarse` with an empty corner (not drawn) are
+/// skipped.
+pub(crate) fn coarse_gaps(fine: &MipLevel, coarse: &MipLevel) -> Gaps {
+    grid_gaps(
         &fine.displacements,
         [fine.cols, fine.rows],
         &coarse.displacements,
@@ -30,45 +45,27 @@ pub(crate) fn coarse_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
     )
 }
 
-/// [`coarse_gap`] on bare grids of displacement codes: `fine` of
+/// [`coarse_gaps`] on bare grids of displacement codes: `fine` of
 /// `fine_size` (columns, rows) nodes and `coarse`, every other node of it
 /// (with filled or padded nodes), of `coarse_size`.
-pub(crate) fn grid_gap(
+pub(crate) fn grid_gaps(
     fine: &[u16],
     fine_size: [usize; 2],
     coarse: &[u16],
     coarse_size: [usize; 2],
-) -> f32 {
-    let mut worst = 0f32;
+) -> Gaps {
+    let (mut largest, mut sum, mut n) = (0f32, 0f64, 0u32);
     for_each_gap(fine, fine_size, coarse, coarse_size, |g| {
-        worst = worst.max(g)
+        largest = largest.max(g);
+        sum += f64::from(g * g);
+        n += 1;
     });
-    worst
-}
-
-/// The root mean square of the gaps [`coarse_gap`] takes the largest of
-/// (0 when no node is compared). Why beside the largest: a scan's noise
-/// puts some node of nearly every patch far from the coarser surface, so
-/// the largest gap says little about how far the surface moves as a whole
-/// ([`crate::RenderOptions::level_one_limit`]'s test).
-pub(crate) fn coarse_rms_gap(fine: &MipLevel, coarse: &MipLevel) -> f32 {
-    let (mut sum, mut n) = (0f64, 0u32);
-    let (f, c) = (&fine.displacements, &coarse.displacements);
-    for_each_gap(
-        f,
-        [fine.cols, fine.rows],
-        c,
-        [coarse.cols, coarse.rows],
-        |g| {
-            sum += f64::from(g * g);
-            n += 1;
-        },
-    );
-    if n == 0 {
+    let rms = if n == 0 {
         0.0
     } else {
         (sum / f64::from(n)).sqrt() as f32
-    }
+    };
+    Gaps { largest, rms }
 }
 
 /// Calls `gap` with the distance of each filled node of `fine` from the
@@ -133,15 +130,16 @@ mod tests {
     fn a_plane_has_no_gap() {
         let fine = level(9, 7, |i, j| (1000 + 30 * i + 7 * j) as u16);
         let coarse = halve_level(&fine).unwrap();
-        assert_eq!(coarse_gap(&fine, &coarse), 0.0);
+        assert_eq!(coarse_gaps(&fine, &coarse), Gaps::default());
     }
 
     #[test]
     fn a_bump_at_an_odd_node_is_the_gap() {
         let fine = level(9, 9, |i, j| if (i, j) == (3, 5) { 1250 } else { 1000 });
         let coarse = halve_level(&fine).unwrap();
-        assert_eq!(coarse_gap(&fine, &coarse), 250.0);
+        let gaps = coarse_gaps(&fine, &coarse);
+        assert_eq!(gaps.largest, 250.0);
         // One node of 81 off by 250: the root mean square is 250 / 9.
-        assert!((coarse_rms_gap(&fine, &coarse) - 250.0 / 9.0).abs() < 1e-3);
+        assert!((gaps.rms - 250.0 / 9.0).abs() < 1e-3);
     }
 }
