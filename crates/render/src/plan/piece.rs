@@ -129,8 +129,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
             let gaps = p.quartered_gaps();
             let scale = pixels_per_code(&proj0, piece, p.base_d_range());
-            if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.largest * scale <= LEVEL_ONE_LARGEST
-            {
+            if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.most * scale <= LEVEL_ONE_MOST {
                 (m, lifted, quartered_lift) = (1, 0, true);
             }
         }
@@ -454,19 +453,22 @@ fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
 /// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px and the mean:
 /// the largest distance is a scan's noise (bound as `--mip-tolerance`
 /// bounds it, it kept every bunny patch at level 0), so the mean bounds
-/// the surface's move and [`LEVEL_ONE_LARGEST`] only what level 1 cuts
-/// off; with both, 1,385 of the bunny's 1,884 pieces at 1000² lift
+/// the surface's move and [`LEVEL_ONE_MOST`] only what level 1 cuts
+/// off; with both, 1,564 of the bunny's 1,884 pieces at 1000² lift
 /// (without a test fandisk scored 2.65 dB lower; docs/algorithms/render.md,
 /// "Level 1 past the limit").
 const LEVEL_ONE_TOLERANCE: f32 = 0.25;
 
-/// How far (pixels) level 1 drawn by quarters may move any one of level
-/// 0's nodes for [`RenderOptions::level_one_limit`] to lift the patch.
-/// Why: the mean alone lifted fandisk's patches whose creases level 1
-/// cuts off, and its holes at 500² went 0.020 → 0.080 %; with 0.5 px they
-/// stay at 0.020 % (1 px: 0.046 %), and the bunny at 1000² keeps four
-/// fifths of its lifted pieces.
-const LEVEL_ONE_LARGEST: f32 = 0.5;
+/// How far (pixels) level 1 drawn by quarters may move all but the
+/// farthest 2 % of level 0's nodes
+/// ([`Gaps::most`](crate::prepare::coarse_fit::Gaps::most)) for
+/// [`RenderOptions::level_one_limit`] to lift the patch. Why: the mean
+/// alone lifted fandisk's patches whose creases level 1 cuts off, and its
+/// holes at 500² went 0.020 → 0.080 %; with this bound 0.021 %. Why not the
+/// largest distance: a scan's scattered noise then kept 494 of the bunny's
+/// 1,884 pieces at 1000² at level 0 (315 with this one; fandisk's holes
+/// the same 0.020 %).
+const LEVEL_ONE_MOST: f32 = 0.5;
 
 /// Forgets what planning pushed for a piece it drops: the chunk's nodes,
 /// cell flags, row spans and quartered cells from the lengths `marks`
