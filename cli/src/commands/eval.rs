@@ -116,7 +116,7 @@ pub(crate) struct EvalArgs {
     #[arg(
         long,
         value_name = "PX",
-        default_value_t = RenderOptions::DEFAULT_LEVEL_ONE_LIMIT,
+        default_value_t = 0.0,
         conflicts_with = "sweep"
     )]
     level_one_limit: f32,

@@ -137,13 +137,11 @@ fn mip_levels_at_64(t: &TestCommand, scene: &str, flags: &[&str]) -> Vec<u64> {
 #[test]
 fn a_mip_tolerance_takes_full_grids_past_the_mip_limit() {
     // The small sphere's grids are full: at 64² the default tolerance takes
-    // some of them to level 1, which the limit alone keeps at level 0 (with
-    // no level-one limit).
+    // some of them to level 1, which the limit alone keeps at level 0.
     let t = TestCommand::new();
     let name = t.small_sphere("s.spatch");
     let coarse = |tolerance: &str| {
-        let flags = ["--mip-tolerance", tolerance, "--level-one-limit", "0"];
-        let levels = mip_levels_at_64(&t, &name, &flags);
+        let levels = mip_levels_at_64(&t, &name, &["--mip-tolerance", tolerance]);
         levels.iter().skip(1).sum::<u64>()
     };
     assert_eq!(coarse("0"), 0);
@@ -308,18 +306,6 @@ fn no_simd_keeps_the_portable_kernels_and_the_same_image() {
 /// Image size arguments for the 200² renders below.
 const AT_200: [&str; 4] = ["--width", "200", "--height", "200"];
 
-/// Flags that keep every patch at the level the mip limit chooses, with
-/// level 0's cells kept under about a pixel: no full grid past the limit
-/// (`--mip-tolerance`), no level 1 past it (`--level-one-limit`).
-const LEVEL_ZERO_BELOW_A_PIXEL: [&str; 6] = [
-    "--mip-limit",
-    "0.9",
-    "--mip-tolerance",
-    "0",
-    "--level-one-limit",
-    "0",
-];
-
 /// Renders `big.spatch` with `extra` arguments and reads the `--stats` it
 /// wrote to `name`.
 fn render_stats(t: &TestCommand, extra: &[&str], name: &str) -> serde_json::Value {
@@ -352,12 +338,12 @@ fn splat_limit_splats_the_pieces_subdivision_would_cut() {
 #[test]
 fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
     // The default sphere seen small (shading at level 0, cells of about a
-    // pixel, no patch lifted past the limit): with --geometry-limit its
+    // pixel, no full grid lifted past the limit): with --geometry-limit its
     // patches draw the level above their shading level, a quarter of the
     // nodes, and cover about the pixels the default covers.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let at_200 = [&AT_200[..], &LEVEL_ZERO_BELOW_A_PIXEL[..]].concat();
+    let at_200 = [&AT_200[..], &["--mip-limit", "0.9", "--mip-tolerance", "0"]].concat();
     let stats = |extra: &[&str], name: &str| render_stats(&t, &[&at_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--geometry-limit", "3.6"], "on.json");
@@ -377,13 +363,13 @@ fn geometry_limit_projects_fewer_nodes_and_covers_the_same_disc() {
 #[test]
 fn centre_limit_draws_pixel_sized_cells_by_pixel_centres() {
     // The default sphere at 200² with level 0 kept below a pixel (and no
-    // patch lifted past the limit): cells of about a pixel are cut
+    // full grid lifted past the limit): cells of about a pixel are cut
     // into sub-nodes and drawn by pixel-centre coverage with --centre-limit
     // 2 (some at the next mip level), which places next to no sub-nodes and
     // covers the same disc within its outline margin.
     let t = TestCommand::new();
     t.run(&["sphere", "-o", "big.spatch"]).success();
-    let at_200 = [&AT_200[..], &LEVEL_ZERO_BELOW_A_PIXEL[..]].concat();
+    let at_200 = [&AT_200[..], &["--mip-limit", "0.9", "--mip-tolerance", "0"]].concat();
     let stats = |extra: &[&str], name: &str| render_stats(&t, &[&at_200[..], extra].concat(), name);
     let off = stats(&[], "off.json");
     let on = stats(&["--centre-limit", "2"], "on.json");

@@ -175,14 +175,17 @@ pub struct RenderOptions {
     /// its own, whose cells along the outline are drawn by the level-0
     /// cells they hold (so the outline is level 0's), while that level
     /// moves its surface by at most 0.25 px (root mean square over level
-    /// 0's nodes). The frame projects a quarter of the nodes: with 6, the
-    /// bunny at 1000² in 0.76 of the default's time (3.9× llvmpipe instead
-    /// of 3.1×; 27.45 → 27.68 dB against the source), the mannequin at 500²
-    /// in 0.85 (5.5× instead of 4.5×; 26.55 → 26.37 dB: a lifted patch with
-    /// node colours is shaded from level 0), but fandisk's holes at 500²
-    /// 0.020 → 0.080 % and its fillets' highlights lost
-    /// (docs/algorithms/render.md, "Level 1 past the limit"). Off by default
-    /// for those losses. Patches with a colour grid keep the limit's level.
+    /// 0's nodes) and all but the farthest 2 % of level 0's nodes by at
+    /// most 0.5 px; patches with node colours lift only under Phong, which
+    /// shades them from level 0. The frame projects a quarter of the nodes:
+    /// with 6, the bunny at 1000² in 0.75 of the default's time (27.45 →
+    /// 27.71 dB against the source), the mannequin at 500² in 0.86 (26.55 →
+    /// 26.38 dB), fandisk at 500² 0.37 dB lower. Off by default: in large
+    /// views lifted patches show steps of shading and dark dashes along
+    /// their seams (the bunny at 1000², the mannequin at 700²), and the
+    /// demo's Spot dark specks along its muzzle's crease
+    /// (docs/algorithms/render.md, "Level 1 past the limit").
+    /// Patches with a colour grid keep the limit's level.
     pub level_one_limit: f32,
     /// Largest footprint half-width (pixels) of the splatting path for
     /// pixel-sized cells, 0 or 0.5..=3; 0 (the default) disables it. A
@@ -337,9 +340,6 @@ impl RenderOptions {
     /// Default mip tolerance (pixels a coarser level may move a full
     /// grid's surface).
     pub const DEFAULT_MIP_TOLERANCE: f32 = 0.25;
-    /// Default level-one limit (pixels of level 1's estimated cell extent
-    /// where the mip limit keeps a patch at level 0).
-    pub const DEFAULT_LEVEL_ONE_LIMIT: f32 = 6.0;
     /// How many times `mip_limit` the cells of a level taken under
     /// [`Self::mip_tolerance`] may reach, as estimated from the patch's
     /// projected box: 4, 12 px at the default limit, below the 15 px where
@@ -438,7 +438,7 @@ impl Default for RenderOptions {
             mip: true,
             mip_limit: Self::DEFAULT_MIP_LIMIT,
             mip_tolerance: Self::DEFAULT_MIP_TOLERANCE,
-            level_one_limit: Self::DEFAULT_LEVEL_ONE_LIMIT,
+            level_one_limit: 0.0,
             splat_limit: Self::DEFAULT_SPLAT_LIMIT,
             geometry_limit: Self::DEFAULT_GEOMETRY_LIMIT,
             geometry_tolerance: Self::DEFAULT_GEOMETRY_TOLERANCE,

@@ -186,10 +186,9 @@ fn coloured_patches_draw_their_outlines_at_pixel_centres() {
     o.culling = Culling::Back;
     o.projection = spatch_render::Projection::Exact;
     o.exact_outlines = true;
-    // The same levels with and without colour (coloured patches seen unlit
-    // never go past the mip limit; the colourless roof, a full grid, would).
+    // The same levels with and without colour (coloured patches never go
+    // past the mip limit; the colourless roof, a full grid, would).
     o.mip_tolerance = 0.0;
-    o.level_one_limit = 0.0;
     let mut tri = o;
     tri.mode = RenderMode::Triangles;
     let off = |colour: bool, o: RenderOptions| {

@@ -28,12 +28,10 @@ fn render_scene(
         .unwrap()
 }
 
-/// The default options with mip tolerance `tolerance` and no level 1
-/// past the limit (`level_one_limit`), so the tolerance alone goes past it.
+/// The default options with mip tolerance `tolerance`.
 fn with_tolerance(tolerance: f32) -> RenderOptions {
     let mut o = RenderOptions::default();
     o.mip_tolerance = tolerance;
-    o.level_one_limit = 0.0;
     o
 }
 
@@ -323,7 +321,6 @@ fn a_larger_mip_limit_takes_coarser_levels_at_a_small_image_cost() {
     let mut o = RenderOptions::default();
     o.mip_limit = 0.9;
     o.mip_tolerance = 0.0;
-    o.level_one_limit = 0.0;
     let fine = render(o, 600.0, 500);
     let mut o = RenderOptions::default();
     o.mip_limit = 6.0;
@@ -349,11 +346,7 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     // piece large enough for the triangle path), with fewer nodes and the
     // same image but for rounding (the sphere is smooth).
     let limit_only = render(with_tolerance(0.0), 600.0, 500);
-    let tolerant = render(
-        with_tolerance(RenderOptions::DEFAULT_MIP_TOLERANCE),
-        600.0,
-        500,
-    );
+    let tolerant = render(RenderOptions::default(), 600.0, 500);
     let (few, many) = (
         coarse_pieces(&limit_only.stats),
         coarse_pieces(&tolerant.stats),
@@ -374,11 +367,7 @@ fn full_grids_go_past_the_mip_limit_within_the_tolerance() {
     // lifted past the triangle path's cut are planned at the limit's level
     // instead, so no piece goes to triangles that did not before.
     let near_limit = render(with_tolerance(0.0), 350.0, 600);
-    let near = render(
-        with_tolerance(RenderOptions::DEFAULT_MIP_TOLERANCE),
-        350.0,
-        600,
-    );
+    let near = render(RenderOptions::default(), 350.0, 600);
     assert_eq!(
         near.stats.oversized_pieces,
         near_limit.stats.oversized_pieces

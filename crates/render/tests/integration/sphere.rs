@@ -198,7 +198,6 @@ fn back_faces_are_culled_and_the_table_rows_are_filled() {
     // Level 0 wherever the mip limit keeps it (the node count below).
     let mut options = RenderOptions::default();
     options.mip_tolerance = 0.0;
-    options.level_one_limit = 0.0;
     let out = Renderer::new(options)
         .unwrap()
         .render(prepared_sphere(), &camera)
