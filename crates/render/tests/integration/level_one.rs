@@ -48,7 +48,8 @@ fn facing_patch_coloured(
 
 /// A flat patch of `side × side` nodes `spacing` apart turned 45° from
 /// the known camera about its rows, so that displacements move its nodes
-/// on screen, at displacement `d(i, j)` for node column `i` and row `j`.
+/// on screen, at displacement `d(i, j)` for node column `i` and row `j`
+/// (0.01 units a code; the origin sits 2000 codes behind the centre).
 fn slanted_patch(side: u32, spacing: f32, d: impl Fn(u32, u32) -> u16) -> Scene {
     let view = DVec3::new(0.3, 0.5, 0.8).normalize().as_vec3();
     let side_axis = view.cross(Vec3::Y).normalize();
