@@ -271,7 +271,7 @@ fn cell_terms(
 mod tests {
     use super::*;
     use crate::grid::drawn_cells;
-    use crate::prepare::coarse_fit::grid_gaps;
+    use crate::prepare::coarse_fit::grid_gap;
 
     /// A `side × side` grid (`side` odd) on the bowl `400 + 2.5 r²` around
     /// node (8, 8), with the nodes outside a disc of `radius` nodes around
@@ -324,7 +324,7 @@ mod tests {
             let fine = level_zero(&d, &flags);
             let mut coarse = halved(&d, 17);
             fill_corners_with(fine, [9, 9], &mut coarse, sweeps);
-            worst = worst.max(grid_gaps(&d, [17, 17], &coarse, [9, 9]).largest);
+            worst = worst.max(grid_gap(&d, [17, 17], &coarse, [9, 9]));
         }
         worst
     }

@@ -20,7 +20,7 @@ use spatch_format::{ColourGrid, Patch, Sides, EMPTY};
 
 use crate::grid::drawn_cells;
 use crate::isa::Isa;
-use crate::prepare::coarse_fit::{coarse_gaps, Gaps};
+use crate::prepare::coarse_fit::{coarse_gap, coarse_gaps, Gaps};
 use crate::prepare::cone::{compute_normal_cone, NormalCone};
 use crate::prepare::corner_fill::FinerLevel;
 use crate::prepare::level_shading::{level_slot_set, LevelShading};
@@ -129,9 +129,11 @@ struct LazyLevel {
     /// level's grid ([`PreparedPatch::fine_shading`]).
     fine_shading: OnceLock<Box<LevelShading>>,
     /// Above level 0: how far the level below strays from this level's
-    /// surface, in codes ([`PreparedPatch::coarse_gap`],
-    /// [`PreparedPatch::quartered_gaps`]).
-    coarse_gaps: OnceLock<Gaps>,
+    /// surface at most, in codes ([`PreparedPatch::coarse_gap`]).
+    coarse_gap: OnceLock<f32>,
+    /// For [`QUARTERED_ONE`]: how far level 0 strays from it, summed up
+    /// ([`PreparedPatch::quartered_gaps`]).
+    gaps: OnceLock<Gaps>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
     slots: OnceLock<Box<SlotSet>>,
@@ -410,7 +412,7 @@ impl PreparedPatch {
 
     /// The largest distance of a filled node of level `g - 1` (`g` at
     /// least 1) from the bilinear surface of level `g`'s cells
-    /// ([`crate::prepare::coarse_fit::coarse_gaps`]), in node spacings of
+    /// ([`crate::prepare::coarse_fit::coarse_gap`]), in node spacings of
     /// level `g - 1` (the shorter of its two axes). Measured the first time
     /// a frame asks for it, and kept: a property of the scene, not the view.
     pub(crate) fn coarse_error(&self, g: usize) -> f32 {
@@ -419,12 +421,11 @@ impl PreparedPatch {
     }
 
     /// The same gap in displacement codes (the patch's height unit), as
-    /// [`coarse_gaps`] measures it; measured once, kept.
+    /// [`coarse_gap`] measures it; measured once, kept.
     pub(crate) fn coarse_gap(&self, g: usize) -> f32 {
-        self.levels[g]
-            .coarse_gaps
-            .get_or_init(|| coarse_gaps(self.level(g - 1), self.level(g)))
-            .largest
+        *self.levels[g]
+            .coarse_gap
+            .get_or_init(|| coarse_gap(self.level(g - 1), self.level(g)))
     }
 
     /// The distances, in codes, of level 0's filled nodes from the cells
@@ -434,7 +435,7 @@ impl PreparedPatch {
     pub(crate) fn quartered_gaps(&self) -> Gaps {
         *self
             .quartered_one
-            .coarse_gaps
+            .gaps
             .get_or_init(|| coarse_gaps(self.level(0), self.level(QUARTERED_ONE)))
     }
 
