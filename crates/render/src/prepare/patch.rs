@@ -69,6 +69,9 @@ pub(crate) struct PreparedPatch {
     /// Level 1 with its outline cells drawn by quarters
     /// ([`QUARTERED_ONE`]), built the first time a frame asks for it.
     quartered_one: LazyLevel,
+    /// How far level 0 strays from [`QUARTERED_ONE`], summed up
+    /// ([`PreparedPatch::quartered_gaps`]).
+    quartered_gaps: OnceLock<Gaps>,
     /// The instruction set the preparation kernels run with, here and on
     /// first use ([`Self::level`], [`Self::shading`]).
     isa: Isa,
@@ -131,9 +134,6 @@ struct LazyLevel {
     /// Above level 0: how far the level below strays from this level's
     /// surface at most, in codes ([`PreparedPatch::coarse_gap`]).
     coarse_gap: OnceLock<f32>,
-    /// For [`QUARTERED_ONE`]: how far level 0 strays from it, summed up
-    /// ([`PreparedPatch::quartered_gaps`]).
-    gaps: OnceLock<Gaps>,
     /// The normal-buffer slots of the level's used nodes
     /// ([`PreparedPatch::slot_set`]).
     slots: OnceLock<Box<SlotSet>>,
@@ -217,6 +217,7 @@ impl PreparedPatch {
             colour_grid: patch.colour_grid().cloned(),
             levels: (0..levels).map(|_| LazyLevel::default()).collect(),
             quartered_one: LazyLevel::default(),
+            quartered_gaps: OnceLock::new(),
             isa,
         })
     }
@@ -434,8 +435,7 @@ impl PreparedPatch {
     /// [`crate::RenderOptions::level_one_limit`] would lift ask.
     pub(crate) fn quartered_gaps(&self) -> Gaps {
         *self
-            .quartered_one
-            .gaps
+            .quartered_gaps
             .get_or_init(|| coarse_gaps(self.level(0), self.level(QUARTERED_ONE)))
     }
 
