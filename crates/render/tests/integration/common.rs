@@ -27,8 +27,13 @@ pub(crate) fn prepared_sphere() -> &'static PreparedScene {
 /// The known camera: eye on a skewed axis at `distance` from the centre,
 /// 30° vertical field of view, square image of `size`.
 pub(crate) fn known_camera(distance: f64, size: u32) -> Camera {
-    let dir = DVec3::new(0.3, 0.5, 0.8).normalize();
+    let dir = known_eye_direction();
     Camera::look_at(dir * distance, DVec3::ZERO, DVec3::Y, 30.0, size, size).expect("camera")
+}
+
+/// The unit direction from the centre to the known camera's eye.
+pub(crate) fn known_eye_direction() -> DVec3 {
+    DVec3::new(0.3, 0.5, 0.8).normalize()
 }
 
 /// The analytic silhouette of a sphere of `RADIUS` at the origin seen by

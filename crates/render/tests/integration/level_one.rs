@@ -8,7 +8,7 @@ use glam::{DVec3, Vec3};
 use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene, EMPTY};
 use spatch_render::{PreparedScene, RenderOptions, RenderOutput, Renderer, Shading};
 
-use crate::common::known_camera;
+use crate::common::{known_camera, known_eye_direction};
 
 /// Nodes per side of the test patch.
 const SIDE: u32 = 33;
@@ -27,23 +27,16 @@ fn facing_patch_coloured(
     d: impl Fn(f32, f32) -> u16,
     colour: Option<fn(u32) -> [u8; 4]>,
 ) -> Scene {
-    let view = DVec3::new(0.3, 0.5, 0.8).normalize().as_vec3();
-    let ax = view.cross(Vec3::Y).normalize();
+    let (view, ax) = view_axes();
     let ay = view.cross(ax);
     let c = (side - 1) as f32 / 2.0;
     let origin = -(ax + ay) * c * spacing;
-    let frame = Frame::new(origin, ax * spacing, ay * spacing, view * 0.01).unwrap();
     let d = (0..side * side)
         .map(|k| d((k % side) as f32 - c, (k / side) as f32 - c))
         .collect();
     let colours = colour.map(|c| (0..side * side).map(|k| c(k % side)).collect());
-    let channel = match colour {
-        Some(_) => ColourChannel::Rgb8,
-        None => ColourChannel::None,
-    };
-    let grid = GridSize::new(side, side).unwrap();
-    let patch = Patch::new(frame, grid, d, colours).unwrap();
-    Scene::new(DVec3::ZERO, channel, vec![patch]).unwrap()
+    let axes = [ax * spacing, ay * spacing, view * 0.01];
+    one_patch(origin, axes, side, d, colours)
 }
 
 /// A flat patch of `side × side` nodes `spacing` apart turned 45° from
@@ -51,16 +44,40 @@ fn facing_patch_coloured(
 /// on screen, at displacement `d(i, j)` for node column `i` and row `j`
 /// (0.01 units a code; the origin sits 2000 codes behind the centre).
 fn slanted_patch(side: u32, spacing: f32, d: impl Fn(u32, u32) -> u16) -> Scene {
-    let view = DVec3::new(0.3, 0.5, 0.8).normalize().as_vec3();
-    let side_axis = view.cross(Vec3::Y).normalize();
+    let (view, side_axis) = view_axes();
     let (u, v) = ((side_axis - view).normalize(), view.cross(side_axis));
     let normal = (view + side_axis).normalize();
     let c = (side - 1) as f32 / 2.0;
     let origin = -(u + v) * c * spacing - normal * 20.0;
-    let frame = Frame::new(origin, u * spacing, v * spacing, normal * 0.01).unwrap();
     let d = (0..side * side).map(|k| d(k % side, k / side)).collect();
-    let patch = Patch::new(frame, GridSize::new(side, side).unwrap(), d, None).unwrap();
-    Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap()
+    let axes = [u * spacing, v * spacing, normal * 0.01];
+    one_patch(origin, axes, side, d, None)
+}
+
+/// The known camera's direction from the origin to the eye, and a unit
+/// axis across it (level, at right angles to it and to `Y`).
+fn view_axes() -> (Vec3, Vec3) {
+    let view = known_eye_direction().as_vec3();
+    (view, view.cross(Vec3::Y).normalize())
+}
+
+/// A scene of one `side × side` patch with frame `origin` and `axes`,
+/// displacements `d` and node `colours` (RGB when given).
+fn one_patch(
+    origin: Vec3,
+    axes: [Vec3; 3],
+    side: u32,
+    d: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+) -> Scene {
+    let frame = Frame::new(origin, axes[0], axes[1], axes[2]).unwrap();
+    let channel = match colours {
+        Some(_) => ColourChannel::Rgb8,
+        None => ColourChannel::None,
+    };
+    let grid = GridSize::new(side, side).unwrap();
+    let patch = Patch::new(frame, grid, d, colours).unwrap();
+    Scene::new(DVec3::ZERO, channel, vec![patch]).unwrap()
 }
 
 /// A shallow bowl of `SIDE × SIDE` nodes `spacing` apart, filled inside a
