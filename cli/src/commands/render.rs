@@ -249,11 +249,13 @@ pub(crate) struct RenderArgs {
     /// while it moves the surface by at most 0.25 px (root mean square) and
     /// 98 % of the nodes by at most 0.5 px; level 1's cells along the
     /// outline are then drawn by the level-0 cells they hold, so the
-    /// outline stays level 0's. Large views of scans draw faster (the bunny
-    /// at 1000² with 6: 0.75 of the frame, PSNR against the source 27.45 →
-    /// 27.71 dB; the mannequin at 500²: 0.86, 0.17 dB less), but lifted
-    /// patches show steps of shading and dark dashes along their seams, and
-    /// CAD models lose detail (fandisk: 0.37 dB)
+    /// outline stays level 0's; it carries level 0's normals at the nodes
+    /// both levels share (patches with node colours lift only under Phong,
+    /// shaded from level 0 throughout). Large views of scans draw faster (the bunny at
+    /// 1000² with 6: 0.75–0.91 of the frame, PSNR against the source 27.45
+    /// → 27.59 dB; the mannequin at 500²: 0.86, 0.17 dB less), but the
+    /// lowered surface lets dark specks through along creases and
+    /// silhouettes, and CAD models lose detail (fandisk: 0.4 dB)
     #[arg(long, value_name = "PX", default_value_t = 0.0)]
     level_one_limit: f32,
     /// Splat the nodes of pixel-sized cells as rectangles of half-width up

@@ -177,14 +177,15 @@ pub struct RenderOptions {
     /// moves its surface by at most 0.25 px (root mean square over level
     /// 0's nodes) and all but the farthest 2 % of level 0's nodes by at
     /// most 0.5 px; patches with node colours lift only under Phong, which
-    /// shades them from level 0. The frame projects a quarter of the nodes:
-    /// with 6, the bunny at 1000² in 0.75 of the default's time (27.45 →
-    /// 27.71 dB against the source), the mannequin at 500² in 0.86 (26.55 →
-    /// 26.38 dB), fandisk at 500² 0.37 dB lower. Off by default: in large
-    /// views lifted patches show steps of shading and dark dashes along
-    /// their seams (the bunny at 1000², the mannequin at 700²), and the
-    /// demo's Spot dark specks along its muzzle's crease
-    /// (docs/algorithms/render.md, "Level 1 past the limit").
+    /// shades them from level 0, the others carry level 0's normals at the
+    /// nodes the two levels share. The frame projects a quarter of the
+    /// nodes: with 6, the bunny at 1000² in 0.75–0.91 of the default's time
+    /// (27.45 → 27.59 dB against the source), the mannequin at 500² in 0.86
+    /// (26.55 → 26.38 dB), fandisk at 500² 0.4 dB lower. Off by default:
+    /// the lowered surface lets dark specks through (surfaces just behind
+    /// it, the outline's reach across creases: the bunny at 1000², the
+    /// mannequin at 700², the demo's Spot along its muzzle's crease;
+    /// docs/algorithms/render.md, "Level 1 past the limit").
     /// Patches with a colour grid keep the limit's level.
     pub level_one_limit: f32,
     /// Largest footprint half-width (pixels) of the splatting path for

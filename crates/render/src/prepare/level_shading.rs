@@ -91,6 +91,31 @@ impl LevelShading {
         })
     }
 
+    /// Gives every filled node `(i, j)` of `coarse` (the level these
+    /// inputs are for, one above `fine`) whose node `(2i, 2j)` of `fine` is
+    /// filled the normal `fine_normals` holds for that node (`fine`'s
+    /// prepared normals). Why: level 1 drawn past the mip limit
+    /// ([`crate::RenderOptions::level_one_limit`]) with its own normals,
+    /// which average a scan's noise over twice the span, showed blocks of
+    /// flatter shading with steps at the seams to level-0 neighbours; with
+    /// level 0's normals at the nodes the two levels share it keeps level
+    /// 0's shading there, at level 1's memory (the resolve's cost).
+    pub(crate) fn take_finer_normals(
+        &mut self,
+        coarse: &MipLevel,
+        fine: &MipLevel,
+        fine_normals: &[Vec4],
+    ) {
+        for j in 0..coarse.rows.min(fine.rows.div_ceil(2)) {
+            for i in 0..coarse.cols.min(fine.cols.div_ceil(2)) {
+                let (k, f) = (j * coarse.cols + i, 2 * j * fine.cols + 2 * i);
+                if coarse.displacements[k] != EMPTY && fine.displacements[f] != EMPTY {
+                    self.normals[k] = fine_normals[f];
+                }
+            }
+        }
+    }
+
     /// The flat-shading inputs of a level with shading ratios `ratios`:
     /// per filled node, the normal flat shading gives it (the normal of
     /// the cell it is the first corner of, the last column's and row's

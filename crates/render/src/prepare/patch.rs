@@ -336,15 +336,17 @@ impl PreparedPatch {
     }
 
     /// The shading inputs of level `m`, built with `slots` as
-    /// [`LevelShading::new`] takes it.
+    /// [`LevelShading::new`] takes it; for [`QUARTERED_ONE`], with level
+    /// 0's normals at the nodes the two levels share
+    /// ([`LevelShading::take_finer_normals`]).
     fn build_shading(&self, m: usize, slots: Option<&OnceLock<Box<SlotSet>>>) -> &LevelShading {
         self.lazy(m).shading.get_or_init(|| {
-            Box::new(LevelShading::with_isa(
-                self.isa,
-                self.level(m),
-                self.ratios_at(m),
-                slots,
-            ))
+            let level = self.level(m);
+            let mut own = LevelShading::with_isa(self.isa, level, self.ratios_at(m), slots);
+            if m == QUARTERED_ONE {
+                own.take_finer_normals(level, self.level(0), &self.shading(0).normals);
+            }
+            Box::new(own)
         })
     }
 
@@ -606,6 +608,51 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "{checked}");
+    }
+
+    #[test]
+    fn level_one_by_quarters_shades_with_level_zero_normals_at_shared_nodes() {
+        // Noisy grids with holes: each filled node (i, j) of level 1 drawn
+        // by quarters carries level 0's normal of node (2i, 2j) when that
+        // one is filled, else level 1's own; and the two differ on these
+        // grids (the noise level 1 averages), so the test sees the choice.
+        let mut rng = crate::test_rng::XorShift(0x0a1e_5ade);
+        let (mut shared, mut differing) = (0, 0);
+        for case in 0..120 {
+            let (cols, rows) = (3 + rng.below(18), 3 + rng.below(18));
+            let d = rng.holed_grid((cols * rows) as usize, [0, 5, 30][case % 3], 500, 40);
+            let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
+            let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+            let Some(p) = PreparedPatch::new(&patch, DVec3::ZERO, Isa::detect(true)) else {
+                continue;
+            };
+            if p.level_count() < 2 {
+                continue;
+            }
+            let (coarse, fine) = (p.level(QUARTERED_ONE), p.level(0));
+            let own = LevelShading::with_isa(p.isa, coarse, p.ratios_at(1), None);
+            let (got, fine_normals) = (&p.shading(QUARTERED_ONE).normals, &p.shading(0).normals);
+            for j in 0..coarse.rows {
+                for i in 0..coarse.cols {
+                    let k = j * coarse.cols + i;
+                    let f = (2 * i < fine.cols && 2 * j < fine.rows)
+                        .then(|| 2 * j * fine.cols + 2 * i)
+                        .filter(|&f| fine.displacements[f] != EMPTY);
+                    match f {
+                        Some(f) if coarse.displacements[k] != EMPTY => {
+                            assert_eq!(got[k], fine_normals[f], "case {case}, node {i}, {j}");
+                            shared += 1;
+                            differing += usize::from(own.normals[k] != fine_normals[f]);
+                        }
+                        _ => assert_eq!(got[k], own.normals[k], "case {case}, node {i}, {j}"),
+                    }
+                }
+            }
+        }
+        assert!(
+            shared > 2000 && differing > shared / 2,
+            "{shared}, {differing}"
+        );
     }
 
     #[test]
