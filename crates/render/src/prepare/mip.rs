@@ -343,7 +343,7 @@ pub(crate) fn coarse_level_count(base: &[u16], [base_cols, base_rows]: [usize; 2
 
 /// Nodes on a side of `n` nodes after halving (an odd number of cells is
 /// padded by one node first), or `None` below three nodes.
-fn halved_side(n: usize) -> Option<usize> {
+pub(crate) fn halved_side(n: usize) -> Option<usize> {
     (n >= 3).then_some(n.div_ceil(2) + usize::from(n.is_multiple_of(2)))
 }
 
@@ -562,7 +562,3 @@ fn tent_average(level: &NodeGrid, colours: &[[u8; 4]], ci: usize, cj: usize) -> 
     }
     sum.map(|s| ((s + weight / 2) / weight) as u8)
 }
-
-#[cfg(test)]
-#[path = "mip_tests.rs"]
-mod tests;

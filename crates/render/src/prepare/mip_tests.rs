@@ -1,9 +1,10 @@
-//! Tests of [`crate::prepare::mip`] (a child module of it, in a file of its own).
+//! Tests of [`crate::prepare::mip`].
 
-use super::*;
+use crate::grid::CELL_DRAW;
 use crate::prepare::corner_fill::fills_cell;
+use crate::prepare::mip::*;
 use glam::Vec3;
-use spatch_format::{Frame, GridSize, Patch};
+use spatch_format::{Frame, GridSize, Patch, EMPTY};
 
 #[test]
 fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {

@@ -11,10 +11,14 @@ pub(crate) mod cone;
 pub(crate) mod corner_fill;
 pub(crate) mod level_shading;
 pub(crate) mod mip;
+#[cfg(test)]
+mod mip_tests;
 pub(crate) mod normal_buffer;
 pub(crate) mod normals;
 pub(crate) mod overlap;
 pub(crate) mod patch;
+#[cfg(test)]
+mod patch_tests;
 pub(crate) mod portals;
 pub(crate) mod quarters;
 pub(crate) mod scene;

@@ -513,7 +513,3 @@ fn nearest_filled(coarse: &MipLevel, i: usize, j: usize) -> usize {
         .find(|&k| coarse.displacements[k] != EMPTY)
         .unwrap_or(around[0])
 }
-
-#[cfg(test)]
-#[path = "patch_tests.rs"]
-mod tests;

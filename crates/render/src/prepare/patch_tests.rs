@@ -1,11 +1,14 @@
-//! Tests of [`crate::prepare::patch`] (a child module of it, in a file of its own).
+//! Tests of [`crate::prepare::patch`].
 
-use super::*;
+use crate::isa::Isa;
+use crate::prepare::level_shading::LevelShading;
 use crate::prepare::normal_buffer::NormalBuffer;
+use crate::prepare::normal_buffer::SlotSet;
 use crate::prepare::normals::node_differences;
+use crate::prepare::patch::*;
 use crate::prepare::scene::PreparedScene;
-use glam::Vec3;
-use spatch_format::{ColourChannel, Frame, GridSize, Scene};
+use glam::{DVec3, Vec3};
+use spatch_format::{ColourChannel, Frame, GridSize, Patch, Scene, EMPTY};
 
 /// Checks every level of `p`: each filled node's prepared normal is the
 /// normal buffer's (bit for bit, as a projected node carries it), each
@@ -107,14 +110,15 @@ fn level_one_by_quarters_shades_with_level_zero_normals_at_shared_nodes() {
         let d = rng.holed_grid((cols * rows) as usize, [0, 5, 30][case % 3], 500, 40);
         let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
         let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
-        let Some(p) = PreparedPatch::new(&patch, DVec3::ZERO, Isa::detect(true)) else {
+        let isa = Isa::detect(true);
+        let Some(p) = PreparedPatch::new(&patch, DVec3::ZERO, isa) else {
             continue;
         };
         if p.level_count() < 2 {
             continue;
         }
         let (coarse, fine) = (p.level(QUARTERED_ONE), p.level(0));
-        let own = LevelShading::with_isa(p.isa, coarse, p.ratios_at(1), None);
+        let own = LevelShading::with_isa(isa, coarse, p.ratios_at(1), None);
         let (got, fine_normals) = (&p.shading(QUARTERED_ONE).normals, &p.shading(0).normals);
         for j in 0..coarse.rows {
             for i in 0..coarse.cols {
