@@ -56,7 +56,8 @@ pub(crate) struct EvalArgs {
     /// Side of the square images of the image error, in pixels (16-4096).
     #[arg(long, value_name = "PX", default_value_t = 500, value_parser = clap::value_parser!(u32).range(16..=4096))]
     size: u32,
-    /// Timed patch frames per view (after one warm-up); the median is reported (1-100).
+    /// Timed frames per view (after one warm-up), of the patches and of the source mesh alike;
+    /// the medians are reported (1-100).
     #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
     runs: u32,
     /// Patches, or every cell as two triangles through the scan-line rasterizer (the

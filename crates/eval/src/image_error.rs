@@ -21,17 +21,20 @@
 //!   the peer's figure, in the source's;
 //! - **mean depth error**: mean |patch depth − source depth| (linear eye depth, model units)
 //!   over pixels both cover, also divided by the source's bounding-box diagonal;
-//! - **frame time**: the median over `runs` timed patch frames after one warm-up frame (and
-//!   one source frame), in milliseconds.
+//! - **frame time**: the median over `runs` timed frames after one warm-up frame, for the
+//!   patches and for the source alike, each frame reusing the buffers of the one before (as
+//!   `spatch render --bench` times its frames), in milliseconds.
 //!
 //! Views: [`views_for_count`] — the 14 standard views (6 axes, 8 diagonals) or fewer of
 //! them, or an even spiral of more; each frames the source's bounding sphere as
 //! [`crate::hole_view_camera`] does.
 //!
-//! The source frames are rendered once ([`SourceViews::render`]) and can be compared with
-//! any number of scenes or render options ([`compare_views`]), which is what the sweep does.
+//! The source's views are rendered and timed once ([`SourceViews::render`]) and can be
+//! compared with any number of scenes or render options ([`compare_views`]), which is what
+//! the sweep does.
 //!
-//! Cost: per view one source frame and `runs + 1` patch frames, O(pixels) each to compare.
+//! Cost: per view `runs + 1` source frames and `runs + 1` patch frames, O(pixels) each to
+//! compare.
 
 use std::time::Instant;
 
@@ -87,8 +90,8 @@ pub struct ImageOptions {
     /// Render options shared by the source and the patches (the defaults of
     /// `spatch render`). `threads` 0 means all cores.
     pub render: RenderOptions,
-    /// Timed patch frames per view (after one warm-up), 1..=1000; the median is reported.
-    /// Default 3.
+    /// Timed frames per view (after one warm-up), of the patches and of the source,
+    /// 1..=1000; the medians are reported. Default 3.
     pub runs: usize,
     /// Draw the source with its colours and texture when it has them (so PSNR measures
     /// the patches' colour too); off, or without source colour, it is drawn grey like
@@ -186,15 +189,17 @@ impl SourceViews {
         };
         for &direction in &options.views {
             let camera = view_camera(centre, radius, direction, &hole_options)?;
-            let out = renderer.rasterize(&mesh, &camera)?;
-            views.source_ms.push(out.stats.times_ms.total_wall);
-            let interior = interior_of(&out.image);
-            let width = out.image.width() as usize;
+            let (ms, image) = time_frames(&mut renderer, options.runs, |r| {
+                Ok(r.rasterize(&mesh, &camera)?.image)
+            })?;
+            views.source_ms.push(ms);
+            let interior = interior_of(&image);
+            let width = image.width() as usize;
             views
                 .specks
-                .push(specks_within(out.image.pixels(), &interior, width));
+                .push(specks_within(image.pixels(), &interior, width));
             views.interiors.push(interior);
-            views.images.push(out.image);
+            views.images.push(image);
             views.cameras.push(camera);
             views.directions.push(direction.normalize());
         }
@@ -292,7 +297,7 @@ pub struct ImageError {
     pub patch_ms: f64,
     /// Median over the views of the source frame time (ms).
     pub source_ms: f64,
-    /// Timed patch frames per view.
+    /// Timed frames per view, of the patches and of the source.
     pub runs: usize,
     /// Worker threads of the renderer.
     pub threads: usize,
@@ -400,13 +405,8 @@ pub fn compare_views(
     let mut speck_sums = [0usize; 4];
     let mut size = [0, 0];
     for (k, camera) in source.cameras.iter().enumerate() {
-        let mut image = renderer.render(scene, camera)?.image; // warm-up
-        let mut times = Vec::with_capacity(runs);
-        for _ in 0..runs {
-            let start = Instant::now();
-            image = renderer.render(scene, camera)?.image;
-            times.push(start.elapsed().as_secs_f64() * 1e3);
-        }
+        let (patch_ms, image) =
+            time_frames(&mut renderer, runs, |r| Ok(r.render(scene, camera)?.image))?;
         size = [image.width(), image.height()];
         let interior = &source.interiors[k];
         let sums = compare_images(&source.images[k], interior, &image, source.tolerance);
@@ -425,7 +425,7 @@ pub fn compare_views(
             source_speck_fraction: source_specks.fraction(),
             psnr_db: psnr(sums.squared, sums.compared),
             mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
-            patch_ms: median(&mut times),
+            patch_ms,
             source_ms: source.source_ms[k],
         });
         total.source += sums.source;
@@ -462,6 +462,28 @@ pub fn compare_views(
         source_drawn_with: source.drawing,
         views,
     })
+}
+
+/// The median wall time (ms) of `runs` frames `frame` draws with `renderer` after one
+/// warm-up frame, and the last frame's image. Each frame's buffers go back to the renderer
+/// for the next ([`Renderer::recycle`]), as `spatch render --bench` times its frames. Why:
+/// a frame with fresh buffers pays their page faults (about 460 for a 500² frame), and the
+/// source's frames were timed once each, cold, while the patches' were warmed: the two
+/// timings the own-rasterizer ratio divides were taken two ways.
+fn time_frames(
+    renderer: &mut Renderer,
+    runs: usize,
+    mut frame: impl FnMut(&mut Renderer) -> Result<RenderedImage, RenderError>,
+) -> Result<(f64, RenderedImage), RenderError> {
+    let mut image = frame(renderer)?;
+    let mut times = Vec::with_capacity(runs);
+    for _ in 0..runs.max(1) {
+        renderer.recycle(image);
+        let start = Instant::now();
+        image = frame(renderer)?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok((median(&mut times), image))
 }
 
 /// [`SourceViews::render`] then [`compare_views`] with `options`.
@@ -509,6 +531,41 @@ mod tests {
         let p = psnr(255 * 255, 1).unwrap();
         assert!((p - 10.0 * 3f64.log10()).abs() < 1e-12);
         assert_eq!(psnr(0, 10), None);
+    }
+
+    #[test]
+    fn timed_frames_reuse_one_set_of_buffers_and_give_the_last_image() {
+        // A triangle seen from the front: `runs` timed frames after a warm-up, each drawn
+        // into the buffers of the one before (the same colour buffer throughout: without
+        // the hand-back, two frames alive at once would hold two), the image unchanged.
+        let positions = [
+            glam::Vec3::new(-1.0, -1.0, 0.0),
+            glam::Vec3::new(1.0, -1.0, 0.0),
+            glam::Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let triangles = [[0, 1, 2]];
+        let mesh = RasterMesh::new(DVec3::ZERO, &positions, &triangles, MeshColours::None).unwrap();
+        let camera = Camera::look_at(DVec3::Z * 5.0, DVec3::ZERO, DVec3::Y, 40.0, 64, 48).unwrap();
+        let mut options = RenderOptions::default();
+        options.threads = 1;
+        let fresh = Renderer::new(options)
+            .unwrap()
+            .rasterize(&mesh, &camera)
+            .unwrap()
+            .image;
+        let mut renderer = Renderer::new(options).unwrap();
+        let mut buffers = Vec::new();
+        let (ms, image) = time_frames(&mut renderer, 4, |r| {
+            let image = r.rasterize(&mesh, &camera)?.image;
+            buffers.push(image.pixels().as_ptr());
+            Ok(image)
+        })
+        .unwrap();
+        assert_eq!(buffers.len(), 5, "a warm-up and four timed frames");
+        assert!(buffers.iter().all(|&b| b == buffers[0]), "{buffers:?}");
+        assert!(ms >= 0.0 && ms.is_finite());
+        assert_eq!(image, fresh);
+        assert!(image.covered_count() > 100);
     }
 
     #[test]
