@@ -50,6 +50,9 @@ use crate::interior::interior_of;
 use crate::source_colours::{colour_source, SourceDrawing};
 use crate::specks::{specks_within, Specks};
 
+/// Most timed frames per view ([`ImageOptions::runs`] is taken into `1..=MAX_RUNS`).
+const MAX_RUNS: usize = 1000;
+
 /// Largest number of views [`views_for_count`] accepts.
 pub const MAX_VIEWS: usize = 256;
 
@@ -396,7 +399,7 @@ pub fn compare_views(
     mut render: RenderOptions,
     runs: usize,
 ) -> Result<ImageError, RenderError> {
-    let runs = runs.clamp(1, 1000);
+    let runs = runs.clamp(1, MAX_RUNS);
     render.normal_counts = false;
     let mut renderer = Renderer::new(render)?;
     let mut views = Vec::with_capacity(source.len());
@@ -464,8 +467,8 @@ pub fn compare_views(
     })
 }
 
-/// The median wall time (ms) of `runs` frames `frame` draws with `renderer` after one
-/// warm-up frame, and the last frame's image. Each frame's buffers go back to the renderer
+/// The median wall time (ms) of `runs` frames (taken into `1..=MAX_RUNS`) `frame` draws
+/// with `renderer` after one warm-up frame, and the last frame's image. Each frame's buffers go back to the renderer
 /// for the next ([`Renderer::recycle`]), as `spatch render --bench` times its frames. Why:
 /// a frame with fresh buffers pays their page faults (about 460 for a 500² frame), and the
 /// source's frames were timed once each, cold, while the patches' were warmed: the two
@@ -475,9 +478,10 @@ fn time_frames(
     runs: usize,
     mut frame: impl FnMut(&mut Renderer) -> Result<RenderedImage, RenderError>,
 ) -> Result<(f64, RenderedImage), RenderError> {
+    let runs = runs.clamp(1, MAX_RUNS);
     let mut image = frame(renderer)?;
     let mut times = Vec::with_capacity(runs);
-    for _ in 0..runs.max(1) {
+    for _ in 0..runs {
         renderer.recycle(image);
         let start = Instant::now();
         image = frame(renderer)?;
