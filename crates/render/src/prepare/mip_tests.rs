@@ -8,9 +8,7 @@ use spatch_format::{Frame, GridSize, Patch, EMPTY};
 
 #[test]
 fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {
-    let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-    let d: Vec<u16> = (0..17 * 17).map(|k| (k % 17 + k / 17) as u16).collect();
-    let patch = Patch::new(frame, GridSize::new(17, 17).unwrap(), d, None).unwrap();
+    let patch = patch_of(17, 17, |i, j| (i + j) as u16);
     let levels = build_mip_pyramid(&patch);
     let sides: Vec<usize> = levels.iter().map(|l| l.cols).collect();
     assert_eq!(sides, vec![17, 9, 5, 3, 2]);
@@ -22,8 +20,17 @@ fn a_17_grid_halves_to_9_5_3_2_and_keeps_corner_nodes() {
 
 /// A patch of `cols × rows` nodes with displacements from `d(i, j)`.
 fn patch_of(cols: u32, rows: u32, d: impl Fn(u32, u32) -> u16) -> Patch {
+    patch_from(
+        cols,
+        rows,
+        (0..cols * rows).map(|k| d(k % cols, k / cols)).collect(),
+    )
+}
+
+/// A patch of `cols × rows` nodes with displacements `d` (row-major), on
+/// the unit axes.
+fn patch_from(cols: u32, rows: u32, d: Vec<u16>) -> Patch {
     let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-    let d: Vec<u16> = (0..cols * rows).map(|k| d(k % cols, k / cols)).collect();
     Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap()
 }
 
@@ -62,8 +69,7 @@ fn level_one_by_quarters_draws_every_level_zero_cell() {
         let (cols, rows) = (3 + rng.below(31), 3 + rng.below(31));
         let holes = [3, 30, 70][case % 3];
         let d = rng.holed_grid((cols * rows) as usize, holes, 0, 50);
-        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-        let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+        let patch = patch_from(cols, rows, d);
         let Some(base) = base_level(&patch) else {
             continue;
         };
@@ -126,8 +132,7 @@ fn coarse_levels_draw_every_cell_their_finer_level_draws() {
         let (cols, rows) = (side(&mut rng), side(&mut rng));
         let holes = [0, 3, 30, 70, 95][case % 5];
         let d = rng.holed_grid((cols * rows) as usize, holes, 0, 50);
-        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z).unwrap();
-        let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+        let patch = patch_from(cols, rows, d);
         let Some(base) = base_level(&patch) else {
             continue;
         };

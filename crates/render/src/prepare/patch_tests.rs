@@ -48,6 +48,13 @@ fn check_levels(p: &PreparedPatch, buffer: &mut NormalBuffer) -> usize {
     checked
 }
 
+/// A patch of `cols × rows` nodes with displacements `d` (row-major) and
+/// `colours`, on the unit axes with `z` units a code.
+fn grid_patch([cols, rows]: [u32; 2], d: Vec<u16>, z: f32, colours: Option<Vec<[u8; 4]>>) -> Patch {
+    let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * z).unwrap();
+    Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, colours).unwrap()
+}
+
 #[test]
 fn prepared_normals_are_the_normals_nodes_carried() {
     let options = spatch_sphere::SphereOptions::default();
@@ -85,9 +92,7 @@ fn prepared_normals_hold_on_grids_with_holes_and_steep_steps() {
         let step = [2, 20, 200][case % 3];
         let d = rng.holed_grid((cols * rows) as usize, holes, 1000, step);
         let z = 0.002 + rng.unit() * 0.05;
-        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * z).unwrap();
-        let grid = GridSize::new(cols, rows).unwrap();
-        let patch = Patch::new(frame, grid, d, None).unwrap();
+        let patch = grid_patch([cols, rows], d, z, None);
         let scene = Scene::new(DVec3::ZERO, ColourChannel::None, vec![patch]).unwrap();
         for p in &PreparedScene::new(&scene).patches {
             checked += check_levels(p, &mut buffer);
@@ -108,8 +113,7 @@ fn level_one_by_quarters_shades_with_level_zero_normals_at_shared_nodes() {
     for case in 0..120 {
         let (cols, rows) = (3 + rng.below(18), 3 + rng.below(18));
         let d = rng.holed_grid((cols * rows) as usize, [0, 5, 30][case % 3], 500, 40);
-        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
-        let patch = Patch::new(frame, GridSize::new(cols, rows).unwrap(), d, None).unwrap();
+        let patch = grid_patch([cols, rows], d, 0.01, None);
         let isa = Isa::detect(true);
         let Some(p) = PreparedPatch::new(&patch, DVec3::ZERO, isa) else {
             continue;
@@ -159,9 +163,7 @@ fn level_one_from_the_nodes_is_level_zero_halved() {
                 .map(|_| [rng.below(256) as u8, rng.below(256) as u8, 90, 255])
                 .collect::<Vec<_>>()
         });
-        let frame = Frame::new(Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z * 0.01).unwrap();
-        let grid = GridSize::new(cols, rows).unwrap();
-        let patch = Patch::new(frame, grid, d, colours).unwrap();
+        let patch = grid_patch([cols, rows], d, 0.01, colours);
         let isa = Isa::detect(true);
         let (Some(first), Some(second)) = (
             PreparedPatch::new(&patch, DVec3::ZERO, isa),
