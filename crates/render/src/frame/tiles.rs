@@ -226,6 +226,9 @@ pub(crate) fn draw_item(
     }
 }
 
+/// Inlined so that the triangles run with the band's instruction set
+/// ([`crate::isa`]): out of line, every row's `ceil` was a library call.
+#[inline(always)]
 fn draw_triangles<const N: usize, P: Payload<N>>(
     t: &mut BandTarget<'_>,
     job: &BandJob<'_>,
@@ -240,7 +243,9 @@ fn draw_triangles<const N: usize, P: Payload<N>>(
 
 /// [`draw_triangles`] for Gouraud and Phong in a frame whose patches have
 /// colour grids: the cell triangles of such a patch read its grid per
-/// sample ([`ScreenTriangle::grid`]), the others draw as usual.
+/// sample ([`ScreenTriangle::grid`]), the others draw as usual. Inlined
+/// as [`draw_triangles`] is.
+#[inline(always)]
 fn draw_grid_triangles(t: &mut BandTarget<'_>, job: &BandJob<'_>, refs: &[(u32, u32)]) {
     let patches = job.resolve.patches;
     for &(c, k) in refs {

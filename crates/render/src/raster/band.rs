@@ -74,8 +74,9 @@ impl Sample {
 
 /// What a drawn sample stores besides its depth.
 pub(crate) trait Payload<const N: usize> {
-    /// Stores the payload of a sample that passed the depth test.
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, attrs: &[i32; N]);
+    /// Stores the payload of a sample that passed the depth test in its
+    /// pixel `s`.
+    fn store(&self, s: &mut Sample, attrs: &[i32; N]);
 }
 
 /// Flag of word 2 marking a patch sample.
@@ -111,27 +112,21 @@ pub(crate) fn keep_nearer(s: &mut Sample, z: i32, sub: u32, item: u32) {
     s.w2 = std::hint::select_unpredictable(nearer, item, s.w2);
 }
 
-/// Writes a triangle sample with its payload if it is in the band and
+/// Writes a triangle sample with its payload into its pixel `s` if it
 /// passes the depth test; its attributes are computed (`attrs`) only then.
 /// Why lazily: a pixel's perspective-correct attributes and their
 /// conversions cost more than its depth test, and a magnified cell's
 /// triangles are drawn where other patches already lie.
 #[inline(always)]
-pub(crate) fn splat<const N: usize, P: Payload<N>>(
-    t: &mut BandTarget<'_>,
-    px: i32,
-    py: i32,
+pub(crate) fn store_if_nearer<const N: usize, P: Payload<N>>(
+    s: &mut Sample,
     z: i32,
     attrs: impl FnOnce() -> [i32; N],
     payload: &P,
 ) {
-    let row = py - t.y0;
-    if (px as u32) < t.width as u32 && (row as u32) < t.rows as u32 {
-        let idx = row as usize * t.width as usize + px as usize;
-        if z < t.px[idx].depth {
-            t.px[idx].depth = z;
-            payload.store(t, idx, &attrs());
-        }
+    if z < s.depth {
+        s.depth = z;
+        payload.store(s, &attrs());
     }
 }
 
@@ -141,9 +136,9 @@ pub(crate) struct FlatPayload(pub(crate) u32);
 
 impl Payload<0> for FlatPayload {
     #[inline(always)]
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, _: &[i32; 0]) {
-        t.px[idx].w0 = self.0;
-        t.px[idx].w2 = 0;
+    fn store(&self, s: &mut Sample, _: &[i32; 0]) {
+        s.w0 = self.0;
+        s.w2 = 0;
     }
 }
 
@@ -158,9 +153,9 @@ fn channel(v: i32) -> u32 {
 
 impl Payload<3> for GouraudPayload {
     #[inline(always)]
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 3]) {
-        t.px[idx].w0 = channel(a[0]) | channel(a[1]) << 8 | channel(a[2]) << 16 | 0xff00_0000;
-        t.px[idx].w2 = 0;
+    fn store(&self, s: &mut Sample, a: &[i32; 3]) {
+        s.w0 = channel(a[0]) | channel(a[1]) << 8 | channel(a[2]) << 16 | 0xff00_0000;
+        s.w2 = 0;
     }
 }
 
@@ -170,8 +165,7 @@ pub(crate) struct PhongPayload(pub(crate) u32);
 
 impl Payload<6> for PhongPayload {
     #[inline(always)]
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 6]) {
-        let s = &mut t.px[idx];
+    fn store(&self, s: &mut Sample, a: &[i32; 6]) {
         s.w0 = pack_fixed_normal(a[0], a[1], a[2]);
         s.w1 = channel(a[3]) | channel(a[4]) << 8 | channel(a[5]) << 16;
         s.w2 = self.0;
@@ -193,14 +187,14 @@ pub(crate) struct GridGouraudPayload<'a>(pub(crate) &'a ColourGrid);
 
 impl Payload<6> for GridGouraudPayload<'_> {
     #[inline]
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 6]) {
+    fn store(&self, s: &mut Sample, a: &[i32; 6]) {
         let albedo = grid_albedo(self.0, a);
         let c = |k: usize| {
             let v = a[k] as f32 / ATTR_ONE * albedo[k];
             v.clamp(0.0, 255.0) as u32
         };
-        t.px[idx].w0 = c(0) | c(1) << 8 | c(2) << 16 | 0xff00_0000;
-        t.px[idx].w2 = 0;
+        s.w0 = c(0) | c(1) << 8 | c(2) << 16 | 0xff00_0000;
+        s.w2 = 0;
     }
 }
 
@@ -214,9 +208,8 @@ pub(crate) struct GridPhongPayload<'a> {
 
 impl Payload<6> for GridPhongPayload<'_> {
     #[inline]
-    fn store(&self, t: &mut BandTarget<'_>, idx: usize, a: &[i32; 6]) {
+    fn store(&self, s: &mut Sample, a: &[i32; 6]) {
         let [r, g, b] = grid_albedo(self.grid, a).map(|v| v.clamp(0.0, 255.0) as u32);
-        let s = &mut t.px[idx];
         s.w0 = pack_fixed_normal(a[0], a[1], a[2]);
         s.w1 = r | g << 8 | b << 16;
         s.w2 = self.frame;

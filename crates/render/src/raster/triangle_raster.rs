@@ -25,7 +25,7 @@
 use glam::Vec3;
 
 use crate::fixed::{attr_to_fixed, depth_to_fixed};
-use crate::raster::band::{splat, BandTarget, Payload};
+use crate::raster::band::{store_if_nearer, BandTarget, Payload};
 
 /// Attributes carried per vertex (the most any shading model needs).
 pub(crate) const TRI_ATTRS: usize = 6;
@@ -239,11 +239,15 @@ pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
         let mut iw = tri.v[0][2] + w_plane.0 * dx + w_plane.1 * dy;
         let mut av: [f32; N] =
             std::array::from_fn(|c| tri.a[0][c] + a_planes[c].0 * dx + a_planes[c].1 * dy);
-        for x in x_lo..x_hi {
+        // The span lies in the band's row `y` and in the image's columns,
+        // so its pixels are one slice (no bounds test per pixel).
+        let start = (y - t.y0) as usize * t.width as usize;
+        let span = &mut t.px[start + x_lo as usize..start + x_hi as usize];
+        for s in span {
             let w = 1.0 / iw;
             let z = depth_to_fixed(w * zs + zo);
             let attrs = || std::array::from_fn(|c| attr_to_fixed(av[c] * w));
-            splat(t, x, y, z, attrs, payload);
+            store_if_nearer(s, z, attrs, payload);
             iw += w_plane.0;
             for c in 0..N {
                 av[c] += a_planes[c].0;
