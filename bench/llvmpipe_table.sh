@@ -1,6 +1,7 @@
 #!/bin/sh
 # The llvmpipe comparison (bench/llvmpipe_compare.py) over several meshes
-# and image sizes: each mesh (PLY or OBJ) is converted with `spatch convert`'s
+# and image sizes: each mesh (PLY or OBJ; a raw range-grid scan is first
+# triangulated by bench/range_grid_mesh.py) is converted with `spatch convert`'s
 # defaults into a temporary folder, then timed against llvmpipe drawing it,
 # one line per mesh and size (the script's summary line).
 #
@@ -16,7 +17,7 @@
 # SPATCH_ARGS adds options to `spatch render` (e.g. SPATCH_ARGS=--gap-fill).
 set -eu
 if [ $# -lt 3 ]; then
-    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
 fi
 spatch=$1
@@ -28,9 +29,16 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for mesh in "$@"; do
     name=$(basename "$mesh")
+    # A raw range scan (a PLY with a range grid and no faces, as the
+    # Stanford scans) is triangulated first, as a scanner's software would
+    # (bench/range_grid_mesh.py), so both sides draw the same triangles.
+    if head -c 4096 "$mesh" | grep -aq '^element range_grid'; then
+        "$python" "$here/range_grid_mesh.py" "$mesh" "$work/$name" >/dev/null
+        mesh="$work/$name"
+    fi
     scene="$work/${name%.*}.spatch"
-    # A mesh spatch refuses (say a raw scan without faces) is reported and
-    # skipped; the other meshes are still timed.
+    # A mesh spatch refuses is reported and skipped; the other meshes are
+    # still timed.
     if ! "$spatch" convert "$mesh" -o "$scene" --no-error -q; then
         echo "$name: not converted, skipped"
         continue
