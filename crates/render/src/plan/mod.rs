@@ -3,8 +3,8 @@
 //! culling, which backs to cull (the portal test), splitting, lane
 //! conversions, the node positions' scratch, projection, cell measurement,
 //! the level-1 cells drawn by quarters, subdivision, counters, the chunk's
-//! work and the per-patch context, attributes, cells as triangles, the
-//! piece, the chunk, meshes.
+//! work and the per-patch context, the mip level, attributes, cells as
+//! triangles, the piece, the chunk, meshes.
 
 pub(crate) mod attributes;
 pub(crate) mod cell_triangles;
@@ -12,6 +12,7 @@ pub(crate) mod chunk;
 pub(crate) mod counters;
 pub(crate) mod cull;
 pub(crate) mod lanes;
+pub(crate) mod level_choice;
 pub(crate) mod measure;
 #[cfg(test)]
 mod measure_tests;

@@ -1,12 +1,11 @@
 //! One piece of a patch, planned: everything about it decided before any
 //! pixel is touched.
 //!
-//! 1. mip level: for whole patches, the coarsest level whose estimated cell
-//!    extent (from the projected box) stays below
+//! 1. mip level ([`crate::plan::level_choice`]): for whole patches, the
+//!    coarsest level whose estimated cell extent (from the projected box)
+//!    stays below
 //!    [`RenderOptions::mip_limit`](crate::RenderOptions::mip_limit) pixels
-//!    ([`crate::prepare::mip`]), or coarser for full grids whose coarser
-//!    levels move the surface by at most
-//!    [`RenderOptions::mip_tolerance`](crate::RenderOptions::mip_tolerance);
+//!    ([`crate::prepare::mip`]), or coarser where the tolerances allow;
 //! 2. node traversal ([`crate::plan::project`]): trilinear or exact, into
 //!    the chunk's flat array of fixed-point nodes, then the cell
 //!    measurement ([`crate::plan::measure`]);
@@ -14,17 +13,20 @@
 //!    ([`crate::plan::subdivision`]); `1 × 1` selects the node-placing
 //!    path, pixel-sized cells the splat path ([`crate::raster::splat`]),
 //!    cells too large the triangle path;
-//! 4. per-node attributes ([`crate::plan::attributes`]).
+//!    then the drawer (sub-nodes, open sides, exact outlines, pixel
+//!    centres);
+//! 4. per-node attributes ([`crate::plan::attributes`]), and the draw item.
 //!
 //! Cost: O(nodes of the piece).
 
 use glam::Vec3;
 
 use crate::fixed::{XY_FRAC_BITS, XY_ONE};
-use crate::options::{CellScheme, Projection, RenderMode, RenderOptions, Shading};
+use crate::options::{CellScheme, Projection, RenderMode, RenderOptions};
 use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
-use crate::plan::measure::measure_cells;
+use crate::plan::level_choice::{centre_cells, choose_level, LevelChoice};
+use crate::plan::measure::{measure_cells, CellMeasure};
 use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides, OPEN_SIDE_CUT};
 use crate::plan::project::{
     level_map, nearest_box_depth, project_nodes_exact, project_nodes_trilinear, Projector,
@@ -34,7 +36,7 @@ use crate::plan::split::NodeRange;
 use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
 use crate::plan::work::{ChunkWork, Item, PatchContext, QuarteredRange};
 use crate::prepare::mip::MipLevel;
-use crate::prepare::patch::{PreparedPatch, QUARTERED_ONE};
+use crate::prepare::patch::PreparedPatch;
 use crate::raster::cell_centres::CENTRE_STEPS;
 use crate::raster::centre_piece::CentreStyle;
 use crate::raster::gap_fill::GAP_FILL_REACH;
@@ -82,7 +84,7 @@ fn replan_unlifted(
 /// cells exceed it.
 #[inline(always)]
 fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange, lift: bool) {
-    let (p, setup, whole, cell_test) = (ctx.patch, ctx.setup, ctx.whole, ctx.cell_test);
+    let (p, setup) = (ctx.patch, ctx.setup);
     let opts = setup.options;
     let proj0 = Projector {
         map: ctx.map,
@@ -96,63 +98,15 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         work.counters.mip[0] += 1;
         return;
     }
-    // 2. Mip level.
-    // (Stage timers: what follows is charged to traversal at its laps.)
-    let (mut m, mut shift) = (0, 0);
-    // Level 1 taken past the limit, its outline kept by quarters.
-    let mut quartered_lift = false;
-    // The level the mip limit alone chose, when the tolerance went past it.
-    let mut lifted = usize::MAX;
-    if whole && opts.mip && p.level_count() > 1 {
-        let extent = estimate_extent(&proj0, piece, p.base_d_range());
-        // The splat path covers cells whose extent (the max-norm sum of
-        // their edges) is up to twice its half-width: a level whose nodes
-        // still land within that reach needs no subdivision.
-        let limit = if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
-            opts.mip_limit.max(2.0 * opts.splat_limit)
-        } else if centre_cells(opts) {
-            opts.mip_limit.max(opts.centre_limit)
-        } else {
-            opts.mip_limit
-        };
-        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < limit {
-            m += 1;
-        }
-        // Only from level 0: the bunny's 26 pieces that went from level 1
-        // to levels 2-3 cost 0.7 % more per 500² frame (larger cuts).
-        if lift && exact_levels(opts) && m == 0 {
-            let coarser = coarser_exact_level(ctx, &proj0, piece, extent, m);
-            if coarser > m {
-                (m, lifted) = (coarser, m);
-            }
-        }
-        if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
-            let gaps = p.quartered_gaps();
-            let scale = pixels_per_code(&proj0, piece, p.base_d_range());
-            if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.most * scale <= LEVEL_ONE_MOST {
-                (m, lifted, quartered_lift) = (1, 0, true);
-            }
-        }
-        // Coarse geometry: the level above draws, this one shades.
-        if coarse_geometry(opts) && !quartered_lift && m + 1 < p.level_count() {
-            let near = extent * ((2u32 << m) as f32) < opts.geometry_limit;
-            let tol = opts.geometry_tolerance;
-            shift = (near && (tol == 0.0 || p.coarse_error(m + 1) <= tol)) as usize;
-        }
-    }
-    // A lifted patch with node colours is shaded from level 0 (Phong reads
-    // level 0's normals and colours at the samples' places, as coarse
-    // geometry does): level 1's colours are averages over twice the span
-    // (the mannequin at 500²: 25.78 → 26.37 dB, frame 0.79 → 0.85 of the
-    // default's). Uncoloured ones keep level 1's normals (the bunny at
-    // 1000²: 27.67 dB, 27.34 from level 0's).
-    if quartered_lift && opts.shading == Shading::Phong && p.has_node_colours() {
-        shift = 1;
-    }
-    let m = if quartered_lift { 1 } else { m + shift };
-    // The level the item names: level 1 with its outline by quarters when
-    // lifted so.
-    let named = if quartered_lift { QUARTERED_ONE } else { m };
+    // 2. Mip level. (Stage timers: what follows is charged to traversal
+    // at its laps.)
+    let LevelChoice {
+        m,
+        named,
+        shift,
+        lifted,
+        quartered_lift,
+    } = choose_level(ctx, &proj0, piece, lift);
     let level = p.level(named);
     let range = if m == 0 {
         piece
@@ -169,36 +123,12 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         ..proj0
     };
     let first = work.nodes.len();
-    // Why exact past TRILINEAR_LIMIT_PX: a textured box's faces seen at a
-    // slant (cells of 40-60 px in the eval's views, errors of about 25 px)
-    // were drawn far from their depth, 2.9 % of the pixels behind the
-    // source (`trilinear_error`).
-    let trilinear = opts.projection == Projection::Trilinear
-        && trilinear_error(&proj, range, d) <= TRILINEAR_LIMIT_PX;
-    if trilinear {
-        project_nodes_trilinear(level, range, d, &proj, &mut work.nodes, &mut work.xy)
-    } else {
-        project_nodes_exact(level, range, &proj, &mut work.nodes, &mut work.xy)
-    }
+    project_piece(work, opts.projection, level, range, d, &proj);
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
     // 4. Subdivision.
     let smooth = opts.cells == CellScheme::Smooth;
-    // Back faces of bilinear cells are skipped per cell (a Catmull-Rom cell
-    // is not bounded by its corners, so smooth cells keep them). Why: 12 %
-    // of the sphere's samples were on cells facing away (callgrind,
-    // `profile_sphere 500 1`).
-    let det = proj.map.determinant();
-    let back_sign = if cell_test && !smooth && det != 0.0 {
-        if det > 0.0 {
-            1
-        } else {
-            -1
-        }
-    } else {
-        0
-    };
-    let flags = work.cell_flags.len();
-    let spans = work.row_spans.len();
+    let back_sign = back_face_sign(ctx.cell_test && !smooth, &proj);
+    let (flags, spans) = (work.cell_flags.len(), work.row_spans.len());
     let measure = measure_cells(
         level,
         range,
@@ -216,6 +146,123 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         measure.edges
     };
     let edges = edges.map(|e| e as f32 / XY_ONE);
+    let (split, splat) = choose_cut(opts, smooth, edges);
+    let pads = item_pads(smooth, splat);
+    let [x0, y0, x1, y1] = measure.bbox;
+    let marks = [first, flags, spans, quarters];
+    // (A lifted piece may draw by quarters only: a small patch whose one
+    // level-1 cell holds three of its four level-0 cells.)
+    let nothing = measure.drawable_cells == 0 && work.quartered.len() == quarters;
+    if nothing || y1 + pads[1] < 0 || y0 - pads[1] >= setup.view.height as i32 {
+        drop_planned(work, marks);
+        work.counters.traverse_ns += work.clock.lap();
+        return;
+    }
+    let Some((nu, nv)) = split else {
+        if lifted < m {
+            return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+        }
+        return plan_oversized(work, ctx, (named, range), marks);
+    };
+    let drawer = choose_drawer(opts, p, level, (smooth, splat), (nu, nv), &measure);
+    // The sub-node drawers (with or without open sides) also draw the cells
+    // by quarters; a lifted piece that another would take keeps the
+    // limit's level.
+    if quartered_lift && (!drawer.bilinear || drawer.centres.is_some()) {
+        return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+    }
+    if drawer.exact {
+        mark_exact_cells(&mut work.cell_flags[flags..]);
+    } else if drawer.open_sides {
+        mark_open_sides(level, range, &mut work.cell_flags[flags..]);
+    }
+    let inside = x0 >= GAP_FILL_REACH && x1 < setup.view.width as i32 - GAP_FILL_REACH;
+    let (nu, nv) = gap_fill_cut(opts, &drawer, inside, edges, (nu, nv));
+    if quartered_lift && (nu, nv) == (1, 1) {
+        nodes_without_quarters(work, marks, cols);
+    }
+    work.counters.traverse_ns += work.clock.lap();
+    // 5. Attributes.
+    fill_attributes(work, ctx, named, range, first);
+    work.counters.normals_ns += work.clock.lap();
+    // After the attributes, which it keeps: only positions are dropped.
+    if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
+        let nodes = &mut work.nodes[first..];
+        let cells = &work.cell_flags[flags..];
+        drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
+        work.counters.traverse_ns += work.clock.lap();
+    }
+    count_piece(work, &measure, splat, (nu, nv), drawer.centres.is_some());
+    let z_near = if smooth || !opts.occlusion_skip {
+        i32::MIN
+    } else {
+        nearest_box_depth(range, d, &proj)
+    };
+    let parts = ItemParts {
+        marks,
+        levels: (named, shift),
+        range,
+        cut: (nu, nv),
+        bbox: measure.bbox,
+        pads,
+        z_near,
+        splat,
+        drawer,
+    };
+    push_item(work, ctx, level, parts);
+}
+
+/// Projects the nodes of `range` (box heights `d`) of `level` into the
+/// chunk's node array: trilinearly when `projection` asks for it and the
+/// shortcut's error stays within [`TRILINEAR_LIMIT_PX`], else exactly. Why
+/// exact past the limit: a textured box's faces seen at a slant (cells of
+/// 40-60 px in the eval's views, errors of about 25 px) were drawn far from
+/// their depth, 2.9 % of the pixels behind the source (`trilinear_error`).
+#[inline(always)]
+fn project_piece(
+    work: &mut ChunkWork,
+    projection: Projection,
+    level: &MipLevel,
+    range: NodeRange,
+    d: (u16, u16),
+    proj: &Projector,
+) {
+    let trilinear = projection == Projection::Trilinear
+        && trilinear_error(proj, range, d) <= TRILINEAR_LIMIT_PX;
+    if trilinear {
+        project_nodes_trilinear(level, range, d, proj, &mut work.nodes, &mut work.xy)
+    } else {
+        project_nodes_exact(level, range, proj, &mut work.nodes, &mut work.xy)
+    }
+}
+
+/// The sign a cell's screen cross product has when it faces away under
+/// the projection `proj` (that of its map's determinant), or 0 when cells
+/// are not tested (`test` false, or a degenerate map). Why cells are
+/// tested: 12 % of the sphere's samples were on cells facing away
+/// (callgrind, `profile_sphere 500 1`); smooth cells are not, a Catmull-Rom
+/// cell not being bounded by its corners.
+#[inline(always)]
+fn back_face_sign(test: bool, proj: &Projector) -> i64 {
+    let det = proj.map.determinant();
+    if !test || det == 0.0 {
+        0
+    } else if det > 0.0 {
+        1
+    } else {
+        -1
+    }
+}
+
+/// The cut `nu × nv` of cells whose largest edges are `edges` pixels
+/// (`None`: too large for sub-nodes, the triangle path) and the splat
+/// footprint (`[0, 0]` unless the splat path draws them, cut `1 × 1`).
+#[inline(always)]
+fn choose_cut(
+    opts: &RenderOptions,
+    smooth: bool,
+    edges: [f32; 4],
+) -> (Option<(u32, u32)>, [i32; 2]) {
     let mut split = choose_subdivision(edges, SUBPIXEL_LIMIT);
     if smooth && split != Some((1, 1)) {
         split = choose_subdivision(edges, SUBPIXEL_LIMIT / SMOOTH_MARGIN);
@@ -227,48 +274,69 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     if !smooth && split.is_some_and(|(nu, nv)| nu.max(nv) > TRIANGLE_CUT) {
         split = None;
     }
-    let height = setup.view.height as i32;
-    let [x0, y0, x1, y1] = measure.bbox;
-    let pad = if smooth {
-        2
-    } else {
-        (splat[1] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
-    };
-    let pad_x = if smooth {
-        2
-    } else {
-        (splat[0] + XY_ONE as i32 - 1) >> XY_FRAC_BITS
-    };
-    let marks = [first, flags, spans, quarters];
-    // (A lifted piece may draw by quarters only: a small patch whose one
-    // level-1 cell holds three of its four level-0 cells.)
-    let nothing = measure.drawable_cells == 0 && work.quartered.len() == quarters;
-    if nothing || y1 + pad < 0 || y0 - pad >= height {
-        drop_planned(work, marks);
-        work.counters.traverse_ns += work.clock.lap();
-        return;
+    (split, splat)
+}
+
+/// How many pixels a piece's draw item reaches past its nodes' box, in x
+/// and y: the splat footprint's half-widths rounded up, or 2 for smooth
+/// cells, which bulge past their corners.
+#[inline(always)]
+fn item_pads(smooth: bool, splat: [i32; 2]) -> [i32; 2] {
+    if smooth {
+        return [2, 2];
     }
-    let Some((nu, nv)) = split else {
-        if lifted < m {
-            return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
-        }
-        // The flags stay for the triangles below.
-        drop_planned(work, [first, work.cell_flags.len(), spans, quarters]);
-        work.counters.traverse_ns += work.clock.lap();
-        work.counters.oversized_pieces += 1;
-        // The measured flags choose the cells: those facing away are left
-        // out. Why: fandisk's 51 oversized pieces drew 2,954 such cells
-        // beside 3,858 facing the eye (43 % of their triangles).
-        emit_cell_triangles(work, ctx, named, range, Some(flags));
-        work.cell_flags.truncate(flags);
-        work.counters.setup_ns += work.clock.lap();
-        return;
-    };
-    // Outlines of magnified cells are drawn exactly where the surface
-    // folds away (see `open_sides` and `raster::cell_edges`); the cells of
-    // patches with a colour grid by pixel-centre coverage
-    // (`raster::centre_piece`), or by sub-quads (`raster::cell_exact`)
-    // with `--exact-outlines`, which also takes the other coloured ones.
+    splat.map(|half| (half + XY_ONE as i32 - 1) >> XY_FRAC_BITS)
+}
+
+/// Draws a piece whose cells are too large for sub-nodes as triangles:
+/// forgets its planned nodes (`marks` as for [`drop_planned`]) but keeps
+/// its measured flags, which choose the cells. Why the flags: cells facing
+/// away are left out (fandisk's 51 oversized pieces drew 2,954 such cells
+/// beside 3,858 facing the eye, 43 % of their triangles).
+fn plan_oversized(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    (named, range): (usize, NodeRange),
+    [first, flags, spans, quarters]: [usize; 4],
+) {
+    drop_planned(work, [first, work.cell_flags.len(), spans, quarters]);
+    work.counters.traverse_ns += work.clock.lap();
+    work.counters.oversized_pieces += 1;
+    emit_cell_triangles(work, ctx, named, range, Some(flags));
+    work.cell_flags.truncate(flags);
+    work.counters.setup_ns += work.clock.lap();
+}
+
+/// Which drawer takes a piece cut `nu × nv` (see [`choose_drawer`]).
+#[derive(Debug, Clone, Copy)]
+struct Drawer {
+    /// Bilinear cells drawn by sub-nodes or pixel centres (not smooth, not
+    /// splatted).
+    bilinear: bool,
+    /// Drawn by pixel-centre coverage, and how.
+    centres: Option<CentreStyle>,
+    /// Sub-quads with exact outlines (`--exact-outlines`).
+    exact: bool,
+    /// Sub-nodes with exact outlines where the surface folds away.
+    open_sides: bool,
+}
+
+/// The drawer of a piece of `level` of patch `p` cut `nu × nv`
+/// (`smooth` cells, `splat` footprint, `measure` its cells). Outlines of
+/// magnified cells are drawn exactly where the surface folds away (see
+/// `open_sides` and `raster::cell_edges`); the cells of patches with a
+/// colour grid by pixel-centre coverage (`raster::centre_piece`), or by
+/// sub-quads (`raster::cell_exact`) with `--exact-outlines`, which also
+/// takes the other coloured ones.
+#[inline(always)]
+fn choose_drawer(
+    opts: &RenderOptions,
+    p: &PreparedPatch,
+    level: &MipLevel,
+    (smooth, splat): (bool, [i32; 2]),
+    (nu, nv): (u32, u32),
+    measure: &CellMeasure,
+) -> Drawer {
     let bilinear = !smooth && splat[0] == 0;
     let grid_centres = opts.exact_grid_outlines
         && !opts.exact_outlines
@@ -293,96 +361,143 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
             && centres.is_none()
             && nu.max(nv) > OPEN_SIDE_CUT
             && measure.backfacing_cells > 0);
-    // The sub-node drawers (with or without open sides) also draw the cells
-    // by quarters; a lifted piece that another would take keeps the
-    // limit's level.
-    if quartered_lift && (!bilinear || centres.is_some()) {
-        return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+    Drawer {
+        bilinear,
+        centres,
+        exact,
+        open_sides,
     }
-    if exact {
-        mark_exact_cells(&mut work.cell_flags[flags..]);
-    } else if open_sides {
-        mark_open_sides(level, range, &mut work.cell_flags[flags..]);
-    }
-    // With the gap fill (`raster::gap_fill`), plain sub-node pieces leave
-    // small gaps to its pass: about half the samples on magnified cells.
-    // The other drawers keep their own coverage, and so do pieces at the
-    // image's left or right side: past it no sample is drawn to close a
-    // gap against.
-    let inside = x0 >= GAP_FILL_REACH && x1 < setup.view.width as i32 - GAP_FILL_REACH;
-    let plain = bilinear && centres.is_none() && !open_sides;
-    let (nu, nv) = if plain && inside && opts.fills_gaps() {
-        choose_subdivision(edges, GAP_FILL_LIMIT).unwrap_or((nu, nv))
-    } else {
-        (nu, nv)
-    };
-    if quartered_lift && (nu, nv) == (1, 1) {
-        nodes_without_quarters(work, marks, cols);
-    }
-    work.counters.traverse_ns += work.clock.lap();
-    // 5. Attributes.
-    fill_attributes(work, ctx, named, range, first);
-    work.counters.normals_ns += work.clock.lap();
-    // After the attributes, which it keeps: only positions are dropped.
-    if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
-        let nodes = &mut work.nodes[first..];
-        let cells = &work.cell_flags[flags..];
-        drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
-        work.counters.traverse_ns += work.clock.lap();
-    }
-    work.counters.patch_nodes += measure.used_nodes;
+}
+
+/// Adds a planned piece to the chunk's counters: its used nodes, and the
+/// path that draws it (splats, placed nodes, pixel centres, or sub-nodes
+/// with the interpolated ones they add for the cut `nu × nv`).
+#[inline(always)]
+fn count_piece(
+    work: &mut ChunkWork,
+    measure: &CellMeasure,
+    splat: [i32; 2],
+    (nu, nv): (u32, u32),
+    centres: bool,
+) {
+    let c = &mut work.counters;
+    c.patch_nodes += measure.used_nodes;
     if splat[0] > 0 {
-        work.counters.splatted += 1;
+        c.splatted += 1;
     } else if (nu, nv) == (1, 1) {
-        work.counters.optimized += 1;
-    } else if centres.is_some() {
-        work.counters.interpolated += 1;
+        c.optimized += 1;
+    } else if centres {
+        c.interpolated += 1;
     } else {
-        work.counters.interpolated += 1;
+        c.interpolated += 1;
         let refined = measure.refined_nodes(nu as u64, nv as u64);
-        work.counters.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
+        c.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
     }
-    // Pixel-centre cells record their pixels' places on a grid of
-    // `CENTRE_STEPS` per side, which the resolve reads as a cut.
-    let (nu, nv) = if centres.is_some() {
-        (CENTRE_STEPS, CENTRE_STEPS)
+}
+
+/// The cut of a piece the gap fill (`raster::gap_fill`) draws: plain
+/// sub-node pieces (`drawer`) leave it small gaps, cut under
+/// [`GAP_FILL_LIMIT`] instead of `cut` (about half the samples on
+/// magnified cells). The other drawers keep their own coverage, and so do
+/// pieces not `inside` the image's columns by the fill's reach: past the
+/// image no sample is drawn to close a gap against.
+#[inline(always)]
+fn gap_fill_cut(
+    opts: &RenderOptions,
+    drawer: &Drawer,
+    inside: bool,
+    edges: [f32; 4],
+    cut: (u32, u32),
+) -> (u32, u32) {
+    let plain = drawer.bilinear && drawer.centres.is_none() && !drawer.open_sides;
+    if plain && inside && opts.fills_gaps() {
+        choose_subdivision(edges, GAP_FILL_LIMIT).unwrap_or(cut)
     } else {
-        (nu, nv)
-    };
+        cut
+    }
+}
+
+/// What a planned piece's draw item is made of besides its patch and level.
+#[derive(Debug, Clone, Copy)]
+struct ItemParts {
+    /// Where the piece's nodes, flags, spans and quartered cells start in
+    /// the chunk's arrays (see [`drop_planned`]).
+    marks: [usize; 4],
+    /// The level the item names and its shading shift ([`LevelChoice`]).
+    levels: (usize, usize),
+    range: NodeRange,
+    /// The sub-node cut `nu × nv`.
+    cut: (u32, u32),
+    /// The nodes' pixel box `[x0, y0, x1, y1]`.
+    bbox: [i32; 4],
+    /// How far the item reaches past the box ([`item_pads`]).
+    pads: [i32; 2],
+    /// The nearest depth of the piece's box, or `i32::MIN` (no occlusion
+    /// skip).
+    z_near: i32,
+    splat: [i32; 2],
+    drawer: Drawer,
+}
+
+/// Pushes the draw item of a piece of `level` of the patch of `ctx` (and
+/// its range of cells by quarters, when it has some).
+#[inline(always)]
+fn push_item(work: &mut ChunkWork, ctx: &PatchContext<'_>, level: &MipLevel, parts: ItemParts) {
+    let [first, flags, spans, quarters] = parts.marks;
     if work.quartered.len() > quarters {
         work.quartered_ranges.push(QuarteredRange {
             item: work.items.len() as u32,
             cells: [quarters as u32, work.quartered.len() as u32],
         });
     }
+    // Pixel-centre cells record their pixels' places on a grid of
+    // `CENTRE_STEPS` per side, which the resolve reads as a cut.
+    let cut = match parts.drawer.centres {
+        Some(_) => (CENTRE_STEPS, CENTRE_STEPS),
+        None => parts.cut,
+    };
+    let [x0, _, x1, _] = parts.bbox;
+    let (named, shift) = parts.levels;
     work.items.push(Item {
         first: first as u32,
-        cols: cols as u16,
-        rows: rows as u16,
-        nu: nu as u16,
-        nv: nv as u16,
-        frame: ctx.index,
         flags: flags as u32,
         spans: spans as u32,
+        frame: ctx.index,
         uniform_albedo: level.colours.is_none(),
         level: named as u8,
         shade_shift: shift as u8,
+        z_near: parts.z_near,
+        inside_columns: x0 > 0 && x1 < ctx.setup.view.width as i32 - 1,
+        splat: parts.splat,
+        open_sides: parts.drawer.open_sides,
+        centres: parts.drawer.centres,
+        ..item_frame(parts.range, cut, parts.bbox, parts.pads)
+    });
+}
+
+/// The draw item's lattice and reach: the node range `range` cut `nu × nv`
+/// and the nodes' pixel box `[x0, y0, x1, y1]` grown by `pads`; the other
+/// fields empty, for the caller to fill.
+#[inline(always)]
+fn item_frame(
+    range: NodeRange,
+    (nu, nv): (u32, u32),
+    [x0, y0, x1, y1]: [i32; 4],
+    [pad_x, pad_y]: [i32; 2],
+) -> Item {
+    Item {
+        cols: (range.i1 - range.i0 + 1) as u16,
+        rows: (range.j1 - range.j0 + 1) as u16,
+        nu: nu as u16,
+        nv: nv as u16,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
-        y0: y0 - pad,
-        y1: y1 + pad,
+        y0: y0 - pad_y,
+        y1: y1 + pad_y,
         x0: x0 - pad_x,
         x1: x1 + pad_x,
-        z_near: if smooth || !opts.occlusion_skip {
-            i32::MIN
-        } else {
-            nearest_box_depth(range, d, &proj)
-        },
-        inside_columns: x0 > 0 && x1 < setup.view.width as i32 - 1,
-        splat,
-        open_sides,
-        centres,
-    });
+        ..Item::default()
+    }
 }
 
 /// The measured `edges` of a piece lifted to level 1 by quarters, widened
@@ -429,47 +544,6 @@ fn nodes_without_quarters(
     work.quartered.truncate(quarters);
 }
 
-/// Whether the patch `p` may take level 1 past the mip limit, its
-/// outline kept by quarters ([`RenderOptions::level_one_limit`]): the
-/// limit set above the mip limit, bilinear cells drawn by sub-nodes (no
-/// splats, pixel-centre cells or gap fill, whose drawers do not draw by
-/// quarters), no colour grid (drawn by pixel centres), and node colours
-/// only under Phong, which shades a lifted patch from level 0. Why: flat,
-/// Gouraud and unlit shading interpolate the drawn level's colours, and
-/// level 1's are averages over twice the span (a checkerboard of node
-/// colours seen unlit, 24.51 → 20.77 dB).
-fn quarter_lift(opts: &RenderOptions, p: &PreparedPatch) -> bool {
-    opts.level_one_limit > opts.mip_limit
-        && opts.cells == CellScheme::Bilinear
-        && opts.splat_limit == 0.0
-        && !centre_cells(opts)
-        && !opts.fills_gaps()
-        && p.colour_grid.is_none()
-        && (opts.shading == Shading::Phong || !p.has_node_colours())
-}
-
-/// How far (pixels, root mean square over level 0's nodes) level 1 drawn
-/// by quarters may move a patch's surface for
-/// [`RenderOptions::level_one_limit`] to lift it. Why 0.25 px and the mean:
-/// the largest distance is a scan's noise (bound as `--mip-tolerance`
-/// bounds it, it kept every bunny patch at level 0), so the mean bounds
-/// the surface's move and [`LEVEL_ONE_MOST`] only what level 1 cuts
-/// off; with both, 1,564 of the bunny's 1,884 pieces at 1000² lift
-/// (without a test fandisk scored 2.65 dB lower; docs/algorithms/render.md,
-/// "Level 1 past the limit").
-const LEVEL_ONE_TOLERANCE: f32 = 0.25;
-
-/// How far (pixels) level 1 drawn by quarters may move all but the
-/// farthest 2 % of level 0's nodes
-/// ([`Gaps::most`](crate::prepare::coarse_fit::Gaps::most)) for
-/// [`RenderOptions::level_one_limit`] to lift the patch. Why: the mean
-/// alone lifted fandisk's patches whose creases level 1 cuts off, and its
-/// holes at 500² went 0.020 → 0.080 %; with this bound 0.021 %. Why not the
-/// largest distance: a scan's scattered noise then kept 494 of the bunny's
-/// 1,884 pieces at 1000² at level 0 (315 with this one; fandisk's holes
-/// the same 0.020 %).
-const LEVEL_ONE_MOST: f32 = 0.5;
-
 /// Forgets what planning pushed for a piece it drops: the chunk's nodes,
 /// cell flags, row spans and quartered cells from the lengths `marks`
 /// they had before it.
@@ -478,76 +552,6 @@ fn drop_planned(work: &mut ChunkWork, [nodes, flags, spans, quarters]: [usize; 4
     work.cell_flags.truncate(flags);
     work.row_spans.truncate(spans);
     work.quartered.truncate(quarters);
-}
-
-/// Whether whole patches with exact levels may go past the mip limit
-/// ([`RenderOptions::mip_tolerance`]): bilinear cells drawn by sub-nodes
-/// (no splats, no pixel-centre cells).
-fn exact_levels(opts: &RenderOptions) -> bool {
-    opts.mip_tolerance > 0.0
-        && opts.cells == CellScheme::Bilinear
-        && opts.splat_limit == 0.0
-        && !centre_cells(opts)
-}
-
-/// The coarsest level from `m` up that the patch of `ctx`, whose level-0
-/// cells measure `extent` pixels on screen, may draw under
-/// [`RenderOptions::mip_tolerance`]: while the next level keeps the
-/// outline exactly ([`PreparedPatch::exact_level`](crate::prepare::patch::PreparedPatch::exact_level)),
-/// its cells stay within [`RenderOptions::EXACT_LEVEL_CAP`] times the mip
-/// limit, and its gap moves the surface by at most the tolerance on screen.
-fn coarser_exact_level(
-    ctx: &PatchContext<'_>,
-    proj: &Projector,
-    piece: NodeRange,
-    extent: f32,
-    mut m: usize,
-) -> usize {
-    let (p, opts) = (ctx.patch, ctx.setup.options);
-    // A coarser level's colours are averages over twice the span: the
-    // tolerance measures geometry only, so coloured patches keep theirs.
-    if p.colour_grid.is_some() || p.has_node_colours() {
-        return m;
-    }
-    let cap = RenderOptions::EXACT_LEVEL_CAP * opts.mip_limit;
-    let mut per_code = None;
-    while m + 1 < p.level_count()
-        && extent * ((1u32 << (m + 1)) as f32) < cap
-        && p.exact_level(m + 1)
-    {
-        let scale = *per_code.get_or_insert_with(|| pixels_per_code(proj, piece, p.base_d_range()));
-        if p.coarse_gap(m + 1) * scale > opts.mip_tolerance {
-            break;
-        }
-        m += 1;
-    }
-    m
-}
-
-/// How far (pixels, the larger screen axis, largest over the four lower
-/// corners of the piece's box) one displacement code moves a point of
-/// the piece on screen. Why 64 codes and a division: a one-code step is
-/// lost in the rounding of screen coordinates.
-fn pixels_per_code(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
-    const STEP: f32 = 64.0;
-    let (lo, hi) = range.local_box(d);
-    let mut worst = 0f32;
-    for k in 0..4 {
-        let c = Vec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            lo.z,
-        );
-        let (a, b) = (proj.screen(c), proj.screen(c + Vec3::new(0.0, 0.0, STEP)));
-        worst = worst.max((b.x - a.x).abs().max((b.y - a.y).abs()));
-    }
-    worst / STEP
-}
-
-/// Whether pixel-sized bilinear cells are drawn by pixel-centre coverage
-/// ([`RenderOptions::centre_limit`]; not with splats or smooth cells).
-fn centre_cells(opts: &RenderOptions) -> bool {
-    opts.centre_limit > 0.0 && opts.cells == CellScheme::Bilinear && opts.splat_limit == 0.0
 }
 
 /// Least cut per side of the pieces of a patch with a colour grid drawn by
@@ -560,16 +564,6 @@ const GRID_EXACT_CUT: u32 = 4;
 /// pixel-centre coverage when [`RenderOptions::centre_limit`] is on:
 /// cells of up to about 4 px; larger cells keep sub-nodes.
 const CENTRE_CUT: u32 = 4;
-
-/// Whether whole patches may draw the level above their shading level
-/// ([`RenderOptions::geometry_limit`]): Phong (the resolve pass
-/// interpolates the shading level's normals), bilinear cells, no splats.
-fn coarse_geometry(opts: &RenderOptions) -> bool {
-    opts.geometry_limit > 0.0
-        && opts.shading == Shading::Phong
-        && opts.cells == CellScheme::Bilinear
-        && opts.splat_limit == 0.0
-}
 
 /// Largest screen error (pixels) allowed of the trilinear projection of a
 /// piece; past it the piece is projected exactly. Below it the shortcut
@@ -614,34 +608,6 @@ fn trilinear_error(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
     }
     let span = (max.x - min.x).max(max.y - min.y);
     0.25 * span * (max.z - min.z) / min.z
-}
-
-/// Estimated level-0 cell extent in pixels from the projected box corners.
-#[inline(always)]
-fn estimate_extent(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
-    let (lo, hi) = range.local_box(d);
-    let c: [Vec3; 8] = std::array::from_fn(|k| {
-        proj.screen(Vec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        ))
-    });
-    let (ci, cj) = ((range.i1 - range.i0) as f32, (range.j1 - range.j0) as f32);
-    let (mut ux, mut uy, mut vx, mut vy) = (0f32, 0f32, 0f32, 0f32);
-    for k in 0..8 {
-        if k & 1 == 0 {
-            let e = c[k + 1] - c[k];
-            ux = ux.max(e.x.abs() / ci);
-            uy = uy.max(e.y.abs() / ci);
-        }
-        if k & 2 == 0 {
-            let e = c[k + 2] - c[k];
-            vx = vx.max(e.x.abs() / cj);
-            vy = vy.max(e.y.abs() / cj);
-        }
-    }
-    (ux + vx).max(uy + vy)
 }
 
 /// The footprint half-widths (position units) with which the nodes of a
