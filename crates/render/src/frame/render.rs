@@ -286,49 +286,10 @@ impl Renderer {
             patches,
             &self.frames,
         );
-        let job = BandJob {
-            chunks: &self.chunks,
-            bins: &self.bins,
-            shading: options.shading,
-            cells: options.cells,
-            occlusion_skip: options.occlusion_skip,
-            depth_map: (setup.z_scale, setup.z_offset),
-            has_grids: patches.iter().any(|p| p.colour_grid.is_some()),
-            resolve: Resolve {
-                shading: options.shading,
-                items: &self.bins.all_items,
-                chunks: &self.chunks,
-                phong: &phong,
-                patches,
-                material: setup.material,
-                base_albedo: Vec3::from_array(
-                    setup
-                        .base_colour
-                        .to_array()
-                        .map(|c| attr_from_bits(attr_to_bits(c))),
-                ),
-                background: options.background,
-                near: view.near as f32,
-                far: view.far as f32,
-            },
-        };
         let width = view.width as i32;
         let pixels = (view.width * view.height) as usize;
-        // Every pixel is written by its band, so recycled buffers need no
-        // clearing; fresh ones are zero-filled on the pool. Why not
-        // `vec![0; n]`: from the allocator's padded heap
-        // (`spatch::heap`) a zeroed allocation is cleared by one thread,
-        // first touch of every page included (1.3 ms of a one-image bunny
-        // render on the main thread).
-        let (mut rgba, mut eye_depth) = match self.spare.take() {
-            Some((rgba, depth)) if rgba.len() == pixels && depth.len() == pixels => (rgba, depth),
-            _ => self.pool.install(|| {
-                let (mut rgba, mut depth) = (Vec::new(), Vec::new());
-                rgba.par_extend(rayon::iter::repeat_n([0u8; 4], pixels));
-                depth.par_extend(rayon::iter::repeat_n(0f32, pixels));
-                (rgba, depth)
-            }),
-        };
+        let (mut rgba, mut eye_depth) = self.image_buffers(pixels);
+        let job = band_job(setup, view, (&self.chunks, &self.bins), &phong, patches);
         self.skips.resize_with(band_count, SkipTiles::default);
         let tasks = band_tasks(
             (&mut self.bands, &mut self.skips),
@@ -377,6 +338,49 @@ impl Renderer {
         );
         let gather_wall = gather_start.elapsed();
 
+        let walls = FrameWalls {
+            plan: plan_wall,
+            bin: bin_wall,
+            raster: raster_wall,
+            gather: gather_wall,
+            total: start.elapsed(),
+        };
+        let stats = self.frame_stats(&image, walls, band_count, (view, camera), options);
+        Ok(RenderOutput { image, stats })
+    }
+
+    /// The image's colour and eye-depth buffers for `pixels` pixels: the
+    /// last frame's handed back ([`Renderer::recycle`]) when they fit, else
+    /// fresh ones.
+    fn image_buffers(&mut self, pixels: usize) -> (Vec<[u8; 4]>, Vec<f32>) {
+        // Every pixel is written by its band, so recycled buffers need no
+        // clearing; fresh ones are zero-filled on the pool. Why not
+        // `vec![0; n]`: from the allocator's padded heap
+        // (`spatch::heap`) a zeroed allocation is cleared by one thread,
+        // first touch of every page included (1.3 ms of a one-image bunny
+        // render on the main thread).
+        match self.spare.take() {
+            Some((rgba, depth)) if rgba.len() == pixels && depth.len() == pixels => (rgba, depth),
+            _ => self.pool.install(|| {
+                let (mut rgba, mut depth) = (Vec::new(), Vec::new());
+                rgba.par_extend(rayon::iter::repeat_n([0u8; 4], pixels));
+                depth.par_extend(rayon::iter::repeat_n(0f32, pixels));
+                (rgba, depth)
+            }),
+        }
+    }
+
+    /// The statistics of the frame just drawn into `image` in `band_count`
+    /// bands: the chunks' counters, the bands' times and coverage, and the
+    /// stages' walls.
+    fn frame_stats(
+        &self,
+        image: &RenderedImage,
+        walls: FrameWalls,
+        band_count: usize,
+        (view, camera): (&View, &Camera),
+        options: &RenderOptions,
+    ) -> RenderStats {
         let mut counters = Counters::default();
         for chunk in &self.chunks {
             counters += &chunk.counters;
@@ -388,11 +392,11 @@ impl Renderer {
         stats.times_ms.cells = sum(|b| b.times.cells);
         stats.times_ms.triangles = sum(|b| b.times.triangles);
         stats.times_ms.resolve = sum(|b| b.times.resolve);
-        stats.times_ms.plan_wall = ms(plan_wall);
-        stats.times_ms.bin_wall = ms(bin_wall);
-        stats.times_ms.raster_wall = ms(raster_wall);
-        stats.times_ms.gather_wall = ms(gather_wall);
-        stats.times_ms.total_wall = ms(start.elapsed());
+        stats.times_ms.plan_wall = ms(walls.plan);
+        stats.times_ms.bin_wall = ms(walls.bin);
+        stats.times_ms.raster_wall = ms(walls.raster);
+        stats.times_ms.gather_wall = ms(walls.gather);
+        stats.times_ms.total_wall = ms(walls.total);
         stats.image = [camera.width(), camera.height()];
         stats.internal = [view.width, view.height];
         stats.near_far = [view.near, view.far];
@@ -408,7 +412,7 @@ impl Renderer {
         };
         stats.pieces_skipped_hidden = self.skips.iter().map(|s| s.skipped).sum();
         stats.options = Some(*options);
-        Ok(RenderOutput { image, stats })
+        stats
     }
 
     /// How much of the last frame's drawing ends up hidden
@@ -513,6 +517,55 @@ pub fn rasterize_triangles(
     options: &RenderOptions,
 ) -> Result<RenderOutput, RenderError> {
     Renderer::new(*options)?.rasterize(mesh, camera)
+}
+
+/// The wall times of a frame's stages.
+#[derive(Debug, Clone, Copy)]
+struct FrameWalls {
+    plan: std::time::Duration,
+    bin: std::time::Duration,
+    raster: std::time::Duration,
+    gather: std::time::Duration,
+    total: std::time::Duration,
+}
+
+/// What every band of a frame reads: the planned chunks and their bins,
+/// the frame's drawing options and the resolve pass's inputs (`phong`,
+/// the prepared `patches`).
+fn band_job<'a>(
+    setup: &FrameSetup<'_>,
+    view: &View,
+    (chunks, bins): (&'a [ChunkWork], &'a Bins),
+    phong: &'a PhongItems<'a>,
+    patches: &'a [PreparedPatch],
+) -> BandJob<'a> {
+    let options = setup.options;
+    BandJob {
+        chunks,
+        bins,
+        shading: options.shading,
+        cells: options.cells,
+        occlusion_skip: options.occlusion_skip,
+        depth_map: (setup.z_scale, setup.z_offset),
+        has_grids: patches.iter().any(|p| p.colour_grid.is_some()),
+        resolve: Resolve {
+            shading: options.shading,
+            items: &bins.all_items,
+            chunks,
+            phong,
+            patches,
+            material: setup.material,
+            base_albedo: Vec3::from_array(
+                setup
+                    .base_colour
+                    .to_array()
+                    .map(|c| attr_from_bits(attr_to_bits(c))),
+            ),
+            background: options.background,
+            near: view.near as f32,
+            far: view.far as f32,
+        },
+    }
 }
 
 #[cfg(test)]
