@@ -91,15 +91,64 @@ pub(crate) fn measure_cells(
     spans: &mut Vec<[i32; 2]>,
 ) -> CellMeasure {
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
-    let (ccols, crows) = (cols - 1, rows - 1);
-    let (lcols, lccols) = (level.cols, level.cols - 1);
     let mut m = CellMeasure::EMPTY;
-    // Node rows: the used nodes' box and the pixel rows of each row of cells.
+    let [x0, y0, x1, y1] = row_boxes(level, range, xy, spans, &mut m);
+    // Differences of two used positions fit in `i32` when the box does
+    // (always within the guard band; else the `i64` form).
+    let narrow = m.used_nodes > 0
+        && (x1 as i64 - x0 as i64) <= i32::MAX as i64
+        && (y1 as i64 - y0 as i64) <= i32::MAX as i64;
+    // And they are exact in `f32` below 2^24 units (256 pixels).
+    let small = narrow && (x1 as i64 - x0 as i64) < 1 << 24 && (y1 as i64 - y0 as i64) < 1 << 24;
+    let base = flags.len();
+    let whole = range.i0 == 0 && range.j0 == 0 && cols == level.cols && rows == level.rows;
+    mark_cells(level, range, xy, back_sign, (small, whole), flags, &mut m);
+    let out = &mut flags[base..];
+    // The level's own edge masks serve when its flags are the piece's (a
+    // whole level, no back-face test).
+    let own_masks = whole && back_sign == 0;
+    let drawable = m.drawable_cells;
+    m.edges = largest_edges(
+        level,
+        xy,
+        out,
+        (cols, rows),
+        (small, narrow, own_masks),
+        drawable,
+    );
+    // Closing flags: the level's own when the piece is the whole level and
+    // no cell faced away.
+    let [right, top, both] = if whole && m.backfacing_cells == 0 {
+        out.copy_from_slice(&level.cell_flags);
+        level.closing
+    } else if m.drawable_cells == 0 {
+        [0; 3]
+    } else {
+        close_cells(out, cols - 1, rows - 1)
+    };
+    (m.right_edges, m.top_edges, m.both_edges) = (right, top, both);
+    m
+}
+
+/// The node rows of `range`: appends to `spans` the pixel rows each row of
+/// cells spans, counts the used nodes into `m` with their pixel box, and
+/// returns that box in position units (`[x0, y0, x1, y1]`; `MAX, MIN`
+/// when no node is used). Each row's box and count come from the
+/// projection when it kept them ([`NodeXY::row_stats`]), else from the
+/// positions.
+#[inline(always)]
+fn row_boxes(
+    level: &MipLevel,
+    range: NodeRange,
+    xy: &mut NodeXY,
+    spans: &mut Vec<[i32; 2]>,
+    m: &mut CellMeasure,
+) -> [i32; 4] {
+    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let lcols = level.cols;
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     let first_span = spans.len();
-    spans.resize(first_span + crows, [i32::MAX, i32::MIN]);
-    // Each row's box and count: from the projection when it kept them,
-    // else from the positions.
+    spans.resize(first_span + rows - 1, [i32::MAX, i32::MIN]);
     if xy.row_stats.len() != rows {
         xy.row_stats.clear();
         for j in 0..rows {
@@ -129,65 +178,92 @@ pub(crate) fn measure_cells(
     if m.used_nodes > 0 {
         m.bbox = [x0 >> 16, y0 >> 16, x1 >> 16, y1 >> 16];
     }
-    // Differences of two used positions fit in `i32` when the box does
-    // (always within the guard band; else the `i64` form).
-    let narrow = m.used_nodes > 0
-        && (x1 as i64 - x0 as i64) <= i32::MAX as i64
-        && (y1 as i64 - y0 as i64) <= i32::MAX as i64;
-    // And they are exact in `f32` below 2^24 units (256 pixels).
-    let small = narrow && (x1 as i64 - x0 as i64) < 1 << 24 && (y1 as i64 - y0 as i64) < 1 << 24;
+    [x0, y0, x1, y1]
+}
+
+/// Appends the flag byte of every cell of `range` to `flags` and counts
+/// the drawable cells and those facing away into `m` (`back_sign` as for
+/// [`measure_cells`]; `small`: the piece spans under 2^24 units, `whole`:
+/// it is the whole level).
+#[inline(always)]
+fn mark_cells(
+    level: &MipLevel,
+    range: NodeRange,
+    xy: &mut NodeXY,
+    back_sign: i64,
+    (small, whole): (bool, bool),
+    flags: &mut Vec<u8>,
+    m: &mut CellMeasure,
+) {
+    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (ccols, crows) = (cols - 1, rows - 1);
+    let lccols = level.cols - 1;
     let base = flags.len();
-    let whole = range.i0 == 0 && range.j0 == 0 && cols == lcols && rows == level.rows;
-    let out = if whole && back_sign == 0 {
+    if whole && back_sign == 0 {
         // No back-face test on the whole level: the level's flags as they are.
         flags.extend_from_slice(&level.cell_flags);
         m.drawable_cells = level.drawable_cells as u64;
-        &mut flags[base..]
-    } else {
-        flags.resize(base + ccols * crows, 0);
-        let out = &mut flags[base..];
+        return;
+    }
+    flags.resize(base + ccols * crows, 0);
+    let out = &mut flags[base..];
+    if small && back_sign != 0 {
+        // Which cells face away, for the whole piece in `f64` lanes.
+        // Why: the `i64` test per cell cost ≈ 40 instructions (2.7 M
+        // per 500² sphere frame; callgrind, `profile_sphere 500 1`).
+        xy.away.clear();
+        xy.away.resize(crows * cols - 1, 0);
+        if back_sign > 0 {
+            away_cells_small::<1>(&xy.xs, &xy.ys, cols, &mut xy.away);
+        } else {
+            away_cells_small::<-1>(&xy.xs, &xy.ys, cols, &mut xy.away);
+        }
+    }
+    for (cj, row) in out.chunks_exact_mut(ccols).enumerate() {
+        let mask = &level.cell_flags[(range.j0 + cj) * lccols + range.i0..][..ccols];
         if small && back_sign != 0 {
-            // Which cells face away, for the whole piece in `f64` lanes.
-            // Why: the `i64` test per cell cost ≈ 40 instructions (2.7 M
-            // per 500² sphere frame; callgrind, `profile_sphere 500 1`).
-            xy.away.clear();
-            xy.away.resize(crows * cols - 1, 0);
-            if back_sign > 0 {
-                away_cells_small::<1>(&xy.xs, &xy.ys, cols, &mut xy.away);
-            } else {
-                away_cells_small::<-1>(&xy.xs, &xy.ys, cols, &mut xy.away);
+            let away = &xy.away[cj * cols..][..ccols];
+            let (mut drawn, mut back) = (0u32, 0u32);
+            for ((f, &mask), &away) in row.iter_mut().zip(mask).zip(away) {
+                let candidate = mask & CELL_DRAW;
+                *f = candidate & !away;
+                drawn += *f as u32;
+                back += (candidate & away) as u32;
             }
+            m.drawable_cells += drawn as u64;
+            m.backfacing_cells += back as u64;
+            continue;
         }
-        for (cj, row) in out.chunks_exact_mut(ccols).enumerate() {
-            let mask = &level.cell_flags[(range.j0 + cj) * lccols + range.i0..][..ccols];
-            if small && back_sign != 0 {
-                let away = &xy.away[cj * cols..][..ccols];
-                let (mut drawn, mut back) = (0u32, 0u32);
-                for ((f, &mask), &away) in row.iter_mut().zip(mask).zip(away) {
-                    let candidate = mask & CELL_DRAW;
-                    *f = candidate & !away;
-                    drawn += *f as u32;
-                    back += (candidate & away) as u32;
-                }
-                m.drawable_cells += drawn as u64;
-                m.backfacing_cells += back as u64;
-                continue;
-            }
-            let (lo, hi) = (cj * cols, (cj + 1) * cols);
-            let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
-            let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
-            let (drawn, back) = match back_sign {
-                1 => mark_row::<1>(xl, yl, xh, yh, mask, row),
-                -1 => mark_row::<-1>(xl, yl, xh, yh, mask, row),
-                _ => mark_row::<0>(xl, yl, xh, yh, mask, row),
-            };
-            m.drawable_cells += drawn;
-            m.backfacing_cells += back;
-        }
-        out
-    };
+        let (lo, hi) = (cj * cols, (cj + 1) * cols);
+        let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
+        let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
+        let (drawn, back) = match back_sign {
+            1 => mark_row::<1>(xl, yl, xh, yh, mask, row),
+            -1 => mark_row::<-1>(xl, yl, xh, yh, mask, row),
+            _ => mark_row::<0>(xl, yl, xh, yh, mask, row),
+        };
+        m.drawable_cells += drawn;
+        m.backfacing_cells += back;
+    }
+}
+
+/// The largest projected edge components `[ux, uy, vx, vy]` (position
+/// units) of the drawn cells `out` of a piece of `cols × rows` nodes of
+/// `level`, `drawable` of them drawn (`small`, `narrow`: the piece's span
+/// fits 2^24 units, `i32`; `own_masks`: the level's edge masks are the
+/// piece's).
+#[inline(always)]
+fn largest_edges(
+    level: &MipLevel,
+    xy: &mut NodeXY,
+    out: &[u8],
+    (cols, rows): (usize, usize),
+    (small, narrow, own_masks): (bool, bool, bool),
+    drawable: u64,
+) -> [i64; 4] {
+    let ccols = cols - 1;
     let mut edges = [0u64; 4];
-    let all_drawn = m.drawable_cells as usize == ccols * crows;
+    let all_drawn = drawable as usize == ccols * (rows - 1);
     if small && all_drawn {
         // Every cell drawn: every edge of the piece, in flat passes. Why:
         // rows of 17 nodes left a set-up and a remainder per row and per
@@ -199,7 +275,7 @@ pub(crate) fn measure_cells(
                 .extend((0..cols * rows).map(|k| -((k % cols != cols - 1) as i32)));
         }
         edges = piece_edges_small(&xy.xs, &xy.ys, cols, &xy.wrap);
-    } else if small && m.drawable_cells > 0 {
+    } else if small && drawable > 0 {
         // Some cells not drawn: the same passes, each edge masked by
         // whether a drawn cell has it. Why: as above, for the pieces the
         // back-face test cut (callgrind, `profile_sphere 500 1`).
@@ -209,11 +285,7 @@ pub(crate) fn measure_cells(
         // (callgrind, `profile_sphere 500 1 1 trimmed`).
         // (The level's masks are asked for only then: they are built on
         // first use.)
-        let own = if whole && back_sign == 0 {
-            level.edge_masks()
-        } else {
-            None
-        };
+        let own = if own_masks { level.edge_masks() } else { None };
         let (um, vm) = match own {
             Some(masks) => masks,
             None => {
@@ -226,7 +298,7 @@ pub(crate) fn measure_cells(
     for (cj, row) in out.chunks_exact(ccols).enumerate() {
         // Done by the flat passes, or no cell drawn (no edge, nothing to
         // close: such a piece is dropped).
-        if small || m.drawable_cells == 0 {
+        if small || drawable == 0 {
             break;
         }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
@@ -241,19 +313,7 @@ pub(crate) fn measure_cells(
             *a = (*a).max(b);
         }
     }
-    m.edges = edges.map(|e| e as i64);
-    // Closing flags: the level's own when the piece is the whole level and
-    // no cell faced away.
-    let [right, top, both] = if whole && m.backfacing_cells == 0 {
-        out.copy_from_slice(&level.cell_flags);
-        level.closing
-    } else if m.drawable_cells == 0 {
-        [0; 3]
-    } else {
-        close_cells(out, ccols, crows)
-    };
-    (m.right_edges, m.top_edges, m.both_edges) = (right, top, both);
-    m
+    edges.map(|e| e as i64)
 }
 
 /// The used positions of one node row: smallest and largest x, smallest
