@@ -19,6 +19,8 @@
 //!
 //! Cost: O(visible nodes) per frame.
 
+use glam::{Mat3, Vec3};
+
 use crate::lighting::ShadeFrame;
 use crate::plan::cell_triangles::emit_cell_triangles;
 use crate::plan::cull::{cone_faces_away, cone_faces_eye, BoxClass};
@@ -69,31 +71,9 @@ pub(crate) fn plan_chunk(
         let cell_test = culled && !facing_eye;
         frames[local] = setup.light.frame_in(&p.rotation, to_eye);
         let (map, t0) = setup.view.local_map(p.origin, p.axes);
-        let root = NodeRange::of_grid(p.grid);
-        let (lo, hi) = root.local_box(p.base_d_range());
-        let class = setup.frustum.classify(&map, t0, lo, hi);
-        work.counters.cull_ns += work.clock.lap();
-        work.split.pieces.clear();
-        work.split.cells.clear();
-        match class {
-            BoxClass::Outside => {
-                work.counters.culled_frustum += 1;
-                continue;
-            }
-            BoxClass::Inside => work.split.pieces.push(root),
-            BoxClass::Partial => {
-                work.counters.split += 1;
-                let counts = split_patch(
-                    p.level(0),
-                    &setup.frustum,
-                    (&map, t0),
-                    root,
-                    &mut work.split,
-                );
-                work.counters.split_pieces += work.split.pieces.len() as u64;
-                work.counters.pieces_dropped += counts.dropped as u64;
-                work.counters.split_ns += work.clock.lap();
-            }
+        let class = frustum_pieces(work, setup, p, (&map, t0));
+        if class == BoxClass::Outside {
+            continue;
         }
         work.normals.begin_patch();
         let ctx = PatchContext {
@@ -112,22 +92,59 @@ pub(crate) fn plan_chunk(
         }
         work.split.pieces = pieces;
         if !work.split.cells.is_empty() {
-            let cells = std::mem::take(&mut work.split.cells);
-            for &(i, j) in &cells {
-                let range = NodeRange {
-                    i0: i,
-                    j0: j,
-                    i1: i + 1,
-                    j1: j + 1,
-                };
-                let emitted = emit_cell_triangles(work, &ctx, 0, range, None);
-                work.counters.clipped_cells += (emitted > 0) as u64;
-            }
-            work.split.cells = cells;
-            work.counters.setup_ns += work.clock.lap();
+            plan_single_cells(work, &ctx);
         }
     }
     work.counters.normals = work.normals.counts;
+}
+
+/// Classifies the box of patch `p` (local map and translation `map`)
+/// against the frustum and leaves in `work.split` what to plan of it: the
+/// whole patch when inside, the pieces and single cells of splitting when
+/// partly outside ([`split_patch`]), nothing when outside (counted).
+#[inline(always)]
+fn frustum_pieces(
+    work: &mut ChunkWork,
+    setup: &FrameSetup<'_>,
+    p: &PreparedPatch,
+    (map, t0): (&Mat3, Vec3),
+) -> BoxClass {
+    let root = NodeRange::of_grid(p.grid);
+    let (lo, hi) = root.local_box(p.base_d_range());
+    let class = setup.frustum.classify(map, t0, lo, hi);
+    work.counters.cull_ns += work.clock.lap();
+    work.split.pieces.clear();
+    work.split.cells.clear();
+    match class {
+        BoxClass::Outside => work.counters.culled_frustum += 1,
+        BoxClass::Inside => work.split.pieces.push(root),
+        BoxClass::Partial => {
+            work.counters.split += 1;
+            let counts = split_patch(p.level(0), &setup.frustum, (map, t0), root, &mut work.split);
+            work.counters.split_pieces += work.split.pieces.len() as u64;
+            work.counters.pieces_dropped += counts.dropped as u64;
+            work.counters.split_ns += work.clock.lap();
+        }
+    }
+    class
+}
+
+/// Draws the single cells splitting left of the patch of `ctx` (cells that
+/// still cross the near plane or the guard band) as triangles, clipped.
+fn plan_single_cells(work: &mut ChunkWork, ctx: &PatchContext<'_>) {
+    let cells = std::mem::take(&mut work.split.cells);
+    for &(i, j) in &cells {
+        let range = NodeRange {
+            i0: i,
+            j0: j,
+            i1: i + 1,
+            j1: j + 1,
+        };
+        let emitted = emit_cell_triangles(work, ctx, 0, range, None);
+        work.counters.clipped_cells += (emitted > 0) as u64;
+    }
+    work.split.cells = cells;
+    work.counters.setup_ns += work.clock.lap();
 }
 
 /// Reserves room for every level-0 node and cell of `patches` (an upper
