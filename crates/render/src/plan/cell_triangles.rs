@@ -35,9 +35,8 @@ pub(crate) fn emit_cell_triangles(
     range: NodeRange,
     measured: Option<usize>,
 ) -> u64 {
-    let (setup, t0, index) = (ctx.setup, ctx.t0, ctx.index);
+    let (setup, index) = (ctx.setup, ctx.index);
     let level = ctx.patch.level(m);
-    let lmap = level_map(&ctx.map, m);
     let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
     // Why grid attributes: a triangle sample has no patch position for
     // the resolve pass to read a colour grid at, so the cell's triangles
@@ -47,31 +46,7 @@ pub(crate) fn emit_cell_triangles(
     let first_triangle = work.triangles.len();
     let mut vertices = std::mem::take(&mut work.vertices);
     vertices.clear();
-    let mut used = 0;
-    for j in range.j0..=range.j1 {
-        for i in range.i0..=range.i1 {
-            let k = j * level.cols + i;
-            let d = level.displacements[k];
-            let v = if level.used[k] {
-                used += 1;
-                let attrs = if grid {
-                    grid_attributes(&mut work.normals, ctx, m, level, i, j)
-                } else {
-                    node_attributes(&mut work.normals, ctx, m, level, i, j)
-                };
-                ClipVertex {
-                    clip: lmap * Vec3::new(i as f32, j as f32, d as f32) + t0,
-                    attrs,
-                }
-            } else {
-                ClipVertex {
-                    clip: Vec3::ZERO,
-                    attrs: [0.0; TRI_ATTRS],
-                }
-            };
-            vertices.push(v);
-        }
-    }
+    let used = clip_vertices(work, ctx, (m, range), grid, &mut vertices);
     work.counters.patch_nodes += used;
     let near = setup.view.near as f32;
     let size = (setup.view.width as f32, setup.view.height as f32);
@@ -114,6 +89,47 @@ pub(crate) fn emit_cell_triangles(
     work.counters.triangles += emitted;
     work.vertices = vertices;
     emitted
+}
+
+/// Appends to `vertices` the clip-space vertex of every node of `range` of
+/// level `m` (row by row; a zero vertex for unused nodes) with its
+/// attributes (`grid`: those of a cell triangle reading a colour grid);
+/// returns how many nodes are used.
+fn clip_vertices(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    (m, range): (usize, NodeRange),
+    grid: bool,
+    vertices: &mut Vec<ClipVertex>,
+) -> u64 {
+    let level = ctx.patch.level(m);
+    let lmap = level_map(&ctx.map, m);
+    let mut used = 0;
+    for j in range.j0..=range.j1 {
+        for i in range.i0..=range.i1 {
+            let k = j * level.cols + i;
+            let d = level.displacements[k];
+            let v = if level.used[k] {
+                used += 1;
+                let attrs = if grid {
+                    grid_attributes(&mut work.normals, ctx, m, level, i, j)
+                } else {
+                    node_attributes(&mut work.normals, ctx, m, level, i, j)
+                };
+                ClipVertex {
+                    clip: lmap * Vec3::new(i as f32, j as f32, d as f32) + ctx.t0,
+                    attrs,
+                }
+            } else {
+                ClipVertex {
+                    clip: Vec3::ZERO,
+                    attrs: [0.0; TRI_ATTRS],
+                }
+            };
+            vertices.push(v);
+        }
+    }
+    used
 }
 
 /// The attributes of node `(i, j)` of `level` (level `m`) on a cell
