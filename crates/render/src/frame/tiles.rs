@@ -226,9 +226,10 @@ pub(crate) fn draw_item(
     }
 }
 
-/// Inlined so that the triangles run with the band's instruction set
-/// ([`crate::isa`]): out of line, every row's `ceil` was a library call.
-#[inline(always)]
+/// Why out of line (so compiled for the portable target, not the band's
+/// instruction set): inlined into the band, it made the perfect sphere's
+/// frame, which draws no triangle, 1.03 times slower (the band function's
+/// layout); `draw_triangle` needs no library call in either.
 fn draw_triangles<const N: usize, P: Payload<N>>(
     t: &mut BandTarget<'_>,
     job: &BandJob<'_>,
@@ -243,9 +244,8 @@ fn draw_triangles<const N: usize, P: Payload<N>>(
 
 /// [`draw_triangles`] for Gouraud and Phong in a frame whose patches have
 /// colour grids: the cell triangles of such a patch read its grid per
-/// sample ([`ScreenTriangle::grid`]), the others draw as usual. Inlined
-/// as [`draw_triangles`] is.
-#[inline(always)]
+/// sample ([`ScreenTriangle::grid`]), the others draw as usual. Out of
+/// line as [`draw_triangles`] is.
 fn draw_grid_triangles(t: &mut BandTarget<'_>, job: &BandJob<'_>, refs: &[(u32, u32)]) {
     let patches = job.resolve.patches;
     for &(c, k) in refs {
