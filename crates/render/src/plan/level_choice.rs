@@ -23,9 +23,6 @@ use crate::prepare::patch::{PreparedPatch, QUARTERED_ONE};
 pub(crate) struct LevelChoice {
     /// The level whose nodes are drawn.
     pub(crate) m: usize,
-    /// The level the draw item names: `m`, or [`QUARTERED_ONE`] for level
-    /// 1 with its outline by quarters.
-    pub(crate) named: usize,
     /// 1 when the level below `m` shades (coarse geometry, or a lifted
     /// patch with node colours), else 0.
     pub(crate) shift: usize,
@@ -34,6 +31,19 @@ pub(crate) struct LevelChoice {
     pub(crate) lifted: usize,
     /// Level 1 taken past the limit, its outline kept by quarters.
     pub(crate) quartered_lift: bool,
+}
+
+impl LevelChoice {
+    /// The level the draw item names: `m`, or [`QUARTERED_ONE`] for level
+    /// 1 with its outline by quarters.
+    #[inline(always)]
+    pub(crate) fn named(&self) -> usize {
+        if self.quartered_lift {
+            QUARTERED_ONE
+        } else {
+            self.m
+        }
+    }
 }
 
 /// The levels of `piece` of the patch of `ctx` (`proj0` its level-0
@@ -98,12 +108,8 @@ pub(crate) fn choose_level(
         shift = 1;
     }
     let m = if quartered_lift { 1 } else { m + shift };
-    // The level the item names: level 1 with its outline by quarters when
-    // lifted so.
-    let named = if quartered_lift { QUARTERED_ONE } else { m };
     LevelChoice {
         m,
-        named,
         shift,
         lifted,
         quartered_lift,

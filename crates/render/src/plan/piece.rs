@@ -100,13 +100,14 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     }
     // 2. Mip level. (Stage timers: what follows is charged to traversal
     // at its laps.)
+    let choice = choose_level(ctx, &proj0, piece, lift);
+    let named = choice.named();
     let LevelChoice {
         m,
-        named,
         shift,
         lifted,
         quartered_lift,
-    } = choose_level(ctx, &proj0, piece, lift);
+    } = choice;
     let level = p.level(named);
     let range = if m == 0 {
         piece
@@ -456,48 +457,32 @@ fn push_item(work: &mut ChunkWork, ctx: &PatchContext<'_>, level: &MipLevel, par
         Some(_) => (CENTRE_STEPS, CENTRE_STEPS),
         None => parts.cut,
     };
-    let [x0, _, x1, _] = parts.bbox;
+    let (range, [x0, y0, x1, y1], [pad_x, pad_y]) = (parts.range, parts.bbox, parts.pads);
     let (named, shift) = parts.levels;
     work.items.push(Item {
         first: first as u32,
+        cols: (range.i1 - range.i0 + 1) as u16,
+        rows: (range.j1 - range.j0 + 1) as u16,
+        nu: cut.0 as u16,
+        nv: cut.1 as u16,
+        frame: ctx.index,
         flags: flags as u32,
         spans: spans as u32,
-        frame: ctx.index,
         uniform_albedo: level.colours.is_none(),
         level: named as u8,
         shade_shift: shift as u8,
-        z_near: parts.z_near,
-        inside_columns: x0 > 0 && x1 < ctx.setup.view.width as i32 - 1,
-        splat: parts.splat,
-        open_sides: parts.drawer.open_sides,
-        centres: parts.drawer.centres,
-        ..item_frame(parts.range, cut, parts.bbox, parts.pads)
-    });
-}
-
-/// The draw item's lattice and reach: the node range `range` cut `nu × nv`
-/// and the nodes' pixel box `[x0, y0, x1, y1]` grown by `pads`; the other
-/// fields empty, for the caller to fill.
-#[inline(always)]
-fn item_frame(
-    range: NodeRange,
-    (nu, nv): (u32, u32),
-    [x0, y0, x1, y1]: [i32; 4],
-    [pad_x, pad_y]: [i32; 2],
-) -> Item {
-    Item {
-        cols: (range.i1 - range.i0 + 1) as u16,
-        rows: (range.j1 - range.j0 + 1) as u16,
-        nu: nu as u16,
-        nv: nv as u16,
         i0: range.i0 as u16,
         j0: range.j0 as u16,
         y0: y0 - pad_y,
         y1: y1 + pad_y,
         x0: x0 - pad_x,
         x1: x1 + pad_x,
-        ..Item::default()
-    }
+        z_near: parts.z_near,
+        inside_columns: x0 > 0 && x1 < ctx.setup.view.width as i32 - 1,
+        splat: parts.splat,
+        open_sides: parts.drawer.open_sides,
+        centres: parts.drawer.centres,
+    });
 }
 
 /// The measured `edges` of a piece lifted to level 1 by quarters, widened

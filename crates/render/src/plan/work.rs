@@ -29,7 +29,7 @@ pub(crate) const PATCH_CHUNK: usize = 32;
 
 /// A piece of patch to draw: `cols × rows` nodes starting at `first` in its
 /// chunk's node array, cut into `nu × nv` per cell (1 × 1: nodes only).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Item {
     pub(crate) first: u32,
     pub(crate) cols: u16,
