@@ -224,7 +224,7 @@ fn fill_phong_attributes(
         normals.touch_all(m, p.slot_set(m));
         return;
     }
-    let width = range.i1 - range.i0 + 1;
+    let width = range.size().0;
     let height = range.j1 - range.j0 + 1;
     let piece = &work.nodes[first..first + width * height];
     for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact(width)) {

@@ -37,7 +37,7 @@ pub(crate) fn emit_cell_triangles(
 ) -> u64 {
     let (setup, index) = (ctx.setup, ctx.index);
     let level = ctx.patch.level(m);
-    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
     // Why grid attributes: a triangle sample has no patch position for
     // the resolve pass to read a colour grid at, so the cell's triangles
     // carry it (perspective-correct) and the band reads the grid as it

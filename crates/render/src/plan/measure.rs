@@ -90,7 +90,7 @@ pub(crate) fn measure_cells(
     flags: &mut Vec<u8>,
     spans: &mut Vec<[i32; 2]>,
 ) -> CellMeasure {
-    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
     let mut m = CellMeasure::EMPTY;
     let [x0, y0, x1, y1] = row_boxes(level, range, xy, spans, &mut m);
     // Differences of two used positions fit in `i32` when the box does
@@ -144,7 +144,7 @@ fn row_boxes(
     spans: &mut Vec<[i32; 2]>,
     m: &mut CellMeasure,
 ) -> [i32; 4] {
-    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
     let lcols = level.cols;
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     let first_span = spans.len();
@@ -195,7 +195,7 @@ fn mark_cells(
     flags: &mut Vec<u8>,
     m: &mut CellMeasure,
 ) {
-    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
     let (ccols, crows) = (cols - 1, rows - 1);
     let lccols = level.cols - 1;
     let base = flags.len();

@@ -213,7 +213,7 @@ fn measure_cells_equals_the_reference_on_random_pieces() {
                 } else {
                     project_nodes_exact(level, range, &p, &mut nodes, &mut xy);
                 }
-                let (c, rws) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+                let (c, rws) = range.size();
                 let (mut f0, mut s0, mut f1, mut s1) = (vec![7], vec![], vec![7], vec![]);
                 let a = measure_cells_reference(&nodes, c, rws, back_sign, &mut f0, &mut s0);
                 let b = measure_cells(level, range, &mut xy, back_sign, &mut f1, &mut s1);

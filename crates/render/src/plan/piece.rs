@@ -125,7 +125,7 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     };
     let first = work.nodes.len();
     project_piece(work, opts.projection, level, range, d, &proj);
-    let (cols, rows) = (range.i1 - range.i0 + 1, range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
     // 4. Subdivision.
     let smooth = opts.cells == CellScheme::Smooth;
     let back_sign = back_face_sign(ctx.cell_test && !smooth, &proj);
@@ -458,11 +458,11 @@ fn push_item(work: &mut ChunkWork, ctx: &PatchContext<'_>, level: &MipLevel, par
         None => parts.cut,
     };
     let (range, [x0, y0, x1, y1], [pad_x, pad_y]) = (parts.range, parts.bbox, parts.pads);
-    let (named, shift) = parts.levels;
+    let ((cols, rows), (named, shift)) = (range.size(), parts.levels);
     work.items.push(Item {
         first: first as u32,
-        cols: (range.i1 - range.i0 + 1) as u16,
-        rows: (range.j1 - range.j0 + 1) as u16,
+        cols: cols as u16,
+        rows: rows as u16,
         nu: cut.0 as u16,
         nv: cut.1 as u16,
         frame: ctx.index,

@@ -45,6 +45,12 @@ impl NodeRange {
         }
     }
 
+    /// Its nodes per row and rows of nodes: `(cols, rows)`.
+    #[inline(always)]
+    pub(crate) fn size(&self) -> (usize, usize) {
+        (self.i1 - self.i0 + 1, self.j1 - self.j0 + 1)
+    }
+
     /// The displacement range of the used nodes inside, or `None` if none.
     pub(crate) fn d_range(&self, level: &MipLevel) -> Option<(u16, u16)> {
         // The whole level's is kept with it. Why: scanning the nodes cost
