@@ -42,7 +42,7 @@ pub(crate) const EMPTY_NODE: i32 = i32::MIN;
 /// resolve pass interpolates the prepared normals), and the six words it
 /// carried made the node array 2.25 times larger, written by the planning
 /// and read by every band (bunny 500², 2 threads: 3.57 → 3.28 ms per frame,
-/// medians of 10 alternated `--bench 40` runs; docs/algorithms/render.md,
+/// medians of 10 alternated `--bench 40` runs; docs/algorithms/render-log.md,
 /// "Where a frame waits on memory").
 pub(crate) const NODE_WIDTH: usize = 4;
 /// A projected node (fixed point; see the module header).

@@ -162,7 +162,7 @@ pub struct RenderOptions {
     /// nodes from the coarser level's cells, projected at the patch's box.
     /// Why only such patches: a coarse level of a grid with empty nodes
     /// fills or drops cells along its outline, which opened holes and cost
-    /// the bunny 0.6 dB at this tolerance (docs/algorithms/render.md,
+    /// the bunny 0.6 dB at this tolerance (docs/algorithms/render-log.md,
     /// "Where a scan's samples come from"); a full grid's coarse level
     /// covers exactly what level 0 does (the perfect sphere at 500²: 74.0 →
     /// 55.5 M instructions per frame). Patches with colours keep the limit's
