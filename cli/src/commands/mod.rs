@@ -16,6 +16,7 @@ pub(crate) mod man;
 pub(crate) mod merge;
 pub(crate) mod plan;
 pub(crate) mod render;
+pub(crate) mod render_output;
 pub(crate) mod sphere;
 pub(crate) mod stats;
 pub(crate) mod tiled;

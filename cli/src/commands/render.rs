@@ -1,27 +1,30 @@
 //! `spatch render`: a scene to a PNG on the CPU, with depth, statistics
 //! and a frame-time benchmark.
 
+use std::mem::ManuallyDrop;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::ValueEnum;
 use glam::DVec3;
-use serde::Serialize;
-use serde_json::json;
-use spatch_eval::{Counts, Report, Stages};
+use spatch_eval::{Counts, Stages};
 use spatch_format::{ContainerInfo, Scene};
 use spatch_render::{
-    measure_shortcuts, Camera, CellScheme, Culling, OcclusionStats, PreparedScene, Projection,
-    RenderError, RenderMode, RenderOptions, RenderStats, Renderer, Shading, ShortcutCosts,
+    measure_shortcuts, Camera, CellScheme, Culling, PreparedScene, Projection, RenderError,
+    RenderMode, RenderOptions, RenderOutput, Renderer, Shading,
 };
 
 use super::frame_bench::{bench, BenchReport};
+use super::render_output::{
+    image_files, print_result, render_report, stats_file_bytes, CameraJson, RenderDetails,
+    StatsFile,
+};
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
-use crate::output::{print_json, print_summary, read_spatch, write_output};
+use crate::output::{print_json, read_spatch, write_output};
 use crate::progress::Progress;
-use crate::report::{scene_diagonal, tool};
+use crate::report::scene_diagonal;
 
 /// What to rasterize.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -358,7 +361,10 @@ pub(crate) enum DepthFormatArg {
 }
 
 /// `chosen`, or the format `path`'s extension names.
-fn depth_format(chosen: Option<DepthFormatArg>, path: &std::path::Path) -> DepthFormatArg {
+pub(super) fn depth_format(
+    chosen: Option<DepthFormatArg>,
+    path: &std::path::Path,
+) -> DepthFormatArg {
     chosen.unwrap_or_else(|| {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
         if ext.eq_ignore_ascii_case("tif") || ext.eq_ignore_ascii_case("tiff") {
@@ -369,29 +375,6 @@ fn depth_format(chosen: Option<DepthFormatArg>, path: &std::path::Path) -> Depth
             DepthFormatArg::Png
         }
     })
-}
-
-/// The camera of a float depth image, enough to turn its pixels back into
-/// model-space points.
-fn depth_camera_json(
-    camera: &Camera,
-    image: &spatch_render::RenderedImage,
-) -> anyhow::Result<Vec<u8>> {
-    let value = json!({
-        "projection": "perspective",
-        "eye": camera.eye().to_array(),
-        "target": camera.target().to_array(),
-        "up": camera.up().to_array(),
-        "fov_y_degrees": camera.fov_y_degrees(),
-        "width": image.width(),
-        "height": image.height(),
-        "near": image.near(),
-        "far": image.far(),
-        "depth": "distance along the view direction (target - eye) in model units; NaN where no surface; row 0 is the top; pixel centres at +0.5",
-    });
-    let mut text = serde_json::to_string_pretty(&value).context("camera")?;
-    text.push('\n');
-    Ok(text.into_bytes())
 }
 
 pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
@@ -543,50 +526,6 @@ pub(crate) fn classify(err: RenderError) -> anyhow::Error {
     }
 }
 
-/// The camera as reports show it.
-#[derive(Debug, Serialize)]
-struct CameraJson {
-    eye: [f64; 3],
-    target: [f64; 3],
-    up: [f64; 3],
-    fov_y_degrees: f64,
-}
-
-impl CameraJson {
-    fn of(camera: &Camera) -> Self {
-        Self {
-            eye: camera.eye().to_array(),
-            target: camera.target().to_array(),
-            up: camera.up().to_array(),
-            fov_y_degrees: camera.fov_y_degrees(),
-        }
-    }
-}
-
-/// The `--stats` file: the frame's statistics, the camera, and the cost of the shortcuts.
-#[derive(Debug, Serialize)]
-struct StatsFile<'a> {
-    #[serde(flatten)]
-    stats: &'a RenderStats,
-    input: String,
-    overlap_cells_trimmed: u64,
-    overlap_cells_trimmable: u64,
-    camera: CameraJson,
-    shortcuts: ShortcutCosts,
-    /// How much of the frame's drawing ends up hidden.
-    occlusion: OcclusionStats,
-}
-
-/// The `details` of the `--json` report.
-#[derive(Debug, Serialize)]
-struct RenderDetails<'a> {
-    /// The frame's statistics (as in `--stats`).
-    stats: &'a RenderStats,
-    camera: CameraJson,
-    /// The `--bench` timings, `null` without it.
-    bench: Option<BenchReport>,
-}
-
 /// `scene` prepared on `renderer`'s threads, its overlaps trimmed when
 /// `trim` says.
 fn prepare(renderer: &Renderer, scene: &Scene, trim: bool) -> PreparedScene {
@@ -597,34 +536,39 @@ fn prepare(renderer: &Renderer, scene: &Scene, trim: bool) -> PreparedScene {
     }
 }
 
-/// Renders (and benchmarks) the scene and writes the requested files.
-pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let steps = 5 + usize::from(args.bench.is_some()) + usize::from(args.stats.is_some());
-    let progress = Progress::new("render", steps);
+/// A scene read, prepared and rendered once: what the later steps of
+/// [`run`] (benchmark, files, report) work from.
+struct Session {
+    renderer: Renderer,
+    prepared: PreparedScene,
+    /// The scene as read, kept for `--stats`' second preparation and never
+    /// freed (see [`prepare_scene`]).
+    kept: Option<ManuallyDrop<Scene>>,
+    camera: Camera,
+    out: RenderOutput,
+    /// The report's scene counts and diagonal (`--json` only).
+    counts: Option<(Counts, Option<f64>)>,
+}
+
+/// Reads, prepares and renders the scene of `args`, timing each step
+/// into `stages`.
+fn render_once(
+    args: &RenderArgs,
+    progress: &Progress,
+    stages: &mut Stages,
+) -> anyhow::Result<Session> {
     let started = Instant::now();
     progress.step("read");
     let (scene, info, index_sphere) = read_input(args)?;
-    let mut stages = Stages::default();
     stages.push("read", started.elapsed().as_secs_f64());
     // What the report says of the scene, found while it is whole.
     let counts = args
         .json
         .then(|| (Counts::of(&scene, info.file_len), scene_diagonal(&scene)));
-    let options = render_options(args);
-    let mut renderer = Renderer::new(options).map_err(classify)?;
+    let mut renderer = Renderer::new(render_options(args)).map_err(classify)?;
     progress.step("prepare");
     let clock = Instant::now();
-    // `--stats` prepares the scene a second time (the other overlap
-    // setting), so it keeps the scene; otherwise the preparation takes the
-    // scene's nodes instead of copying them. What is kept is left to the
-    // OS at exit, not freed patch by patch (0.5 M of a one-frame bunny
-    // render's 182 M instructions; callgrind).
-    let (prepared, kept) = if args.stats.is_some() {
-        let prepared = prepare(&renderer, &scene, args.trim_overlaps);
-        (prepared, Some(std::mem::ManuallyDrop::new(scene)))
-    } else {
-        (renderer.prepare_owned(scene, args.trim_overlaps), None)
-    };
+    let (prepared, kept) = prepare_scene(&renderer, scene, args);
     stages.push("prepare", clock.elapsed().as_secs_f64());
     let sphere = index_sphere.or_else(|| prepared.bounding_sphere());
     let camera = camera(args, sphere).map_err(classify)?;
@@ -632,79 +576,125 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let clock = Instant::now();
     let out = renderer.render(&prepared, &camera).map_err(classify)?;
     stages.push("render", clock.elapsed().as_secs_f64());
-    let bench = match args.bench {
-        Some(frames) => {
-            progress.step("bench");
-            let clock = Instant::now();
-            let report = bench(&mut renderer, &prepared, &camera, frames as usize, &|k| {
-                progress.count(k, frames as usize)
-            })?;
-            stages.push("bench", clock.elapsed().as_secs_f64());
-            Some(report)
-        }
-        None => None,
+    Ok(Session {
+        renderer,
+        prepared,
+        kept,
+        camera,
+        out,
+        counts,
+    })
+}
+
+/// `scene` prepared for `args`, and the scene itself when `--stats` needs
+/// it again. `--stats` prepares the scene a second time (the other
+/// overlap setting), so it keeps the scene; otherwise the preparation
+/// takes the scene's nodes instead of copying them. What is kept is left
+/// to the OS at exit, not freed patch by patch (0.5 M of a one-frame bunny
+/// render's 182 M instructions; callgrind).
+fn prepare_scene(
+    renderer: &Renderer,
+    scene: Scene,
+    args: &RenderArgs,
+) -> (PreparedScene, Option<ManuallyDrop<Scene>>) {
+    if args.stats.is_some() {
+        let prepared = prepare(renderer, &scene, args.trim_overlaps);
+        (prepared, Some(ManuallyDrop::new(scene)))
+    } else {
+        (renderer.prepare_owned(scene, args.trim_overlaps), None)
+    }
+}
+
+/// `--bench`: `frames` frames of the session's view, timed.
+fn bench_frames(
+    session: &mut Session,
+    frames: usize,
+    progress: &Progress,
+    stages: &mut Stages,
+) -> anyhow::Result<BenchReport> {
+    progress.step("bench");
+    let clock = Instant::now();
+    let Session {
+        renderer,
+        prepared,
+        camera,
+        ..
+    } = session;
+    let report = bench(renderer, prepared, camera, frames, &|k| {
+        progress.count(k, frames)
+    })?;
+    stages.push("bench", clock.elapsed().as_secs_f64());
+    Ok(report)
+}
+
+/// The `--stats` file of `session`: the frame's statistics and what its
+/// shortcuts cost, measured against the other overlap setting.
+fn stats_bytes(args: &RenderArgs, session: &Session) -> anyhow::Result<Vec<u8>> {
+    let Session {
+        renderer, prepared, ..
+    } = session;
+    let scene = session.kept.as_ref().expect("kept for --stats");
+    let other = prepare(renderer, scene, !args.trim_overlaps);
+    let overlaps = if args.trim_overlaps {
+        (prepared, &other)
+    } else {
+        (&other, prepared)
     };
-    // Encode everything first, so a failure leaves no output behind.
+    let options = renderer.options();
+    let shortcuts = measure_shortcuts(prepared, Some(overlaps), &session.camera, options, 3)
+        .map_err(classify)?;
+    stats_file_bytes(StatsFile {
+        stats: &session.out.stats,
+        input: args.input.display().to_string(),
+        overlap_cells_trimmed: prepared.trimmed_cells(),
+        overlap_cells_trimmable: overlaps.0.trimmed_cells(),
+        camera: CameraJson::of(&session.camera),
+        shortcuts,
+        occlusion: renderer.occlusion(),
+    })
+}
+
+/// Every file `args` asks for, encoded from `session`: the PNG, the depth
+/// file (and its camera) and the `--stats` file.
+fn encoded_files(
+    args: &RenderArgs,
+    session: &Session,
+    progress: &Progress,
+    stages: &mut Stages,
+) -> anyhow::Result<Vec<(PathBuf, Vec<u8>)>> {
     progress.step("encode");
     let clock = Instant::now();
-    let mut files = Vec::new();
-    if let Some(path) = &args.output {
-        files.push((path, out.image.encode_png().map_err(classify)?));
-    }
-    let camera_path = args.depth.as_ref().map(|p| p.with_extension("camera.json"));
-    if let Some(path) = &args.depth {
-        let image = &out.image;
-        let (width, height) = (image.width(), image.height());
-        let float = match depth_format(args.depth_format, path) {
-            DepthFormatArg::Png => None,
-            DepthFormatArg::Tiff => Some(spatch_export::encode_depth_tiff(
-                width,
-                height,
-                image.depth(),
-            )),
-            DepthFormatArg::Exr => Some(spatch_export::encode_depth_exr(
-                width,
-                height,
-                image.depth(),
-            )),
-        };
-        if let Some(bytes) = float {
-            files.push((path, bytes.map_err(|e| InternalFailure(e.to_string()))?));
-            if let Some(camera_path) = &camera_path {
-                files.push((camera_path, depth_camera_json(&camera, image)?));
-            }
-        } else {
-            files.push((path, image.encode_depth_png().map_err(classify)?));
-        }
-    }
+    let depth = args.depth.as_deref();
+    let depth = depth.map(|path| (path, depth_format(args.depth_format, path)));
+    let output = args.output.as_deref();
+    let mut files = image_files(output, depth, &session.camera, &session.out.image)?;
     stages.push("encode", clock.elapsed().as_secs_f64());
     if let Some(path) = &args.stats {
         progress.step("shortcuts");
         let clock = Instant::now();
-        // The other preparation, for the cost of trimming.
-        let scene = kept.as_ref().expect("kept for --stats");
-        let other = prepare(&renderer, scene, !args.trim_overlaps);
-        let overlaps = if args.trim_overlaps {
-            (&prepared, &other)
-        } else {
-            (&other, &prepared)
-        };
-        let shortcuts =
-            measure_shortcuts(&prepared, Some(overlaps), &camera, &options, 3).map_err(classify)?;
-        let file = StatsFile {
-            stats: &out.stats,
-            input: args.input.display().to_string(),
-            overlap_cells_trimmed: prepared.trimmed_cells(),
-            overlap_cells_trimmable: overlaps.0.trimmed_cells(),
-            camera: CameraJson::of(&camera),
-            shortcuts,
-            occlusion: renderer.occlusion(),
-        };
-        let mut text = serde_json::to_string_pretty(&file).context("statistics")?;
-        text.push('\n');
-        files.push((path, text.into_bytes()));
+        files.push((path.clone(), stats_bytes(args, session)?));
         stages.push("shortcuts", clock.elapsed().as_secs_f64());
     }
+    Ok(files)
+}
+
+/// Renders (and benchmarks) the scene and writes the requested files.
+pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let steps = 5 + usize::from(args.bench.is_some()) + usize::from(args.stats.is_some());
+    let progress = Progress::new("render", steps);
+    let mut stages = Stages::default();
+    let mut session = render_once(args, &progress, &mut stages)?;
+    let bench = match args.bench {
+        Some(frames) => Some(bench_frames(
+            &mut session,
+            frames as usize,
+            &progress,
+            &mut stages,
+        )?),
+        None => None,
+    };
+    // Encode everything first, so a failure leaves no output behind.
+    let files = encoded_files(args, &session, &progress, &mut stages)?;
     progress.step("write");
     let clock = Instant::now();
     for (path, bytes) in &files {
@@ -712,56 +702,34 @@ pub(crate) fn run(args: &RenderArgs) -> anyhow::Result<()> {
     }
     stages.push("write", clock.elapsed().as_secs_f64());
     drop(progress);
-    let threads = renderer.threads();
+    let threads = session.renderer.threads();
+    let Session {
+        renderer,
+        prepared,
+        camera,
+        out,
+        counts,
+        ..
+    } = session;
     // The process ends after this command: the prepared scene and the
     // renderer are left to the OS instead of freed piece by piece (so is
-    // the scene read, see `read_input` above). Why: freeing every patch's
+    // the scene read, see `prepare_scene`). Why: freeing every patch's
     // levels cost 7 M of the 265 M instructions of a one-frame bunny
     // render (callgrind, `spatch render bunny.spatch -o out.png --threads
     // 1`).
     std::mem::forget(prepared);
     std::mem::forget(renderer);
+    let output = args.output.as_deref();
     if args.json {
         let details = RenderDetails {
             stats: &out.stats,
             camera: CameraJson::of(&camera),
             bench,
         };
-        let mut report = Report::new(
-            &tool(),
-            "render",
-            &args.input.display().to_string(),
-            details,
-        );
-        report.output = args.output.as_ref().map(|p| p.display().to_string());
-        if let Some((counts, diagonal)) = counts {
-            report.counts = counts;
-            report.diagonal = diagonal;
-        }
-        report.seconds = stages.total();
-        report.stages = stages;
-        report.threads = threads;
-        return print_json(&report);
+        let paths = (args.input.as_path(), output);
+        return print_json(&render_report(paths, details, counts, stages, threads));
     }
-    if let Some(bench) = &bench {
-        return print_summary(&bench.table(), false);
-    }
-    if let Some(path) = &args.output {
-        let s = &out.stats;
-        print_summary(
-            &format!(
-                "{}: {}x{}, {} of {} patches drawn, {:.2} ms\n",
-                path.display(),
-                s.image[0],
-                s.image[1],
-                s.patches - s.patches_culled_frustum - s.patches_culled_backface,
-                s.patches,
-                s.times_ms.total_wall
-            ),
-            false,
-        )?;
-    }
-    Ok(())
+    print_result(output, &out.stats, bench.as_ref())
 }
 
 impl RenderArgs {
