@@ -27,8 +27,9 @@ use std::time::Instant;
 
 use glam::Vec3;
 use serde::Serialize;
-use spatch_convert::{convert, ConvertInput, ConvertOptions};
-use spatch_mesh::{load_mesh, prepare_mesh, sample_surface, Bvh};
+use spatch_convert::{convert, Conversion, ConvertInput, ConvertOptions};
+use spatch_format::Scene;
+use spatch_mesh::{load_mesh, prepare_mesh, sample_surface, Bvh, TriangleMesh};
 use spatch_render::{CellScheme, PreparedScene, Projection};
 
 use crate::geometric::{nearest_patch_cells, node_to_surface_distances, sample_count, ErrorStats};
@@ -336,131 +337,150 @@ fn settings(options: &SweepOptions, base_grid: u32, base_cone: f32) -> Vec<Setti
     out
 }
 
-/// Runs the sweep on the mesh at `path`, calling `progress` with a line per step.
-pub fn run_sweep(
-    path: &Path,
-    options: &SweepOptions,
-    progress: &dyn Fn(&str),
-) -> Result<SweepResult, EvalError> {
-    check(options)?;
-    let started = Instant::now();
-    let base_grid = if options.grids.contains(&options.base.fit.grid) {
-        options.base.fit.grid
+/// What every row of a sweep measures against: the mesh as read, the
+/// same prepared as the pipeline prepares it (preparation does not depend
+/// on the swept settings), its BVH and the source samples.
+struct SweepSource {
+    raw: TriangleMesh,
+    mesh: TriangleMesh,
+    bvh: Bvh,
+    samples: Vec<Vec3>,
+    /// The prepared mesh's diagonal.
+    diagonal: f64,
+}
+
+impl SweepSource {
+    /// The source at `path`, its load time in seconds beside it.
+    fn load(path: &Path, options: &SweepOptions) -> Result<(Self, f64), EvalError> {
+        let load_start = Instant::now();
+        let raw = load_mesh(path)?.mesh;
+        let load_seconds = load_start.elapsed().as_secs_f64();
+        let (mesh, _) = prepare_mesh(&raw, &options.base.prepare);
+        if mesh.face_count() == 0 || mesh.diagonal() <= 0.0 {
+            return Err(EvalError::NoSurface {
+                path: path.to_path_buf(),
+            });
+        }
+        let bvh = Bvh::new(&mesh);
+        let samples: Vec<Vec3> = sample_surface(&mesh, sample_count(&mesh), options.seed)
+            .into_iter()
+            .map(|s| s.point)
+            .collect();
+        let diagonal = f64::from(mesh.diagonal());
+        let source = Self {
+            raw,
+            mesh,
+            bvh,
+            samples,
+            diagonal,
+        };
+        Ok((source, load_seconds))
+    }
+}
+
+/// The swept value nearest the base options: the base's own when swept,
+/// else the first.
+fn base_settings(options: &SweepOptions) -> (u32, f32) {
+    let grid = options.base.fit.grid;
+    let grid = if options.grids.contains(&grid) {
+        grid
     } else {
         options.grids[0]
     };
-    let base_cone = if options
-        .cone_angles
-        .contains(&options.base.segment.cone_angle_deg)
-    {
-        options.base.segment.cone_angle_deg
+    let cone = options.base.segment.cone_angle_deg;
+    let cone = if options.cone_angles.contains(&cone) {
+        cone
     } else {
         options.cone_angles[0]
     };
-    progress("reading the source");
-    let load_start = Instant::now();
-    let raw = load_mesh(path)?.mesh;
-    let load_seconds = load_start.elapsed().as_secs_f64();
+    (grid, cone)
+}
 
-    // Shared by every row: the mesh prepared as the pipeline prepares it (preparation does
-    // not depend on the swept settings), its BVH and the source samples.
-    let (mesh, _) = prepare_mesh(&raw, &options.base.prepare);
-    if mesh.face_count() == 0 || mesh.diagonal() <= 0.0 {
-        return Err(EvalError::NoSurface {
-            path: path.to_path_buf(),
-        });
-    }
-    let bvh = Bvh::new(&mesh);
-    let samples: Vec<Vec3> = sample_surface(&mesh, sample_count(&mesh), options.seed)
-        .into_iter()
-        .map(|s| s.point)
-        .collect();
-    let diagonal = f64::from(mesh.diagonal());
-
-    let plan = settings(options, base_grid, base_cone);
-    let mut rows = Vec::new();
-    let mut render_scenes = Vec::new();
-    for (k, setting) in plan.iter().enumerate() {
-        let label = format!(
-            "grid {} / cone {} / {}-bit",
-            setting.grid,
-            setting.cone,
-            setting.width.bits()
-        );
-        progress(&format!("converting {}/{}: {label}", k + 1, plan.len()));
-        let mut convert_options = options.base.clone();
-        convert_options.fit.grid = setting.grid;
-        convert_options.fit.max_step_error =
-            setting.width.step_error(options.base.fit.max_step_error);
-        convert_options.segment = convert_options
-            .segment
-            .clone()
-            .with_cone_angle_deg(setting.cone);
-        let run = || {
-            convert(ConvertInput::Mesh(raw.clone()), &convert_options).map_err(|source| {
-                EvalError::Convert {
-                    setting: label.clone(),
-                    source,
-                }
-            })
-        };
-        let c = run()?;
-        let mut times = vec![c.report.seconds];
-        for _ in 1..options.repeats {
-            times.push(run()?.report.seconds);
-        }
-        progress(&format!("measuring {}/{}: {label}", k + 1, plan.len()));
-        let mut node_d = node_to_surface_distances(&c.scene, &mesh, &bvh);
-        let (mut sample_d, _) = nearest_patch_cells(&c.scene, mesh.origin, &samples);
-        let row = SweepRow {
-            kind: RowKind::Conversion,
-            grid: setting.grid,
-            cone_angle: setting.cone,
-            width: setting.width,
-            projection: None,
-            cells: None,
-            counts: c.report.counts,
-            wide_patches: c.report.wide_patches,
-            convert_seconds: median(&mut times),
-            render_ms: None,
-            node_to_surface: ErrorStats::from_distances(&mut node_d, diagonal),
-            surface_to_patch: ErrorStats::from_distances(&mut sample_d, diagonal),
-            image: None,
-            on_front: false,
-        };
-        if setting.cone == base_cone
-            && setting.width == Width::Eight
-            && options.render_grids.contains(&setting.grid)
-        {
-            render_scenes.push((row.clone(), c.scene));
-        }
-        rows.push(row);
-    }
-
-    let render_count = render_scenes.len() * options.projections.len() * options.cells.len();
-    let mut done = 0;
-    // The source's frames, rendered once for every render row.
-    let source_views = if render_scenes.is_empty() {
-        None
-    } else {
-        progress("rendering the source");
-        // The source in colour only when the sweep's scenes sample colour.
-        let mut image = options.image.clone();
-        image.colour_source &= options.base.fit.colour;
-        Some(SourceViews::render(&mesh, &image)?)
+/// The source converted with `setting`, and the median of the
+/// conversion's times over the sweep's repeats.
+fn convert_setting(
+    source: &SweepSource,
+    setting: Setting,
+    options: &SweepOptions,
+    label: &str,
+) -> Result<(Conversion, f64), EvalError> {
+    let mut convert_options = options.base.clone();
+    convert_options.fit.grid = setting.grid;
+    convert_options.fit.max_step_error = setting.width.step_error(options.base.fit.max_step_error);
+    convert_options.segment = convert_options
+        .segment
+        .clone()
+        .with_cone_angle_deg(setting.cone);
+    let run = || {
+        convert(ConvertInput::Mesh(source.raw.clone()), &convert_options).map_err(|source| {
+            EvalError::Convert {
+                setting: label.to_string(),
+                source,
+            }
+        })
     };
-    let render_work = source_views.iter().flat_map(|views| {
-        render_scenes
-            .iter()
-            .map(move |(row, scene)| (views, row, scene))
-    });
-    for (views, scene_row, scene) in render_work {
+    let c = run()?;
+    let mut times = vec![c.report.seconds];
+    for _ in 1..options.repeats {
+        times.push(run()?.report.seconds);
+    }
+    Ok((c, median(&mut times)))
+}
+
+/// The conversion row of `setting`: the scene's counts, its conversion
+/// time and its geometric error against the source.
+fn conversion_row(
+    source: &SweepSource,
+    setting: Setting,
+    c: &Conversion,
+    convert_seconds: f64,
+) -> SweepRow {
+    let mut node_d = node_to_surface_distances(&c.scene, &source.mesh, &source.bvh);
+    let (mut sample_d, _) = nearest_patch_cells(&c.scene, source.mesh.origin, &source.samples);
+    SweepRow {
+        kind: RowKind::Conversion,
+        grid: setting.grid,
+        cone_angle: setting.cone,
+        width: setting.width,
+        projection: None,
+        cells: None,
+        counts: c.report.counts,
+        wide_patches: c.report.wide_patches,
+        convert_seconds,
+        render_ms: None,
+        node_to_surface: ErrorStats::from_distances(&mut node_d, source.diagonal),
+        surface_to_patch: ErrorStats::from_distances(&mut sample_d, source.diagonal),
+        image: None,
+        on_front: false,
+    }
+}
+
+/// The render rows: each of `scenes` (with its conversion row) drawn
+/// under every swept projection and cell scheme, compared with the
+/// source's frames.
+fn render_rows(
+    source: &SweepSource,
+    scenes: &[(SweepRow, Scene)],
+    options: &SweepOptions,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<SweepRow>, EvalError> {
+    if scenes.is_empty() {
+        return Ok(Vec::new());
+    }
+    progress("rendering the source");
+    // The source in colour only when the sweep's scenes sample colour.
+    let mut image = options.image.clone();
+    image.colour_source &= options.base.fit.colour;
+    let views = SourceViews::render(&source.mesh, &image)?;
+    let count = scenes.len() * options.projections.len() * options.cells.len();
+    let mut rows = Vec::new();
+    for (scene_row, scene) in scenes {
         let prepared = PreparedScene::new(scene);
         for &projection in &options.projections {
             for &cells in &options.cells {
-                done += 1;
                 progress(&format!(
-                    "rendering {done}/{render_count}: grid {}, {}, {}",
+                    "rendering {}/{count}: grid {}, {}, {}",
+                    rows.len() + 1,
                     scene_row.grid,
                     projection_name(projection),
                     cells_name(cells)
@@ -468,7 +488,7 @@ pub fn run_sweep(
                 let mut render = options.image.render;
                 render.projection = projection;
                 render.cells = cells;
-                let image = compare_views(views, &prepared, render, options.image.runs)?;
+                let image = compare_views(&views, &prepared, render, options.image.runs)?;
                 rows.push(SweepRow {
                     kind: RowKind::Render,
                     projection: Some(projection),
@@ -485,7 +505,11 @@ pub fn run_sweep(
             }
         }
     }
+    Ok(rows)
+}
 
+/// Marks the rows on the Pareto front of their kind (error against time).
+fn mark_fronts(rows: &mut [SweepRow]) {
     for kind in [RowKind::Conversion, RowKind::Render] {
         let index: Vec<usize> = (0..rows.len()).filter(|&k| rows[k].kind == kind).collect();
         let costs: Vec<(f64, f64)> = index.iter().map(|&k| rows[k].costs()).collect();
@@ -493,7 +517,43 @@ pub fn run_sweep(
             rows[k].on_front = on;
         }
     }
+}
 
+/// Runs the sweep on the mesh at `path`, calling `progress` with a line per step.
+pub fn run_sweep(
+    path: &Path,
+    options: &SweepOptions,
+    progress: &dyn Fn(&str),
+) -> Result<SweepResult, EvalError> {
+    check(options)?;
+    let started = Instant::now();
+    let (base_grid, base_cone) = base_settings(options);
+    progress("reading the source");
+    let (source, load_seconds) = SweepSource::load(path, options)?;
+    let plan = settings(options, base_grid, base_cone);
+    let mut rows = Vec::new();
+    let mut render_scenes = Vec::new();
+    for (k, &setting) in plan.iter().enumerate() {
+        let label = format!(
+            "grid {} / cone {} / {}-bit",
+            setting.grid,
+            setting.cone,
+            setting.width.bits()
+        );
+        progress(&format!("converting {}/{}: {label}", k + 1, plan.len()));
+        let (c, seconds) = convert_setting(&source, setting, options, &label)?;
+        progress(&format!("measuring {}/{}: {label}", k + 1, plan.len()));
+        let row = conversion_row(&source, setting, &c, seconds);
+        if setting.cone == base_cone
+            && setting.width == Width::Eight
+            && options.render_grids.contains(&setting.grid)
+        {
+            render_scenes.push((row.clone(), c.scene));
+        }
+        rows.push(row);
+    }
+    rows.extend(render_rows(&source, &render_scenes, options, progress)?);
+    mark_fronts(&mut rows);
     let threads = match options.image.render.threads {
         0 => rayon::current_num_threads(),
         n => n,
@@ -503,8 +563,8 @@ pub fn run_sweep(
         load_seconds,
         seconds: started.elapsed().as_secs_f64(),
         threads,
-        diagonal,
-        samples: samples.len(),
+        diagonal: source.diagonal,
+        samples: source.samples.len(),
         views: options.image.views.len(),
         image_size: options.image.size,
         runs: options.image.runs,
