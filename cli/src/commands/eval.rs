@@ -394,6 +394,9 @@ fn pct(v: f64) -> String {
     format!("{:.4} %", v * 100.0)
 }
 
+/// The summary printed after an evaluation of `scene_path` against
+/// `source_path`: counts, geometric error, worst patches, image error,
+/// times and the files written.
 fn summary(
     args: &EvalArgs,
     scene_path: &Path,
@@ -412,17 +415,45 @@ fn summary(
         c.filled_nodes,
         c.bytes
     );
-    text.push_str(&format!("  error (% of the diagonal {:.6}):\n", e.diagonal));
+    text.push_str(&error_lines(e));
+    text.push_str(&worst_patch_lines(e));
+    if let Some(image) = &e.image {
+        text.push_str(&image_lines(args, image));
+    }
+    if let Some(note) = e.image_note {
+        text.push_str(&format!("  note: {note}\n"));
+    }
+    if let Some(cloud) = &e.cloud {
+        text.push_str(&format!(
+            "  cloud spacing {:.4e}; {:.3} % of the points farther than 2 spacings from every patch\n",
+            cloud.spacing,
+            cloud.share_beyond_2x_spacing * 100.0
+        ));
+    }
+    text.push_str(&time_and_file_lines(args, report));
+    text
+}
+
+/// `v` (model units) as a share of the evaluation's diagonal (0 for an
+/// empty one).
+fn of_diagonal(e: &Evaluation, v: f64) -> f64 {
+    if e.diagonal > 0.0 {
+        v / e.diagonal
+    } else {
+        0.0
+    }
+}
+
+/// The summary's geometric error: each measure's max, rms and p95, and
+/// the quantization-only bound.
+fn error_lines(e: &Evaluation) -> String {
+    let mut text = format!("  error (% of the diagonal {:.6}):\n", e.diagonal);
     for (name, s) in &e.error {
         text.push_str(&format!(
             "    {name:<17} max {}  rms {}  p95 {}  ({} measured)\n",
             pct(s.max_rel),
             pct(s.rms_rel),
-            pct(if e.diagonal > 0.0 {
-                s.p95 / e.diagonal
-            } else {
-                0.0
-            }),
+            pct(of_diagonal(e, s.p95)),
             s.samples
         ));
     }
@@ -436,13 +467,13 @@ fn summary(
         pct(b.max_rel),
         pct(b.mean_rel),
     ));
-    let rel = |v: f64| {
-        if e.diagonal > 0.0 {
-            v / e.diagonal
-        } else {
-            0.0
-        }
-    };
+    text
+}
+
+/// The summary's worst patches, by node error and by source-to-patch
+/// error.
+fn worst_patch_lines(e: &Evaluation) -> String {
+    let mut text = String::new();
     if let Some(p) = worst(&e.patches, |p| p.node_max).first() {
         text.push_str(&format!(
             "  worst patch by node error: #{} ({} x {}, {}-bit), max {} (its |az|/2 {})\n",
@@ -450,77 +481,77 @@ fn summary(
             p.cols,
             p.rows,
             p.bits,
-            pct(rel(p.node_max)),
-            pct(rel(p.quantization_bound))
+            pct(of_diagonal(e, p.node_max)),
+            pct(of_diagonal(e, p.quantization_bound))
         ));
     }
     if let Some(p) = worst(&e.patches, |p| p.source_max).first() {
         text.push_str(&format!(
             "  worst patch by source-to-patch error: #{}, max {} over {} samples\n",
             p.patch,
-            pct(rel(p.source_max)),
+            pct(of_diagonal(e, p.source_max)),
             p.source_samples
         ));
     }
-    if let Some(image) = &e.image {
-        let psnr = image
-            .psnr_db
-            .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
-        let covered = image
-            .psnr_covered_db
-            .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
-        text.push_str(&format!(
-            "  image over {} views ({}x{}, {:?} mode, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {} ({} inside the outlines), mean depth error {}\n",
-            image.views.len(),
-            image.size[0],
-            image.size[1],
-            args.render_options().mode,
-            args.render_options().projection,
-            args.render_options().cells,
-            args.shading,
-            pct(image.hole_fraction),
-            pct(image.interior_hole_fraction),
-            pct(image.mean_depth_error_rel),
-        ));
-        text.push_str(&format!(
-            "  specks: {} of the patches' pixels, {} of the source's (isolated dark pixels)\n",
-            pct(image.speck_fraction),
-            pct(image.source_speck_fraction),
-        ));
-        let drawn = match image.source_drawn_with {
-            spatch_eval::SourceDrawing::Grey => "grey (no colour)",
-            spatch_eval::SourceDrawing::Colours => "its vertex and material colours",
-            spatch_eval::SourceDrawing::Texture => "its texture (sampled at ~2 texels per edge)",
-            _ => "its colours",
-        };
-        text.push_str(&format!(
-            "  render: {:.2} ms per frame (median), source triangles {:.2} ms, source drawn with {drawn}\n",
-            image.patch_ms, image.source_ms
-        ));
-    }
-    if let Some(note) = e.image_note {
-        text.push_str(&format!("  note: {note}\n"));
-    }
-    if let Some(cloud) = &e.cloud {
-        text.push_str(&format!(
-            "  cloud spacing {:.4e}; {:.3} % of the points farther than 2 spacings from every patch\n",
-            cloud.spacing,
-            cloud.share_beyond_2x_spacing * 100.0
-        ));
-    }
+    text
+}
+
+/// The summary's image error: PSNR, holes, depth error, specks and the
+/// frame times against the source's.
+fn image_lines(args: &EvalArgs, image: &spatch_eval::ImageError) -> String {
+    let psnr = image
+        .psnr_db
+        .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
+    let covered = image
+        .psnr_covered_db
+        .map_or("identical".to_owned(), |p| format!("{p:.2} dB"));
+    let options = args.render_options();
+    let mut text = format!(
+        "  image over {} views ({}x{}, {:?} mode, {:?} projection, {:?} cells, {:?} shading): PSNR {psnr} ({covered} where both cover), holes {} ({} inside the outlines), mean depth error {}\n",
+        image.views.len(),
+        image.size[0],
+        image.size[1],
+        options.mode,
+        options.projection,
+        options.cells,
+        args.shading,
+        pct(image.hole_fraction),
+        pct(image.interior_hole_fraction),
+        pct(image.mean_depth_error_rel),
+    );
+    text.push_str(&format!(
+        "  specks: {} of the patches' pixels, {} of the source's (isolated dark pixels)\n",
+        pct(image.speck_fraction),
+        pct(image.source_speck_fraction),
+    ));
+    let drawn = match image.source_drawn_with {
+        spatch_eval::SourceDrawing::Grey => "grey (no colour)",
+        spatch_eval::SourceDrawing::Colours => "its vertex and material colours",
+        spatch_eval::SourceDrawing::Texture => "its texture (sampled at ~2 texels per edge)",
+        _ => "its colours",
+    };
+    text.push_str(&format!(
+        "  render: {:.2} ms per frame (median), source triangles {:.2} ms, source drawn with {drawn}\n",
+        image.patch_ms, image.source_ms
+    ));
+    text
+}
+
+/// The summary's times, warnings and the files written.
+fn time_and_file_lines(args: &EvalArgs, report: &Report<Value>) -> String {
     let stages = |s: &spatch_eval::Stages| {
         s.0.iter()
             .map(|(n, v)| format!("{n} {:.0} ms", v * 1e3))
             .collect::<Vec<_>>()
             .join(", ")
     };
-    text.push_str(&format!(
+    let mut text = format!(
         "  time ({} threads): {}; measuring {:.2} s ({})\n",
         report.threads,
         stages(&report.stages),
         report.measure_seconds,
         stages(&report.measure_stages)
-    ));
+    );
     for w in &report.warnings {
         text.push_str(&format!("  warning: {w}\n"));
     }
