@@ -7,20 +7,28 @@
 
 use std::path::Path;
 
-use spatch_edges::{generate_edge_patches, generate_part_edge_patches};
+use glam::DVec3;
+use spatch_edges::{generate_edge_patches, generate_part_edge_patches, EdgeOptions, EdgeStats};
 
 use crate::owned::{segment_owned, PartOwner};
-use crate::sides::{apply_sides, find_mesh_sides, Winding};
-use spatch_fit::{choose_channel, default_spacing, fit_regions_counted, FitRegion};
-use spatch_format::{encode_scene, Scene};
+use crate::sides::{apply_sides, find_mesh_sides, MeshSides, Winding};
+use spatch_fit::{
+    choose_channel, default_spacing, fit_regions_counted, FitError, FitOptions, FitOutput,
+    FitRegion,
+};
+use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{
-    build_face_adjacency, load_mesh, orient_faces, prepare_mesh, LoadWarning, TriangleMesh,
+    build_face_adjacency, load_mesh, orient_faces, prepare_mesh, FaceAdjacency, LoadWarning,
+    OrientReport, PrepareReport, TriangleMesh,
 };
 use spatch_report::StageClock;
-use spatch_segment::segment;
+use spatch_segment::{segment, Region};
 
 use crate::colour_budget::{floor_error_levels, hold_colour_budget};
-use crate::{ConvertError, ConvertOptions, ConvertReport, Counts, OrientCounts, PrepareCounts};
+use crate::{
+    ColourGridReport, ConvertError, ConvertOptions, ConvertReport, Counts, OrientCounts,
+    PrepareCounts,
+};
 
 /// What to convert.
 #[derive(Debug, Clone)]
@@ -146,6 +154,221 @@ pub fn convert_part(
     run_pipeline(input, options, Some(owner), &|_| {})
 }
 
+/// The prepared source every later stage reads: the mesh with its
+/// adjacency and the node spacing.
+struct Source {
+    mesh: TriangleMesh,
+    adjacency: FaceAdjacency,
+    prepared: PrepareReport,
+    /// The winding pass's counts (`None` when it did not run).
+    oriented: Option<OrientReport>,
+    load_warnings: Vec<LoadWarning>,
+    spacing: f32,
+}
+
+/// The load, prepare, adjacency and orient stages.
+fn prepare_source(
+    clock: &mut Clock<'_>,
+    input: ConvertInput<'_>,
+    options: &ConvertOptions,
+    owner: Option<&dyn PartOwner>,
+) -> Result<Source, ConvertError> {
+    let (raw, load_warnings) = clock.run(Stage::Load, || match input {
+        ConvertInput::Path(path) => load_mesh(path).map(|l| (l.mesh, l.warnings)),
+        ConvertInput::Mesh(mesh) => Ok((mesh, Vec::new())),
+    })?;
+    let (mut mesh, prepared) = clock.run(Stage::Prepare, || prepare_mesh(&raw, &options.prepare));
+    drop(raw);
+    let no_surface = ConvertError::NoSurface {
+        faces: prepared.input_faces,
+    };
+    if mesh.face_count() == 0 {
+        return Err(no_surface);
+    }
+    let spacing = match options.fit.spacing {
+        Some(s) => s,
+        None => default_spacing(&mesh).ok_or(no_surface)?,
+    };
+    let mut adjacency = clock.run(Stage::Adjacency, || build_face_adjacency(&mesh));
+    // A tile's part keeps the source's winding: turning a cut-out piece over by its own
+    // volume could disagree with the tiles beside it.
+    let oriented = clock.run(Stage::Orient, || {
+        (options.orient && owner.is_none()).then(|| orient_faces(&mut mesh, &mut adjacency))
+    });
+    Ok(Source {
+        mesh,
+        adjacency,
+        prepared,
+        oriented,
+        load_warnings,
+        spacing,
+    })
+}
+
+/// The segment stage: the regions of the whole mesh, or of what `owner`
+/// owns.
+fn segment_regions(
+    source: &Source,
+    options: &ConvertOptions,
+    owner: Option<&dyn PartOwner>,
+) -> Result<Vec<Region>, ConvertError> {
+    let mut segment_options = options.segment.clone();
+    if segment_options.max_extent.is_infinite() {
+        segment_options.max_extent = (options.fit.grid.saturating_sub(1)) as f32 * source.spacing;
+    }
+    let (mesh, adjacency) = (&source.mesh, &source.adjacency);
+    Ok(match owner {
+        None => segment(mesh, adjacency, &segment_options).map(|(s, _)| s.regions)?,
+        Some(owner) => segment_owned(mesh, owner, &segment_options)?,
+    })
+}
+
+/// The fit stage: a patch (or several) per region, counted through
+/// `on_progress`.
+fn fit_patches(
+    source: &Source,
+    regions: &[Region],
+    fit_options: &FitOptions,
+    on_progress: &(dyn Fn(ProgressEvent) + Sync),
+) -> Result<FitOutput, FitError> {
+    let regions: Vec<FitRegion<'_>> = regions
+        .iter()
+        .map(|r| FitRegion {
+            faces: &r.faces,
+            axis: r.axis,
+        })
+        .collect();
+    let count = |done, total| on_progress(ProgressEvent::Count { done, total });
+    fit_regions_counted(
+        &source.mesh,
+        &source.adjacency,
+        &regions,
+        fit_options,
+        &count,
+    )
+}
+
+/// The edges stage (when `options` asks for sharp edges): the edge patches
+/// closing `patches`' creases at `spacing`, and their counts.
+fn edge_patches(
+    source: &Source,
+    patches: &[Patch],
+    spacing: f32,
+    edge_options: EdgeOptions,
+    owner: Option<&dyn PartOwner>,
+) -> Result<(Vec<Patch>, EdgeStats), ConvertError> {
+    let (mesh, adjacency) = (&source.mesh, &source.adjacency);
+    Ok(match owner {
+        None => generate_edge_patches(mesh, adjacency, patches, spacing, &edge_options)?,
+        Some(owner) => {
+            generate_part_edge_patches(mesh, adjacency, patches, spacing, &edge_options, &|w| {
+                owner.owns_point(w)
+            })?
+        }
+    })
+}
+
+/// How the source is wound, for the sides stage: as the winding pass
+/// left it, turned over, or unknown.
+fn source_winding(source: &Source) -> Winding {
+    let prepared = &source.prepared;
+    // A file that gave most faces a twin wound the other way asked for both sides.
+    let mostly_mirrored = 2 * prepared.dropped_mirrored >= prepared.output_faces.max(1);
+    // Not oriented (`--keep-winding`, a tile's part), the copy kept of each mirrored pair
+    // is wound as it came: nothing says where such a file's outside is.
+    match &source.oriented {
+        Some(o) if o.conflicting_edges > 0 => Winding::Unknown,
+        Some(o) if o.wound_inward || mostly_mirrored => Winding::Turned,
+        Some(_) => Winding::AsWound,
+        None if mostly_mirrored => Winding::Unknown,
+        None => Winding::AsWound,
+    }
+}
+
+/// The sides stage: where the surface is open and which patches are seen
+/// from both sides (set on `patches` and the edge patches).
+fn find_sides(
+    source: &Source,
+    patches: &mut [Patch],
+    edges: &mut Option<(Vec<Patch>, EdgeStats)>,
+) -> MeshSides {
+    // Patches reach half a cell past open boundaries; a spacing covers that and the fit.
+    let winding = source_winding(source);
+    let mut found = find_mesh_sides(&source.mesh, &source.adjacency, winding, source.spacing);
+    found.counts.two_sided_patches = apply_sides(patches, found.sides);
+    if let Some((edge_patches, _)) = edges {
+        found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);
+    }
+    found
+}
+
+/// What the encode stage gives: the scene, its file, the bytes the edge
+/// patches add and the colour grids' report.
+struct Encoded {
+    scene: Scene,
+    bytes: Vec<u8>,
+    edge_bytes: usize,
+    colour_grids: Option<ColourGridReport>,
+}
+
+/// The encode stage: the surface and edge patches as one scene (colour
+/// grids held to their budget), its file, and what the edge patches add
+/// to it (the same scene encoded without them).
+fn encode(
+    origin: DVec3,
+    (mut patches, mut channel): (Vec<Patch>, ColourChannel),
+    edges: Option<&[Patch]>,
+    sides: MeshSides,
+    options: &ConvertOptions,
+) -> Result<Encoded, ConvertError> {
+    let surface_patches = patches.len();
+    let with_edges = edges.is_some_and(|e| !e.is_empty());
+    if let Some(edge_patches) = edges {
+        patches.extend_from_slice(edge_patches);
+        channel = choose_channel(&patches);
+    }
+    let colour_grids = hold_grids(&mut patches, channel, options)?;
+    // Surface patches come first, so no grid they keep refers to an edge patch's.
+    let mut edge_bytes = 0;
+    if with_edges {
+        let surface_only = &patches[..surface_patches];
+        let surface = Scene::new(origin, choose_channel(surface_only), surface_only.to_vec())?
+            .with_openings(sides.openings.clone())
+            .with_inside_box(sides.inside_box);
+        edge_bytes = encode_scene(&surface, &options.write)?.len();
+    }
+    let scene = Scene::new(origin, channel, patches)?
+        .with_openings(sides.openings)
+        .with_inside_box(sides.inside_box);
+    let bytes = encode_scene(&scene, &options.write)?;
+    if edge_bytes > 0 {
+        edge_bytes = bytes.len().saturating_sub(edge_bytes);
+    }
+    Ok(Encoded {
+        scene,
+        bytes,
+        edge_bytes,
+        colour_grids,
+    })
+}
+
+impl From<&PrepareReport> for PrepareCounts {
+    fn from(prepared: &PrepareReport) -> Self {
+        Self {
+            input_vertices: prepared.input_vertices,
+            input_faces: prepared.input_faces,
+            welded_vertices: prepared.welded_vertices,
+            dropped_degenerate: prepared.dropped_degenerate,
+            dropped_zero_area: prepared.dropped_zero_area,
+            dropped_duplicate: prepared.dropped_duplicate,
+            dropped_mirrored: prepared.dropped_mirrored,
+            kept_repeats: prepared.kept_repeats,
+            output_vertices: prepared.output_vertices,
+            output_faces: prepared.output_faces,
+        }
+    }
+}
+
 /// The pipeline, segmenting only what `owner` owns when it is given.
 fn run_pipeline(
     input: ConvertInput<'_>,
@@ -157,183 +380,81 @@ fn run_pipeline(
         times: StageClock::new(),
         on_progress,
     };
-
-    let (raw, load_warnings) = clock.run(Stage::Load, || match input {
-        ConvertInput::Path(path) => load_mesh(path).map(|l| (l.mesh, l.warnings)),
-        ConvertInput::Mesh(mesh) => Ok((mesh, Vec::new())),
-    })?;
-    let (mut mesh, prepared) = clock.run(Stage::Prepare, || prepare_mesh(&raw, &options.prepare));
-    drop(raw);
-    if mesh.face_count() == 0 {
-        return Err(ConvertError::NoSurface {
-            faces: prepared.input_faces,
-        });
-    }
-    let spacing = match options.fit.spacing {
-        Some(s) => s,
-        None => default_spacing(&mesh).ok_or(ConvertError::NoSurface {
-            faces: prepared.input_faces,
-        })?,
-    };
-    let mut adjacency = clock.run(Stage::Adjacency, || build_face_adjacency(&mesh));
-    // A tile's part keeps the source's winding: turning a cut-out piece over by its own
-    // volume could disagree with the tiles beside it.
-    let oriented = clock.run(Stage::Orient, || {
-        (options.orient && owner.is_none()).then(|| orient_faces(&mut mesh, &mut adjacency))
-    });
-
-    let mut segment_options = options.segment.clone();
-    if segment_options.max_extent.is_infinite() {
-        segment_options.max_extent = (options.fit.grid.saturating_sub(1)) as f32 * spacing;
-    }
-    let regions = clock.run(Stage::Segment, || match owner {
-        None => segment(&mesh, &adjacency, &segment_options).map(|(s, _)| s.regions),
-        Some(owner) => segment_owned(&mesh, owner, &segment_options),
-    })?;
-
+    let source = prepare_source(&mut clock, input, options, owner)?;
+    let spacing = source.spacing;
+    let regions = clock.run(Stage::Segment, || segment_regions(&source, options, owner))?;
     let mut fit_options = options.fit;
     fit_options.spacing = Some(spacing);
     let fitted = clock.run(Stage::Fit, || {
-        let regions: Vec<FitRegion<'_>> = regions
-            .iter()
-            .map(|r| FitRegion {
-                faces: &r.faces,
-                axis: r.axis,
-            })
-            .collect();
-        fit_regions_counted(&mesh, &adjacency, &regions, &fit_options, &|done, total| {
-            on_progress(ProgressEvent::Count { done, total })
-        })
+        fit_patches(&source, &regions, &fit_options, on_progress)
     })?;
-    let stats = fitted.stats;
-    let texture = fitted.texture;
-    let mut channel = fitted.channel;
+    let (stats, texture) = (fitted.stats, fitted.texture);
     let mut patches = fitted.patches;
-
     // Textured regions may be finer than `spacing`: the edge patches then follow the finest
     // surface spacing, so that their strips match the patches they close.
     let edge_spacing = texture.map_or(spacing, |t| t.finest_spacing.min(spacing));
     let mut edges = match options.sharp_edges {
         Some(mut edge_options) => {
             edge_options.colour = fit_options.colour;
-            let (edge_patches, edge_stats) = clock.run(Stage::Edges, || match owner {
-                None => {
-                    generate_edge_patches(&mesh, &adjacency, &patches, edge_spacing, &edge_options)
-                }
-                Some(owner) => generate_part_edge_patches(
-                    &mesh,
-                    &adjacency,
-                    &patches,
-                    edge_spacing,
-                    &edge_options,
-                    &|w| owner.owns_point(w),
-                ),
+            let found = clock.run(Stage::Edges, || {
+                edge_patches(&source, &patches, edge_spacing, edge_options, owner)
             })?;
-            Some((edge_patches, edge_stats))
+            Some(found)
         }
         None => None,
     };
-
-    let edge_count = edges.as_ref().map_or(0, |(e, _)| e.len());
-    if patches.is_empty() && edge_count == 0 {
+    if patches.is_empty() && edges.as_ref().is_none_or(|(e, _)| e.is_empty()) {
         return Err(ConvertError::NoPatches {
             spacing,
             refinements: spatch_fit::MAX_REFINEMENTS,
         });
     }
-
     let sides = clock.run(Stage::Sides, || {
-        // A file that gave most faces a twin wound the other way asked for both sides.
-        let mostly_mirrored = 2 * prepared.dropped_mirrored >= prepared.output_faces.max(1);
-        // Not oriented (`--keep-winding`, a tile's part), the copy kept of each mirrored pair
-        // is wound as it came: nothing says where such a file's outside is.
-        let winding = match oriented {
-            Some(o) if o.conflicting_edges > 0 => Winding::Unknown,
-            Some(o) if o.wound_inward || mostly_mirrored => Winding::Turned,
-            Some(_) => Winding::AsWound,
-            None if mostly_mirrored => Winding::Unknown,
-            None => Winding::AsWound,
-        };
-        // Patches reach half a cell past open boundaries; a spacing covers that and the fit.
-        let mut found = find_mesh_sides(&mesh, &adjacency, winding, spacing);
-        found.counts.two_sided_patches = apply_sides(&mut patches, found.sides);
-        if let Some((edge_patches, _)) = &mut edges {
-            found.counts.two_sided_patches += apply_sides(edge_patches, found.sides);
-        }
-        found
+        find_sides(&source, &mut patches, &mut edges)
     });
-
-    let (scene, bytes, edge_bytes, colour_grids) = clock.run(Stage::Encode, || {
-        let surface_patches = patches.len();
-        let with_edges = edges.as_ref().is_some_and(|(e, _)| !e.is_empty());
-        if let Some((edge_patches, _)) = &edges {
-            patches.extend_from_slice(edge_patches);
-            channel = choose_channel(&patches);
-        }
-        let grids = hold_grids(&mut patches, channel, options)?;
-        // What the edge patches add to the file: the same scene, colour grids held to their
-        // budget, encoded without them (surface patches come first, so no grid they keep
-        // refers to an edge patch's).
-        let mut edge_bytes = 0;
-        if with_edges {
-            let surface_only = &patches[..surface_patches];
-            let surface = Scene::new(
-                mesh.origin,
-                choose_channel(surface_only),
-                surface_only.to_vec(),
-            )?
-            .with_openings(sides.openings.clone())
-            .with_inside_box(sides.inside_box);
-            edge_bytes = encode_scene(&surface, &options.write)?.len();
-        }
-        let scene = Scene::new(mesh.origin, channel, patches)?
-            .with_openings(sides.openings)
-            .with_inside_box(sides.inside_box);
-        let bytes = encode_scene(&scene, &options.write)?;
-        if edge_bytes > 0 {
-            edge_bytes = bytes.len().saturating_sub(edge_bytes);
-        }
-        Ok::<_, ConvertError>((scene, bytes, edge_bytes, grids))
+    let sides_counts = sides.counts;
+    let encoded = clock.run(Stage::Encode, || {
+        let edge_list = edges.as_ref().map(|(e, _)| e.as_slice());
+        let surface = (patches, fitted.channel);
+        encode(source.mesh.origin, surface, edge_list, sides, options)
     })?;
-
+    let Encoded {
+        scene,
+        bytes,
+        edge_bytes,
+        colour_grids,
+    } = encoded;
     let report = ConvertReport {
         counts: Counts::of(&scene, bytes.len()),
         seconds: clock.times.total(),
         stages: clock.times.into_stages(),
         threads: rayon::current_num_threads(),
         spacing,
-        triangles: mesh.face_count(),
+        triangles: source.mesh.face_count(),
         regions: regions.len(),
         split_regions: stats.split_regions,
         refined_regions: stats.refined_regions,
         wide_patches: stats.wide_patches,
         texture,
         colour_grids,
-        colour: channel.name(),
-        diagonal: f64::from(mesh.diagonal()),
-        prepare: PrepareCounts {
-            input_vertices: prepared.input_vertices,
-            input_faces: prepared.input_faces,
-            welded_vertices: prepared.welded_vertices,
-            dropped_degenerate: prepared.dropped_degenerate,
-            dropped_zero_area: prepared.dropped_zero_area,
-            dropped_duplicate: prepared.dropped_duplicate,
-            dropped_mirrored: prepared.dropped_mirrored,
-            kept_repeats: prepared.kept_repeats,
-            output_vertices: prepared.output_vertices,
-            output_faces: prepared.output_faces,
-        },
-        orient: oriented.map(OrientCounts::from),
-        warnings: load_warnings.iter().map(ToString::to_string).collect(),
+        colour: scene.channel().name(),
+        diagonal: f64::from(source.mesh.diagonal()),
+        prepare: PrepareCounts::from(&source.prepared),
+        orient: source.oriented.map(OrientCounts::from),
+        warnings: source
+            .load_warnings
+            .iter()
+            .map(ToString::to_string)
+            .collect(),
         edges: edges.map(|(_, s)| s),
         edge_bytes,
-        sides: sides.counts,
+        sides: sides_counts,
     };
     Ok(Conversion {
         scene,
         bytes,
-        mesh,
-        load_warnings,
+        mesh: source.mesh,
+        load_warnings: source.load_warnings,
         report,
     })
 }
