@@ -21,45 +21,79 @@ use crate::error::{Element, ElementKind, SyntaxProblem};
 use crate::triangulate::PolygonTriangulator;
 use crate::{LoadWarning, MeshError};
 
+/// The header of an OFF file: which vertex fields it declares and how
+/// many vertices and faces follow.
+struct OffHeader {
+    has_uv: bool,
+    has_colour: bool,
+    has_normal: bool,
+    vertex_count: u64,
+    face_count: u64,
+    /// The line of the counts (reported when the file ends early).
+    counts_line: usize,
+}
+
+/// A syntax error at `line` of `path`.
+fn syntax(path: &Path, line: usize, problem: SyntaxProblem) -> MeshError {
+    MeshError::Syntax {
+        path: path.to_path_buf(),
+        line,
+        problem,
+    }
+}
+
 /// Loads an ASCII OFF file.
 pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
     let text = super::strip_bom(&text);
-    let err = |line: usize, problem| MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem,
-    };
     // Meaningful lines with their 1-based numbers, comments removed.
     let mut lines = text.lines().enumerate().filter_map(|(i, l)| {
         let content = l.split('#').next().unwrap_or("").trim();
         (!content.is_empty()).then_some((i + 1, content))
     });
+    let header = read_header(&mut lines, path, bytes.len() as u64)?;
+    let vertices = read_vertices(&mut lines, &header, path)?;
+    let mut builder = MeshBuilder::default();
+    let warnings = read_faces(&mut lines, &header, &vertices.positions, &mut builder, path)?;
+    builder.positions = vertices.positions;
+    if header.has_normal {
+        builder.vertex_normals = Some(vertices.normals);
+    }
+    if header.has_colour {
+        builder.vertex_colours = Some(vertices.colours);
+    }
+    let mesh = builder.finish(path)?;
+    Ok(LoadedMesh { mesh, warnings })
+}
 
+/// Reads the keyword line and the counts (on it or the next line);
+/// counts the file's `budget` bytes cannot hold are refused.
+fn read_header<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    path: &Path,
+    budget: u64,
+) -> Result<OffHeader, MeshError> {
     let (line_no, header) = lines.next().ok_or_else(|| MeshError::EmptyFile {
         path: path.to_path_buf(),
     })?;
     let mut tokens = header.split_ascii_whitespace();
     let keyword = tokens.next().unwrap_or("");
     let Some(prefix) = keyword.strip_suffix("OFF") else {
-        return Err(err(line_no, SyntaxProblem::MissingOffHeader));
+        return Err(syntax(path, line_no, SyntaxProblem::MissingOffHeader));
     };
-    let has_uv = prefix.contains("ST");
-    let has_colour = prefix.contains('C');
-    let has_normal = prefix.contains('N');
     if prefix.contains('4') || prefix.contains('n') {
-        return Err(err(line_no, SyntaxProblem::MissingOffHeader));
+        return Err(syntax(path, line_no, SyntaxProblem::MissingOffHeader));
     }
     let mut rest: Vec<&str> = tokens.collect();
     if rest.first() == Some(&"BINARY") {
-        return Err(err(line_no, SyntaxProblem::BinaryVariant));
+        return Err(syntax(path, line_no, SyntaxProblem::BinaryVariant));
     }
     let mut counts_line = line_no;
     if rest.is_empty() {
         let (n, l) = lines
             .next()
-            .ok_or_else(|| err(line_no, SyntaxProblem::BadOffCounts))?;
+            .ok_or_else(|| syntax(path, line_no, SyntaxProblem::BadOffCounts))?;
         counts_line = n;
         rest = l.split_ascii_whitespace().collect();
     }
@@ -67,147 +101,183 @@ pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
     let (Some(vertex_count), Some(face_count)) =
         (parse_count(rest.first()), parse_count(rest.get(1)))
     else {
-        return Err(err(counts_line, SyntaxProblem::BadOffCounts));
+        return Err(syntax(path, counts_line, SyntaxProblem::BadOffCounts));
     };
     // Each vertex needs at least 6 bytes ("0 0 0\n"); refuse counts the file cannot hold
     // before sizing anything by them.
-    let budget = bytes.len() as u64;
     if vertex_count > budget / 6 + 1 || face_count > budget / 8 + 1 {
-        return Err(err(counts_line, SyntaxProblem::BadOffCounts));
+        return Err(syntax(path, counts_line, SyntaxProblem::BadOffCounts));
     }
+    Ok(OffHeader {
+        has_uv: prefix.contains("ST"),
+        has_colour: prefix.contains('C'),
+        has_normal: prefix.contains('N'),
+        vertex_count,
+        face_count,
+        counts_line,
+    })
+}
 
+/// The vertices of an OFF file: positions, and normals and colours when
+/// the header declares them (empty otherwise).
+struct OffVertices {
+    positions: Vec<DVec3>,
+    normals: Vec<Vec3>,
+    colours: Vec<[u8; 4]>,
+}
+
+/// The vertex lines.
+fn read_vertices<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    header: &OffHeader,
+    path: &Path,
+) -> Result<OffVertices, MeshError> {
+    let vertex_count = header.vertex_count;
     let mut positions = Vec::with_capacity(vertex_count as usize);
     let mut normals = Vec::new();
     let mut colours = Vec::new();
+    let needed = 3 + if header.has_normal { 3 } else { 0 } + if header.has_colour { 3 } else { 0 };
     for v in 0..vertex_count {
         let (n, l) = lines.next().ok_or_else(|| {
-            err(
-                counts_line,
-                SyntaxProblem::UnexpectedEnd {
-                    expected: ElementKind::Vertices,
-                    read: v,
-                    declared: vertex_count,
-                },
-            )
+            let expected = ElementKind::Vertices;
+            let problem = SyntaxProblem::UnexpectedEnd {
+                expected,
+                read: v,
+                declared: vertex_count,
+            };
+            syntax(path, header.counts_line, problem)
         })?;
         let values = parse_line(l, n, path)?;
-        let needed = 3 + if has_normal { 3 } else { 0 } + if has_colour { 3 } else { 0 };
         if values.len() < needed {
-            return Err(err(
-                n,
-                SyntaxProblem::TooFewValues {
-                    expected: needed,
-                    found: values.len(),
-                },
-            ));
+            let found = values.len();
+            let problem = SyntaxProblem::TooFewValues {
+                expected: needed,
+                found,
+            };
+            return Err(syntax(path, n, problem));
         }
+        let non_finite = |element| MeshError::NonFinite {
+            path: path.to_path_buf(),
+            element,
+        };
         let p = DVec3::new(values[0].0, values[1].0, values[2].0);
         if !p.is_finite() {
-            return Err(MeshError::NonFinite {
-                path: path.to_path_buf(),
-                element: Element::Vertex(v),
-            });
+            return Err(non_finite(Element::Vertex(v)));
         }
         positions.push(p);
         let mut at = 3;
-        if has_normal {
+        if header.has_normal {
             let nrm = Vec3::new(values[3].0 as f32, values[4].0 as f32, values[5].0 as f32);
             if !nrm.is_finite() {
-                return Err(MeshError::NonFinite {
-                    path: path.to_path_buf(),
-                    element: Element::Normal(v),
-                });
+                return Err(non_finite(Element::Normal(v)));
             }
             normals.push(nrm);
             at = 6;
         }
-        if has_colour {
-            // r g b [a] [s t]: with texture coordinates present, 5 remaining values mean
-            // rgb + st and 6 mean rgba + st.
-            let remaining = values.len() - at;
-            let channels = if has_uv {
-                remaining.saturating_sub(2)
-            } else {
-                remaining
-            }
-            .clamp(3, 4);
-            let slice = &values[at..at + channels.min(remaining)];
-            let unit = slice.iter().any(|(_, decimal)| *decimal);
-            let byte = |x: f64| {
-                let x = if unit { x * 255.0 } else { x };
-                if x.is_nan() {
-                    0
-                } else {
-                    (x.clamp(0.0, 255.0) + 0.5) as u8
-                }
-            };
-            let mut c = [255u8; 4];
-            for (k, (x, _)) in slice.iter().enumerate() {
-                c[k] = byte(*x);
-            }
-            colours.push(c);
+        if header.has_colour {
+            colours.push(vertex_colour(&values[at..], header.has_uv));
         }
     }
+    Ok(OffVertices {
+        positions,
+        normals,
+        colours,
+    })
+}
 
-    let mut builder = MeshBuilder::default();
+/// A vertex's colour from the values after its position and normal:
+/// `r g b [a] [s t]`. With texture coordinates present, 5 remaining values
+/// mean rgb + st and 6 mean rgba + st. Integers are bytes, values written
+/// with a decimal point `0..=1`.
+fn vertex_colour(values: &[(f64, bool)], has_uv: bool) -> [u8; 4] {
+    let remaining = values.len();
+    let channels = if has_uv {
+        remaining.saturating_sub(2)
+    } else {
+        remaining
+    }
+    .clamp(3, 4);
+    let slice = &values[..channels.min(remaining)];
+    let unit = slice.iter().any(|(_, decimal)| *decimal);
+    let byte = |x: f64| {
+        let x = if unit { x * 255.0 } else { x };
+        if x.is_nan() {
+            0
+        } else {
+            (x.clamp(0.0, 255.0) + 0.5) as u8
+        }
+    };
+    let mut c = [255u8; 4];
+    for (k, (x, _)) in slice.iter().enumerate() {
+        c[k] = byte(*x);
+    }
+    c
+}
+
+/// The face lines, triangulated into `builder`; the triangulation's
+/// warnings.
+fn read_faces<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    header: &OffHeader,
+    positions: &[DVec3],
+    builder: &mut MeshBuilder,
+    path: &Path,
+) -> Result<Vec<LoadWarning>, MeshError> {
     let mut triangulator = PolygonTriangulator::default();
-    for f in 0..face_count {
+    for f in 0..header.face_count {
         let (n, l) = lines.next().ok_or_else(|| {
-            err(
-                counts_line,
-                SyntaxProblem::UnexpectedEnd {
-                    expected: ElementKind::Triangles,
-                    read: f,
-                    declared: face_count,
-                },
-            )
+            let problem = SyntaxProblem::UnexpectedEnd {
+                expected: ElementKind::Triangles,
+                read: f,
+                declared: header.face_count,
+            };
+            syntax(path, header.counts_line, problem)
         })?;
-        let mut tokens = l.split_ascii_whitespace();
-        let len: usize = tokens
-            .next()
-            .and_then(|t| t.parse().ok())
-            .ok_or_else(|| err(n, SyntaxProblem::NotANumber { column: 1 }))?;
-        if len < 3 {
-            return Err(err(n, SyntaxProblem::FaceTooSmall { len }));
-        }
-        let mut polygon = Vec::with_capacity(len.min(64));
-        for column in 0..len {
-            let index: i64 = tokens
-                .next()
-                .ok_or_else(|| {
-                    err(
-                        n,
-                        SyntaxProblem::TooFewValues {
-                            expected: len + 1,
-                            found: column + 1,
-                        },
-                    )
-                })?
-                .parse()
-                .map_err(|_| err(n, SyntaxProblem::NotANumber { column: column + 2 }))?;
-            if index < 0 || index as u64 >= vertex_count {
-                return Err(MeshError::IndexOutOfRange {
-                    path: path.to_path_buf(),
-                    face: f,
-                    index,
-                    vertex_count,
-                });
-            }
-            polygon.push(index as u32);
-        }
-        triangulator.push(&positions, &polygon, &mut builder.triangles);
+        let polygon = face_polygon(l, n, f, header.vertex_count, path)?;
+        triangulator.push(positions, &polygon, &mut builder.triangles);
     }
+    Ok(triangulator.warnings().collect())
+}
 
-    let warnings: Vec<LoadWarning> = triangulator.warnings().collect();
-    builder.positions = positions;
-    if has_normal {
-        builder.vertex_normals = Some(normals);
+/// The vertex indices of face `f`, line `line` (`n i0 .. in-1`, the rest
+/// ignored), each checked against `vertex_count`.
+fn face_polygon(
+    line: &str,
+    n: usize,
+    f: u64,
+    vertex_count: u64,
+    path: &Path,
+) -> Result<Vec<u32>, MeshError> {
+    let mut tokens = line.split_ascii_whitespace();
+    let len: usize = tokens
+        .next()
+        .and_then(|t| t.parse().ok())
+        .ok_or_else(|| syntax(path, n, SyntaxProblem::NotANumber { column: 1 }))?;
+    if len < 3 {
+        return Err(syntax(path, n, SyntaxProblem::FaceTooSmall { len }));
     }
-    if has_colour {
-        builder.vertex_colours = Some(colours);
+    let mut polygon = Vec::with_capacity(len.min(64));
+    for column in 0..len {
+        let too_few = SyntaxProblem::TooFewValues {
+            expected: len + 1,
+            found: column + 1,
+        };
+        let index: i64 = tokens
+            .next()
+            .ok_or_else(|| syntax(path, n, too_few))?
+            .parse()
+            .map_err(|_| syntax(path, n, SyntaxProblem::NotANumber { column: column + 2 }))?;
+        if index < 0 || index as u64 >= vertex_count {
+            return Err(MeshError::IndexOutOfRange {
+                path: path.to_path_buf(),
+                face: f,
+                index,
+                vertex_count,
+            });
+        }
+        polygon.push(index as u32);
     }
-    let mesh = builder.finish(path)?;
-    Ok(LoadedMesh { mesh, warnings })
+    Ok(polygon)
 }
 
 /// Parses a line of numbers; each value comes with whether it was written with a decimal
