@@ -7,13 +7,15 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
-    cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order, CloudError,
-    CloudOptions, CloudReport, Scanner, Scanners, SmoothOptions, StageTime,
+    cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order,
+    CloudConversion, CloudError, CloudOptions, CloudReport, ProgressFn, Scanner, Scanners,
+    SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
 use spatch_mesh::load::xyz::XyzLayout;
-use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions};
+use spatch_mesh::PointCloud;
+use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions, ScanWarning};
 
 use super::cloud_progress::CloudSteps;
 use super::ThreadsArg;
@@ -242,6 +244,63 @@ impl FromCloudArgs {
 /// Stages the cloud pipeline reports at most (docs/report-schema.md: filter to encode).
 const CLOUD_STAGES: usize = 9;
 
+/// Converts the loaded `cloud`, reporting through `on_progress`: the
+/// conversion, and the cloud itself when the error is to be measured
+/// (`measure`; without it the cloud is not needed after its sorted copy).
+fn convert_cloud(
+    cloud: PointCloud,
+    options: &CloudOptions,
+    measure: bool,
+    on_progress: ProgressFn<'_>,
+    label: &str,
+) -> anyhow::Result<(CloudConversion, Option<PointCloud>)> {
+    let (converted, kept) = if measure {
+        let converted = cloud_to_scene_with_progress(&cloud, options, on_progress);
+        (converted, Some(cloud))
+    } else {
+        (cloud_to_scene_owned(cloud, options, on_progress), None)
+    };
+    let conversion = converted.map_err(|e| match e {
+        CloudError::Bug(_) | CloudError::Internal { .. } => {
+            anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
+        }
+        e @ CloudError::PixelBudgetExceeded { .. } => {
+            anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
+        }
+        e => anyhow::Error::new(e).context(label.to_string()),
+    })?;
+    Ok((conversion, kept))
+}
+
+/// The pipeline's report completed with what the command did around it:
+/// the points the readers dropped, the load and write times. Gives the
+/// warnings as sentences, the readers' first.
+fn complete_report(
+    report: &mut CloudReport,
+    dropped_non_finite: u64,
+    load_warnings: &[ScanWarning],
+    [load_seconds, write_seconds]: [f64; 2],
+) -> Vec<String> {
+    report.input_points += dropped_non_finite as usize;
+    report.dropped_non_finite += dropped_non_finite;
+    let warnings = load_warnings
+        .iter()
+        .map(ToString::to_string)
+        .chain(report.warnings.iter().map(ToString::to_string))
+        .collect();
+    let load = StageTime {
+        name: "load",
+        seconds: load_seconds,
+    };
+    report.stages.insert(0, load);
+    report.stages.push(StageTime {
+        name: "write",
+        seconds: write_seconds,
+    });
+    report.seconds = report.stages.iter().map(|s| s.seconds).sum();
+    warnings
+}
+
 /// Loads the cloud, converts it, writes the scene (and the report).
 pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     args.threads.init()?;
@@ -269,50 +328,14 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         warnings: load_warnings,
         ..
     } = loaded;
-    // Without an error to measure, the loaded cloud is not needed after its sorted copy.
-    let (converted, mut kept) = if measure {
-        (
-            cloud_to_scene_with_progress(&cloud, &options, &on_progress),
-            Some(cloud),
-        )
-    } else {
-        (cloud_to_scene_owned(cloud, &options, &on_progress), None)
-    };
-    let conversion = converted.map_err(|e| match e {
-        CloudError::Bug(_) | CloudError::Internal { .. } => {
-            anyhow::Error::new(InternalFailure(format!("{label}: {e}")))
-        }
-        e @ CloudError::PixelBudgetExceeded { .. } => {
-            anyhow::anyhow!("{label}: {e} (--tile-size, --allow-coarsening)")
-        }
-        e => anyhow::Error::new(e).context(label.clone()),
-    })?;
+    let (conversion, mut kept) = convert_cloud(cloud, &options, measure, &on_progress, &label)?;
     progress.step("write");
     let write_started = Instant::now();
     write_output(&args.output, &conversion.bytes)?;
     let write_seconds = write_started.elapsed().as_secs_f64();
-
     let mut report = conversion.report;
-    report.input_points += dropped_non_finite as usize;
-    report.dropped_non_finite += dropped_non_finite;
-    // The readers' warnings first, then the pipeline's, as sentences.
-    let warnings: Vec<String> = load_warnings
-        .iter()
-        .map(ToString::to_string)
-        .chain(report.warnings.iter().map(ToString::to_string))
-        .collect();
-    report.stages.insert(
-        0,
-        StageTime {
-            name: "load",
-            seconds: load_seconds,
-        },
-    );
-    report.stages.push(StageTime {
-        name: "write",
-        seconds: write_seconds,
-    });
-    report.seconds = report.stages.iter().map(|s| s.seconds).sum();
+    let seconds = [load_seconds, write_seconds];
+    let warnings = complete_report(&mut report, dropped_non_finite, &load_warnings, seconds);
     if let Some(cloud) = &mut kept {
         progress.step("measuring error");
         if args.error_against == ErrorAgainst::Aligned {
@@ -324,7 +347,6 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         report.error = Some(error);
     }
     drop(progress);
-
     let mut text = String::new();
     if scans.len() > 1 {
         text.push_str(&format!(
@@ -334,7 +356,23 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
             points
         ));
     }
-    text.push_str(&format!(
+    text.push_str(&cloud_summary(args, &report, &warnings));
+    if args.report.is_some() || args.json {
+        let shared = shared_report(args, &report, warnings)?;
+        if let Some(path) = &args.report {
+            write_json_report(path, &shared)?;
+        }
+        if args.json {
+            print_json(&shared)?;
+        }
+    }
+    print_summary(&text, args.json)
+}
+
+/// The summary of a conversion: counts, spacing, drops, tiles, warnings,
+/// times and the error when measured.
+fn cloud_summary(args: &FromCloudArgs, report: &CloudReport, warnings: &[String]) -> String {
+    let mut text = format!(
         "{}: {} patches, {} nodes ({} filled) from {} points, {} bytes\n",
         args.output.display(),
         report.counts.patches,
@@ -342,7 +380,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
         report.counts.filled_nodes,
         report.points,
         report.counts.bytes,
-    ));
+    );
     text.push_str(&format!(
         "  spacing {:.4e} ({} normals), pixel {:.4e}, {} views, {} points uncovered\n",
         report.spacing, report.normals, report.pixel, report.views, report.uncovered_points,
@@ -361,7 +399,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
             report.outlier_points,
         ));
     }
-    for warning in &warnings {
+    for warning in warnings {
         text.push_str(&format!("  warning: {warning}\n"));
     }
     let stages: Vec<String> = report
@@ -391,16 +429,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
             n.rms, n.max, n.p95, error.seconds, args.error_against.name()
         ));
     }
-    if args.report.is_some() || args.json {
-        let shared = shared_report(args, &report, warnings)?;
-        if let Some(path) = &args.report {
-            write_json_report(path, &shared)?;
-        }
-        if args.json {
-            print_json(&shared)?;
-        }
-    }
-    print_summary(&text, args.json)
+    text
 }
 
 /// `--plan` / `--plan-tile` runs (`tiled.rs`): one input; as the untiled run, the consensus
@@ -460,7 +489,7 @@ fn scanners_of(scans: &[spatch_scan::ScanSummary]) -> Scanners {
 /// Moves the points of each scan of the loaded `cloud` (`scans`, in its order) by its
 /// alignment shift (`shifts`: one per scan, or none when the scans were not moved).
 fn shift_loaded_scans(
-    cloud: &mut spatch_mesh::PointCloud,
+    cloud: &mut PointCloud,
     scans: &[spatch_scan::ScanSummary],
     shifts: &[[f64; 3]],
 ) {
