@@ -201,15 +201,15 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
         }
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
-                match read_primitive(
+                let at = PrimitiveAt {
                     path,
-                    &mesh,
-                    &primitive,
-                    &views,
-                    &world,
-                    &material_uv_set,
-                    &material_uv_transform,
-                )? {
+                    mesh: mesh.index(),
+                    primitive: primitive.index(),
+                    views: &views,
+                    world: &world,
+                };
+                let materials = (&material_uv_set[..], &material_uv_transform[..]);
+                match read_primitive(&at, &primitive, materials)? {
                     Some(piece) => pieces.push(piece),
                     None => skipped += 1,
                 }
@@ -383,15 +383,66 @@ fn assemble_triangles(mode: Mode, indices: &[u32], mirrored: bool) -> Vec<[u32; 
     triangles
 }
 
-#[allow(clippy::too_many_arguments)] // reason: a private helper; the arguments are one call's context
+/// What reading one primitive needs: where it is (for errors), the
+/// file's buffers and the node's world transform.
+struct PrimitiveAt<'a, 'b> {
+    path: &'a Path,
+    mesh: usize,
+    primitive: usize,
+    views: &'a Views<'b>,
+    world: &'a DMat4,
+}
+
+impl PrimitiveAt<'_, '_> {
+    /// An error of this primitive.
+    fn fail(&self, problem: GltfProblem) -> MeshError {
+        MeshError::GltfPrimitive {
+            path: self.path.to_path_buf(),
+            mesh: self.mesh,
+            primitive: self.primitive,
+            problem,
+        }
+    }
+
+    /// The error of an accessor of `attribute` that cannot be read.
+    fn bad(&self, attribute: GltfAttribute) -> MeshError {
+        self.fail(GltfProblem::BadAccessor { attribute })
+    }
+
+    /// A non-finite `element`.
+    fn non_finite(&self, element: Element) -> MeshError {
+        MeshError::NonFinite {
+            path: self.path.to_path_buf(),
+            element,
+        }
+    }
+
+    /// Checks that `attribute` has one value per vertex (`n`).
+    fn check_count(
+        &self,
+        attribute: GltfAttribute,
+        count: usize,
+        n: usize,
+    ) -> Result<(), MeshError> {
+        if count == n {
+            return Ok(());
+        }
+        Err(self.fail(GltfProblem::AttributeCountMismatch {
+            attribute,
+            count,
+            expected: n,
+        }))
+    }
+}
+
+/// A primitive's triangles as a [`Piece`] in world space (`None` for
+/// points and lines), its texture coordinates from the set and transform
+/// its material names (`material_uv_set`, `material_uv_transform`, by
+/// material index).
 fn read_primitive(
-    path: &Path,
-    mesh: &gltf::Mesh,
+    at: &PrimitiveAt<'_, '_>,
     primitive: &gltf::Primitive,
-    views: &Views,
-    world: &DMat4,
-    material_uv_set: &[u32],
-    material_uv_transform: &[UvTransform],
+    (material_uv_set, material_uv_transform): (&[u32], &[UvTransform]),
 ) -> Result<Option<Piece>, MeshError> {
     let mode = primitive.mode();
     if !matches!(
@@ -400,40 +451,57 @@ fn read_primitive(
     ) {
         return Ok(None);
     }
-    let fail = |problem| MeshError::GltfPrimitive {
-        path: path.to_path_buf(),
-        mesh: mesh.index(),
-        primitive: primitive.index(),
-        problem,
-    };
-    let bad = |attribute| fail(GltfProblem::BadAccessor { attribute });
+    let positions = read_positions(at, primitive)?;
+    let n = positions.len();
+    let indices = read_indices(at, primitive, n)?;
+    let mirrored = DMat3::from_mat4(*at.world).determinant() < 0.0;
+    let triangles = assemble_triangles(mode, &indices, mirrored);
+    let material = primitive.material().index();
+    let set = material.map_or(0, |m| material_uv_set.get(m).copied().unwrap_or(0));
+    let transform = material
+        .and_then(|m| material_uv_transform.get(m).copied())
+        .unwrap_or(UvTransform::IDENTITY);
+    Ok(Some(Piece {
+        positions,
+        triangles,
+        normals: read_normals(at, primitive, n)?,
+        uvs: read_uvs(at, primitive, n, (set, transform))?,
+        colours: read_colours(at, primitive, n)?,
+        material,
+    }))
+}
 
-    let position_accessor = primitive
+/// `POSITION`, in world space.
+fn read_positions(
+    at: &PrimitiveAt<'_, '_>,
+    primitive: &gltf::Primitive,
+) -> Result<Vec<DVec3>, MeshError> {
+    let accessor = primitive
         .get(&gltf::Semantic::Positions)
-        .ok_or_else(|| fail(GltfProblem::NoPositions))?;
-    let local = read_checked(
-        &position_accessor,
-        &[Dimensions::Vec3],
-        POSITION_TYPES,
-        views,
-    )
-    .ok_or_else(|| bad(GltfAttribute::Position))?;
-    let n = local.len();
-    let mut positions = Vec::with_capacity(n);
-    for i in 0..n {
+        .ok_or_else(|| at.fail(GltfProblem::NoPositions))?;
+    let local = read_checked(&accessor, &[Dimensions::Vec3], POSITION_TYPES, at.views)
+        .ok_or_else(|| at.bad(GltfAttribute::Position))?;
+    let mut positions = Vec::with_capacity(local.len());
+    for i in 0..local.len() {
         let p = DVec3::from_array(local.get::<3>(i));
         if !p.is_finite() {
-            return Err(MeshError::NonFinite {
-                path: path.to_path_buf(),
-                element: Element::Vertex(i as u64),
-            });
+            return Err(at.non_finite(Element::Vertex(i as u64)));
         }
-        positions.push(world.transform_point3(p));
+        positions.push(at.world.transform_point3(p));
     }
+    Ok(positions)
+}
 
+/// The indices (every vertex in order when there are none), each below
+/// the `n` vertices.
+fn read_indices(
+    at: &PrimitiveAt<'_, '_>,
+    primitive: &gltf::Primitive,
+    n: usize,
+) -> Result<Vec<u32>, MeshError> {
     let indices: Vec<u32> = match primitive.indices() {
-        Some(accessor) => read_checked(&accessor, &[Dimensions::Scalar], INDEX_TYPES, views)
-            .ok_or_else(|| bad(GltfAttribute::Indices))?
+        Some(accessor) => read_checked(&accessor, &[Dimensions::Scalar], INDEX_TYPES, at.views)
+            .ok_or_else(|| at.bad(GltfAttribute::Indices))?
             .values
             .iter()
             .map(|&i| i as u32)
@@ -441,103 +509,86 @@ fn read_primitive(
         None => (0..n as u32).collect(),
     };
     if let Some(&index) = indices.iter().find(|&&i| i as usize >= n) {
-        return Err(fail(GltfProblem::IndexOutOfRange {
+        return Err(at.fail(GltfProblem::IndexOutOfRange {
             index,
             vertex_count: n,
         }));
     }
-    let mirrored = DMat3::from_mat4(*world).determinant() < 0.0;
-    let triangles = assemble_triangles(mode, &indices, mirrored);
+    Ok(indices)
+}
 
-    let count_check = |attribute, count: usize| {
-        if count == n {
-            Ok(())
+/// `NORMAL`, in world space (the inverse transpose of the transform),
+/// unit or zero.
+fn read_normals(
+    at: &PrimitiveAt<'_, '_>,
+    primitive: &gltf::Primitive,
+    n: usize,
+) -> Result<Option<Vec<Vec3>>, MeshError> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Normals) else {
+        return Ok(None);
+    };
+    let values = read_checked(&accessor, &[Dimensions::Vec3], NORMAL_TYPES, at.views)
+        .ok_or_else(|| at.bad(GltfAttribute::Normal))?;
+    at.check_count(GltfAttribute::Normal, values.len(), n)?;
+    let normal_matrix = DMat3::from_mat4(*at.world).inverse().transpose();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let v = DVec3::from_array(values.get::<3>(i));
+        if !v.is_finite() {
+            return Err(at.non_finite(Element::Normal(i as u64)));
+        }
+        let t = (normal_matrix * v).normalize_or_zero();
+        out.push(if t.is_finite() {
+            t.as_vec3()
         } else {
-            Err(fail(GltfProblem::AttributeCountMismatch {
-                attribute,
-                count,
-                expected: n,
-            }))
-        }
-    };
+            Vec3::ZERO
+        });
+    }
+    Ok(Some(out))
+}
 
-    let normals = match primitive.get(&gltf::Semantic::Normals) {
-        Some(accessor) => {
-            let values = read_checked(&accessor, &[Dimensions::Vec3], NORMAL_TYPES, views)
-                .ok_or_else(|| bad(GltfAttribute::Normal))?;
-            count_check(GltfAttribute::Normal, values.len())?;
-            let normal_matrix = DMat3::from_mat4(*world).inverse().transpose();
-            let mut out = Vec::with_capacity(n);
-            for i in 0..n {
-                let v = DVec3::from_array(values.get::<3>(i));
-                if !v.is_finite() {
-                    return Err(MeshError::NonFinite {
-                        path: path.to_path_buf(),
-                        element: Element::Normal(i as u64),
-                    });
-                }
-                let t = (normal_matrix * v).normalize_or_zero();
-                out.push(if t.is_finite() {
-                    t.as_vec3()
-                } else {
-                    Vec3::ZERO
-                });
-            }
-            Some(out)
-        }
-        None => None,
+/// `TEXCOORD_<set>` through the material's `transform`, `v` flipped to
+/// the project's convention.
+fn read_uvs(
+    at: &PrimitiveAt<'_, '_>,
+    primitive: &gltf::Primitive,
+    n: usize,
+    (set, transform): (u32, UvTransform),
+) -> Result<Option<Vec<Vec2>>, MeshError> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::TexCoords(set)) else {
+        return Ok(None);
     };
-
-    let material = primitive.material().index();
-    let set = material.map_or(0, |m| material_uv_set.get(m).copied().unwrap_or(0));
-    let transform = material
-        .and_then(|m| material_uv_transform.get(m).copied())
-        .unwrap_or(UvTransform::IDENTITY);
-    let uvs = match primitive.get(&gltf::Semantic::TexCoords(set)) {
-        Some(accessor) => {
-            let values = read_checked(&accessor, &[Dimensions::Vec2], TEXCOORD_TYPES, views)
-                .ok_or_else(|| bad(GltfAttribute::TexCoord))?;
-            count_check(GltfAttribute::TexCoord, values.len())?;
-            let mut out = Vec::with_capacity(n);
-            for i in 0..n {
-                let [u, v] = values.get::<2>(i);
-                let uv = transform.apply(Vec2::new(u as f32, v as f32));
-                if !uv.is_finite() {
-                    return Err(MeshError::NonFinite {
-                        path: path.to_path_buf(),
-                        element: Element::TexCoord(i as u64),
-                    });
-                }
-                out.push(Vec2::new(uv.x, 1.0 - uv.y));
-            }
-            Some(out)
+    let values = read_checked(&accessor, &[Dimensions::Vec2], TEXCOORD_TYPES, at.views)
+        .ok_or_else(|| at.bad(GltfAttribute::TexCoord))?;
+    at.check_count(GltfAttribute::TexCoord, values.len(), n)?;
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let [u, v] = values.get::<2>(i);
+        let uv = transform.apply(Vec2::new(u as f32, v as f32));
+        if !uv.is_finite() {
+            return Err(at.non_finite(Element::TexCoord(i as u64)));
         }
-        None => None,
-    };
+        out.push(Vec2::new(uv.x, 1.0 - uv.y));
+    }
+    Ok(Some(out))
+}
 
-    let colours = match primitive.get(&gltf::Semantic::Colors(0)) {
-        Some(accessor) => {
-            let values = read_checked(
-                &accessor,
-                &[Dimensions::Vec3, Dimensions::Vec4],
-                COLOUR_TYPES,
-                views,
-            )
-            .ok_or_else(|| bad(GltfAttribute::Colour))?;
-            count_check(GltfAttribute::Colour, values.len())?;
-            Some((0..n).map(|i| linear_colour_to_srgb(&values, i)).collect())
-        }
-        None => None,
+/// `COLOR_0` as sRGB bytes.
+fn read_colours(
+    at: &PrimitiveAt<'_, '_>,
+    primitive: &gltf::Primitive,
+    n: usize,
+) -> Result<Option<Vec<[u8; 4]>>, MeshError> {
+    let Some(accessor) = primitive.get(&gltf::Semantic::Colors(0)) else {
+        return Ok(None);
     };
-
-    Ok(Some(Piece {
-        positions,
-        triangles,
-        normals,
-        uvs,
-        colours,
-        material,
-    }))
+    let dimensions = [Dimensions::Vec3, Dimensions::Vec4];
+    let values = read_checked(&accessor, &dimensions, COLOUR_TYPES, at.views)
+        .ok_or_else(|| at.bad(GltfAttribute::Colour))?;
+    at.check_count(GltfAttribute::Colour, values.len(), n)?;
+    Ok(Some(
+        (0..n).map(|i| linear_colour_to_srgb(&values, i)).collect(),
+    ))
 }
 
 /// `COLOR_0` element `i` (linear, RGB or RGBA) as sRGB bytes with alpha.
