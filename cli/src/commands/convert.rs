@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use anyhow::Context;
 use spatch_convert::{
-    convert_with_progress, ColourBudget, Conversion, ConvertInput, ConvertOptions, EdgeOptions,
-    ProgressEvent, Stage,
+    convert_with_progress, ColourBudget, ColourGridReport, Conversion, ConvertInput,
+    ConvertOptions, ConvertReport, EdgeOptions, EdgeStats, PrepareCounts, ProgressEvent, Stage,
 };
 use spatch_eval::{
     geometric_error, hole_fraction, GeometricError, HoleOptions, HoleReport, Report, Stages,
 };
+use spatch_fit::TextureDetail;
 use spatch_fit::{FitOptions, TextureBudget};
 use spatch_format::WriteOptions;
 
@@ -614,77 +615,15 @@ pub(crate) fn summary(
             e.surface_to_patch.rms_rel * 100.0,
         ));
     }
-    let prepared = &r.prepare;
-    if prepared.dropped_duplicate + prepared.kept_repeats > 0 {
-        text.push_str(&format!(
-            "  repeated faces: {} dropped ({} of them wound the other way), {} kept (flaps of copies)\n",
-            prepared.dropped_duplicate, prepared.dropped_mirrored, prepared.kept_repeats
-        ));
-    }
-    if let Some(o) = r
-        .orient
-        .filter(|o| o.flipped_faces + o.conflicting_edges > 0)
-    {
-        text.push_str(&format!(
-            "  winding: {} of {} faces turned over ({} of {} pieces wound inward){}\n",
-            o.flipped_faces,
-            r.triangles,
-            o.inward_pieces,
-            o.pieces,
-            match (o.conflicting_edges, o.wound_inward) {
-                (0, false) => String::new(),
-                (0, true) => "; most of it faced in: every patch drawn from both sides".to_owned(),
-                (n, _) => format!("; {n} edges cannot agree: every patch drawn from both sides"),
-            }
-        ));
-    }
-    if let Some(e) = &r.edges {
-        text.push_str(&format!(
-            "  sharp edges: {} creases in {} chains{}, {} corners; {} edge + {} corner patches, {} bytes\n",
-            e.creases,
-            e.chains,
-            // Why said: a scene whose creases all lie inside surface
-            // patches (the built-in Earth's 12) read as found and lost.
-            match e.covered_creases {
-                0 => String::new(),
-                n => format!(" ({n} covered by the surface patches)"),
-            },
-            e.corners,
-            e.edge_patches,
-            e.corner_patches,
-            r.edge_bytes
-        ));
-    }
-    if let Some(t) = &r.texture {
-        text.push_str(&format!(
-            "  texture: {} textured regions, {:.2} texels per node (asked {:.2}{}), {:.0} texels; nodes {:.0} against {:.0} texture-blind (budget {:.0})\n",
-            t.textured_regions,
-            t.texels_per_node,
-            t.texels_per_node_wanted,
-            if t.budget_limited { ", held by the budget" } else { "" },
-            t.texels,
-            t.nodes,
-            t.blind_nodes,
-            t.budget_nodes,
-        ));
-    }
-    if let Some(g) = &r.colour_grids {
-        text.push_str(&format!(
-            "  colour grids: {} patches ({} sharing another's), {} samples, up to {}x{} per cell (asked {}){}, {} bytes (budget {})\n",
-            g.patches,
-            g.shared,
-            g.samples,
-            g.max_factor,
-            g.max_factor,
-            g.wanted_factor,
-            match (g.budget_limited, g.floor_limited) {
-                (_, true) => ", lowered by the budget down to the colour floor",
-                (true, false) => ", held by the budget",
-                _ => "",
-            },
-            g.bytes,
-            g.budget_bytes,
-        ));
+    let lines = [
+        repeats_line(&r.prepare),
+        winding_line(r),
+        r.edges.as_ref().map(|e| edges_line(e, r.edge_bytes)),
+        r.texture.as_ref().map(texture_line),
+        r.colour_grids.as_ref().map(colour_grids_line),
+    ];
+    for line in lines.into_iter().flatten() {
+        text.push_str(&line);
     }
     for w in &r.warnings {
         text.push_str(&format!("  warning: {w}\n"));
@@ -693,6 +632,91 @@ pub(crate) fn summary(
         text.push_str(&format!("  report: {}\n", path.display()));
     }
     text
+}
+
+/// The summary's line on repeated faces, when there were any.
+fn repeats_line(prepared: &PrepareCounts) -> Option<String> {
+    (prepared.dropped_duplicate + prepared.kept_repeats > 0).then(|| {
+        format!(
+            "  repeated faces: {} dropped ({} of them wound the other way), {} kept (flaps of copies)\n",
+            prepared.dropped_duplicate, prepared.dropped_mirrored, prepared.kept_repeats
+        )
+    })
+}
+
+/// The summary's line on the winding pass, when it turned faces over or
+/// found edges that cannot agree.
+fn winding_line(r: &ConvertReport) -> Option<String> {
+    let o = r
+        .orient
+        .filter(|o| o.flipped_faces + o.conflicting_edges > 0)?;
+    Some(format!(
+        "  winding: {} of {} faces turned over ({} of {} pieces wound inward){}\n",
+        o.flipped_faces,
+        r.triangles,
+        o.inward_pieces,
+        o.pieces,
+        match (o.conflicting_edges, o.wound_inward) {
+            (0, false) => String::new(),
+            (0, true) => "; most of it faced in: every patch drawn from both sides".to_owned(),
+            (n, _) => format!("; {n} edges cannot agree: every patch drawn from both sides"),
+        }
+    ))
+}
+
+/// The summary's line on sharp edges and the `edge_bytes` their patches
+/// add.
+fn edges_line(e: &EdgeStats, edge_bytes: usize) -> String {
+    format!(
+        "  sharp edges: {} creases in {} chains{}, {} corners; {} edge + {} corner patches, {} bytes\n",
+        e.creases,
+        e.chains,
+        // Why said: a scene whose creases all lie inside surface
+        // patches (the built-in Earth's 12) read as found and lost.
+        match e.covered_creases {
+            0 => String::new(),
+            n => format!(" ({n} covered by the surface patches)"),
+        },
+        e.corners,
+        e.edge_patches,
+        e.corner_patches,
+        edge_bytes
+    )
+}
+
+/// The summary's line on texture-driven node density.
+fn texture_line(t: &TextureDetail) -> String {
+    format!(
+        "  texture: {} textured regions, {:.2} texels per node (asked {:.2}{}), {:.0} texels; nodes {:.0} against {:.0} texture-blind (budget {:.0})\n",
+        t.textured_regions,
+        t.texels_per_node,
+        t.texels_per_node_wanted,
+        if t.budget_limited { ", held by the budget" } else { "" },
+        t.texels,
+        t.nodes,
+        t.blind_nodes,
+        t.budget_nodes,
+    )
+}
+
+/// The summary's line on colour grids.
+fn colour_grids_line(g: &ColourGridReport) -> String {
+    format!(
+        "  colour grids: {} patches ({} sharing another's), {} samples, up to {}x{} per cell (asked {}){}, {} bytes (budget {})\n",
+        g.patches,
+        g.shared,
+        g.samples,
+        g.max_factor,
+        g.max_factor,
+        g.wanted_factor,
+        match (g.budget_limited, g.floor_limited) {
+            (_, true) => ", lowered by the budget down to the colour floor",
+            (true, false) => ", held by the budget",
+            _ => "",
+        },
+        g.bytes,
+        g.budget_bytes,
+    )
 }
 
 /// Converts a mesh and prints a summary (or the report, with `--json`).
