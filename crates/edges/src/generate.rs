@@ -109,6 +109,55 @@ pub fn generate_part_edge_patches(
     options: &EdgeOptions,
     owns: OwnsPoint<'_>,
 ) -> Result<(Vec<Patch>, EdgeStats), EdgeError> {
+    check_inputs(mesh, adjacency, surface_spacing, options)?;
+    let sharp = detect_sharp_edges(mesh, adjacency, options.crease_angle_deg);
+    let edge_spacing = surface_spacing / options.resolution;
+    let mut stats = found_stats(&sharp, edge_spacing);
+    if sharp.creases.is_empty() {
+        return Ok((Vec::new(), stats));
+    }
+    let covered = if options.only_gaps {
+        let coverage = SurfaceCoverage::new(surface, surface_spacing);
+        let soft = options.soft_crease_deg;
+        covered_creases(mesh, &sharp, &coverage, surface_spacing, soft)
+    } else {
+        vec![false; sharp.creases.len()]
+    };
+    stats.covered_creases = covered.iter().filter(|&&c| c).count();
+    let job = CastJob {
+        mesh,
+        spacing: edge_spacing,
+        max_step_error: options.max_step_error,
+        with_colour: options.colour && mesh.has_colour(),
+    };
+    let found = Found {
+        adjacency,
+        sharp: &sharp,
+        covered: &covered,
+        surface,
+        surface_spacing,
+        owns,
+    };
+    let (mut patches, lattice_count) = crease_patches(&job, &found, options, &mut stats)?;
+    if options.corners && !sharp.corners.is_empty() {
+        let corner_patches = corner_patches(&job, &found, options, &patches, lattice_count)?;
+        stats.corner_patches = corner_patches.len();
+        patches.extend(corner_patches);
+    }
+    for patch in &patches {
+        stats.nodes += patch.grid().node_count();
+        stats.filled_nodes += patch.filled_count();
+    }
+    Ok((patches, stats))
+}
+
+/// Refuses options, a spacing or an adjacency the generator cannot use.
+fn check_inputs(
+    mesh: &TriangleMesh,
+    adjacency: &FaceAdjacency,
+    surface_spacing: f32,
+    options: &EdgeOptions,
+) -> Result<(), EdgeError> {
     options.validate()?;
     if !(surface_spacing.is_finite() && surface_spacing > 0.0) {
         return Err(EdgeError::InvalidSpacing {
@@ -121,10 +170,12 @@ pub fn generate_part_edge_patches(
             mesh_faces: mesh.face_count(),
         });
     }
-    let sharp = detect_sharp_edges(mesh, adjacency, options.crease_angle_deg);
-    let edge_spacing = surface_spacing / options.resolution;
-    let strip = options.strip_width * surface_spacing;
-    let mut stats = EdgeStats {
+    Ok(())
+}
+
+/// The counts of what `sharp` found, the patches' spacing beside them.
+fn found_stats(sharp: &SharpEdges, edge_spacing: f32) -> EdgeStats {
+    EdgeStats {
         creases: sharp.creases.len(),
         chains: sharp.chains.len(),
         closed_chains: sharp.chains.iter().filter(|c| c.closed).count(),
@@ -134,22 +185,36 @@ pub fn generate_part_edge_patches(
         non_manifold_edges: sharp.non_manifold_edges,
         spacing: edge_spacing,
         ..EdgeStats::default()
-    };
-    if sharp.creases.is_empty() {
-        return Ok((Vec::new(), stats));
     }
+}
 
+/// What the generator found on the mesh and is told about the surface:
+/// the sharp edges, which creases the surface patches cover, and which
+/// points this part owns.
+struct Found<'a> {
+    adjacency: &'a FaceAdjacency,
+    sharp: &'a SharpEdges,
+    covered: &'a [bool],
+    surface: &'a [Patch],
+    surface_spacing: f32,
+    owns: OwnsPoint<'a>,
+}
+
+/// The patches along the creases: the chains cut into pieces, each piece's
+/// lattice cast, pieces joined and those already covered dropped (as
+/// `options` asks). Gives the number of lattices cast (the corners'
+/// indices follow them).
+fn crease_patches(
+    job: &CastJob<'_>,
+    found: &Found<'_>,
+    options: &EdgeOptions,
+    stats: &mut EdgeStats,
+) -> Result<(Vec<Patch>, usize), EdgeError> {
+    let (mesh, sharp, edge_spacing) = (job.mesh, found.sharp, job.spacing);
+    let strip = options.strip_width * found.surface_spacing;
     // A piece plus its overlap at both ends (`edge_patch`) must fit `max_cols` nodes.
     let overlap = edge_spacing + 0.5 * strip;
     let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
-    let covered = if options.only_gaps {
-        let coverage = SurfaceCoverage::new(surface, surface_spacing);
-        let soft = options.soft_crease_deg;
-        covered_creases(mesh, &sharp, &coverage, surface_spacing, soft)
-    } else {
-        vec![false; sharp.creases.len()]
-    };
-    stats.covered_creases = covered.iter().filter(|&&c| c).count();
     let limits = PieceLimits {
         max_len,
         cos_turn: options.max_turn_deg.to_radians().cos(),
@@ -159,35 +224,29 @@ pub fn generate_part_edge_patches(
             .cos(),
         max_stray: options.max_stray * edge_spacing,
     };
-    let runs = chain_runs(mesh, &sharp, limits.cos_turn);
-    let skip = skip_unowned(mesh, &sharp, &covered, owns);
-    let (pieces, _) = cut_pieces(mesh, &sharp, &runs, &skip, &limits);
+    let runs = chain_runs(mesh, sharp, limits.cos_turn);
+    let skip = skip_unowned(mesh, sharp, found.covered, found.owns);
+    let (pieces, _) = cut_pieces(mesh, sharp, &runs, &skip, &limits);
     stats.pieces = pieces.len();
     let (lattices, of_piece): (Vec<(NodeLattice, Vec<FaceId>)>, Vec<&EdgePiece>) = pieces
         .par_iter()
         .filter_map(|piece| {
-            piece_lattice(mesh, adjacency, &sharp, piece, edge_spacing, strip)
+            piece_lattice(mesh, found.adjacency, sharp, piece, edge_spacing, strip)
                 .map(|lattice| (lattice, piece))
         })
         .unzip();
-    let job = CastJob {
-        mesh,
-        spacing: edge_spacing,
-        max_step_error: options.max_step_error,
-        with_colour: options.colour && mesh.has_colour(),
-    };
     let made: Vec<(&EdgePiece, Patch)> = of_piece
         .into_iter()
-        .zip(cast_each(&job, &lattices, 0)?)
+        .zip(cast_each(job, &lattices, 0)?)
         .filter_map(|(piece, patch)| patch.map(|patch| (piece, patch)))
         .collect();
     let made = if options.only_gaps && options.join_pieces {
         let join = JoinJob {
-            cast: &job,
-            adjacency,
-            sharp: &sharp,
-            surface,
-            spacing: surface_spacing,
+            cast: job,
+            adjacency: found.adjacency,
+            sharp,
+            surface: found.surface,
+            spacing: found.surface_spacing,
             edge_spacing,
             strip,
             soft_crease_deg: options.soft_crease_deg,
@@ -202,52 +261,64 @@ pub fn generate_part_edge_patches(
     };
     let dropped = if options.only_gaps && options.drop_covered_pieces {
         let soft = options.soft_crease_deg;
-        covered_pieces(mesh, &sharp, surface, &made, surface_spacing, soft)
+        covered_pieces(
+            mesh,
+            sharp,
+            found.surface,
+            &made,
+            found.surface_spacing,
+            soft,
+        )
     } else {
         vec![false; made.len()]
     };
     stats.covered_pieces = dropped.iter().filter(|&&d| d).count();
-    let mut patches: Vec<Patch> = made
+    let patches: Vec<Patch> = made
         .into_iter()
         .zip(dropped)
         .filter(|(_, dropped)| !dropped)
         .map(|((_, patch), _)| patch)
         .collect();
     stats.edge_patches = patches.len();
+    Ok((patches, lattices.len()))
+}
 
-    if options.corners && !sharp.corners.is_empty() {
-        let around = faces_around(mesh, &sharp);
-        let mut open = corners_with_gaps(&sharp, &covered);
-        drop_unowned_corners(mesh, &sharp, &mut open, owns);
-        if options.only_gaps {
-            // The surface and edge patches often close a corner between them already.
-            let seen = SurfaceCoverage::new(surface.iter().chain(&patches), surface_spacing);
-            open.par_iter_mut()
-                .zip(sharp.corners.par_iter().zip(around.par_iter()))
-                .filter(|(open, _)| **open)
-                .for_each(|(open, (&v, faces))| {
-                    *open = !covered_corner(mesh, v, faces, &seen, surface_spacing);
-                });
-        }
-        let corners: Vec<(NodeLattice, Vec<FaceId>)> = sharp
-            .corners
-            .par_iter()
-            .zip(around.par_iter())
-            .zip(open.par_iter())
-            .filter(|(_, &open)| open)
-            .filter_map(|((&v, faces), _)| {
-                corner_lattice(mesh, adjacency, v, faces, edge_spacing, strip)
-            })
-            .collect();
-        let corner_patches = cast_all(&job, &corners, lattices.len())?;
-        stats.corner_patches = corner_patches.len();
-        patches.extend(corner_patches);
+/// The patches at the corners this part owns that the surface and the
+/// crease patches (`edge_patches`) leave open; `first` is the index of
+/// their first lattice (for error messages).
+fn corner_patches(
+    job: &CastJob<'_>,
+    found: &Found<'_>,
+    options: &EdgeOptions,
+    edge_patches: &[Patch],
+    first: usize,
+) -> Result<Vec<Patch>, EdgeError> {
+    let (mesh, sharp, spacing) = (job.mesh, found.sharp, found.surface_spacing);
+    let around = faces_around(mesh, sharp);
+    let mut open = corners_with_gaps(sharp, found.covered);
+    drop_unowned_corners(mesh, sharp, &mut open, found.owns);
+    if options.only_gaps {
+        // The surface and edge patches often close a corner between them already.
+        let seen = SurfaceCoverage::new(found.surface.iter().chain(edge_patches), spacing);
+        open.par_iter_mut()
+            .zip(sharp.corners.par_iter().zip(around.par_iter()))
+            .filter(|(open, _)| **open)
+            .for_each(|(open, (&v, faces))| {
+                *open = !covered_corner(mesh, v, faces, &seen, spacing);
+            });
     }
-    for patch in &patches {
-        stats.nodes += patch.grid().node_count();
-        stats.filled_nodes += patch.filled_count();
-    }
-    Ok((patches, stats))
+    let strip = options.strip_width * spacing;
+    let corners: Vec<(NodeLattice, Vec<FaceId>)> = sharp
+        .corners
+        .par_iter()
+        .zip(around.par_iter())
+        .zip(open.par_iter())
+        .filter(|(_, &open)| open)
+        .filter_map(|((&v, faces), _)| {
+            corner_lattice(mesh, found.adjacency, v, faces, job.spacing, strip)
+        })
+        .collect();
+    cast_all(job, &corners, first)
 }
 
 /// Casts `lattices` in parallel and keeps, in order, those whose rays hit something; `first`
