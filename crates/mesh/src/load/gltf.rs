@@ -97,19 +97,7 @@ fn check_glb_length(bytes: &[u8]) -> Result<(), gltf::Error> {
 /// Loads a `.gltf` or `.glb` file.
 pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
-    let gltf_err = |source| MeshError::Gltf {
-        path: path.to_path_buf(),
-        source,
-    };
-    check_glb_length(&bytes).map_err(gltf_err)?;
-    let unvalidated = gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_err)?;
-    let blob = unvalidated.blob;
-    let mut json = unvalidated.document.into_json();
-    check_required_extensions(path, &json)?;
-    check_primitive_indices(path, &json)?;
-    json.extensions_required
-        .retain(|e| !DECODED_REQUIRED_EXTENSIONS.contains(&e.as_str()));
-    let document = gltf::Document::from_json(json).map_err(gltf_err)?;
+    let (document, blob) = read_document(path, &bytes)?;
     let dir = parent_dir(path);
     let base = if dir.as_os_str().is_empty() {
         Path::new(".")
@@ -118,13 +106,62 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
     };
     let buffers = load_buffers(path, base, &document, blob)?;
     let views = resolve_views(&document, &buffers);
-    let document = &document;
     let mut warnings = Vec::new();
+    let materials = read_materials(&document, (path, base), &views, &mut warnings);
+    let (pieces, skipped) = read_nodes(&document, path, &views, &materials)?;
+    if skipped > 0 {
+        warnings.push(LoadWarning::NonTrianglePrimitivesSkipped { count: skipped });
+    }
+    let builder = merge_pieces(pieces, materials.materials, &mut warnings);
+    let mesh = builder.finish(path)?;
+    Ok(LoadedMesh { mesh, warnings })
+}
 
-    // Materials and their textures.
-    let mut materials = Vec::new();
-    let mut material_uv_set = Vec::new();
-    let mut material_uv_transform = Vec::new();
+/// The file's document, checked for what the loader cannot decode (its
+/// extensions decoded here taken out of the required ones), and the GLB
+/// binary chunk.
+fn read_document(
+    path: &Path,
+    bytes: &[u8],
+) -> Result<(gltf::Document, Option<Vec<u8>>), MeshError> {
+    let gltf_err = |source| MeshError::Gltf {
+        path: path.to_path_buf(),
+        source,
+    };
+    check_glb_length(bytes).map_err(gltf_err)?;
+    let unvalidated = gltf::Gltf::from_slice_without_validation(bytes).map_err(gltf_err)?;
+    let blob = unvalidated.blob;
+    let mut json = unvalidated.document.into_json();
+    check_required_extensions(path, &json)?;
+    check_primitive_indices(path, &json)?;
+    json.extensions_required
+        .retain(|e| !DECODED_REQUIRED_EXTENSIONS.contains(&e.as_str()));
+    let document = gltf::Document::from_json(json).map_err(gltf_err)?;
+    Ok((document, blob))
+}
+
+/// The materials of a glTF file, and per material the texture
+/// coordinate set and transform of its base colour texture.
+struct GltfMaterials {
+    materials: Vec<Material>,
+    uv_sets: Vec<u32>,
+    uv_transforms: Vec<UvTransform>,
+}
+
+/// Reads the materials and decodes their textures (each image once; one
+/// that cannot be read is a warning and no texture), images relative to
+/// `base`, the folder of `path`.
+fn read_materials(
+    document: &gltf::Document,
+    (path, base): (&Path, &Path),
+    views: &Views,
+    warnings: &mut Vec<LoadWarning>,
+) -> GltfMaterials {
+    let mut out = GltfMaterials {
+        materials: Vec::new(),
+        uv_sets: Vec::new(),
+        uv_transforms: Vec::new(),
+    };
     let mut texture_cache: Vec<Option<Option<Texture>>> = vec![None; document.images().len()];
     for (i, m) in document.materials().enumerate() {
         let pbr = m.pbr_metallic_roughness();
@@ -150,7 +187,7 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
             let image = info.texture().source();
             let slot = &mut texture_cache[image.index()];
             if slot.is_none() {
-                *slot = Some(match decode_image(&image, base, &views, path) {
+                *slot = Some(match decode_image(&image, base, views, path) {
                     Ok(t) => Some(t),
                     Err(w) => {
                         warnings.push(w);
@@ -160,13 +197,17 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
             }
             material.texture = slot.clone().flatten();
         }
-        materials.push(material);
-        material_uv_set.push(set);
-        material_uv_transform.push(transform);
+        out.materials.push(material);
+        out.uv_sets.push(set);
+        out.uv_transforms.push(transform);
     }
+    out
+}
 
-    // Walk the node hierarchy with an explicit stack (no recursion on file data).
-    let roots: Vec<gltf::Node> = match document.default_scene() {
+/// The nodes the hierarchy starts from: the default scene's, else every
+/// scene's, else every node that is no other's child.
+fn root_nodes(document: &gltf::Document) -> Vec<gltf::Node<'_>> {
+    match document.default_scene() {
         Some(scene) => scene.nodes().collect(),
         None if document.scenes().len() > 0 => document.scenes().flat_map(|s| s.nodes()).collect(),
         None => {
@@ -178,13 +219,27 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
             }
             document.nodes().filter(|n| !is_child[n.index()]).collect()
         }
-    };
+    }
+}
+
+/// Walks the node hierarchy with an explicit stack (no recursion on file
+/// data): every triangle primitive as a [`Piece`] in world space, and the
+/// count of primitives skipped (points, lines).
+fn read_nodes(
+    document: &gltf::Document,
+    path: &Path,
+    views: &Views,
+    materials: &GltfMaterials,
+) -> Result<(Vec<Piece>, u64), MeshError> {
     let node_limit = document.nodes().len().max(1) * 64;
-    let mut stack: Vec<(gltf::Node, DMat4, usize)> =
-        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    let mut stack: Vec<(gltf::Node, DMat4, usize)> = root_nodes(document)
+        .into_iter()
+        .map(|n| (n, DMat4::IDENTITY, 0))
+        .collect();
     let mut pieces = Vec::new();
     let mut skipped = 0u64;
     let mut visited = 0usize;
+    let uv = (&materials.uv_sets[..], &materials.uv_transforms[..]);
     while let Some((node, parent, depth)) = stack.pop() {
         visited += 1;
         // A cyclic or absurdly shared hierarchy would never end; the limit stops it.
@@ -205,11 +260,10 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
                     path,
                     mesh: mesh.index(),
                     primitive: primitive.index(),
-                    views: &views,
+                    views,
                     world: &world,
                 };
-                let materials = (&material_uv_set[..], &material_uv_transform[..]);
-                match read_primitive(&at, &primitive, materials)? {
+                match read_primitive(&at, &primitive, uv)? {
                     Some(piece) => pieces.push(piece),
                     None => skipped += 1,
                 }
@@ -219,12 +273,7 @@ pub fn load_gltf(path: &Path) -> Result<LoadedMesh, MeshError> {
             stack.push((child, world, depth + 1));
         }
     }
-    if skipped > 0 {
-        warnings.push(LoadWarning::NonTrianglePrimitivesSkipped { count: skipped });
-    }
-    let builder = merge_pieces(pieces, materials, &mut warnings);
-    let mesh = builder.finish(path)?;
-    Ok(LoadedMesh { mesh, warnings })
+    Ok((pieces, skipped))
 }
 
 /// `KHR_texture_transform` of a material's base colour texture.
