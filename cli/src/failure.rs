@@ -2,6 +2,8 @@
 
 use std::process::ExitCode;
 
+use spatch_render::RenderError;
+
 /// How a run ended, when it did not succeed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Failure {
@@ -65,6 +67,16 @@ pub(crate) fn one_line(err: &anyhow::Error) -> String {
         line.push_str(&text);
     }
     line
+}
+
+/// A render-library error as an exit-code-aware error.
+pub(crate) fn render_failure(err: RenderError) -> anyhow::Error {
+    match err {
+        RenderError::Bug(_) | RenderError::ThreadPool { .. } | RenderError::Encode { .. } => {
+            anyhow::Error::new(InternalFailure(err.to_string()))
+        }
+        other => anyhow::Error::new(other),
+    }
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 use spatch_render::{Camera, PreparedScene, RenderStats, Renderer};
 
-use super::render::classify;
+use crate::failure::render_failure;
 
 /// Median and minimum of one stage over the frames, in milliseconds.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -95,11 +95,11 @@ pub(crate) fn bench(
 ) -> anyhow::Result<BenchReport> {
     let frames = frames.max(1);
     // Warm-up: the first frame of the caller, and one more.
-    let warm = renderer.render(scene, camera).map_err(classify)?;
+    let warm = renderer.render(scene, camera).map_err(render_failure)?;
     renderer.recycle(warm.image);
     let mut all: Vec<RenderStats> = Vec::with_capacity(frames);
     for k in 0..frames {
-        let out = renderer.render(scene, camera).map_err(classify)?;
+        let out = renderer.render(scene, camera).map_err(render_failure)?;
         renderer.recycle(out.image);
         all.push(out.stats);
         on_frame(k + 1);

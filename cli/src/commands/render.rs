@@ -17,11 +17,11 @@ use spatch_render::{
 
 use super::frame_bench::{bench, BenchReport};
 use super::render_output::{
-    image_files, print_result, render_report, stats_file_bytes, CameraJson, RenderDetails,
-    StatsFile,
+    depth_format, image_files, print_result, render_report, stats_file_bytes, CameraJson,
+    DepthFormatArg, RenderDetails, StatsFile,
 };
 use super::ThreadsArg;
-use crate::failure::InternalFailure;
+use crate::failure::render_failure;
 use crate::output::{print_json, read_spatch, write_output};
 use crate::progress::Progress;
 use crate::report::scene_diagonal;
@@ -348,35 +348,6 @@ pub(crate) struct RenderArgs {
     json: bool,
 }
 
-/// The depth file format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub(crate) enum DepthFormatArg {
-    /// 16-bit greyscale PNG, linear between near and far.
-    Png,
-    /// 32-bit float TIFF of eye depth in model units, with a camera JSON.
-    Tiff,
-    /// OpenEXR, one 32-bit float channel `Z` of eye depth in model units
-    /// (the TIFF's values, bit for bit), with a camera JSON.
-    Exr,
-}
-
-/// `chosen`, or the format `path`'s extension names.
-pub(super) fn depth_format(
-    chosen: Option<DepthFormatArg>,
-    path: &std::path::Path,
-) -> DepthFormatArg {
-    chosen.unwrap_or_else(|| {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if ext.eq_ignore_ascii_case("tif") || ext.eq_ignore_ascii_case("tiff") {
-            DepthFormatArg::Tiff
-        } else if ext.eq_ignore_ascii_case("exr") {
-            DepthFormatArg::Exr
-        } else {
-            DepthFormatArg::Png
-        }
-    })
-}
-
 pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
@@ -478,7 +449,7 @@ fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option
     }
     let index = spatch_tiling::SceneIndex::read(&args.input).map_err(anyhow::Error::msg)?;
     let sphere = index_sphere(&index);
-    let view = camera(args, sphere).map_err(classify)?;
+    let view = camera(args, sphere).map_err(render_failure)?;
     let far_enough = match (&index.coarse, &index.bounds) {
         (Some(level), Some(bounds)) => level.fine_enough(
             bounds,
@@ -513,16 +484,6 @@ fn read_input(args: &RenderArgs) -> anyhow::Result<(Scene, ContainerInfo, Option
 fn eprintln_tiles(loaded: usize, total: usize) {
     if !crate::progress::is_quiet() {
         eprintln!("read {loaded} of {total} tiles (the others are out of view)");
-    }
-}
-
-/// A render-library error as an exit-code-aware error.
-pub(crate) fn classify(err: RenderError) -> anyhow::Error {
-    match err {
-        RenderError::Bug(_) | RenderError::ThreadPool { .. } | RenderError::Encode { .. } => {
-            anyhow::Error::new(InternalFailure(err.to_string()))
-        }
-        other => anyhow::Error::new(other),
     }
 }
 
@@ -565,16 +526,18 @@ fn render_once(
     let counts = args
         .json
         .then(|| (Counts::of(&scene, info.file_len), scene_diagonal(&scene)));
-    let mut renderer = Renderer::new(render_options(args)).map_err(classify)?;
+    let mut renderer = Renderer::new(render_options(args)).map_err(render_failure)?;
     progress.step("prepare");
     let clock = Instant::now();
     let (prepared, kept) = prepare_scene(&renderer, scene, args);
     stages.push("prepare", clock.elapsed().as_secs_f64());
     let sphere = index_sphere.or_else(|| prepared.bounding_sphere());
-    let camera = camera(args, sphere).map_err(classify)?;
+    let camera = camera(args, sphere).map_err(render_failure)?;
     progress.step("render");
     let clock = Instant::now();
-    let out = renderer.render(&prepared, &camera).map_err(classify)?;
+    let out = renderer
+        .render(&prepared, &camera)
+        .map_err(render_failure)?;
     stages.push("render", clock.elapsed().as_secs_f64());
     Ok(Session {
         renderer,
@@ -642,7 +605,7 @@ fn stats_bytes(args: &RenderArgs, session: &Session) -> anyhow::Result<Vec<u8>> 
     };
     let options = renderer.options();
     let shortcuts = measure_shortcuts(prepared, Some(overlaps), &session.camera, options, 3)
-        .map_err(classify)?;
+        .map_err(render_failure)?;
     stats_file_bytes(StatsFile {
         stats: &session.out.stats,
         input: args.input.display().to_string(),

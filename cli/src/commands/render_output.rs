@@ -4,16 +4,45 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
+use clap::ValueEnum;
 use serde::Serialize;
 use serde_json::json;
 use spatch_eval::{Counts, Report, Stages};
 use spatch_render::{Camera, OcclusionStats, RenderStats, RenderedImage, ShortcutCosts};
 
 use super::frame_bench::BenchReport;
-use super::render::{classify, DepthFormatArg};
-use crate::failure::InternalFailure;
+use crate::failure::{render_failure, InternalFailure};
 use crate::output::print_summary;
 use crate::report::tool;
+
+/// The depth file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum DepthFormatArg {
+    /// 16-bit greyscale PNG, linear between near and far.
+    Png,
+    /// 32-bit float TIFF of eye depth in model units, with a camera JSON.
+    Tiff,
+    /// OpenEXR, one 32-bit float channel `Z` of eye depth in model units
+    /// (the TIFF's values, bit for bit), with a camera JSON.
+    Exr,
+}
+
+/// `chosen`, or the format `path`'s extension names.
+pub(super) fn depth_format(
+    chosen: Option<DepthFormatArg>,
+    path: &std::path::Path,
+) -> DepthFormatArg {
+    chosen.unwrap_or_else(|| {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext.eq_ignore_ascii_case("tif") || ext.eq_ignore_ascii_case("tiff") {
+            DepthFormatArg::Tiff
+        } else if ext.eq_ignore_ascii_case("exr") {
+            DepthFormatArg::Exr
+        } else {
+            DepthFormatArg::Png
+        }
+    })
+}
 
 /// The camera as reports show it.
 #[derive(Debug, Serialize)]
@@ -25,6 +54,7 @@ pub(super) struct CameraJson {
 }
 
 impl CameraJson {
+    /// What reports show of `camera`.
     pub(super) fn of(camera: &Camera) -> Self {
         Self {
             eye: camera.eye().to_array(),
@@ -77,7 +107,10 @@ pub(super) fn image_files(
 ) -> anyhow::Result<Vec<(PathBuf, Vec<u8>)>> {
     let mut files = Vec::new();
     if let Some(path) = output {
-        files.push((path.to_path_buf(), image.encode_png().map_err(classify)?));
+        files.push((
+            path.to_path_buf(),
+            image.encode_png().map_err(render_failure)?,
+        ));
     }
     let Some((path, format)) = depth else {
         return Ok(files);
@@ -99,7 +132,7 @@ pub(super) fn image_files(
         }
         None => files.push((
             path.to_path_buf(),
-            image.encode_depth_png().map_err(classify)?,
+            image.encode_depth_png().map_err(render_failure)?,
         )),
     }
     Ok(files)

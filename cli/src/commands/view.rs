@@ -83,7 +83,7 @@ fn read_scenes(inputs: &[PathBuf]) -> anyhow::Result<Scene> {
 /// problems.
 fn classify(err: ViewError, file: &Path) -> anyhow::Error {
     match err {
-        ViewError::Render(e) => super::render::classify(e),
+        ViewError::Render(e) => crate::failure::render_failure(e),
         ViewError::Encode(_) => anyhow::Error::new(InternalFailure(err.to_string())),
         ViewError::Script { .. } | ViewError::EmptyScene => {
             anyhow::anyhow!("{}: {err}", file.display())
