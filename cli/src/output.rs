@@ -11,7 +11,6 @@ use spatch_format::{
 };
 
 use crate::failure::InternalFailure;
-use crate::overwrite_guard::is_dash;
 
 /// The most bytes read from a scene that is not a regular file (a pipe, a
 /// device, `-`): 1 GiB.
@@ -98,6 +97,11 @@ pub(crate) fn claim_stdout_if_named(path: &Path) {
     if matches!(standard_stream(path), Some(StandardStream::Out)) {
         STDOUT_IS_AN_OUTPUT.store(true, Ordering::Relaxed);
     }
+}
+
+/// Whether `path` is `-` (standard input or output).
+pub(crate) fn is_dash(path: &Path) -> bool {
+    path.as_os_str() == "-"
 }
 
 /// Whether `path` names this process's standard output (`-`, `/dev/stdout`, …).

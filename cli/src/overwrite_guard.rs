@@ -10,6 +10,8 @@ use std::collections::HashSet;
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
+use crate::output::is_dash;
+
 /// The files a run reads and the files it writes, as named on the command
 /// line (`-` is standard input or output and is never checked).
 #[derive(Debug, Default)]
@@ -182,11 +184,6 @@ impl<'a> Files<'a> {
         }
         Ok(())
     }
-}
-
-/// Whether `path` is `-` (standard input or output).
-pub(crate) fn is_dash(path: &Path) -> bool {
-    path.as_os_str() == "-"
 }
 
 /// What identifies an output: an existing file's device and inode, or the

@@ -14,7 +14,7 @@ use spatch_tiling::{
     WorldBox,
 };
 
-use super::convert::PipelineArgs;
+use super::pipeline_args::PipelineArgs;
 use crate::failure::InternalFailure;
 use crate::output::{print_summary, write_output};
 

@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use super::convert::{convert_and_write, PipelineArgs};
+use super::convert::convert_and_write;
+use super::pipeline_args::PipelineArgs;
 use crate::failure::InternalFailure;
 use crate::output::{print_summary, write_output};
 

@@ -8,8 +8,7 @@ use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
     cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order,
-    CloudConversion, CloudError, CloudOptions, CloudReport, ProgressFn, Scanner, Scanners,
-    SmoothOptions, StageTime,
+    CloudConversion, CloudError, CloudOptions, CloudReport, ProgressFn, SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
@@ -18,6 +17,7 @@ use spatch_mesh::PointCloud;
 use spatch_scan::{load_scans, parse_columns, LoadedScans, ScanOptions, ScanWarning};
 
 use super::cloud_progress::CloudSteps;
+use super::cloud_scanners::scanners_of;
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, write_json_report, write_output};
@@ -466,24 +466,6 @@ fn run_planned(args: &FromCloudArgs, mut options: CloudOptions) -> anyhow::Resul
         }
         (None, _, None) => anyhow::bail!("--plan or --plan-tile is needed"),
     }
-}
-
-/// The cloud pipeline's scanner for a scan's viewpoint.
-pub(crate) fn scanner_of(viewpoint: spatch_scan::Viewpoint) -> Scanner {
-    match viewpoint {
-        spatch_scan::Viewpoint::Direction(d) => Scanner::Far(d),
-        spatch_scan::Viewpoint::Position(at) => Scanner::At(at),
-    }
-}
-
-/// The scanners of scans that all have a viewpoint (`LoadedScans::sight_lines`), with the
-/// run of points each saw.
-fn scanners_of(scans: &[spatch_scan::ScanSummary]) -> Scanners {
-    let runs = scans
-        .iter()
-        .filter_map(|scan| Some((scanner_of(scan.viewpoint?), scan.points.len())))
-        .collect();
-    Scanners { runs }
 }
 
 /// Moves the points of each scan of the loaded `cloud` (`scans`, in its order) by its

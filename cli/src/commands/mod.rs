@@ -2,6 +2,7 @@
 //! report.
 
 pub(crate) mod cloud_progress;
+pub(crate) mod cloud_scanners;
 pub(crate) mod completions;
 pub(crate) mod convert;
 pub(crate) mod convert_plan;
@@ -14,6 +15,7 @@ pub(crate) mod from_cloud;
 pub(crate) mod index;
 pub(crate) mod man;
 pub(crate) mod merge;
+pub(crate) mod pipeline_args;
 pub(crate) mod plan;
 pub(crate) mod render;
 pub(crate) mod render_output;

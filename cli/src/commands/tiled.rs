@@ -52,7 +52,7 @@ impl PlanScans {
         })?;
         let scanners = viewpoints
             .iter()
-            .map(|v| v.map(super::from_cloud::scanner_of))
+            .map(|v| v.map(super::cloud_scanners::scanner_of))
             .collect::<Option<Vec<Scanner>>>();
         Ok(PlanScans {
             scanners,
