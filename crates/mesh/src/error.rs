@@ -215,6 +215,17 @@ pub enum MeshError {
     },
 }
 
+impl MeshError {
+    /// A syntax `problem` at `line` (1-based) of the file at `path`.
+    pub(crate) fn syntax(path: &std::path::Path, line: usize, problem: SyntaxProblem) -> Self {
+        Self::Syntax {
+            path: path.to_path_buf(),
+            line,
+            problem,
+        }
+    }
+}
+
 /// The element of a file that holds a bad value, as printed in errors (`vertex 17`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]

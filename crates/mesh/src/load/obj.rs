@@ -135,11 +135,7 @@ impl<'p> ObjReader<'p> {
 
     /// A syntax error on the current line.
     fn syntax(&self, problem: SyntaxProblem) -> MeshError {
-        MeshError::Syntax {
-            path: self.path.to_path_buf(),
-            line: self.line,
-            problem,
-        }
+        MeshError::syntax(self.path, self.line, problem)
     }
 
     /// Reads one logical line (continuations joined); comments and unknown keywords (`o`,
@@ -494,10 +490,8 @@ fn parse_numbers<'a>(
     tokens
         .enumerate()
         .map(|(column, t)| {
-            t.parse::<f64>().map_err(|_| MeshError::Syntax {
-                path: path.to_path_buf(),
-                line,
-                problem: SyntaxProblem::NotANumber { column: column + 1 },
+            t.parse::<f64>().map_err(|_| {
+                MeshError::syntax(path, line, SyntaxProblem::NotANumber { column: column + 1 })
             })
         })
         .collect()
@@ -521,19 +515,11 @@ fn resolve_index(
     column: usize,
     path: &Path,
 ) -> Result<Option<u32>, MeshError> {
-    let value: i64 = token.parse().map_err(|_| MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem: SyntaxProblem::NotANumber { column },
-    })?;
+    let value: i64 = token
+        .parse()
+        .map_err(|_| MeshError::syntax(path, line, SyntaxProblem::NotANumber { column }))?;
     let resolved = match value {
-        0 => {
-            return Err(MeshError::Syntax {
-                path: path.to_path_buf(),
-                line,
-                problem: SyntaxProblem::ZeroIndex,
-            })
-        }
+        0 => return Err(MeshError::syntax(path, line, SyntaxProblem::ZeroIndex)),
         v if v > 0 => v - 1,
         v => (count as i64).saturating_add(v),
     };
@@ -553,14 +539,13 @@ fn attribute_index(
     };
     match resolve_index(token, count, line, column, path)? {
         Some(i) if (i as usize) < count => Ok(Some(i)),
-        other => Err(MeshError::Syntax {
-            path: path.to_path_buf(),
-            line,
-            problem: SyntaxProblem::AttributeIndexOutOfRange {
+        other => {
+            let problem = SyntaxProblem::AttributeIndexOutOfRange {
                 index: other.map_or(-1, i64::from),
                 count: count as u64,
-            },
-        }),
+            };
+            Err(MeshError::syntax(path, line, problem))
+        }
     }
 }
 

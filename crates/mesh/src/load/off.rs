@@ -33,15 +33,6 @@ struct OffHeader {
     counts_line: usize,
 }
 
-/// A syntax error at `line` of `path`.
-fn syntax(path: &Path, line: usize, problem: SyntaxProblem) -> MeshError {
-    MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem,
-    }
-}
-
 /// Loads an ASCII OFF file.
 pub fn load_off(path: &Path) -> Result<LoadedMesh, MeshError> {
     let bytes = read_file(path)?;
@@ -80,20 +71,32 @@ fn read_header<'a>(
     let mut tokens = header.split_ascii_whitespace();
     let keyword = tokens.next().unwrap_or("");
     let Some(prefix) = keyword.strip_suffix("OFF") else {
-        return Err(syntax(path, line_no, SyntaxProblem::MissingOffHeader));
+        return Err(MeshError::syntax(
+            path,
+            line_no,
+            SyntaxProblem::MissingOffHeader,
+        ));
     };
     if prefix.contains('4') || prefix.contains('n') {
-        return Err(syntax(path, line_no, SyntaxProblem::MissingOffHeader));
+        return Err(MeshError::syntax(
+            path,
+            line_no,
+            SyntaxProblem::MissingOffHeader,
+        ));
     }
     let mut rest: Vec<&str> = tokens.collect();
     if rest.first() == Some(&"BINARY") {
-        return Err(syntax(path, line_no, SyntaxProblem::BinaryVariant));
+        return Err(MeshError::syntax(
+            path,
+            line_no,
+            SyntaxProblem::BinaryVariant,
+        ));
     }
     let mut counts_line = line_no;
     if rest.is_empty() {
         let (n, l) = lines
             .next()
-            .ok_or_else(|| syntax(path, line_no, SyntaxProblem::BadOffCounts))?;
+            .ok_or_else(|| MeshError::syntax(path, line_no, SyntaxProblem::BadOffCounts))?;
         counts_line = n;
         rest = l.split_ascii_whitespace().collect();
     }
@@ -101,12 +104,20 @@ fn read_header<'a>(
     let (Some(vertex_count), Some(face_count)) =
         (parse_count(rest.first()), parse_count(rest.get(1)))
     else {
-        return Err(syntax(path, counts_line, SyntaxProblem::BadOffCounts));
+        return Err(MeshError::syntax(
+            path,
+            counts_line,
+            SyntaxProblem::BadOffCounts,
+        ));
     };
     // Each vertex needs at least 6 bytes ("0 0 0\n"); refuse counts the file cannot hold
     // before sizing anything by them.
     if vertex_count > budget / 6 + 1 || face_count > budget / 8 + 1 {
-        return Err(syntax(path, counts_line, SyntaxProblem::BadOffCounts));
+        return Err(MeshError::syntax(
+            path,
+            counts_line,
+            SyntaxProblem::BadOffCounts,
+        ));
     }
     Ok(OffHeader {
         has_uv: prefix.contains("ST"),
@@ -145,7 +156,7 @@ fn read_vertices<'a>(
                 read: v,
                 declared: vertex_count,
             };
-            syntax(path, header.counts_line, problem)
+            MeshError::syntax(path, header.counts_line, problem)
         })?;
         let values = parse_line(l, n, path)?;
         if values.len() < needed {
@@ -154,7 +165,7 @@ fn read_vertices<'a>(
                 expected: needed,
                 found,
             };
-            return Err(syntax(path, n, problem));
+            return Err(MeshError::syntax(path, n, problem));
         }
         let non_finite = |element| MeshError::NonFinite {
             path: path.to_path_buf(),
@@ -231,7 +242,7 @@ fn read_faces<'a>(
                 read: f,
                 declared: header.face_count,
             };
-            syntax(path, header.counts_line, problem)
+            MeshError::syntax(path, header.counts_line, problem)
         })?;
         let polygon = face_polygon(l, n, f, header.vertex_count, path)?;
         triangulator.push(positions, &polygon, &mut builder.triangles);
@@ -252,9 +263,13 @@ fn face_polygon(
     let len: usize = tokens
         .next()
         .and_then(|t| t.parse().ok())
-        .ok_or_else(|| syntax(path, n, SyntaxProblem::NotANumber { column: 1 }))?;
+        .ok_or_else(|| MeshError::syntax(path, n, SyntaxProblem::NotANumber { column: 1 }))?;
     if len < 3 {
-        return Err(syntax(path, n, SyntaxProblem::FaceTooSmall { len }));
+        return Err(MeshError::syntax(
+            path,
+            n,
+            SyntaxProblem::FaceTooSmall { len },
+        ));
     }
     let mut polygon = Vec::with_capacity(len.min(64));
     for column in 0..len {
@@ -264,9 +279,11 @@ fn face_polygon(
         };
         let index: i64 = tokens
             .next()
-            .ok_or_else(|| syntax(path, n, too_few))?
+            .ok_or_else(|| MeshError::syntax(path, n, too_few))?
             .parse()
-            .map_err(|_| syntax(path, n, SyntaxProblem::NotANumber { column: column + 2 }))?;
+            .map_err(|_| {
+                MeshError::syntax(path, n, SyntaxProblem::NotANumber { column: column + 2 })
+            })?;
         if index < 0 || index as u64 >= vertex_count {
             return Err(MeshError::IndexOutOfRange {
                 path: path.to_path_buf(),
@@ -288,10 +305,12 @@ fn parse_line(line: &str, line_no: usize, path: &Path) -> Result<Vec<(f64, bool)
         .map(|(column, t)| {
             t.parse::<f64>()
                 .map(|v| (v, t.contains(['.', 'e', 'E'])))
-                .map_err(|_| MeshError::Syntax {
-                    path: path.to_path_buf(),
-                    line: line_no,
-                    problem: SyntaxProblem::NotANumber { column: column + 1 },
+                .map_err(|_| {
+                    MeshError::syntax(
+                        path,
+                        line_no,
+                        SyntaxProblem::NotANumber { column: column + 1 },
+                    )
                 })
         })
         .collect()

@@ -131,11 +131,7 @@ fn words(text: &str) -> impl Iterator<Item = Word<'_>> {
 fn read_ascii(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, MeshError> {
     let text = String::from_utf8_lossy(bytes);
     let text = super::strip_bom(&text);
-    let err = |line: usize, problem| MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem,
-    };
+    let err = |line: usize, problem| MeshError::syntax(path, line, problem);
     let mut builder = MeshBuilder::default();
     let mut triangulator = PolygonTriangulator::default();
     let mut loop_start: Option<usize> = None;

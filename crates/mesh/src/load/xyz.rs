@@ -201,11 +201,7 @@ pub fn load_xyz_columns(
 ) -> Result<LoadedPointCloud, MeshError> {
     let bytes = read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
-    let err = |line: usize, problem| MeshError::Syntax {
-        path: path.to_path_buf(),
-        line,
-        problem,
-    };
+    let err = |line: usize, problem| MeshError::syntax(path, line, problem);
     let mut layout: Option<Columns> = layout.map(|l| l.columns);
     let mut header: Option<Columns> = None;
     let mut seen_line = false;
