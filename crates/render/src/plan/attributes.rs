@@ -224,8 +224,7 @@ fn fill_phong_attributes(
         normals.touch_all(m, p.slot_set(m));
         return;
     }
-    let width = range.size().0;
-    let height = range.j1 - range.j0 + 1;
+    let (width, height) = range.size();
     let piece = &work.nodes[first..first + width * height];
     for (j, out) in (range.j0..=range.j1).zip(piece.chunks_exact(width)) {
         let row = j * level.cols + range.i0;

@@ -84,8 +84,8 @@ pub(crate) fn project_nodes_exact(
     xy: &mut NodeXY,
 ) {
     let [mi, md] = [p.map.x_axis, p.map.z_axis];
-    let cols = range.size().0;
-    xy.reset(cols * (range.j1 - range.j0 + 1));
+    let (cols, rows) = range.size();
+    xy.reset(cols * rows);
     let mut at = 0;
     for j in range.j0..=range.j1 {
         let row = j * level.cols;
@@ -126,8 +126,8 @@ pub(crate) fn project_nodes_trilinear(
     let c = projected_box_corners(range, d, p);
     let inv_i = 1.0 / (range.i1 - range.i0) as f32;
     let inv_j = 1.0 / (range.j1 - range.j0) as f32;
-    let cols = range.size().0;
-    let count = cols * (range.j1 - range.j0 + 1);
+    let (cols, rows) = range.size();
+    let count = cols * rows;
     xy.reset(count);
     // The weights along the displacement axis and the used flags: the
     // level's own for whole rows at the level's range (found once per
