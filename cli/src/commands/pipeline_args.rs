@@ -195,20 +195,26 @@ fn texture_budget(s: &str) -> Result<TextureBudget, String> {
             Err("the scale Nx must have N >= 1".to_owned())
         };
     }
+    let bytes = byte_size(t, true)?;
+    if !(bytes.is_finite() && bytes > 0.0) {
+        return Err("the byte budget must be positive".to_owned());
+    }
+    Ok(TextureBudget::Nodes(bytes as u64 / BUDGET_BYTES_PER_NODE))
+}
+
+/// A size in bytes as the budgets write it: a number with an optional
+/// `k` or `m` (and, with `giga`, `g`) suffix, either case.
+fn byte_size(t: &str, giga: bool) -> Result<f64, String> {
     let (digits, unit) = match t.char_indices().last() {
         Some((i, 'k' | 'K')) => (&t[..i], 1_000.0),
         Some((i, 'm' | 'M')) => (&t[..i], 1_000_000.0),
-        Some((i, 'g' | 'G')) => (&t[..i], 1_000_000_000.0),
+        Some((i, 'g' | 'G')) if giga => (&t[..i], 1_000_000_000.0),
         _ => (t, 1.0),
     };
     let v: f64 = digits
         .parse()
         .map_err(|_| "expected Nx (a scale) or a size in bytes such as 500k or 2M".to_owned())?;
-    let bytes = v * unit;
-    if !(bytes.is_finite() && bytes > 0.0) {
-        return Err("the byte budget must be positive".to_owned());
-    }
-    Ok(TextureBudget::Nodes(bytes as u64 / BUDGET_BYTES_PER_NODE))
+    Ok(v * unit)
 }
 
 fn colour_budget(s: &str) -> Result<ColourBudget, String> {
@@ -221,15 +227,7 @@ fn colour_budget(s: &str) -> Result<ColourBudget, String> {
             Err("the scale Nx must have N >= 0".to_owned())
         };
     }
-    let (digits, unit) = match t.char_indices().last() {
-        Some((i, 'k' | 'K')) => (&t[..i], 1_000.0),
-        Some((i, 'm' | 'M')) => (&t[..i], 1_000_000.0),
-        _ => (t, 1.0),
-    };
-    let v: f64 = digits
-        .parse()
-        .map_err(|_| "expected Nx (a scale) or a size in bytes such as 500k or 2M".to_owned())?;
-    let bytes = v * unit;
+    let bytes = byte_size(t, false)?;
     if !(bytes.is_finite() && bytes >= 0.0) {
         return Err("the byte budget must not be negative".to_owned());
     }
@@ -287,5 +285,18 @@ mod tests {
         assert!(positive_f32("0").is_err());
         assert!(positive_f32("nan").is_err());
         assert_eq!(positive_f32("0.5"), Ok(0.5));
+    }
+
+    #[test]
+    fn byte_sizes_take_their_units_and_only_the_texture_budget_takes_g() {
+        assert_eq!(byte_size("500k", false), Ok(500_000.0));
+        assert_eq!(byte_size("2M", false), Ok(2_000_000.0));
+        assert_eq!(byte_size("3", false), Ok(3.0));
+        assert_eq!(byte_size("1g", true), Ok(1_000_000_000.0));
+        assert!(byte_size("1g", false).is_err());
+        assert!(byte_size("k", true).is_err());
+        assert_eq!(texture_budget("4k"), Ok(TextureBudget::Nodes(1_000)));
+        assert_eq!(colour_budget("2M"), Ok(ColourBudget::Bytes(2_000_000)));
+        assert!(colour_budget("1G").is_err());
     }
 }
