@@ -117,9 +117,11 @@ pub(crate) fn measure_cells(
         drawable,
     );
     // Closing flags: the level's own when the piece is the whole level and
-    // no cell faced away.
+    // no cell faced away (already in `out` when no cell was tested).
     let [right, top, both] = if whole && m.backfacing_cells == 0 {
-        out.copy_from_slice(&level.cell_flags);
+        if back_sign != 0 {
+            out.copy_from_slice(&level.cell_flags);
+        }
         level.closing
     } else if m.drawable_cells == 0 {
         [0; 3]
