@@ -136,6 +136,7 @@ pub fn generate_part_edge_patches(
         covered: &covered,
         surface,
         surface_spacing,
+        strip: options.strip_width * surface_spacing,
         owns,
     };
     let (mut patches, lattice_count) = crease_patches(&job, &found, options, &mut stats)?;
@@ -197,6 +198,8 @@ struct Found<'a> {
     covered: &'a [bool],
     surface: &'a [Patch],
     surface_spacing: f32,
+    /// The width of the patches' strips across the edge (model units).
+    strip: f32,
     owns: OwnsPoint<'a>,
 }
 
@@ -211,7 +214,7 @@ fn crease_patches(
     stats: &mut EdgeStats,
 ) -> Result<(Vec<Patch>, usize), EdgeError> {
     let (mesh, sharp, edge_spacing) = (job.mesh, found.sharp, job.spacing);
-    let strip = options.strip_width * found.surface_spacing;
+    let strip = found.strip;
     // A piece plus its overlap at both ends (`edge_patch`) must fit `max_cols` nodes.
     let overlap = edge_spacing + 0.5 * strip;
     let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
@@ -307,7 +310,6 @@ fn corner_patches(
                 *open = !covered_corner(mesh, v, faces, &seen, spacing);
             });
     }
-    let strip = options.strip_width * spacing;
     let corners: Vec<(NodeLattice, Vec<FaceId>)> = sharp
         .corners
         .par_iter()
@@ -315,7 +317,7 @@ fn corner_patches(
         .zip(open.par_iter())
         .filter(|(_, &open)| open)
         .filter_map(|((&v, faces), _)| {
-            corner_lattice(mesh, found.adjacency, v, faces, job.spacing, strip)
+            corner_lattice(mesh, found.adjacency, v, faces, job.spacing, found.strip)
         })
         .collect();
     cast_all(job, &corners, first)
