@@ -217,7 +217,8 @@ impl Renderer {
                 });
         });
         let plan_wall = start.elapsed();
-        self.finish(start, plan_wall, &view, &setup, camera, &scene.patches)
+        let clock = FrameClock { start, plan_wall };
+        self.finish(clock, &view, &setup, camera, &scene.patches)
     }
 
     /// Rasterizes a triangle mesh with the same camera, shading and
@@ -251,14 +252,15 @@ impl Renderer {
             });
         });
         let plan_wall = start.elapsed();
-        self.finish(start, plan_wall, &view, &setup, camera, &[])
+        let clock = FrameClock { start, plan_wall };
+        self.finish(clock, &view, &setup, camera, &[])
     }
 
-    #[allow(clippy::too_many_arguments)] // the frame's pieces, passed through once
+    /// Bins the planned work into bands, rasterizes and resolves the bands
+    /// on the pool and gathers the image and its statistics.
     fn finish(
         &mut self,
-        start: Instant,
-        plan_wall: std::time::Duration,
+        clock: FrameClock,
         view: &View,
         setup: &FrameSetup<'_>,
         camera: &Camera,
@@ -266,6 +268,40 @@ impl Renderer {
     ) -> Result<RenderOutput, RenderError> {
         let options = setup.options;
         let bin_start = Instant::now();
+        let layout = self.bin_work(view, options);
+        let bin_wall = bin_start.elapsed();
+
+        let raster_start = Instant::now();
+        let (rgba, eye_depth) = self.raster_bands(layout, view, setup, patches);
+        let raster_wall = raster_start.elapsed();
+
+        let gather_start = Instant::now();
+        let image = RenderedImage::from_internal(
+            rgba,
+            eye_depth,
+            camera.width(),
+            camera.height(),
+            options.ssaa,
+            view.near,
+            view.far,
+        );
+        let gather_wall = gather_start.elapsed();
+
+        let walls = FrameWalls {
+            plan: clock.plan_wall,
+            bin: bin_wall,
+            raster: raster_wall,
+            gather: gather_wall,
+            total: clock.start.elapsed(),
+        };
+        let band_count = layout.band_count;
+        let stats = self.frame_stats(&image, walls, band_count, (view, camera), options);
+        Ok(RenderOutput { image, stats })
+    }
+
+    /// Sorts the planned items and triangles into bands of rows and orders
+    /// the bands for the pool; returns how the image was cut.
+    fn bin_work(&mut self, view: &View, options: &RenderOptions) -> BandLayout {
         let tile_rows = options.band_rows(view.height, self.pool.current_num_threads());
         let band_count = view.height.div_ceil(tile_rows) as usize;
         let apron = if options.fills_gaps() {
@@ -276,11 +312,29 @@ impl Renderer {
         self.bins.fill(&self.chunks, tile_rows, band_count, apron);
         let size = (view.width, view.height);
         (self.order).plan(&self.chunks, size, tile_rows, band_count);
-        let bin_wall = bin_start.elapsed();
+        BandLayout {
+            tile_rows,
+            band_count,
+            apron,
+        }
+    }
 
-        let raster_start = Instant::now();
+    /// Draws and resolves every band of `layout` on the pool, each into its
+    /// rows of the image's colour and eye-depth buffers, which it returns.
+    fn raster_bands(
+        &mut self,
+        layout: BandLayout,
+        view: &View,
+        setup: &FrameSetup<'_>,
+        patches: &[PreparedPatch],
+    ) -> (Vec<[u8; 4]>, Vec<f32>) {
+        let BandLayout {
+            tile_rows,
+            band_count,
+            apron,
+        } = layout;
         let phong = PhongItems::new(
-            options.shading,
+            setup.options.shading,
             &self.bins.all_items,
             &self.chunks,
             patches,
@@ -295,7 +349,7 @@ impl Renderer {
             (&mut self.bands, &mut self.skips),
             band_count,
             tile_rows,
-            size,
+            (view.width, view.height),
             &mut rgba,
             &mut eye_depth,
         );
@@ -324,29 +378,7 @@ impl Renderer {
             band.swap_samples(&mut samples);
         };
         run_in_order(&self.pool, tasks, &self.order.order, draw);
-        let raster_wall = raster_start.elapsed();
-
-        let gather_start = Instant::now();
-        let image = RenderedImage::from_internal(
-            rgba,
-            eye_depth,
-            camera.width(),
-            camera.height(),
-            options.ssaa,
-            view.near,
-            view.far,
-        );
-        let gather_wall = gather_start.elapsed();
-
-        let walls = FrameWalls {
-            plan: plan_wall,
-            bin: bin_wall,
-            raster: raster_wall,
-            gather: gather_wall,
-            total: start.elapsed(),
-        };
-        let stats = self.frame_stats(&image, walls, band_count, (view, camera), options);
-        Ok(RenderOutput { image, stats })
+        (rgba, eye_depth)
     }
 
     /// The image's colour and eye-depth buffers for `pixels` pixels: the
@@ -517,6 +549,24 @@ pub fn rasterize_triangles(
     options: &RenderOptions,
 ) -> Result<RenderOutput, RenderError> {
     Renderer::new(*options)?.rasterize(mesh, camera)
+}
+
+/// When a frame started and how long its planning took.
+#[derive(Debug, Clone, Copy)]
+struct FrameClock {
+    start: Instant,
+    plan_wall: std::time::Duration,
+}
+
+/// How a frame's image is cut into bands of rows.
+#[derive(Debug, Clone, Copy)]
+struct BandLayout {
+    /// Rows per band (the last may have fewer).
+    tile_rows: u32,
+    /// Bands in the image.
+    band_count: usize,
+    /// Rows each band draws above and below its own (the gap fill's reach).
+    apron: i32,
 }
 
 /// The wall times of a frame's stages.
