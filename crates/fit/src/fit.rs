@@ -111,7 +111,6 @@ pub fn fit_regions_counted(
     on_region: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<FitOutput, FitError> {
     options.validate()?;
-    let finished = std::sync::atomic::AtomicUsize::new(0);
     let spacing = match options.spacing {
         Some(s) => s,
         None => default_spacing(mesh).ok_or(FitError::NoSurface)?,
@@ -124,33 +123,83 @@ pub fn fit_regions_counted(
         Some((s, detail)) => (Some(s), Some(detail)),
         None => (None, None),
     };
-    let fitted: Vec<RegionPatches> = regions
+    let shared = SharedFit {
+        mesh,
+        adjacency,
+        options,
+        spacing,
+        region_spacings: region_spacings.as_deref(),
+        with_colour,
+    };
+    let fitted = fit_each_region(&shared, regions, on_region)?;
+    let (patches, stats) = gather_patches(fitted);
+    let channel = choose_channel(&patches);
+    Ok(FitOutput {
+        patches,
+        channel,
+        spacing,
+        stats,
+        texture,
+    })
+}
+
+/// What the fit of every region of one call shares, before the region's own spacing.
+struct SharedFit<'a> {
+    mesh: &'a TriangleMesh,
+    adjacency: &'a FaceAdjacency,
+    options: &'a FitOptions,
+    /// The target spacing.
+    spacing: f32,
+    /// Per region, the spacing its texture asks for (finer than the target where the
+    /// texture has detail; `None` without a texture or texels per node).
+    region_spacings: Option<&'a [f32]>,
+    with_colour: bool,
+}
+
+impl SharedFit<'_> {
+    /// The job of region `index`.
+    fn job(&self, index: usize, region: &FitRegion<'_>) -> RegionJob<'_> {
+        let (mesh, options, spacing) = (self.mesh, self.options, self.spacing);
+        let spacings = self.region_spacings;
+        RegionJob {
+            mesh,
+            adjacency: self.adjacency,
+            options,
+            spacing: spacings.map_or(spacing, |s| s[index]),
+            step_scale: spacings.map_or(1.0, |s| spacing / s[index]),
+            with_colour: self.with_colour,
+            footprint_colour: options.texels_per_node > 0.0,
+            texel: (self.with_colour && options.colour_grid_texels > 0.0)
+                .then(|| region_texel_size(mesh, region))
+                .flatten(),
+        }
+    }
+}
+
+/// Fits every region on the worker threads, in the order of `regions`, counting each
+/// finished one to `on_region`.
+fn fit_each_region(
+    shared: &SharedFit<'_>,
+    regions: &[FitRegion<'_>],
+    on_region: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<RegionPatches>, FitError> {
+    let finished = std::sync::atomic::AtomicUsize::new(0);
+    regions
         .par_iter()
         .enumerate()
         .map(|(index, region)| {
-            let patches = fit_region(
-                &RegionJob {
-                    mesh,
-                    adjacency,
-                    options,
-                    spacing: region_spacings.as_ref().map_or(spacing, |s| s[index]),
-                    step_scale: region_spacings.as_ref().map_or(1.0, |s| spacing / s[index]),
-                    with_colour,
-                    footprint_colour: options.texels_per_node > 0.0,
-                    texel: (with_colour && options.colour_grid_texels > 0.0)
-                        .then(|| region_texel_size(mesh, region))
-                        .flatten(),
-                },
-                index,
-                region,
-            );
+            let patches = fit_region(&shared.job(index, region), index, region);
             let done = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             on_region(done, regions.len());
             patches
         })
-        .collect::<Result<_, _>>()?;
+        .collect()
+}
+
+/// The regions' patches in order, and the counts of [`FitStats`].
+fn gather_patches(fitted: Vec<RegionPatches>) -> (Vec<Patch>, FitStats) {
     let mut stats = FitStats {
-        regions: regions.len(),
+        regions: fitted.len(),
         ..FitStats::default()
     };
     let mut patches = Vec::new();
@@ -175,14 +224,7 @@ pub fn fit_regions_counted(
             stats.colour_samples += g.samples().len();
         }
     }
-    let channel = choose_channel(&patches);
-    Ok(FitOutput {
-        patches,
-        channel,
-        spacing,
-        stats,
-        texture,
-    })
+    (patches, stats)
 }
 
 /// What every region's fit shares.
@@ -314,8 +356,44 @@ fn fit_lattice(
     lattice: &Lattice,
     spacing: f32,
 ) -> Result<Vec<Patch>, FitError> {
+    let (needed, around, mut hits) = cast_lattice(job, faces, lattice);
+    // 5. Quantizer, on the heights the mesh gave.
+    let Some((h_min, h_max)) = hit_height_range(&hits) else {
+        return Ok(Vec::new());
+    };
+    let (mesh, adjacency) = (job.mesh, job.adjacency);
+    let range = h_min..=h_max;
+    reach_past_boundaries(mesh, adjacency, faces, lattice, &needed, range, &mut hits);
+    let step_spacing = spacing * job.step_scale;
+    let quantizer = choose_quantizer(
+        h_max - h_min,
+        step_spacing,
+        job.options.max_step_error * step_spacing,
+    )?;
+    let codes = height_codes(&hits, &quantizer, h_min);
+    // 6. Windows.
+    let nodes = LatticeNodes {
+        lattice,
+        hits: &hits,
+        codes: &codes,
+        quantized: (&quantizer, h_min),
+    };
+    let faces = SampleFaces {
+        region: faces,
+        around: &around,
+    };
+    window_patches(job, &nodes, faces)
+}
+
+/// Steps 3 and 4 of the module docs: which nodes the region needs, the faces around it, and
+/// the hits of rays cast at the needed nodes, first against the region's own faces, then
+/// (for nodes those missed) against the faces around it.
+fn cast_lattice(
+    job: &RegionJob<'_>,
+    faces: &[FaceId],
+    lattice: &Lattice,
+) -> (Vec<bool>, Vec<FaceId>, Vec<Hit>) {
     let mesh = job.mesh;
-    // 3. Needed nodes, neighbourhood. 4. Rays.
     let needed = needed_nodes(mesh, faces, lattice, job.options.overlap);
     let mut hits = vec![Hit::NONE; lattice.cols * lattice.rows];
     cast_nodes(mesh, faces, lattice, &needed, None, &mut hits);
@@ -329,66 +407,63 @@ fn fit_lattice(
     );
     let locked: Vec<bool> = hits.iter().map(Hit::is_hit).collect();
     cast_nodes(mesh, &around, lattice, &needed, Some(&locked), &mut hits);
+    (needed, around, hits)
+}
 
-    // 5. Quantizer, on the heights the mesh gave.
+/// The lowest and highest height among the nodes that hit the mesh; `None` when none did.
+fn hit_height_range(hits: &[Hit]) -> Option<(f32, f32)> {
     let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
     for h in hits.iter().filter(|h| h.is_hit()) {
         h_min = h_min.min(h.height);
         h_max = h_max.max(h.height);
     }
-    if h_min > h_max {
-        return Ok(Vec::new());
-    }
-    let range = h_min..=h_max;
-    reach_past_boundaries(
-        mesh,
-        job.adjacency,
-        faces,
-        lattice,
-        &needed,
-        range,
-        &mut hits,
-    );
-    let step_spacing = spacing * job.step_scale;
-    let quantizer = choose_quantizer(
-        h_max - h_min,
-        step_spacing,
-        job.options.max_step_error * step_spacing,
-    )?;
-    let codes: Vec<u16> = hits
-        .iter()
+    (h_min <= h_max).then_some((h_min, h_max))
+}
+
+/// Every node's displacement code under `quantizer` (heights from `h_min`), [`EMPTY`] where
+/// its ray missed.
+fn height_codes(hits: &[Hit], quantizer: &spatch_format::Quantizer, h_min: f32) -> Vec<u16> {
+    hits.iter()
         .map(|h| {
             if h.is_hit() {
-                quantize_height(&quantizer, h_min, h.height)
+                quantize_height(quantizer, h_min, h.height)
             } else {
                 EMPTY
             }
         })
-        .collect();
+        .collect()
+}
 
-    // 6. Windows.
-    let Some(filled) = filled_bounds(
-        &codes,
-        lattice,
-        (0, lattice.cols - 1),
-        (0, lattice.rows - 1),
-    ) else {
+/// A region's lattice after its rays and quantization: what its windows are cut from.
+struct LatticeNodes<'a> {
+    lattice: &'a Lattice,
+    hits: &'a [Hit],
+    codes: &'a [u16],
+    /// The quantizer and the height its code 0 stands for.
+    quantized: (&'a spatch_format::Quantizer, f32),
+}
+
+/// Step 6 of the module docs: the filled nodes cut into windows of at most the grid's cells
+/// per side, one patch (with its colour grid when asked) per window that holds a patch.
+fn window_patches(
+    job: &RegionJob<'_>,
+    nodes: &LatticeNodes<'_>,
+    faces: SampleFaces<'_>,
+) -> Result<Vec<Patch>, FitError> {
+    let (lattice, codes) = (nodes.lattice, nodes.codes);
+    let whole = ((0, lattice.cols - 1), (0, lattice.rows - 1));
+    let Some(filled) = filled_bounds(codes, lattice, whole.0, whole.1) else {
         return Ok(Vec::new());
     };
     let max_cells = job.options.grid as usize - 1;
     let mut patches = Vec::new();
     for (ia, ib) in split_span(filled.0, max_cells) {
         for (ja, jb) in split_span(filled.1, max_cells) {
-            let Some(window) = filled_bounds(&codes, lattice, (ia, ib), (ja, jb)) else {
+            let Some(window) = filled_bounds(codes, lattice, (ia, ib), (ja, jb)) else {
                 continue;
             };
-            if let Some(patch) =
-                make_patch(job, lattice, &hits, &codes, window, (&quantizer, h_min))?
-            {
-                let faces = SampleFaces {
-                    region: faces,
-                    around: &around,
-                };
+            let made = make_patch(job, lattice, nodes.hits, codes, window, nodes.quantized)?;
+            if let Some(patch) = made {
                 patches.push(with_colour_grid(job, faces, lattice, window, patch)?);
             }
         }
