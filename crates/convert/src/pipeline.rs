@@ -418,25 +418,58 @@ fn run_pipeline(
         let surface = (patches, fitted.channel);
         encode(source.mesh.origin, surface, edge_list, sides, options)
     })?;
-    let Encoded {
-        scene,
-        bytes,
-        edge_bytes,
-        colour_grids,
-    } = encoded;
-    let report = ConvertReport {
-        counts: Counts::of(&scene, bytes.len()),
+    let outcome = Outcome {
+        regions: regions.len(),
+        fit: stats,
+        texture,
+        edges: edges.map(|(_, s)| s),
+        sides: sides_counts,
+    };
+    let report = conversion_report(clock, &source, &encoded, outcome);
+    Ok(Conversion {
+        scene: encoded.scene,
+        bytes: encoded.bytes,
+        mesh: source.mesh,
+        load_warnings: source.load_warnings,
+        report,
+    })
+}
+
+/// What the stages after the source's preparation found, for the report.
+struct Outcome {
+    /// Regions segmented.
+    regions: usize,
+    /// The fit's counts.
+    fit: spatch_fit::FitStats,
+    /// The texture's detail, when textured regions were fitted finer.
+    texture: Option<spatch_fit::TextureDetail>,
+    /// The sharp-edge stage's counts, when it ran.
+    edges: Option<EdgeStats>,
+    /// The sides stage's counts.
+    sides: crate::SideCounts,
+}
+
+/// The report of a conversion whose stages `clock` timed.
+fn conversion_report(
+    clock: Clock<'_>,
+    source: &Source,
+    encoded: &Encoded,
+    outcome: Outcome,
+) -> ConvertReport {
+    let scene = &encoded.scene;
+    ConvertReport {
+        counts: Counts::of(scene, encoded.bytes.len()),
         seconds: clock.times.total(),
         stages: clock.times.into_stages(),
         threads: rayon::current_num_threads(),
-        spacing,
+        spacing: source.spacing,
         triangles: source.mesh.face_count(),
-        regions: regions.len(),
-        split_regions: stats.split_regions,
-        refined_regions: stats.refined_regions,
-        wide_patches: stats.wide_patches,
-        texture,
-        colour_grids,
+        regions: outcome.regions,
+        split_regions: outcome.fit.split_regions,
+        refined_regions: outcome.fit.refined_regions,
+        wide_patches: outcome.fit.wide_patches,
+        texture: outcome.texture,
+        colour_grids: encoded.colour_grids,
         colour: scene.channel().name(),
         diagonal: f64::from(source.mesh.diagonal()),
         prepare: PrepareCounts::from(&source.prepared),
@@ -446,17 +479,10 @@ fn run_pipeline(
             .iter()
             .map(ToString::to_string)
             .collect(),
-        edges: edges.map(|(_, s)| s),
-        edge_bytes,
-        sides: sides_counts,
-    };
-    Ok(Conversion {
-        scene,
-        bytes,
-        mesh: source.mesh,
-        load_warnings: source.load_warnings,
-        report,
-    })
+        edges: outcome.edges,
+        edge_bytes: encoded.edge_bytes,
+        sides: outcome.sides,
+    }
 }
 
 /// Holds the colour grids of `patches` to the budget of `options` (measured against the
