@@ -313,6 +313,8 @@ fn work_boxes<'a>(job: &'a BandJob<'_>, index: usize) -> impl Iterator<Item = [i
 
 /// Draws band number `index` and resolves it into its rows of the image
 /// (`rgba`, `eye_depth`).
+/// Why `#[inline(always)]` here and in its stages: they run inside the
+/// kernels' instruction-set wrapper (`crate::isa`).
 #[inline(always)]
 pub(crate) fn render_band(
     (band, skip): (&mut Band, &mut SkipTiles),
@@ -324,7 +326,6 @@ pub(crate) fn render_band(
     // Only the part of the band (and its apron) its work can touch is
     // cleared, drawn and resolved (`raster::band_box`). The occlusion skip
     // reads whole tiles of the band, so it keeps the whole band.
-    let whole = PixelBox::whole(band.y0, band.rows, band.width);
     let (first, all) = band.buffer_rows();
     let drawn = PixelBox::whole(first, all, band.width);
     let reach = if job.occlusion_skip {
@@ -334,35 +335,62 @@ pub(crate) fn render_band(
     };
     band.clear_box(reach);
     let start = Instant::now();
-    if job.occlusion_skip {
-        draw_unhidden_pieces(&mut band.target(), index, job, skip);
-    } else {
-        let mut t = band.target();
-        for &id in job.bins.items_of(index) {
-            let (c, k) = job.bins.all_items[id as usize];
-            let chunk = &job.chunks[c as usize];
-            draw_item(&mut t, chunk, k, id, job.cells);
-        }
-    }
+    draw_band_items(band, skip, index, job);
     let cells_done = Instant::now();
-    {
-        let mut t = band.target();
-        let refs = job.bins.tris_of(index);
-        match job.shading {
-            Shading::Flat => draw_triangles::<0, _>(&mut t, job, refs, |tri| FlatPayload(tri.flat)),
-            _ if job.has_grids => draw_grid_triangles(&mut t, job, refs),
-            Shading::Gouraud => draw_triangles::<3, _>(&mut t, job, refs, |_| GouraudPayload),
-            Shading::Phong => {
-                draw_triangles::<6, _>(&mut t, job, refs, |tri| PhongPayload(tri.frame))
-            }
-        }
-    }
+    draw_band_triangles(band, index, job);
     let tris_done = Instant::now();
     // The gap fill is timed with the resolve.
     if band.apron > 0 {
         fill_band_gaps(band, reach);
     }
-    // The band's own rows of the box.
+    resolve_band(band, reach, job, rgba, eye_depth);
+    band.times.cells = (cells_done - start).as_nanos() as u64;
+    band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
+    band.times.resolve = tris_done.elapsed().as_nanos() as u64;
+}
+
+/// Draws the patch pieces binned to band `index` (those the occlusion skip
+/// finds hidden left out when it is on).
+#[inline(always)]
+fn draw_band_items(band: &mut Band, skip: &mut SkipTiles, index: usize, job: &BandJob<'_>) {
+    if job.occlusion_skip {
+        draw_unhidden_pieces(&mut band.target(), index, job, skip);
+        return;
+    }
+    let mut t = band.target();
+    for &id in job.bins.items_of(index) {
+        let (c, k) = job.bins.all_items[id as usize];
+        let chunk = &job.chunks[c as usize];
+        draw_item(&mut t, chunk, k, id, job.cells);
+    }
+}
+
+/// Draws the triangles binned to band `index` with the payload of the
+/// frame's shading.
+#[inline(always)]
+fn draw_band_triangles(band: &mut Band, index: usize, job: &BandJob<'_>) {
+    let mut t = band.target();
+    let refs = job.bins.tris_of(index);
+    match job.shading {
+        Shading::Flat => draw_triangles::<0, _>(&mut t, job, refs, |tri| FlatPayload(tri.flat)),
+        _ if job.has_grids => draw_grid_triangles(&mut t, job, refs),
+        Shading::Gouraud => draw_triangles::<3, _>(&mut t, job, refs, |_| GouraudPayload),
+        Shading::Phong => draw_triangles::<6, _>(&mut t, job, refs, |tri| PhongPayload(tri.frame)),
+    }
+}
+
+/// Resolves the band's own rows of `reach` into its rows of the image and
+/// counts the pixels that show a surface (the rest of the rows get the
+/// background).
+#[inline(always)]
+fn resolve_band(
+    band: &mut Band,
+    reach: PixelBox,
+    job: &BandJob<'_>,
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    let whole = PixelBox::whole(band.y0, band.rows, band.width);
     let (y0, y1) = (reach.y0.max(whole.y0), reach.y1.min(whole.y1));
     let touched = PixelBox {
         y0,
@@ -387,7 +415,4 @@ pub(crate) fn render_band(
     band.covered = box_rows
         .map(|k| finite_count(&eye_depth[k * w + x0..k * w + x1]) as u64)
         .sum();
-    band.times.cells = (cells_done - start).as_nanos() as u64;
-    band.times.triangles = (tris_done - cells_done).as_nanos() as u64;
-    band.times.resolve = tris_done.elapsed().as_nanos() as u64;
 }
