@@ -129,18 +129,7 @@ pub fn prepare_mesh(
     };
 
     // 1. Weld: remap[v] = representative vertex (lowest index of its group).
-    let remap: Vec<u32> = match options.weld {
-        WeldMode::Off => (0..n as u32).collect(),
-        WeldMode::Exact => weld_exact(&mesh.positions),
-        WeldMode::Relative(r) => {
-            let tol = r * mesh.diagonal();
-            if tol.is_finite() && tol > 0.0 {
-                weld_tolerance(&mesh.positions, tol)
-            } else {
-                weld_exact(&mesh.positions)
-            }
-        }
-    };
+    let remap = weld(mesh, options.weld);
     report.welded_vertices = remap
         .iter()
         .enumerate()
@@ -148,7 +137,57 @@ pub fn prepare_mesh(
         .count();
 
     // 2. Faces: remap, then drop degenerate, zero-area and duplicate ones.
-    let mut kept_faces: Vec<u32> = Vec::with_capacity(mesh.triangles.len());
+    let mut faces = keep_faces(mesh, &remap, options, &mut report);
+    if options.drop_duplicate {
+        drop_repeated_faces(&mut faces, &mut report);
+    }
+
+    // 3. Vertices: keep representatives that a face uses (or all representatives).
+    let order = kept_vertices(n, &remap, &faces.triangles, options, &mut report);
+    renumber_faces(&mut faces.triangles, n, &order);
+
+    let out = rebuild_mesh(mesh, &remap, &order, faces);
+    report.output_vertices = out.positions.len();
+    report.output_faces = out.triangles.len();
+    debug_assert!(out.validate().is_ok(), "prepare_mesh broke an invariant");
+    (out, report)
+}
+
+/// The faces that survive cleaning, with the input face each came from.
+struct KeptFaces {
+    /// The faces on welded vertex indices (input numbering until renumbered).
+    triangles: Vec<[u32; 3]>,
+    /// For each of `triangles`, its index among the input faces.
+    sources: Vec<u32>,
+}
+
+/// The representative of every vertex of `mesh` under `mode` (a relative tolerance that is
+/// not positive and finite falls back to exact welding).
+fn weld(mesh: &TriangleMesh, mode: WeldMode) -> Vec<u32> {
+    let positions = &mesh.positions;
+    match mode {
+        WeldMode::Off => (0..positions.len() as u32).collect(),
+        WeldMode::Exact => weld_exact(positions),
+        WeldMode::Relative(r) => {
+            let tol = r * mesh.diagonal();
+            if tol.is_finite() && tol > 0.0 {
+                weld_tolerance(positions, tol)
+            } else {
+                weld_exact(positions)
+            }
+        }
+    }
+}
+
+/// Remaps the faces of `mesh` through `remap` and drops the degenerate and zero-area ones
+/// (as `options` ask), counting them in `report`.
+fn keep_faces(
+    mesh: &TriangleMesh,
+    remap: &[u32],
+    options: &PrepareOptions,
+    report: &mut PrepareReport,
+) -> KeptFaces {
+    let mut sources: Vec<u32> = Vec::with_capacity(mesh.triangles.len());
     let mut triangles = Vec::with_capacity(mesh.triangles.len());
     for (f, t) in mesh.triangles.iter().enumerate() {
         let t = t.map(|i| remap[i as usize]);
@@ -164,77 +203,109 @@ pub fn prepare_mesh(
                 continue;
             }
         }
-        kept_faces.push(f as u32);
+        sources.push(f as u32);
         triangles.push(t);
     }
-    let repeats = if options.drop_duplicate {
-        find_repeats(&triangles)
-    } else {
-        Vec::new()
-    };
-    if !repeats.is_empty() {
-        let dropped = drop_repeats(&mut triangles, &mut kept_faces, &repeats);
-        report.dropped_duplicate = dropped.0;
-        report.dropped_mirrored = dropped.1;
-        report.kept_repeats = repeats.len() - dropped.0;
-    }
+    KeptFaces { triangles, sources }
+}
 
-    // 3. Vertices: keep representatives that a face uses (or all representatives).
+/// Drops the faces that repeat an earlier one by the module's rule, counting them (and the
+/// repeats kept) in `report`.
+fn drop_repeated_faces(faces: &mut KeptFaces, report: &mut PrepareReport) {
+    let repeats = find_repeats(&faces.triangles);
+    if repeats.is_empty() {
+        return;
+    }
+    let dropped = drop_repeats(&mut faces.triangles, &mut faces.sources, &repeats);
+    report.dropped_duplicate = dropped.0;
+    report.dropped_mirrored = dropped.1;
+    report.kept_repeats = repeats.len() - dropped.0;
+}
+
+/// The vertices of the output in order: the representatives among the `n` input vertices
+/// that a face of `triangles` uses (or all of them, when `options` keep unreferenced ones);
+/// the representatives left out are counted in `report`.
+fn kept_vertices(
+    n: usize,
+    remap: &[u32],
+    triangles: &[[u32; 3]],
+    options: &PrepareOptions,
+    report: &mut PrepareReport,
+) -> Vec<usize> {
     let mut used = vec![false; n];
-    for t in &triangles {
+    for t in triangles {
         for &i in t {
             used[i as usize] = true;
         }
     }
-    let mut new_index = vec![u32::MAX; n];
     let mut order = Vec::new();
     for v in 0..n {
         let representative = remap[v] as usize == v;
         if representative && (used[v] || !options.drop_unreferenced) {
-            new_index[v] = order.len() as u32;
             order.push(v);
         } else if representative {
             report.unreferenced_vertices += 1;
         }
     }
-    for t in &mut triangles {
+    order
+}
+
+/// Renumbers `triangles` (on `n` input vertices) to the vertices' places in `order`.
+fn renumber_faces(triangles: &mut [[u32; 3]], n: usize, order: &[usize]) {
+    let mut new_index = vec![u32::MAX; n];
+    for (k, &v) in order.iter().enumerate() {
+        new_index[v] = k as u32;
+    }
+    for t in triangles {
         *t = t.map(|i| new_index[i as usize]);
     }
+}
 
-    let vertex_normals = mesh.vertex_normals.as_ref().map(|normals| {
-        let mut sum = vec![Vec3::ZERO; n];
-        for (v, &r) in remap.iter().enumerate() {
-            sum[r as usize] += normals[v];
-        }
-        order.iter().map(|&v| sum[v].normalize_or_zero()).collect()
-    });
-    let out = TriangleMesh {
+/// The output mesh: the vertices of `order` with their colours and (averaged over each weld
+/// group of `remap`) normals, and the kept `faces` with their UVs and materials.
+fn rebuild_mesh(
+    mesh: &TriangleMesh,
+    remap: &[u32],
+    order: &[usize],
+    faces: KeptFaces,
+) -> TriangleMesh {
+    let KeptFaces { triangles, sources } = faces;
+    TriangleMesh {
         origin: mesh.origin,
         positions: order.iter().map(|&v| mesh.positions[v]).collect(),
         triangles,
         face_uvs: mesh
             .face_uvs
             .as_ref()
-            .map(|uvs| kept_faces.iter().map(|&f| uvs[f as usize]).collect()),
+            .map(|uvs| sources.iter().map(|&f| uvs[f as usize]).collect()),
         vertex_colours: mesh
             .vertex_colours
             .as_ref()
             .map(|c| order.iter().map(|&v| c[v]).collect()),
-        vertex_normals,
+        vertex_normals: mesh
+            .vertex_normals
+            .as_ref()
+            .map(|normals| welded_normals(normals, remap, order)),
         face_materials: if mesh.face_materials.is_empty() {
             Vec::new()
         } else {
-            kept_faces
+            sources
                 .iter()
                 .map(|&f| mesh.face_materials[f as usize])
                 .collect()
         },
         materials: mesh.materials.clone(),
-    };
-    report.output_vertices = out.positions.len();
-    report.output_faces = out.triangles.len();
-    debug_assert!(out.validate().is_ok(), "prepare_mesh broke an invariant");
-    (out, report)
+    }
+}
+
+/// The normals of the vertices of `order`: the normalised sum of each weld group's normals,
+/// summed in vertex order.
+fn welded_normals(normals: &[Vec3], remap: &[u32], order: &[usize]) -> Vec<Vec3> {
+    let mut sum = vec![Vec3::ZERO; remap.len()];
+    for (v, &r) in remap.iter().enumerate() {
+        sum[r as usize] += normals[v];
+    }
+    order.iter().map(|&v| sum[v].normalize_or_zero()).collect()
 }
 
 /// A face on the vertices of an earlier one.
