@@ -96,14 +96,6 @@ fn library_candidates(dir: &Path, rest: &str) -> Vec<Resolved> {
 /// Parses MTL text into `library` (the first definition of a name wins).
 fn parse_mtl(text: &str, dir: &Path, library: &mut MtlLibrary, warnings: &mut Vec<LoadWarning>) {
     let mut current: Option<(String, MtlDef)> = None;
-    let mut finish = |current: &mut Option<(String, MtlDef)>| {
-        if let Some((name, def)) = current.take() {
-            if let std::collections::hash_map::Entry::Vacant(slot) = library.defs.entry(name) {
-                library.order.push(slot.key().clone());
-                slot.insert(def);
-            }
-        }
-    };
     for raw in text.lines() {
         let content = raw.split('#').next().unwrap_or("").trim();
         let mut tokens = content.split_ascii_whitespace();
@@ -111,33 +103,62 @@ fn parse_mtl(text: &str, dir: &Path, library: &mut MtlLibrary, warnings: &mut Ve
             continue;
         };
         if keyword == "newmtl" {
-            finish(&mut current);
+            library.finish(current.take());
             let name = content["newmtl".len()..].trim().to_owned();
-            current = Some((
-                name,
-                MtlDef {
-                    uv_scale: [1.0; 2],
-                    ..MtlDef::default()
-                },
-            ));
+            current = Some((name, MtlDef::new()));
             continue;
         }
         let Some((name, def)) = current.as_mut() else {
             continue;
         };
-        match keyword {
-            "Kd" => {
-                let v: Vec<f32> = tokens.filter_map(|t| t.parse().ok()).collect();
-                // `Kd r g b`, or one value for grey; anything else keeps the default.
-                let kd = match v.as_slice() {
-                    [g] => Some([*g; 3]),
-                    [r, g, b, ..] => Some([*r, *g, *b]),
-                    _ => None,
-                };
-                def.diffuse = kd
-                    .filter(|c| c.iter().all(|x| x.is_finite()))
-                    .map(|c| c.map(|x| x.clamp(0.0, 1.0)));
+        let statement = Statement {
+            material: name,
+            dir,
+            warnings,
+        };
+        statement.apply(keyword, tokens, def);
+    }
+    library.finish(current.take());
+}
+
+impl MtlLibrary {
+    /// Adds a definition that `newmtl` (or the end of the text) closed, unless its name is
+    /// already defined.
+    fn finish(&mut self, current: Option<(String, MtlDef)>) {
+        if let Some((name, def)) = current {
+            if let std::collections::hash_map::Entry::Vacant(slot) = self.defs.entry(name) {
+                self.order.push(slot.key().clone());
+                slot.insert(def);
             }
+        }
+    }
+}
+
+impl MtlDef {
+    /// A definition as `newmtl` opens it: no colour, no texture, UV scale 1.
+    fn new() -> MtlDef {
+        MtlDef {
+            uv_scale: [1.0; 2],
+            ..MtlDef::default()
+        }
+    }
+}
+
+/// Where a statement inside a material definition is read.
+struct Statement<'a> {
+    /// The name of the material being defined.
+    material: &'a str,
+    /// The library's folder, which texture names resolve in.
+    dir: &'a Path,
+    /// Where ignored options and refused textures are reported.
+    warnings: &'a mut Vec<LoadWarning>,
+}
+
+impl Statement<'_> {
+    /// Applies the statement `keyword tokens...` to `def`; unknown keywords are skipped.
+    fn apply<'t>(self, keyword: &str, mut tokens: impl Iterator<Item = &'t str>, def: &mut MtlDef) {
+        match keyword {
+            "Kd" => def.diffuse = diffuse_colour(tokens),
             "d" => {
                 if let Some(d) = tokens.next().and_then(|t| t.parse::<f32>().ok()) {
                     def.transparent |= d < 1.0;
@@ -149,45 +170,66 @@ fn parse_mtl(text: &str, dir: &Path, library: &mut MtlLibrary, warnings: &mut Ve
                     def.transparent |= tr > 0.0 && tr < 1.0;
                 }
             }
-            "map_Kd" => {
-                let args: Vec<&str> = tokens.collect();
-                let (file, options) = split_texture_options(&args);
-                for option in options {
-                    match option.as_slice() {
-                        [flag, rest @ ..] if *flag == "-s" || *flag == "-o" => {
-                            let values: Vec<f32> =
-                                rest.iter().filter_map(|t| t.parse().ok()).collect();
-                            let target = if *flag == "-s" {
-                                &mut def.uv_scale
-                            } else {
-                                &mut def.uv_offset
-                            };
-                            for (k, v) in values.iter().take(2).enumerate() {
-                                if v.is_finite() {
-                                    target[k] = *v;
-                                }
-                            }
-                        }
-                        _ => warnings.push(LoadWarning::TextureOptionIgnored {
-                            material: name.clone(),
-                            option: option.join(" "),
-                        }),
-                    }
-                }
-                if !file.is_empty() {
-                    match resolve_name(dir, &file) {
-                        Ok(texture) => def.texture = Some(texture),
-                        Err(reason) => warnings.push(LoadWarning::TextureUnreadable {
-                            path: PathBuf::from(&file),
-                            reason: format!("not read: {reason}"),
-                        }),
-                    }
-                }
-            }
+            "map_Kd" => self.diffuse_map(&tokens.collect::<Vec<&str>>(), def),
             _ => {}
         }
     }
-    finish(&mut current);
+
+    /// Reads `map_Kd` arguments into `def`: the `-s` and `-o` options, then the texture
+    /// file; other options are reported as ignored, and a file outside the folder as
+    /// unreadable.
+    fn diffuse_map(self, args: &[&str], def: &mut MtlDef) {
+        let (file, options) = split_texture_options(args);
+        for option in options {
+            match option.as_slice() {
+                [flag, rest @ ..] if *flag == "-s" || *flag == "-o" => {
+                    let target = if *flag == "-s" {
+                        &mut def.uv_scale
+                    } else {
+                        &mut def.uv_offset
+                    };
+                    set_uv_pair(target, rest);
+                }
+                _ => self.warnings.push(LoadWarning::TextureOptionIgnored {
+                    material: self.material.to_owned(),
+                    option: option.join(" "),
+                }),
+            }
+        }
+        if !file.is_empty() {
+            match resolve_name(self.dir, &file) {
+                Ok(texture) => def.texture = Some(texture),
+                Err(reason) => self.warnings.push(LoadWarning::TextureUnreadable {
+                    path: PathBuf::from(&file),
+                    reason: format!("not read: {reason}"),
+                }),
+            }
+        }
+    }
+}
+
+/// The colour of a `Kd` statement's values, clamped to `0..=1`: `Kd r g b`, or one value
+/// for grey; anything else (or a value that is not finite) gives none.
+fn diffuse_colour<'t>(tokens: impl Iterator<Item = &'t str>) -> Option<[f32; 3]> {
+    let v: Vec<f32> = tokens.filter_map(|t| t.parse().ok()).collect();
+    let kd = match v.as_slice() {
+        [g] => Some([*g; 3]),
+        [r, g, b, ..] => Some([*r, *g, *b]),
+        _ => None,
+    };
+    kd.filter(|c| c.iter().all(|x| x.is_finite()))
+        .map(|c| c.map(|x| x.clamp(0.0, 1.0)))
+}
+
+/// Sets `target` (a UV scale or offset) from the first two numbers of an option's
+/// arguments, skipping those that are not finite.
+fn set_uv_pair(target: &mut [f32; 2], args: &[String]) {
+    let values: Vec<f32> = args.iter().filter_map(|t| t.parse().ok()).collect();
+    for (k, v) in values.iter().take(2).enumerate() {
+        if v.is_finite() {
+            target[k] = *v;
+        }
+    }
 }
 
 /// Splits `map_Kd` arguments into the file name (the tokens after the options, rejoined with
