@@ -236,6 +236,8 @@ fn normalise_cr_line_ends(bytes: &mut [u8]) {
     }
 }
 
+/// Reads a PLY file's header and then its vertices (and faces, if `want_faces`) from
+/// `reader`; `path` names the file in errors.
 fn read_ply_from<R: BufRead>(
     path: &Path,
     mut reader: Reader<R>,
@@ -245,68 +247,14 @@ fn read_ply_from<R: BufRead>(
         path: path.to_path_buf(),
         reason: one_line_reason(&source),
     };
-    let structure = |problem| MeshError::PlyStructure {
-        path: path.to_path_buf(),
-        problem,
-    };
     let header: Header = Parser::<Skip>::new()
         .read_header(&mut reader)
         .map_err(ply_err)?;
-
-    let vertex_def = header
-        .elements
-        .values()
-        .find(|e| is_vertex_element(&e.name))
-        .ok_or_else(|| structure(PlyProblem::NoVertexElement))?;
-    let layout = vertex_layout(vertex_def).map_err(structure)?;
-    let face_def = header
-        .elements
-        .values()
-        .find(|e| is_face_element(&e.name))
-        .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)))
-        .or_else(|| header.elements.values().find(|e| is_range_grid(&e.name)));
-    let face_layout = match face_def {
-        Some(def) if is_strip_element(&def.name) => FaceLayout::Strips,
-        // (Only a mesh needs the grid's size: a point cloud reads the vertices alone.)
-        Some(def) if is_range_grid(&def.name) && want_faces => {
-            let size = grid_size(header.obj_infos.iter().map(String::as_str));
-            FaceLayout::RangeGrid(size.ok_or_else(|| structure(PlyProblem::RangeGridWithoutSize))?)
-        }
-        _ => FaceLayout::Polygons,
-    };
-    if let Some(face_def) = face_def.filter(|_| want_faces) {
-        let ok = face_def
-            .properties
-            .values()
-            .any(|p| is_index_list(&p.name) && matches!(p.data_type, PropertyType::List(_, _)));
-        if !ok {
-            return Err(structure(PlyProblem::NoFaceIndexList));
-        }
-    }
-
-    let mut vertices = Vec::new();
-    let mut faces = Vec::new();
-    let (mut have_vertices, mut have_faces) = (false, !want_faces || face_def.is_none());
-    for def in header.elements.values() {
-        if have_vertices && have_faces {
-            break;
-        }
-        if is_vertex_element(&def.name) && !have_vertices {
-            vertices = Parser::<PlyVertex>::new()
-                .read_payload_for_element(&mut reader, def, &header)
-                .map_err(ply_err)?;
-            have_vertices = true;
-        } else if want_faces && face_def.is_some_and(|f| f.name == def.name) && !have_faces {
-            faces = Parser::<PlyFace>::new()
-                .read_payload_for_element(&mut reader, def, &header)
-                .map_err(ply_err)?;
-            have_faces = true;
-        } else {
-            Parser::<Skip>::new()
-                .read_payload_for_element(&mut reader, def, &header)
-                .map_err(ply_err)?;
-        }
-    }
+    let plan = ElementPlan::of(&header, want_faces).map_err(|problem| MeshError::PlyStructure {
+        path: path.to_path_buf(),
+        problem,
+    })?;
+    let (vertices, faces) = read_elements(&mut reader, &header, &plan).map_err(ply_err)?;
     if vertices.is_empty() {
         return Err(if want_faces {
             MeshError::NoFaces {
@@ -321,9 +269,98 @@ fn read_ply_from<R: BufRead>(
     Ok(PlyData {
         vertices,
         faces,
-        face_layout,
-        layout,
+        face_layout: plan.face_layout,
+        layout: plan.layout,
     })
+}
+
+/// What a header says to read: the vertex layout and the element that lists the faces.
+struct ElementPlan<'h> {
+    /// The properties of the vertex element that are read.
+    layout: VertexLayout,
+    /// The element listing the faces, when faces are wanted and the file has one.
+    faces: Option<&'h ElementDef>,
+    /// How that element lists its triangles.
+    face_layout: FaceLayout,
+}
+
+impl<'h> ElementPlan<'h> {
+    /// The plan of `header`, reading faces if `want_faces`; or why the header cannot serve.
+    fn of(header: &'h Header, want_faces: bool) -> Result<ElementPlan<'h>, PlyProblem> {
+        let vertex_def = header
+            .elements
+            .values()
+            .find(|e| is_vertex_element(&e.name))
+            .ok_or(PlyProblem::NoVertexElement)?;
+        let layout = vertex_layout(vertex_def)?;
+        let face_def = header
+            .elements
+            .values()
+            .find(|e| is_face_element(&e.name))
+            .or_else(|| header.elements.values().find(|e| is_strip_element(&e.name)))
+            .or_else(|| header.elements.values().find(|e| is_range_grid(&e.name)));
+        let face_layout = face_layout(face_def, header, want_faces)?;
+        let faces = face_def.filter(|_| want_faces);
+        if let Some(face_def) = faces {
+            let ok = face_def
+                .properties
+                .values()
+                .any(|p| is_index_list(&p.name) && matches!(p.data_type, PropertyType::List(_, _)));
+            if !ok {
+                return Err(PlyProblem::NoFaceIndexList);
+            }
+        }
+        Ok(ElementPlan {
+            layout,
+            faces,
+            face_layout,
+        })
+    }
+}
+
+/// How `face_def` (the header's face, strip or range-grid element, if any) lists its
+/// triangles; a range grid needs its size from the header's `obj_info` lines.
+fn face_layout(
+    face_def: Option<&ElementDef>,
+    header: &Header,
+    want_faces: bool,
+) -> Result<FaceLayout, PlyProblem> {
+    Ok(match face_def {
+        Some(def) if is_strip_element(&def.name) => FaceLayout::Strips,
+        // (Only a mesh needs the grid's size: a point cloud reads the vertices alone.)
+        Some(def) if is_range_grid(&def.name) && want_faces => {
+            let size = grid_size(header.obj_infos.iter().map(String::as_str));
+            FaceLayout::RangeGrid(size.ok_or(PlyProblem::RangeGridWithoutSize)?)
+        }
+        _ => FaceLayout::Polygons,
+    })
+}
+
+/// Reads the body element by element up to the vertices and the `plan`'s faces (the first
+/// element of each name), skipping the others before them.
+fn read_elements<R: BufRead>(
+    reader: &mut Reader<R>,
+    header: &Header,
+    plan: &ElementPlan,
+) -> Result<(Vec<PlyVertex>, Vec<PlyFace>), ParseError> {
+    let mut vertices = Vec::new();
+    let mut faces = Vec::new();
+    let (mut have_vertices, mut have_faces) = (false, plan.faces.is_none());
+    for def in header.elements.values() {
+        if have_vertices && have_faces {
+            break;
+        }
+        if is_vertex_element(&def.name) && !have_vertices {
+            vertices = Parser::<PlyVertex>::new().read_payload_for_element(reader, def, header)?;
+            have_vertices = true;
+        } else if plan.faces.is_some_and(|f| f.name == def.name) && !have_faces {
+            faces = Parser::<PlyFace>::new().read_payload_for_element(reader, def, header)?;
+            have_faces = true;
+        } else {
+            Parser::<Skip>::new().read_payload_for_element(reader, def, header)?;
+        }
+    }
+    Ok((vertices, faces))
 }
 
 fn is_vertex_element(name: &str) -> bool {
