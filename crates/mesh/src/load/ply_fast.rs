@@ -271,6 +271,13 @@ fn decode_binary(
 /// every line is in that form and every number is spelled as the PLY grammar allows (digits,
 /// sign, point, exponent: no `nan` or `inf`, which the general reader refuses).
 fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Columns> {
+    let lines = first_lines(body, count)?;
+    let records = parse_ascii_records(&lines, layout)?;
+    Some(record_columns(&records, layout))
+}
+
+/// The first `count` lines of `body` (without their LFs), or `None` when it has fewer.
+fn first_lines(body: &[u8], count: usize) -> Option<Vec<&[u8]>> {
     let mut lines: Vec<&[u8]> = Vec::new();
     let mut rest = body;
     while lines.len() < count {
@@ -281,6 +288,15 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
         lines.push(&rest[..end]);
         rest = rest.get(end + 1..).unwrap_or_default();
     }
+    Some(lines)
+}
+
+/// The numbers of each of `lines` in file order, as f32 (floats) or u8 (uchars), when every
+/// line holds exactly `layout.stride` of them, each spelled as the PLY grammar allows.
+fn parse_ascii_records(
+    lines: &[&[u8]],
+    layout: &RecordLayout,
+) -> Option<Vec<[f32; MAX_PROPERTIES]>> {
     let number = |token: &str| {
         token
             .bytes()
@@ -300,10 +316,9 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
             number(token).then(|| token.parse::<f32>().ok()).flatten()
         }
     };
-    // One record per line: its numbers as f32 (floats) or u8 (uchars) in file order.
     // A fixed array per line (the layout has at most ten properties: x y z, three normal
     // components, four colour channels), so a million lines make no million allocations.
-    let records: Vec<[f32; MAX_PROPERTIES]> = lines
+    lines
         .par_iter()
         .with_min_len(RECORDS_PER_TASK / 4)
         .map(|line| {
@@ -319,7 +334,11 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
             }
             (n == layout.stride).then_some(values)
         })
-        .collect::<Option<_>>()?;
+        .collect::<Option<_>>()
+}
+
+/// Positions, normals and colours gathered from parsed ASCII `records` of `layout`.
+fn record_columns(records: &[[f32; MAX_PROPERTIES]], layout: &RecordLayout) -> Columns {
     // Exact: colour values were parsed as u8.
     let byte = |v: f32| v as u8;
     let positions = records
@@ -341,7 +360,7 @@ fn decode_ascii(body: &[u8], count: usize, layout: &RecordLayout) -> Option<Colu
             })
             .collect()
     });
-    Some((positions, normals, colours))
+    (positions, normals, colours)
 }
 
 /// Drops non-finite points and centres the rest on their f64 bounding-box centre, as the
