@@ -132,9 +132,28 @@ impl FaceAdjacency {
 /// Builds the [`FaceAdjacency`] of `mesh` (see the module docs for the rules).
 pub fn build_face_adjacency(mesh: &TriangleMesh) -> FaceAdjacency {
     let face_count = mesh.triangles.len();
-    // One record per non-degenerate corner edge: (lo, hi, face, corner); sorting the tuples
-    // orders by edge, then face, so the output never depends on the input order of equal keys.
-    let mut records: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(face_count * 3);
+    let records = corner_edge_records(mesh);
+    let edges = group_edges(&records, face_count);
+    let mut pairs = edges.pairs;
+    pairs.sort_unstable();
+    pairs.dedup();
+    let (neighbour_offsets, neighbours) = neighbour_lists(&pairs, face_count);
+
+    FaceAdjacency {
+        neighbour_offsets,
+        neighbours,
+        edge_vertices: edges.edge_vertices,
+        edge_offsets: edges.edge_offsets,
+        edge_faces: edges.edge_faces,
+        face_edges: edges.face_edges,
+    }
+}
+
+/// One record per non-degenerate corner edge of `mesh`: (lo, hi, face, corner), sorted;
+/// sorting the tuples orders by edge, then face, so the output never depends on the input
+/// order of equal keys.
+fn corner_edge_records(mesh: &TriangleMesh) -> Vec<(u32, u32, u32, u8)> {
+    let mut records: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(mesh.triangles.len() * 3);
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -144,66 +163,89 @@ pub fn build_face_adjacency(mesh: &TriangleMesh) -> FaceAdjacency {
         }
     }
     records.sort_unstable();
+    records
+}
 
-    let mut face_edges = vec![[EdgeId::INVALID; 3]; face_count];
-    let mut edge_vertices = Vec::new();
-    let mut edge_offsets = vec![0u32];
-    let mut edge_faces: Vec<FaceId> = Vec::with_capacity(records.len());
-    let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(records.len() * 2);
+/// The edges found in the sorted corner-edge records, and the face pairs they link.
+struct EdgeGroups {
+    /// Per face, its edge per corner (see [`FaceAdjacency::face_edges`]).
+    face_edges: Vec<[EdgeId; 3]>,
+    /// The two vertices of each edge, lower first.
+    edge_vertices: Vec<[VertexId; 2]>,
+    /// Where each edge's faces start in `edge_faces` (one more entry than edges).
+    edge_offsets: Vec<u32>,
+    /// The faces of every edge, edge after edge.
+    edge_faces: Vec<FaceId>,
+    /// Ordered face pairs linked by an edge, with repeats.
+    pairs: Vec<(u32, u32)>,
+}
+
+/// Groups the sorted `records` into edges (on `face_count` faces), listing each edge's faces
+/// and the face pairs it links.
+fn group_edges(records: &[(u32, u32, u32, u8)], face_count: usize) -> EdgeGroups {
+    let mut groups = EdgeGroups {
+        face_edges: vec![[EdgeId::INVALID; 3]; face_count],
+        edge_vertices: Vec::new(),
+        edge_offsets: vec![0u32],
+        edge_faces: Vec::with_capacity(records.len()),
+        pairs: Vec::with_capacity(records.len() * 2),
+    };
     let mut start = 0;
     while start < records.len() {
         let (lo, hi) = (records[start].0, records[start].1);
         let mut end = start;
-        let first_face = edge_faces.len();
-        let edge = EdgeId(edge_vertices.len() as u32);
+        let first_face = groups.edge_faces.len();
+        let edge = EdgeId(groups.edge_vertices.len() as u32);
         while end < records.len() && records[end].0 == lo && records[end].1 == hi {
             let (_, _, f, k) = records[end];
-            face_edges[f as usize][k as usize] = edge;
+            groups.face_edges[f as usize][k as usize] = edge;
             // A face holding the same edge twice ([a, b, a]) is listed once.
-            if edge_faces.last() != Some(&FaceId(f)) || edge_faces.len() == first_face {
-                edge_faces.push(FaceId(f));
+            if groups.edge_faces.last() != Some(&FaceId(f)) || groups.edge_faces.len() == first_face
+            {
+                groups.edge_faces.push(FaceId(f));
             }
             end += 1;
         }
-        let faces = &edge_faces[first_face..];
-        if faces.len() <= FULL_LINK_LIMIT {
-            for &a in faces {
-                for &b in faces {
-                    if a != b {
-                        pairs.push((a.0, b.0));
-                    }
-                }
-            }
-        } else {
-            for w in faces.windows(2) {
-                pairs.push((w[0].0, w[1].0));
-                pairs.push((w[1].0, w[0].0));
-            }
-        }
-        edge_vertices.push([VertexId(lo), VertexId(hi)]);
-        edge_offsets.push(edge_faces.len() as u32);
+        link_faces(&groups.edge_faces[first_face..], &mut groups.pairs);
+        groups.edge_vertices.push([VertexId(lo), VertexId(hi)]);
+        groups.edge_offsets.push(groups.edge_faces.len() as u32);
         start = end;
     }
-    pairs.sort_unstable();
-    pairs.dedup();
+    groups
+}
 
+/// Adds to `pairs` the face pairs one edge's `faces` link: every ordered pair up to
+/// [`FULL_LINK_LIMIT`] faces, else each face with the next and previous in the list.
+#[inline]
+fn link_faces(faces: &[FaceId], pairs: &mut Vec<(u32, u32)>) {
+    if faces.len() <= FULL_LINK_LIMIT {
+        for &a in faces {
+            for &b in faces {
+                if a != b {
+                    pairs.push((a.0, b.0));
+                }
+            }
+        }
+    } else {
+        for w in faces.windows(2) {
+            pairs.push((w[0].0, w[1].0));
+            pairs.push((w[1].0, w[0].0));
+        }
+    }
+}
+
+/// The neighbour lists of `face_count` faces in offset-and-list form, from the sorted,
+/// deduplicated ordered face `pairs`.
+fn neighbour_lists(pairs: &[(u32, u32)], face_count: usize) -> (Vec<u32>, Vec<FaceId>) {
     let mut neighbour_offsets = vec![0u32; face_count + 1];
-    for &(a, _) in &pairs {
+    for &(a, _) in pairs {
         neighbour_offsets[a as usize + 1] += 1;
     }
     for i in 0..face_count {
         neighbour_offsets[i + 1] += neighbour_offsets[i];
     }
     let neighbours = pairs.iter().map(|&(_, b)| FaceId(b)).collect();
-
-    FaceAdjacency {
-        neighbour_offsets,
-        neighbours,
-        edge_vertices,
-        edge_offsets,
-        edge_faces,
-        face_edges,
-    }
+    (neighbour_offsets, neighbours)
 }
 
 #[cfg(test)]
