@@ -177,6 +177,60 @@ fn convert_cloud(
 ) -> Result<CloudConversion, CloudError> {
     options.validate()?;
     let mut clock = StageLaps::new(progress);
+    let mut sorted = filter_and_sort(cloud, options, &mut clock)?;
+    let scans = sorted.scans.take();
+    let (shaped, normals) = shape_surface(&mut sorted.cloud, scans, options, &mut clock)?;
+    let mut tiled = convert_planned(&sorted, normals, &shaped, options, &mut clock)?;
+
+    let started = Instant::now();
+    let patches = std::mem::take(&mut tiled.output.patches);
+    let scene = build_scene(&sorted.cloud, patches, sorted.cloud.len())?;
+    clock.record(Stage::Extract.name(), started.elapsed().as_secs_f64());
+
+    let bytes = encode_scene(&scene, &options.write)?;
+    clock.lap(Stage::Encode);
+
+    let report = cloud_report(
+        &sorted,
+        &shaped,
+        tiled,
+        (&scene, bytes.len()),
+        options,
+        clock,
+    );
+    Ok(CloudConversion {
+        scene,
+        bytes,
+        report,
+        point_order: sorted.point_order,
+    })
+}
+
+/// The cloud after the `filter` and `sort` stages, with what they measured.
+struct SortedCloud {
+    /// The finite points, in Morton order.
+    cloud: PointCloud,
+    /// Points in the input, before the filter.
+    input_points: usize,
+    /// Points dropped for a non-finite coordinate or normal.
+    dropped: u64,
+    /// Bounds of the finite points.
+    bounds: Aabb,
+    /// The input index of each sorted point, for a borrowed cloud (see
+    /// [`CloudConversion::point_order`]).
+    point_order: Option<PointOrder>,
+    /// The scan of each sorted point, for a cloud whose scanners are known (taken out by the
+    /// `normals` stage, which drops it).
+    scans: Option<PointScans>,
+}
+
+/// The `filter` and `sort` stages: the finite points (with their scans, when the scanners
+/// are known) in spatial order.
+fn filter_and_sort(
+    cloud: Cow<'_, PointCloud>,
+    options: &CloudOptions,
+    clock: &mut StageLaps<'_>,
+) -> Result<SortedCloud, CloudError> {
     let input_points = cloud.len();
     // The scan of each point (1-2 bytes a point), for a cloud whose scanners are known.
     let scans = match &options.scanners {
@@ -187,9 +241,42 @@ fn convert_cloud(
     let bounds = check_extent(&cloud, dropped)?;
     clock.lap(Stage::Filter);
 
-    let (mut cloud, point_order, scans) = sort_spatially(cloud, &bounds, scans);
+    let (cloud, point_order, scans) = sort_spatially(cloud, &bounds, scans);
     clock.lap(Stage::Sort);
+    Ok(SortedCloud {
+        cloud,
+        input_points,
+        dropped,
+        bounds,
+        point_order,
+        scans,
+    })
+}
 
+/// What the `spacing`, `normals` and `consensus` stages found (the normals themselves go
+/// to the tiles on their own).
+struct ShapedSurface {
+    /// The point spacing (given or estimated).
+    spacing: f32,
+    /// The mean nearest-neighbour distance (0 when the spacing was given).
+    mean_nearest: f32,
+    /// Where the normals came from (`file`, `pca` or [`SIGHT_SOURCE`]).
+    source: &'static str,
+    /// The translation of each scan (empty when the scans were not aligned).
+    scan_shifts: Vec<DVec3>,
+    /// Points the consensus moved.
+    consensus_points: usize,
+}
+
+/// The `spacing`, `normals` and `consensus` stages over the sorted `cloud` (its positions
+/// moved by the scan alignment and the consensus); gives the findings and the normals.
+/// `scans` (the points' scans) are dropped once the normals are known.
+fn shape_surface(
+    cloud: &mut PointCloud,
+    scans: Option<PointScans>,
+    options: &CloudOptions,
+    clock: &mut StageLaps<'_>,
+) -> Result<(ShapedSurface, Vec<Vec3>), CloudError> {
     let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
     clock.lap(Stage::Spacing);
 
@@ -203,16 +290,50 @@ fn convert_cloud(
         )?,
         None => Vec::new(),
     };
-    let surface = estimate_surface(&cloud, options, spacing, sights)?;
+    let surface = estimate_surface(cloud, options, spacing, sights)?;
     drop(scans);
     clock.lap(Stage::Normals);
 
     let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
-    let positions: &[Vec3] = &cloud.positions;
     clock.lap(Stage::Consensus);
+    let shaped = ShapedSurface {
+        spacing,
+        mean_nearest,
+        source: surface.source,
+        scan_shifts,
+        consensus_points,
+    };
+    Ok((shaped, surface.normals))
+}
 
+/// What the `tiles`, `range_images` and `extract` stages produced.
+struct PlannedOutput {
+    /// The tiles' patches and counts, summed.
+    output: TileOutput,
+    /// Points of nearly empty tiles dropped as outliers.
+    outlier_points: usize,
+    /// Tiles converted.
+    tiles: usize,
+    /// Side of the tiles' grid (model units).
+    grid_size: f64,
+    /// Warnings of the planning and the tiles.
+    warnings: Vec<CloudWarning>,
+}
+
+/// The `tiles` stage, then the `range_images` and `extract` stages over every planned tile
+/// (`normals`: one per sorted point, dropped as soon as no tile needs them).
+fn convert_planned(
+    sorted: &SortedCloud,
+    normals: Vec<Vec3>,
+    shaped: &ShapedSurface,
+    options: &CloudOptions,
+    clock: &mut StageLaps<'_>,
+) -> Result<PlannedOutput, CloudError> {
+    let (cloud, bounds) = (&sorted.cloud, &sorted.bounds);
+    let positions: &[Vec3] = &cloud.positions;
+    let spacing = shaped.spacing;
     let pixel = spacing * options.pixel_factor;
-    let plan = plan_conversion(positions, &cloud, &bounds, pixel, options);
+    let plan = plan_conversion(positions, cloud, bounds, pixel, options);
     clock.lap(Stage::Tiles);
 
     let mut warnings = Vec::new();
@@ -222,63 +343,74 @@ fn convert_cloud(
             tiles: plan.outlier_tiles,
         });
     }
-    let (outlier_points, tile_count, grid) = (plan.outlier_points, plan.tiles.len(), plan.grid);
-    let tiled = convert_tiles(
+    let (outlier_points, tiles, grid) = (plan.outlier_points, plan.tiles.len(), plan.grid);
+    let output = convert_tiles(
         plan,
         &TiledCloud {
             positions,
             colours: cloud.colours.as_deref(),
-            bounds: &bounds,
+            bounds,
         },
-        surface.normals,
-        (options, surface.source == SIGHT_SOURCE),
+        normals,
+        (options, shaped.source == SIGHT_SOURCE),
         (spacing, pixel),
-        &mut clock,
+        clock,
         &mut warnings,
     )?;
-    let started = Instant::now();
-    let scene = build_scene(&cloud, tiled.patches, cloud.len())?;
-    clock.record(Stage::Extract.name(), started.elapsed().as_secs_f64());
+    Ok(PlannedOutput {
+        output,
+        outlier_points,
+        tiles,
+        grid_size: grid.size,
+        warnings,
+    })
+}
 
-    let bytes = encode_scene(&scene, &options.write)?;
-    clock.lap(Stage::Encode);
-
-    let report = CloudReport {
-        input_points,
-        dropped_non_finite: dropped,
-        points: cloud.len(),
-        counts: Counts::of(&scene, bytes.len()),
+/// The conversion's report from the stages' findings, the encoded `scene` (with its byte
+/// count) and the stage times.
+fn cloud_report(
+    sorted: &SortedCloud,
+    shaped: &ShapedSurface,
+    tiled: PlannedOutput,
+    (scene, bytes): (&Scene, usize),
+    options: &CloudOptions,
+    clock: StageLaps<'_>,
+) -> CloudReport {
+    let tile_count = tiled.tiles;
+    CloudReport {
+        input_points: sorted.input_points,
+        dropped_non_finite: sorted.dropped,
+        points: sorted.cloud.len(),
+        counts: Counts::of(scene, bytes),
         seconds: clock.clock.total(),
         stages: clock.clock.into_stages(),
         threads: rayon::current_num_threads(),
-        spacing,
-        mean_nearest,
-        pixel: tiled.pixel,
+        spacing: shaped.spacing,
+        mean_nearest: shaped.mean_nearest,
+        pixel: tiled.output.pixel,
         views: options.views,
-        normals: surface.source,
-        gap_pixels_filled: tiled.gap_pixels_filled,
-        uncovered_points: tiled.uncovered,
-        outlier_points,
+        normals: shaped.source,
+        gap_pixels_filled: tiled.output.gap_pixels_filled,
+        uncovered_points: tiled.output.uncovered,
+        outlier_points: tiled.outlier_points,
         tiles: tile_count,
         tile_size: (tile_count > 1 || options.tile_size.is_some() || options.tile_grid.is_some())
-            .then_some(grid.size),
-        consensus_points,
-        scan_shift: scan_shifts.iter().map(|t| t.length()).fold(0.0, f64::max),
-        scan_shifts: scan_shifts.iter().map(|t| t.to_array()).collect(),
-        split_tiles: tiled.counts.split_tiles,
-        wide_patches: tiled.counts.wide_patches,
+            .then_some(tiled.grid_size),
+        consensus_points: shaped.consensus_points,
+        scan_shift: shaped
+            .scan_shifts
+            .iter()
+            .map(|t| t.length())
+            .fold(0.0, f64::max),
+        scan_shifts: shaped.scan_shifts.iter().map(|t| t.to_array()).collect(),
+        split_tiles: tiled.output.counts.split_tiles,
+        wide_patches: tiled.output.counts.wide_patches,
         smoothed: options.smooth.is_some(),
         colour: scene.channel().name(),
-        diagonal: f64::from(bounds.diagonal()),
-        warnings,
+        diagonal: f64::from(sorted.bounds.diagonal()),
+        warnings: tiled.warnings,
         error: None,
-    };
-    Ok(CloudConversion {
-        scene,
-        bytes,
-        report,
-        point_order,
-    })
+    }
 }
 
 /// The spacing (given or estimated) and the mean nearest-neighbour distance (0 when given).
