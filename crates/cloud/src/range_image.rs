@@ -440,98 +440,172 @@ pub(crate) fn flush_points(
     geometry: ImageGeometry,
     scratch: &mut FlushScratch,
 ) -> RangeImage {
-    let pixels = geometry.pixel_count();
-    let n = input.points.len();
-    let projector = Projector::new(&geometry);
-    // Only the blocks of points that may face the view, at most a chunk at a time.
-    let runs = input
-        .points
-        .cones
-        .drawn_runs(geometry.basis.direction, input.oriented, n);
-    let chunks = || {
-        runs.iter().flat_map(|run| {
+    let flush = ViewFlush::new(input, &geometry);
+    let front = flush.front_heights(scratch, geometry.pixel_count());
+    let sums = flush.sum_front_layer(scratch, &front);
+    drop(front);
+    let mut image = sums.into_image(geometry);
+    remove_see_through(&mut image, input.jump);
+    image
+}
+
+/// One view's flush of the points: the projection, the blocks of points drawn (the normal
+/// cones skip the rest) and whether pass 1 keeps their projections for pass 2.
+struct ViewFlush<'a> {
+    /// The points and the flush settings.
+    input: &'a FlushInput<'a>,
+    /// The projection onto the view's pixels.
+    projector: Projector,
+    /// Only the blocks of points that may face the view.
+    runs: Vec<std::ops::Range<usize>>,
+    /// Points in `runs`.
+    projected: usize,
+    /// Whether the projections of pass 1 are kept for pass 2 (up to [`KEPT_POINTS`]).
+    keep: bool,
+}
+
+impl<'a> ViewFlush<'a> {
+    /// The flush of `input`'s points into the view of `geometry`.
+    fn new(input: &'a FlushInput<'a>, geometry: &ImageGeometry) -> ViewFlush<'a> {
+        let n = input.points.len();
+        let runs = input
+            .points
+            .cones
+            .drawn_runs(geometry.basis.direction, input.oriented, n);
+        let projected: usize = runs.iter().map(ExactSizeIterator::len).sum();
+        ViewFlush {
+            input,
+            projector: Projector::new(geometry),
+            runs,
+            projected,
+            keep: projected <= KEPT_POINTS,
+        }
+    }
+
+    /// The drawn points, at most a chunk at a time.
+    fn chunks(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        self.runs.iter().flat_map(|run| {
             let end = run.end;
             run.clone()
                 .step_by(FLUSH_CHUNK)
                 .map(move |a| a..(a + FLUSH_CHUNK).min(end))
         })
-    };
-    // Pass 1: the front-most height per pixel, a chunk of points at a time (its pixels and
-    // heights are still in the cache for the z-buffer). Up to KEPT_POINTS they are kept for
-    // pass 2: projecting every chunk again cost 0.50 G of the covering 1 M scan set's
-    // 6.47 G worker instructions (callgrind). Beyond, each chunk is projected again.
-    let mut front = vec![EMPTY_DEPTH; pixels];
-    let projected: usize = runs.iter().map(ExactSizeIterator::len).sum();
-    let keep = projected <= KEPT_POINTS;
-    scratch.ensure(if keep { projected } else { FLUSH_CHUNK });
-    // Where a chunk's projections lie in the scratch: after the earlier ones when kept.
-    let window = |at: usize, n: usize| if keep { at..at + n } else { 0..n };
-    let mut at = 0;
-    for range in chunks() {
-        let slots = window(at, range.len());
-        at += range.len();
-        let (pixel_of, height_of) = scratch.slots(slots);
-        projector.project(input.points, range, input.oriented, (pixel_of, height_of));
-        for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
-            if k != NOT_DRAWN {
-                // A comparison, not `f32::max`, whose NaN handling cost 62 M of the covering
-                // 1 M scan set's worker instructions. Neither keeps a NaN height; a zero's
-                // sign may differ, which `hc ≥ front − band` below does not see.
-                let f = &mut front[k as usize];
-                if hc > *f {
-                    *f = hc;
-                }
-            }
+    }
+
+    /// Where a chunk of `n` projections lies in the scratch: after the earlier ones (`at`
+    /// of them) when kept.
+    fn window(&self, at: usize, n: usize) -> std::ops::Range<usize> {
+        if self.keep {
+            at..at + n
+        } else {
+            0..n
         }
     }
-    // Pass 2: average the front layer, in the points' order.
-    let mut sum = vec![(0.0f32, 0u32); pixels];
-    let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
-    let mut at = 0;
-    for range in chunks() {
-        let (first, slots) = (range.start, window(at, range.len()));
-        at += range.len();
-        let (pixel_of, height_of) = scratch.slots(slots);
-        if !keep {
-            projector.project(input.points, range, input.oriented, (pixel_of, height_of));
-        }
-        for (offset, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
-            if k != NOT_DRAWN && hc >= front[k as usize] - input.band {
-                let k = k as usize;
-                sum[k].0 += hc;
-                sum[k].1 += 1;
-                if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
-                    for (a, v) in acc[k].iter_mut().zip(colours[first + offset]) {
-                        *a += u32::from(v);
+
+    /// Pass 1: the front-most height of each of the `pixels` pixels, a chunk of points at a
+    /// time (its pixels and heights are still in the cache for the z-buffer). Up to
+    /// KEPT_POINTS they are kept for pass 2: projecting every chunk again cost 0.50 G of the
+    /// covering 1 M scan set's 6.47 G worker instructions (callgrind). Beyond, each chunk is
+    /// projected again.
+    fn front_heights(&self, scratch: &mut FlushScratch, pixels: usize) -> Vec<f32> {
+        let input = self.input;
+        let mut front = vec![EMPTY_DEPTH; pixels];
+        scratch.ensure(if self.keep {
+            self.projected
+        } else {
+            FLUSH_CHUNK
+        });
+        let mut at = 0;
+        for range in self.chunks() {
+            let slots = self.window(at, range.len());
+            at += range.len();
+            let (pixel_of, height_of) = scratch.slots(slots);
+            self.projector
+                .project(input.points, range, input.oriented, (pixel_of, height_of));
+            for (&k, &hc) in pixel_of.iter().zip(height_of.iter()) {
+                if k != NOT_DRAWN {
+                    // A comparison, not `f32::max`, whose NaN handling cost 62 M of the
+                    // covering 1 M scan set's worker instructions. Neither keeps a NaN
+                    // height; a zero's sign may differ, which `hc ≥ front − band` below does
+                    // not see.
+                    let f = &mut front[k as usize];
+                    if hc > *f {
+                        *f = hc;
                     }
                 }
             }
         }
+        front
     }
-    drop(front);
-    let depth: Vec<f32> = sum
-        .iter()
-        .map(|&(s, c)| if c == 0 { EMPTY_DEPTH } else { s / c as f32 })
-        .collect();
-    let colour = colour_sum.map(|acc| {
-        acc.iter()
-            .zip(&sum)
-            .map(|(a, &(_, c))| {
-                if c == 0 {
-                    [0; 4]
-                } else {
-                    a.map(|v| ((v + c / 2) / c).min(255) as u8)
+
+    /// Pass 2: the sums of the heights (and colours) of the points within the band of each
+    /// pixel's `front` height, in the points' order.
+    fn sum_front_layer(&self, scratch: &mut FlushScratch, front: &[f32]) -> FrontSums {
+        let input = self.input;
+        let pixels = front.len();
+        let mut sum = vec![(0.0f32, 0u32); pixels];
+        let mut colour_sum = input.colours.map(|_| vec![[0u32; 4]; pixels]);
+        let mut at = 0;
+        for range in self.chunks() {
+            let (first, slots) = (range.start, self.window(at, range.len()));
+            at += range.len();
+            let (pixel_of, height_of) = scratch.slots(slots);
+            if !self.keep {
+                self.projector
+                    .project(input.points, range, input.oriented, (pixel_of, height_of));
+            }
+            for (offset, (&k, &hc)) in pixel_of.iter().zip(height_of.iter()).enumerate() {
+                if k != NOT_DRAWN && hc >= front[k as usize] - input.band {
+                    let k = k as usize;
+                    sum[k].0 += hc;
+                    sum[k].1 += 1;
+                    if let (Some(acc), Some(colours)) = (colour_sum.as_mut(), input.colours) {
+                        for (a, v) in acc[k].iter_mut().zip(colours[first + offset]) {
+                            *a += u32::from(v);
+                        }
+                    }
                 }
-            })
-            .collect()
-    });
-    let mut image = RangeImage {
-        geometry,
-        depth,
-        colour,
-    };
-    remove_see_through(&mut image, input.jump);
-    image
+            }
+        }
+        FrontSums { sum, colour_sum }
+    }
+}
+
+/// Per pixel, the sum and count of the front layer's heights, and the sums of their colours
+/// when the cloud has colour.
+struct FrontSums {
+    /// Height sum and point count per pixel.
+    sum: Vec<(f32, u32)>,
+    /// RGBA sums per pixel.
+    colour_sum: Option<Vec<[u32; 4]>>,
+}
+
+impl FrontSums {
+    /// The image of the pixels' mean heights and colours (empty where no point counted).
+    fn into_image(self, geometry: ImageGeometry) -> RangeImage {
+        let FrontSums { sum, colour_sum } = self;
+        let depth: Vec<f32> = sum
+            .iter()
+            .map(|&(s, c)| if c == 0 { EMPTY_DEPTH } else { s / c as f32 })
+            .collect();
+        let colour = colour_sum.map(|acc| {
+            acc.iter()
+                .zip(&sum)
+                .map(|(a, &(_, c))| {
+                    if c == 0 {
+                        [0; 4]
+                    } else {
+                        a.map(|v| ((v + c / 2) / c).min(255) as u8)
+                    }
+                })
+                .collect()
+        });
+        RangeImage {
+            geometry,
+            depth,
+            colour,
+        }
+    }
 }
 
 /// Empties pixels that see a farther surface through a hole of the front one (pass 3).
