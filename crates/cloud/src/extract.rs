@@ -165,16 +165,42 @@ pub(crate) fn extract_view(
     counts: &mut ExtractCounts,
     marks: &mut CellMarks,
 ) -> Result<(), CloudError> {
-    let max_tan = pass.max_tan;
-    let image = &state.image;
+    let points = (positions, sides);
+    let candidate = candidate_cells(&state.image, points, uncovered, pass.max_tan, settings);
+    let geometry = state.image.geometry;
+    let (cw, ch) = (geometry.width - 1, geometry.height - 1);
+    let CellMarks { needed, seen } = marks;
+    needed.resize(needed.len().max(cw * ch), false);
+    let mut needed_list = mark_needed(&candidate, needed, &state.emitted);
+    if pass.min_cells > 1 {
+        seen.resize(seen.len().max(cw * ch), false);
+        drop_small_regions((needed, seen), &mut needed_list, cw, ch, pass.min_cells);
+    }
+    counts.covered += drop_covered(uncovered, &candidate, needed, &state.emitted);
+    emit_around(state, &needed_list, settings.jump, pass.max_tan);
+    for &c in &needed_list {
+        needed[c] = false;
+    }
+    Ok(())
+}
+
+/// Per uncovered point, the cell of `image` that would cover it in a pass of slope
+/// `max_tan` (step 1 of the module documentation), or [`NO_CELL`].
+fn candidate_cells(
+    image: &RangeImage,
+    (positions, sides): (&[Vec3], Option<&[Vec3]>),
+    uncovered: &[PointId],
+    max_tan: f32,
+    settings: &ExtractSettings,
+) -> Vec<u32> {
     let geometry = image.geometry;
     let (cw, ch) = (geometry.width - 1, geometry.height - 1);
     // Converted once: a `usize` to `f32` is several instructions, and this bound is tested
     // for every point (87 M instructions of the covering 1 M scan set's workers, callgrind).
     let (right, top) = (cw as f32, ch as f32);
-    // Per uncovered point: the cell that would cover it, or NO_CELL. Points are independent,
-    // so this runs in parallel; the ordered collect keeps the result thread-independent.
-    let candidate: Vec<u32> = uncovered
+    // Points are independent, so this runs in parallel; the ordered collect keeps the result
+    // thread-independent.
+    uncovered
         .par_iter()
         .with_min_len(POINTS_PER_TASK)
         .map(|&id| {
@@ -201,50 +227,57 @@ pub(crate) fn extract_view(
             }
             (cy * cw + cx) as u32
         })
-        .collect();
-    let CellMarks { needed, seen } = marks;
-    needed.resize(needed.len().max(cw * ch), false);
+        .collect()
+}
+
+/// Marks in `needed` the `candidate` cells the view has not emitted yet, and lists them in
+/// the order of their first point.
+fn mark_needed(candidate: &[u32], needed: &mut [bool], emitted: &[bool]) -> Vec<usize> {
     // Sequential, over every candidate: collecting the hits in parallel first (a list of up
     // to 4 bytes a point) took the model only from 4.51 to 4.50 G instructions on the evenly
     // spread 1 M scan set (sequential −58 M, workers +94 M).
-    let emitted = &state.emitted;
     let mut needed_list = Vec::new();
-    for &c in &candidate {
+    for &c in candidate {
         let c = c as usize;
         if c != NO_CELL as usize && !needed[c] && !emitted[c] {
             needed[c] = true;
             needed_list.push(c);
         }
     }
-    if pass.min_cells > 1 {
-        seen.resize(seen.len().max(cw * ch), false);
-        drop_small_regions((needed, seen), &mut needed_list, cw, ch, pass.min_cells);
-    }
-    let before = uncovered.len();
-    let covering = &*needed;
-    retain_by_cell(uncovered, &candidate, |c| {
-        c == NO_CELL || !(covering[c as usize] || emitted[c as usize])
-    });
-    counts.covered += before - uncovered.len();
+    needed_list
+}
 
-    // Emitted: the needed cells and the valid cells around them, each once per view.
-    for &c in &needed_list {
+/// Drops from `uncovered` the points whose `candidate` cell is `needed` or already
+/// `emitted` (they are covered); gives how many.
+fn drop_covered(
+    uncovered: &mut Vec<PointId>,
+    candidate: &[u32],
+    needed: &[bool],
+    emitted: &[bool],
+) -> usize {
+    let before = uncovered.len();
+    retain_by_cell(uncovered, candidate, |c| {
+        c == NO_CELL || !(needed[c as usize] || emitted[c as usize])
+    });
+    before - uncovered.len()
+}
+
+/// Emits the needed cells and the valid cells around them (step 2 of the module
+/// documentation), each once per view.
+fn emit_around(state: &mut ViewState, needed_list: &[usize], jump: f32, max_tan: f32) {
+    let geometry = state.image.geometry;
+    let (cw, ch) = (geometry.width - 1, geometry.height - 1);
+    for &c in needed_list {
         let (cx, cy) = (c % cw, c / cw);
         for ny in cy.saturating_sub(1)..(cy + 2).min(ch) {
             for nx in cx.saturating_sub(1)..(cx + 2).min(cw) {
                 let n = ny * cw + nx;
-                if !state.emitted[n]
-                    && valid_cell(&state.image, nx, ny, settings.jump, max_tan).is_some()
-                {
+                if !state.emitted[n] && valid_cell(&state.image, nx, ny, jump, max_tan).is_some() {
                     state.emitted[n] = true;
                 }
             }
         }
     }
-    for &c in &needed_list {
-        needed[c] = false;
-    }
-    Ok(())
 }
 
 /// Keeps the points whose cell passes `keep` (`cells[i]`: the cell of `points[i]`), in order.
