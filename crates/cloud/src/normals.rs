@@ -336,21 +336,55 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
         (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let max_index = KEY_MASK as f64;
-    let inv = 1.0 / f64::from(voxel);
-    // `p ≥ lo`, so the scaled offsets are ≥ 0 and truncation is the floor (inline, where
-    // `floor` is a libm call).
-    let coordinates = |p: Vec3| {
-        let d = (p - lo).as_dvec3() * inv;
+    let scale = VoxelScale {
+        lo,
+        inv: 1.0 / f64::from(voxel),
+    };
+    // Key fields just wide enough for the cloud.
+    let bits = scale
+        .coordinates(hi)
+        .map(|c| (u64::BITS - c.leading_zeros()).max(1));
+    let (y_bits, z_bits) = (bits[1], bits[2]);
+    let order = column_sorted_keys(positions, |p| scale.coordinates(p), (y_bits, z_bits));
+    let (mut grid, runs) = group_voxels(&order, y_bits, z_bits);
+    let point_voxel = voxel_of_points(&order, &runs, positions.len());
+    let origin = lo.as_dvec3();
+    grid.moments = voxel_moments(order, runs, positions, origin);
+    let planes = block_planes(&mut grid);
+    VoxelPlanes {
+        origin,
+        point_voxel,
+        planes,
+        grid: Some(grid),
+    }
+}
+
+/// The voxel grid of [`estimate_planes`]: its lowest corner and the inverse voxel side.
+struct VoxelScale {
+    /// The lowest corner of the points.
+    lo: Vec3,
+    /// One over the voxel side.
+    inv: f64,
+}
+
+impl VoxelScale {
+    /// The voxel coordinates of `p` (a point not below `lo`), clamped to [`KEY_MASK`].
+    #[inline] // Once per point, inside the parallel key loop of `column_sorted_keys`.
+    fn coordinates(&self, p: Vec3) -> [u64; 3] {
+        let max_index = KEY_MASK as f64;
+        // `p ≥ lo`, so the scaled offsets are ≥ 0 and truncation is the floor (inline, where
+        // `floor` is a libm call).
+        let d = (p - self.lo).as_dvec3() * self.inv;
         // Through `u32` (the values are below 2²¹): Rust's saturating `f64 as u64` has no
         // single x86-64 instruction and took 83 M instructions of the two plane fits.
         [d.x, d.y, d.z].map(|v| u64::from(v.min(max_index) as u32))
-    };
-    // Key fields just wide enough for the cloud.
-    let bits = coordinates(hi).map(|c| (u64::BITS - c.leading_zeros()).max(1));
-    let (y_bits, z_bits) = (bits[1], bits[2]);
-    let order = column_sorted_keys(positions, coordinates, (y_bits, z_bits));
-    // Voxels as runs of equal keys, and columns as runs of equal `(x, y)`.
+    }
+}
+
+/// The voxels of the key-sorted points `order` (runs of equal keys) grouped into columns
+/// (runs of equal `(x, y)`), without their moments yet; and the first index in `order` of
+/// each voxel's run, plus the point count at the end.
+fn group_voxels(order: &[(u64, u32)], y_bits: u32, z_bits: u32) -> (VoxelColumns, Vec<usize>) {
     let mut runs: Vec<usize> = Vec::new();
     let mut grid = VoxelColumns {
         y_bits,
@@ -372,21 +406,35 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
     }
     grid.starts.push(grid.keys.len() as u32);
     runs.push(order.len());
-    let mut point_voxel = vec![0u32; positions.len()];
+    (grid, runs)
+}
+
+/// The voxel of each of the `points` points, from the voxels' `runs` of the sorted `order`.
+fn voxel_of_points(order: &[(u64, u32)], runs: &[usize], points: usize) -> Vec<u32> {
+    let mut point_voxel = vec![0u32; points];
     for (v, run) in runs.windows(2).enumerate() {
         for &(_, i) in &order[run[0]..run[1]] {
             point_voxel[i as usize] = v as u32;
         }
     }
-    // Each voxel's moments, relative to the grid corner to keep them small, in parallel from
-    // its run of the sorted points: its points in index order, so the sums are those of one
-    // pass over the points (0.08 G of sequential instructions on the evenly spread 1 M scan
-    // set before). The points' indices alone (4 bytes a point, not the pairs' 16) live beside
-    // the moments, so this stays under the moments and planes below, the stage's peak.
+    point_voxel
+}
+
+/// Each voxel's moments, relative to `origin` (the grid corner) to keep them small, in
+/// parallel from its run of the sorted points: its points in index order, so the sums are
+/// those of one pass over the points (0.08 G of sequential instructions on the evenly spread
+/// 1 M scan set before). The points' indices alone (4 bytes a point, not the pairs' 16) live
+/// beside the moments, so this stays under the moments and planes of [`block_planes`], the
+/// stage's peak.
+fn voxel_moments(
+    order: Vec<(u64, u32)>,
+    runs: Vec<usize>,
+    positions: &[Vec3],
+    origin: DVec3,
+) -> Vec<Moments> {
     let members: Vec<u32> = order.par_iter().map(|&(_, i)| i).collect();
     drop(order);
-    let origin = lo.as_dvec3();
-    grid.moments = runs
+    let moments = runs
         .par_windows(2)
         .map(|run| {
             let mut moments = Moments::default();
@@ -397,18 +445,19 @@ pub(crate) fn estimate_planes(positions: &[Vec3], voxel: f32) -> VoxelPlanes {
         })
         .collect();
     drop((members, runs));
+    moments
+}
+
+/// The plane of every voxel's block, from the voxels' moments (taken from `grid` and
+/// dropped).
+fn block_planes(grid: &mut VoxelColumns) -> Vec<BlockPlane> {
     // Written in place, one slice of voxels per task: collecting the tasks' planes would hold
     // them twice at the peak of this stage.
     let mut planes = vec![BlockPlane::default(); grid.keys.len()];
     let moments = std::mem::take(&mut grid.moments);
     grid.fold_all(&moments, &mut planes, |_, m| m.plane());
     drop(moments);
-    VoxelPlanes {
-        origin,
-        point_voxel,
-        planes,
-        grid: Some(grid),
-    }
+    planes
 }
 
 /// The unit eigenvector of the smallest eigenvalue of the symmetric matrix
