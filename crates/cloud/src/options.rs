@@ -200,14 +200,17 @@ impl CloudOptions {
 
     /// Checks every field against its documented range.
     pub fn validate(&self) -> Result<(), crate::CloudError> {
-        use crate::CloudError::InvalidOption;
-        let check = |ok: bool, option: &'static str, reason: &'static str| {
-            if ok {
-                Ok(())
-            } else {
-                Err(InvalidOption { option, reason })
-            }
-        };
+        self.validate_images()?;
+        self.validate_extraction()?;
+        self.validate_scales()?;
+        if let Some(smooth) = self.smooth {
+            smooth.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Checks the options of the range images: views, pixel, gaps and discontinuities.
+    fn validate_images(&self) -> Result<(), crate::CloudError> {
         check(
             (1..=1000).contains(&self.views),
             "views",
@@ -223,7 +226,11 @@ impl CloudOptions {
             self.jump_factor.is_finite() && self.jump_factor > 0.0,
             "jump_factor",
             "must be a positive number",
-        )?;
+        )
+    }
+
+    /// Checks the options of the region extraction: slopes, cover tolerance and grid.
+    fn validate_extraction(&self) -> Result<(), crate::CloudError> {
         check(
             (1.0..=89.0).contains(&self.preferred_slope_degrees),
             "preferred_slope_degrees",
@@ -240,7 +247,12 @@ impl CloudOptions {
             "cover_tolerance",
             "must be a positive number",
         )?;
-        check((2..=257).contains(&self.grid), "grid", "must be 2..=257")?;
+        check((2..=257).contains(&self.grid), "grid", "must be 2..=257")
+    }
+
+    /// Checks the lengths (normal voxel, spacing, displacement step, tile size) and the tile
+    /// choice.
+    fn validate_scales(&self) -> Result<(), crate::CloudError> {
         check(
             (0.5..=8.0).contains(&self.normal_voxel),
             "normal_voxel",
@@ -265,25 +277,37 @@ impl CloudOptions {
             self.only_tile.is_none() || self.tile_grid.is_some(),
             "only_tile",
             "needs tile_grid",
+        )
+    }
+}
+
+impl SmoothOptions {
+    /// Checks every field against its documented range (the errors name them `smooth.*`).
+    fn validate(&self) -> Result<(), crate::CloudError> {
+        check(
+            (1..=8).contains(&self.radius),
+            "smooth.radius",
+            "must be 1..=8",
         )?;
-        if let Some(smooth) = self.smooth {
-            check(
-                (1..=8).contains(&smooth.radius),
-                "smooth.radius",
-                "must be 1..=8",
-            )?;
-            check(
-                (1..=8).contains(&smooth.iterations),
-                "smooth.iterations",
-                "must be 1..=8",
-            )?;
-            check(
-                smooth.range.is_finite() && smooth.range > 0.0,
-                "smooth.range",
-                "must be a positive number",
-            )?;
-        }
+        check(
+            (1..=8).contains(&self.iterations),
+            "smooth.iterations",
+            "must be 1..=8",
+        )?;
+        check(
+            self.range.is_finite() && self.range > 0.0,
+            "smooth.range",
+            "must be a positive number",
+        )
+    }
+}
+
+/// `Ok` when `ok`, else the invalid `option` with its `reason`.
+fn check(ok: bool, option: &'static str, reason: &'static str) -> Result<(), crate::CloudError> {
+    if ok {
         Ok(())
+    } else {
+        Err(crate::CloudError::InvalidOption { option, reason })
     }
 }
 
@@ -311,6 +335,109 @@ impl Default for CloudOptions {
             scanners: None,
             align_scans: true,
             scan_shifts: None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::CloudError;
+
+    /// The option and reason `validate` refuses the default options changed by `change`
+    /// with, or `None` when it accepts them.
+    fn refusal(change: impl FnOnce(&mut CloudOptions)) -> Option<(&'static str, &'static str)> {
+        let mut options = CloudOptions::default();
+        change(&mut options);
+        match options.validate() {
+            Ok(()) => None,
+            Err(CloudError::InvalidOption { option, reason }) => Some((option, reason)),
+            Err(other) => panic!("not an invalid option: {other}"),
+        }
+    }
+
+    /// A change of the default options, the option it makes invalid and the reason given.
+    type Case = (fn(&mut CloudOptions), &'static str, &'static str);
+
+    /// The default smoothing changed by `change`.
+    fn smooth(change: fn(&mut SmoothOptions)) -> Option<SmoothOptions> {
+        let mut options = SmoothOptions::default();
+        change(&mut options);
+        Some(options)
+    }
+
+    #[test]
+    fn every_field_out_of_range_is_named_with_its_range() {
+        let positive = "must be a positive number";
+        assert_eq!(refusal(|_| {}), None);
+        assert_eq!(refusal(|o| o.smooth = smooth(|_| {})), None);
+        let cases: [Case; 17] = [
+            (|o| o.views = 0, "views", "must be 1..=1000"),
+            (
+                |o| o.pixel_factor = 17.0,
+                "pixel_factor",
+                "must be 0.25..=16",
+            ),
+            (|o| o.max_gap = 9, "max_gap", "must be 0..=8 pixels"),
+            (|o| o.jump_factor = 0.0, "jump_factor", positive),
+            (
+                |o| o.preferred_slope_degrees = 0.5,
+                "preferred_slope_degrees",
+                "must be 1..=89",
+            ),
+            (
+                |o| o.max_slope_degrees = 30.0,
+                "max_slope_degrees",
+                "must be between the preferred slope and 89",
+            ),
+            (
+                |o| o.cover_tolerance = f32::NAN,
+                "cover_tolerance",
+                positive,
+            ),
+            (|o| o.grid = 258, "grid", "must be 2..=257"),
+            (|o| o.normal_voxel = 0.25, "normal_voxel", "must be 0.5..=8"),
+            (|o| o.spacing = Some(0.0), "spacing", positive),
+            (
+                |o| o.displacement_step = -1.0,
+                "displacement_step",
+                positive,
+            ),
+            (|o| o.tile_size = Some(f32::INFINITY), "tile_size", positive),
+            (
+                |o| o.only_tile = Some([0; 3]),
+                "only_tile",
+                "needs tile_grid",
+            ),
+            (
+                |o| o.smooth = smooth(|s| s.radius = 0),
+                "smooth.radius",
+                "must be 1..=8",
+            ),
+            (
+                |o| o.smooth = smooth(|s| s.iterations = 9),
+                "smooth.iterations",
+                "must be 1..=8",
+            ),
+            (
+                |o| o.smooth = smooth(|s| s.range = 0.0),
+                "smooth.range",
+                positive,
+            ),
+            // Several fields out of range: the first checked is named.
+            (
+                |o| {
+                    o.smooth = smooth(|s| s.range = 0.0);
+                    o.only_tile = Some([1; 3]);
+                    o.grid = 1;
+                    o.max_gap = 9;
+                },
+                "max_gap",
+                "must be 0..=8 pixels",
+            ),
+        ];
+        for (change, option, reason) in cases {
+            assert_eq!(refusal(change), Some((option, reason)));
         }
     }
 }
