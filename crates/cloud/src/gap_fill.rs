@@ -37,15 +37,15 @@ pub(crate) fn fill_gaps(image: &mut RangeImage, max_gap: u32, jump: f32) -> usiz
     let source = image.depth.clone();
     let source_colour = image.colour.clone();
     let max_gap = max_gap as isize;
-    let mut filled = 0;
-    let at = |i: isize, j: isize| -> Option<(usize, f32)> {
-        if i < 0 || j < 0 || i >= w as isize || j >= h as isize {
-            return None;
-        }
-        let k = j as usize * w + i as usize;
-        let d = source[k];
-        d.is_finite().then_some((k, d))
+    let lines = GapLines {
+        depth: &source,
+        colour: source_colour.as_deref(),
+        w,
+        h,
+        max_gap,
+        jump,
     };
+    let mut filled = 0;
     let near = filled_near(&source, w, h, max_gap as usize);
     for j in 0..h as isize {
         for i in 0..w as isize {
@@ -59,43 +59,13 @@ pub(crate) fn fill_gaps(image: &mut RangeImage, max_gap: u32, jump: f32) -> usiz
                 image.depth[k] = EMPTY_DEPTH;
                 continue;
             }
-            let (mut weight, mut depth) = (0.0f32, 0.0f32);
-            let mut colour = [0.0f32; 4];
-            for (di, dj) in LINES {
-                let step_length = if di != 0 && dj != 0 {
-                    std::f32::consts::SQRT_2
-                } else {
-                    1.0
-                };
-                let find = |sign: isize| {
-                    (1..=max_gap)
-                        .find_map(|s| at(i + sign * s * di, j + sign * s * dj).map(|f| (s, f)))
-                };
-                // One side first: most empty pixels are background with nothing on it.
-                let Some((sa, (ka, ha))) = find(-1) else {
-                    continue;
-                };
-                let Some((sb, (kb, hb))) = find(1) else {
-                    continue;
-                };
-                let span = sa + sb;
-                if span - 1 > max_gap || (ha - hb).abs() > jump * step_length * span as f32 {
-                    continue;
-                }
-                let t = sa as f32 / span as f32;
-                let wgt = 1.0 / span as f32;
-                weight += wgt;
-                depth += wgt * (ha + (hb - ha) * t);
-                if let Some(c) = source_colour.as_ref() {
-                    for (acc, (&a, &b)) in colour.iter_mut().zip(c[ka].iter().zip(&c[kb])) {
-                        *acc += wgt * (f32::from(a) + (f32::from(b) - f32::from(a)) * t);
-                    }
-                }
-            }
-            if weight > 0.0 {
-                image.depth[k] = depth / weight;
+            let blend = lines.blend(i, j);
+            if blend.weight > 0.0 {
+                image.depth[k] = blend.depth / blend.weight;
                 if let Some(c) = image.colour.as_mut() {
-                    c[k] = colour.map(|v| (v / weight).round().clamp(0.0, 255.0) as u8);
+                    c[k] = blend
+                        .colour
+                        .map(|v| (v / blend.weight).round().clamp(0.0, 255.0) as u8);
                 }
                 filled += 1;
             } else {
@@ -104,6 +74,94 @@ pub(crate) fn fill_gaps(image: &mut RangeImage, max_gap: u32, jump: f32) -> usiz
         }
     }
     filled
+}
+
+/// The image before gap filling, as the lines across a gap read it: only pixels filled
+/// before the pass serve as line ends.
+struct GapLines<'a> {
+    /// Heights per pixel, row-major.
+    depth: &'a [f32],
+    /// Colours per pixel, when the image has them.
+    colour: Option<&'a [[u8; 4]]>,
+    /// Pixel columns.
+    w: usize,
+    /// Pixel rows.
+    h: usize,
+    /// Widest gap filled (pixels).
+    max_gap: isize,
+    /// The discontinuity threshold per pixel step.
+    jump: f32,
+}
+
+/// The weighted sums of the usable lines' interpolations at one empty pixel.
+struct Blend {
+    /// Sum of the lines' weights (0: no usable line).
+    weight: f32,
+    /// Weighted sum of the interpolated heights.
+    depth: f32,
+    /// Weighted sums of the interpolated colour channels.
+    colour: [f32; 4],
+}
+
+impl GapLines<'_> {
+    /// The index and height of pixel `(i, j)` when it is inside the image and filled.
+    #[inline] // Up to `2 · max_gap` times per line at every empty pixel near a filled one.
+    fn at(&self, i: isize, j: isize) -> Option<(usize, f32)> {
+        let (w, h) = (self.w, self.h);
+        if i < 0 || j < 0 || i >= w as isize || j >= h as isize {
+            return None;
+        }
+        let k = j as usize * w + i as usize;
+        let d = self.depth[k];
+        d.is_finite().then_some((k, d))
+    }
+
+    /// The interpolations of empty pixel `(i, j)` along the four lines whose ends qualify,
+    /// each weighted by the inverse of its span, summed.
+    #[inline] // Once per empty pixel near a filled one.
+    fn blend(&self, i: isize, j: isize) -> Blend {
+        let max_gap = self.max_gap;
+        let (mut weight, mut depth) = (0.0f32, 0.0f32);
+        let mut colour = [0.0f32; 4];
+        for (di, dj) in LINES {
+            let step_length = if di != 0 && dj != 0 {
+                std::f32::consts::SQRT_2
+            } else {
+                1.0
+            };
+            let find = |sign: isize| {
+                (1..=max_gap).find_map(|s| {
+                    self.at(i + sign * s * di, j + sign * s * dj)
+                        .map(|f| (s, f))
+                })
+            };
+            // One side first: most empty pixels are background with nothing on it.
+            let Some((sa, (ka, ha))) = find(-1) else {
+                continue;
+            };
+            let Some((sb, (kb, hb))) = find(1) else {
+                continue;
+            };
+            let span = sa + sb;
+            if span - 1 > max_gap || (ha - hb).abs() > self.jump * step_length * span as f32 {
+                continue;
+            }
+            let t = sa as f32 / span as f32;
+            let wgt = 1.0 / span as f32;
+            weight += wgt;
+            depth += wgt * (ha + (hb - ha) * t);
+            if let Some(c) = self.colour {
+                for (acc, (&a, &b)) in colour.iter_mut().zip(c[ka].iter().zip(&c[kb])) {
+                    *acc += wgt * (f32::from(a) + (f32::from(b) - f32::from(a)) * t);
+                }
+            }
+        }
+        Blend {
+            weight,
+            depth,
+            colour,
+        }
+    }
 }
 
 /// Per pixel, the number of filled pixels in the `(2g + 1)²` box around it (a sliding sum

@@ -106,9 +106,50 @@ pub(crate) fn convert_tile(
 ) -> Result<TileOutput, CloudError> {
     let started = Instant::now();
     let (geometries, pixel) = plan_images(&job.bounds, context, warnings)?;
-    let spacing = context.spacing;
-    let options = context.options;
-    let jump = options.jump_factor * pixel;
+    let jump = context.options.jump_factor * pixel;
+    let (mut views, gap_pixels_filled) = draw_views(&job, &geometries, jump, context);
+    // The turned normals stay for the extraction's side test; the rest of the columns go.
+    let sides = context.oriented.then(|| job.points.normals());
+    drop(job.points);
+    let image_seconds = started.elapsed().as_secs_f64();
+
+    let started = Instant::now();
+    let settings = extract_settings(context.options, context.spacing, jump);
+    let mut uncovered = job
+        .own
+        .unwrap_or_else(|| (0..job.positions.len() as u32).map(PointId).collect());
+    let mut counts = ExtractCounts::default();
+    let patches = extract_passes(
+        &mut views,
+        (job.positions, sides.as_deref()),
+        &mut uncovered,
+        context.options,
+        &settings,
+        &mut counts,
+        context,
+    )?;
+    drop(views);
+    Ok(TileOutput {
+        patches,
+        counts,
+        gap_pixels_filled,
+        uncovered: uncovered.len(),
+        pixel,
+        image_seconds,
+        extract_seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The range image of each of `geometries` (in parallel, one view per task: drawn, its
+/// gaps filled and, if asked, smoothed), each as a view with no emitted cell; and the
+/// pixels the gap filling filled, over all views.
+fn draw_views(
+    job: &TileJob<'_>,
+    geometries: &[ImageGeometry],
+    jump: f32,
+    context: &TileContext<'_>,
+) -> (Vec<ViewState>, usize) {
+    let (options, spacing) = (context.options, context.spacing);
     let flush = FlushInput {
         points: &job.points,
         colours: job.colours,
@@ -135,15 +176,14 @@ pub(crate) fn convert_tile(
         })
         .collect();
     drop(pool);
-    // The turned normals stay for the extraction's side test; the rest of the columns go.
-    let sides = context.oriented.then(|| job.points.normals());
-    drop(job.points);
     let gap_pixels_filled = built.iter().map(|b| b.1).sum();
-    let mut views: Vec<ViewState> = built.into_iter().map(|b| b.0).collect();
-    let image_seconds = started.elapsed().as_secs_f64();
+    (built.into_iter().map(|b| b.0).collect(), gap_pixels_filled)
+}
 
-    let started = Instant::now();
-    let settings = ExtractSettings {
+/// The extraction's settings for points of spacing `spacing` and images of discontinuity
+/// threshold `jump`.
+fn extract_settings(options: &CloudOptions, spacing: f32, jump: f32) -> ExtractSettings {
+    ExtractSettings {
         jump,
         tolerance: options.cover_tolerance * spacing,
         cut: CutSettings {
@@ -154,30 +194,7 @@ pub(crate) fn convert_tile(
                 fine_step: options.displacement_step * spacing,
             },
         },
-    };
-    let mut uncovered = job
-        .own
-        .unwrap_or_else(|| (0..job.positions.len() as u32).map(PointId).collect());
-    let mut counts = ExtractCounts::default();
-    let patches = extract_passes(
-        &mut views,
-        (job.positions, sides.as_deref()),
-        &mut uncovered,
-        options,
-        &settings,
-        &mut counts,
-        context,
-    )?;
-    drop(views);
-    Ok(TileOutput {
-        patches,
-        counts,
-        gap_pixels_filled,
-        uncovered: uncovered.len(),
-        pixel,
-        image_seconds,
-        extract_seconds: started.elapsed().as_secs_f64(),
-    })
+    }
 }
 
 /// The pool of flush scratches, made by the calling thread (one per worker; a view takes
