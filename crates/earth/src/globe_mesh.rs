@@ -125,6 +125,25 @@ pub fn build_globe(
     heights: &HeightMap,
     options: &GlobeOptions,
 ) -> Result<Globe, EarthError> {
+    check_options(options)?;
+    let frequency = ((options.triangles as f64 / 20.0).sqrt().round() as usize).max(2);
+    let (directions, triangles) = geodesic_lattice(frequency);
+    let area_ratio = area_ratio(&directions, &triangles);
+    let world = displaced_positions(&directions, heights, options)?;
+    let face_uvs: Vec<[Vec2; 3]> = triangles
+        .iter()
+        .map(|t| corner_uvs(t.map(|k| directions[k as usize])))
+        .collect();
+    let mesh = textured_mesh(&world, triangles, face_uvs, map)?;
+    Ok(Globe {
+        mesh,
+        frequency,
+        area_ratio,
+    })
+}
+
+/// Refuses a radius, triangle count or exaggeration outside its range.
+fn check_options(options: &GlobeOptions) -> Result<(), EarthError> {
     let radius_ok = options.radius.is_finite() && options.radius > 0.0;
     if !radius_ok {
         return Err(EarthError::InvalidOption {
@@ -144,7 +163,12 @@ pub fn build_globe(
             reason: "must be finite",
         });
     }
-    let frequency = ((options.triangles as f64 / 20.0).sqrt().round() as usize).max(2);
+    Ok(())
+}
+
+/// Unit directions and triangles of the icosphere of the given frequency:
+/// each icosahedron face split into `f²` triangles by a barycentric lattice.
+fn geodesic_lattice(frequency: usize) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let (corners, faces) = icosahedron();
 
     // Lattice points keyed by their exact barycentric combination of
@@ -178,7 +202,11 @@ pub fn build_globe(
             }
         }
     }
+    (directions, triangles)
+}
 
+/// Largest over smallest triangle area of the undisplaced sphere.
+fn area_ratio(directions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
     let areas: Vec<f64> = triangles
         .iter()
         .map(|t| {
@@ -186,9 +214,16 @@ pub fn build_globe(
             (b - a).cross(c - a).length()
         })
         .collect();
-    let area_ratio =
-        areas.iter().cloned().fold(0.0, f64::max) / areas.iter().cloned().fold(f64::MAX, f64::min);
+    areas.iter().cloned().fold(0.0, f64::max) / areas.iter().cloned().fold(f64::MAX, f64::min)
+}
 
+/// World positions: every direction moved out by the radius plus its
+/// exaggerated height, after checking the relief fits inside the radius.
+fn displaced_positions(
+    directions: &[DVec3],
+    heights: &HeightMap,
+    options: &GlobeOptions,
+) -> Result<Vec<DVec3>, EarthError> {
     let samples: Vec<f64> = directions
         .iter()
         .map(|&d| {
@@ -197,17 +232,21 @@ pub fn build_globe(
         })
         .collect();
     check_relief(&samples, options)?;
-    let world: Vec<DVec3> = directions
+    Ok(directions
         .iter()
         .zip(&samples)
         .map(|(&d, &h)| d * (options.radius + h * options.exaggeration))
-        .collect();
-    let face_uvs: Vec<[Vec2; 3]> = triangles
-        .iter()
-        .map(|t| corner_uvs(t.map(|k| directions[k as usize])))
-        .collect();
+        .collect())
+}
 
-    let mut mesh = TriangleMesh::from_world_positions(&world, triangles)?;
+/// The validated mesh with the colour map as its one textured material.
+fn textured_mesh(
+    world: &[DVec3],
+    triangles: Vec<[u32; 3]>,
+    face_uvs: Vec<[Vec2; 3]>,
+    map: &ColourMap,
+) -> Result<TriangleMesh, EarthError> {
+    let mut mesh = TriangleMesh::from_world_positions(world, triangles)?;
     let texture = Texture::new(map.width(), map.height(), map.rgba().to_vec())?;
     mesh.materials = vec![Material {
         name: "earth".to_owned(),
@@ -217,11 +256,7 @@ pub fn build_globe(
     mesh.face_materials = vec![MaterialId(0); mesh.triangles.len()];
     mesh.face_uvs = Some(face_uvs);
     mesh.validate()?;
-    Ok(Globe {
-        mesh,
-        frequency,
-        area_ratio,
-    })
+    Ok(mesh)
 }
 
 /// Texture coordinates of one triangle's corners, seam and poles handled.
