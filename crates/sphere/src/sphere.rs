@@ -104,6 +104,7 @@ pub enum SphereError {
     Format(#[from] FormatError),
 }
 
+/// `Ok` if `ok`, else the invalid-option error for `name`.
 fn check(ok: bool, name: &'static str, reason: &'static str) -> Result<(), SphereError> {
     if ok {
         Ok(())
@@ -112,8 +113,55 @@ fn check(ok: bool, name: &'static str, reason: &'static str) -> Result<(), Spher
     }
 }
 
+/// The node layout and displacement codes shared by every patch (all
+/// patches have the same size).
+struct PatchShape {
+    /// Nodes per side.
+    grid: GridSize,
+    /// Node spacing `|ax| = |ay|`.
+    spacing: f64,
+    /// Displacement step `|az|`.
+    step: f64,
+    /// Half the patch side, in model units.
+    half: f64,
+    /// The lowest filled height above the patch plane through the centre.
+    lowest: f64,
+    /// The quantized displacement of each node (or [`EMPTY`]).
+    displacements: Vec<u16>,
+}
+
 /// Builds the perfect sphere.
 pub fn build_sphere(options: &SphereOptions) -> Result<Sphere, SphereError> {
+    let grid = check_options(options)?;
+    let radius = options.radius;
+    let patches = options.patches;
+    let shape = patch_shape(options, grid)?;
+
+    let centres = distribute_on_sphere(patches);
+    // Voronoi neighbours lie within about two mean spacings; three is safe.
+    let reach = 3.0 * (4.0 * std::f64::consts::PI / patches as f64).sqrt();
+    let neighbours = neighbours_within(&centres, reach);
+    // One patch per centre, in parallel (the orientation search dominates); the order of
+    // the patches and the smallest margin do not depend on the thread count.
+    let built: Vec<(Patch, f64)> = centres
+        .par_iter()
+        .zip(&neighbours)
+        .map(|(&normal, near)| {
+            let near: Vec<DVec3> = near.iter().map(|&k| centres[k]).collect();
+            oriented_patch(&shape, radius, normal, &near)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let coverage_margin = built.iter().map(|(_, m)| *m).fold(f64::INFINITY, f64::min);
+    let scene_patches: Vec<Patch> = built.into_iter().map(|(p, _)| p).collect();
+    Ok(Sphere {
+        scene: Scene::new(DVec3::ZERO, ColourChannel::None, scene_patches)?,
+        coverage_margin,
+    })
+}
+
+/// Refuses options out of range (in the order radius, patches, spacing,
+/// step, grid); returns the grid size.
+fn check_options(options: &SphereOptions) -> Result<GridSize, SphereError> {
     let SphereOptions {
         radius,
         patches,
@@ -138,10 +186,21 @@ pub fn build_sphere(options: &SphereOptions) -> Result<Sphere, SphereError> {
         "must be a positive finite number",
     )?;
     check(positive(step), "step", "must be a positive finite number")?;
-    let grid = GridSize::new(grid, grid).map_err(|_| SphereError::InvalidOption {
+    GridSize::new(grid, grid).map_err(|_| SphereError::InvalidOption {
         name: "grid",
         reason: "must be in 2..=257",
-    })?;
+    })
+}
+
+/// Quantizes the sphere's heights over the patch grid into displacement
+/// codes, refusing a sphere narrower than a node spacing or a step too fine.
+fn patch_shape(options: &SphereOptions, grid: GridSize) -> Result<PatchShape, SphereError> {
+    let SphereOptions {
+        radius,
+        spacing,
+        step,
+        ..
+    } = *options;
     let n = usize::from(grid.cols());
     let half = (n - 1) as f64 * spacing / 2.0;
     let offsets: Vec<f64> = (0..n).map(|k| k as f64 * spacing - half).collect();
@@ -173,39 +232,45 @@ pub fn build_sphere(options: &SphereOptions) -> Result<Sphere, SphereError> {
             None => EMPTY,
         })
         .collect();
-
-    let centres = distribute_on_sphere(patches);
-    // Voronoi neighbours lie within about two mean spacings; three is safe.
-    let reach = 3.0 * (4.0 * std::f64::consts::PI / patches as f64).sqrt();
-    let neighbours = neighbours_within(&centres, reach);
-    // One patch per centre, in parallel (the orientation search dominates); the order of
-    // the patches and the smallest margin do not depend on the thread count.
-    let built: Vec<(Patch, f64)> = centres
-        .par_iter()
-        .zip(&neighbours)
-        .map(|(&normal, near)| {
-            let (x0, y0) = tangent_axes(normal);
-            let near: Vec<DVec3> = near.iter().map(|&k| centres[k]).collect();
-            let orientation = orient_patch(normal, x0, y0, &near, radius, half);
-            let x = orientation.x;
-            let y = normal.cross(x);
-            let origin = normal * lowest - x * half - y * half;
-            let frame = Frame::new(
-                origin.as_vec3(),
-                (x * spacing).as_vec3(),
-                (y * spacing).as_vec3(),
-                (normal * step).as_vec3(),
-            )?;
-            let patch = Patch::new(frame, grid, displacements.clone(), None)?;
-            Ok::<_, SphereError>((patch, orientation.margin))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let coverage_margin = built.iter().map(|(_, m)| *m).fold(f64::INFINITY, f64::min);
-    let scene_patches: Vec<Patch> = built.into_iter().map(|(p, _)| p).collect();
-    Ok(Sphere {
-        scene: Scene::new(DVec3::ZERO, ColourChannel::None, scene_patches)?,
-        coverage_margin,
+    Ok(PatchShape {
+        grid,
+        spacing,
+        step,
+        half,
+        lowest,
+        displacements,
     })
+}
+
+/// The patch centred on `normal`, turned to best cover its Voronoi cell
+/// among the `near` centres, with its coverage margin.
+fn oriented_patch(
+    shape: &PatchShape,
+    radius: f64,
+    normal: DVec3,
+    near: &[DVec3],
+) -> Result<(Patch, f64), SphereError> {
+    let PatchShape {
+        grid,
+        spacing,
+        step,
+        half,
+        lowest,
+        ..
+    } = *shape;
+    let (x0, y0) = tangent_axes(normal);
+    let orientation = orient_patch(normal, x0, y0, near, radius, half);
+    let x = orientation.x;
+    let y = normal.cross(x);
+    let origin = normal * lowest - x * half - y * half;
+    let frame = Frame::new(
+        origin.as_vec3(),
+        (x * spacing).as_vec3(),
+        (y * spacing).as_vec3(),
+        (normal * step).as_vec3(),
+    )?;
+    let patch = Patch::new(frame, grid, shape.displacements.clone(), None)?;
+    Ok((patch, orientation.margin))
 }
 
 /// A right-handed tangent basis `(x, y)` with `x × y = normal`.
