@@ -88,10 +88,41 @@ pub(crate) fn convert_and_write(
     })
     .map_err(|e| classify(e, input))?;
     let mut finished = write_and_measure(&progress, conversion, output, args.no_error, started)?;
+    warn_over_error_budget(&mut finished, options.fit.max_step_error);
+    let holes = if args.holes {
+        Some(timed_holes(&progress, &finished.conversion)?)
+    } else {
+        None
+    };
+    drop(progress);
+    let files = OutcomeFiles {
+        input,
+        output,
+        report: args.report.as_deref(),
+    };
+    outcome_of(finished, holes, &files)
+}
+
+/// The hole fractions with and without edge patches.
+type HolePair = (HoleReport, Option<HoleReport>);
+
+/// The files a conversion read and wrote, as its report and summary name them.
+struct OutcomeFiles<'a> {
+    /// The input mesh.
+    input: &'a Path,
+    /// The written scene.
+    output: &'a Path,
+    /// The JSON report to write, if asked.
+    report: Option<&'a Path>,
+}
+
+/// Adds a warning to the report when the measured error exceeds what the
+/// step error budget allows.
+fn warn_over_error_budget(finished: &mut Measured, max_step_error: f32) {
     let budget_warning = finished.error.as_ref().and_then(|e| {
         spatch_convert::check_error_budget(
             finished.conversion.report.spacing,
-            options.fit.max_step_error,
+            max_step_error,
             e.surface_to_patch.p95,
         )
     });
@@ -102,15 +133,22 @@ pub(crate) fn convert_and_write(
             .warnings
             .push(warning.to_string());
     }
-    let holes = if args.holes {
-        progress.step("measuring holes");
-        let start = Instant::now();
-        let holes = measure_holes(&finished.conversion)?;
-        Some((holes, start.elapsed().as_secs_f64()))
-    } else {
-        None
-    };
-    drop(progress);
+}
+
+/// Measures the holes (the `measuring holes` step of `progress`), with the seconds it took.
+fn timed_holes(progress: &Progress, conversion: &Conversion) -> anyhow::Result<(HolePair, f64)> {
+    progress.step("measuring holes");
+    let start = Instant::now();
+    let holes = measure_holes(conversion)?;
+    Ok((holes, start.elapsed().as_secs_f64()))
+}
+
+/// The report (written when asked) and the summary of a finished conversion.
+fn outcome_of(
+    finished: Measured,
+    holes: Option<(HolePair, f64)>,
+    files: &OutcomeFiles<'_>,
+) -> anyhow::Result<Outcome> {
     let Measured {
         conversion,
         error,
@@ -127,50 +165,55 @@ pub(crate) fn convert_and_write(
     let seconds = times.seconds;
     let report = report_json(
         "convert",
-        &input.display().to_string(),
-        output,
+        &files.input.display().to_string(),
+        files.output,
         &conversion,
         error.as_ref(),
         times,
         details,
     );
-    if let Some(path) = &args.report {
+    if let Some(path) = files.report {
         write_json_report(path, &report)?;
     }
     let mut text = summary(
-        output,
+        files.output,
         &conversion,
         error.as_ref(),
         seconds,
-        args.report.as_deref(),
+        files.report,
     );
     if let Some(Holes::WithAndWithoutEdges {
         with_edges: with,
         without_edges: without,
     }) = &report.details.holes
     {
-        let without = without.as_ref().map_or("n/a".to_owned(), |w| {
-            format!(
-                "{:.4} % ({:.4} % inside the outlines)",
-                w.fraction * 100.0,
-                w.interior_fraction * 100.0
-            )
-        });
-        text.push_str(&format!(
-            "  holes over {} views: {:.4} % ({} of {} source pixels; {:.4} % inside the outlines); without edge patches {}\n",
-            with.views.len(),
-            with.fraction * 100.0,
-            with.hole_pixels,
-            with.source_pixels,
-            with.interior_fraction * 100.0,
-            without
-        ));
+        text.push_str(&holes_line(with, without.as_ref()));
     }
     Ok(Outcome {
         conversion,
         report,
         text,
     })
+}
+
+/// The summary's line on holes, with and without the edge patches.
+fn holes_line(with: &HoleReport, without: Option<&HoleReport>) -> String {
+    let without = without.map_or("n/a".to_owned(), |w| {
+        format!(
+            "{:.4} % ({:.4} % inside the outlines)",
+            w.fraction * 100.0,
+            w.interior_fraction * 100.0
+        )
+    });
+    format!(
+        "  holes over {} views: {:.4} % ({} of {} source pixels; {:.4} % inside the outlines); without edge patches {}\n",
+        with.views.len(),
+        with.fraction * 100.0,
+        with.hole_pixels,
+        with.source_pixels,
+        with.interior_fraction * 100.0,
+        without
+    )
 }
 
 /// A conversion written out, with its geometric error when measured.
@@ -215,7 +258,7 @@ pub(crate) fn write_and_measure(
 
 /// The hole fraction of the scene, and of the scene without its edge patches (which the
 /// pipeline appends last) when it has any.
-fn measure_holes(c: &Conversion) -> anyhow::Result<(HoleReport, Option<HoleReport>)> {
+fn measure_holes(c: &Conversion) -> anyhow::Result<HolePair> {
     let options = HoleOptions::default();
     let failed =
         |e: spatch_render::RenderError| InternalFailure(format!("cannot measure holes: {e}"));
