@@ -5,11 +5,12 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use spatch_convert::Conversion;
 use spatch_earth::{
-    convert_earth, Density, EarthOptions, EarthStep, ElevationEncoding, ElevationOptions,
-    HeightSource, DEFAULT_MAX_MAP_WIDTH,
+    convert_earth, Density, EarthError, EarthOptions, EarthStep, ElevationEncoding,
+    ElevationOptions, GlobeSummary, HeightSource, DEFAULT_MAX_MAP_WIDTH,
 };
-use spatch_eval::{hole_fraction, HoleOptions};
+use spatch_eval::{hole_fraction, HoleOptions, HoleReport};
 use spatch_format::WriteOptions;
 
 use super::convert::{
@@ -146,20 +147,8 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         conversion_steps(EarthStep::BEFORE_CONVERT, args.no_error, args.holes),
     );
     let started = Instant::now();
-    let earth = convert_earth(&options, &|step| match step {
-        EarthStep::ColourMap => progress.step("colour map"),
-        EarthStep::Heights => progress.step("heights"),
-        EarthStep::Globe => progress.step("globe mesh"),
-        EarthStep::Convert(event) => show_event(&progress, event),
-        _ => {}
-    })
-    .map_err(|e| {
-        if e.is_bug() {
-            anyhow::Error::new(InternalFailure(e.to_string()))
-        } else {
-            anyhow::Error::new(e)
-        }
-    })?;
+    let earth =
+        convert_earth(&options, &|step| show_earth_step(&progress, step)).map_err(earth_failure)?;
     let finished = write_and_measure(
         &progress,
         earth.conversion,
@@ -168,32 +157,76 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         started,
     )?;
     let holes = if args.holes {
-        progress.step("measuring holes");
-        let start = Instant::now();
-        let c = &finished.conversion;
-        let holes = hole_fraction(&c.scene, &c.mesh, &HoleOptions::default())
-            .map_err(|e| InternalFailure(format!("measuring holes failed: {e}")))?;
-        Some((holes, start.elapsed().as_secs_f64()))
+        Some(timed_holes(&progress, &finished.conversion)?)
     } else {
         None
     };
     drop(progress);
+    let done = Finished {
+        measured: finished,
+        globe: earth.globe,
+        holes,
+    };
+    report_and_print(args, &options.source_name(), done)
+}
+
+/// A written and measured Earth conversion.
+struct Finished {
+    /// The conversion, its geometric error and times.
+    measured: Measured,
+    /// What the globe was made of.
+    globe: GlobeSummary,
+    /// The hole fraction and the seconds it took, when measured.
+    holes: Option<(HoleReport, f64)>,
+}
+
+/// Shows an Earth pipeline step on the bar.
+fn show_earth_step(progress: &Progress, step: EarthStep) {
+    match step {
+        EarthStep::ColourMap => progress.step("colour map"),
+        EarthStep::Heights => progress.step("heights"),
+        EarthStep::Globe => progress.step("globe mesh"),
+        EarthStep::Convert(event) => show_event(progress, event),
+        _ => {}
+    }
+}
+
+/// Marks spatch's own failures as internal (exit code 1).
+fn earth_failure(e: EarthError) -> anyhow::Error {
+    if e.is_bug() {
+        anyhow::Error::new(InternalFailure(e.to_string()))
+    } else {
+        anyhow::Error::new(e)
+    }
+}
+
+/// Measures the holes against the globe mesh (the `measuring holes` step of `progress`),
+/// with the seconds it took.
+fn timed_holes(progress: &Progress, c: &Conversion) -> anyhow::Result<(HoleReport, f64)> {
+    progress.step("measuring holes");
+    let start = Instant::now();
+    let holes = hole_fraction(&c.scene, &c.mesh, &HoleOptions::default())
+        .map_err(|e| InternalFailure(format!("measuring holes failed: {e}")))?;
+    Ok((holes, start.elapsed().as_secs_f64()))
+}
+
+/// Writes the report when asked, prints it with `--json`, and prints the summary.
+fn report_and_print(args: &EarthArgs, source_name: &str, done: Finished) -> anyhow::Result<()> {
     let Measured {
         conversion,
         error,
         mut times,
-    } = finished;
+    } = done.measured;
     let mut details = ConversionDetails::of(&conversion.report);
-    details.globe = Some(earth.globe);
-    if let Some((holes, seconds)) = holes {
+    details.globe = Some(done.globe);
+    if let Some((holes, seconds)) = done.holes {
         times.measured.push("holes", seconds);
         details.holes = Some(Holes::Scene(holes));
     }
     let seconds = times.seconds;
-    let source_name = options.source_name();
     let report = report_json(
         "earth",
-        &source_name,
+        source_name,
         &args.output,
         &conversion,
         error.as_ref(),
@@ -214,14 +247,7 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         args.report.as_deref(),
     );
     if let Some(Holes::Scene(holes)) = &report.details.holes {
-        text.push_str(&format!(
-            "  holes: {:.4} % of the globe's pixels over {} views ({} of {}; {:.4} % inside the outlines)\n",
-            holes.fraction * 100.0,
-            holes.views.len(),
-            holes.hole_pixels,
-            holes.source_pixels,
-            holes.interior_fraction * 100.0
-        ));
+        text.push_str(&globe_holes_line(holes));
     }
     print_summary(
         &format!(
@@ -229,6 +255,18 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
             conversion.report.triangles
         ),
         args.json,
+    )
+}
+
+/// The summary's line on the globe's holes.
+fn globe_holes_line(holes: &HoleReport) -> String {
+    format!(
+        "  holes: {:.4} % of the globe's pixels over {} views ({} of {}; {:.4} % inside the outlines)\n",
+        holes.fraction * 100.0,
+        holes.views.len(),
+        holes.hole_pixels,
+        holes.source_pixels,
+        holes.interior_fraction * 100.0
     )
 }
 
