@@ -5,12 +5,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 use spatch_eval::{Counts, Report};
-use spatch_format::WriteOptions;
+use spatch_format::{Scene, WriteOptions};
 
-use spatch_sphere::{build_sphere, SphereOptions};
+use spatch_sphere::{build_sphere, Sphere, SphereOptions};
 
 use super::ThreadsArg;
-use crate::output::{encode_and_write, print_json, print_summary};
+use crate::output::{encode_and_write, print_json, print_summary, SceneWritten};
 use crate::progress::Progress;
 use crate::report::{scene_diagonal, tool};
 
@@ -48,6 +48,7 @@ pub(crate) struct SphereArgs {
 }
 
 impl SphereArgs {
+    /// The library options these arguments ask for.
     fn options(&self) -> SphereOptions {
         let mut options = SphereOptions::default();
         options.radius = self.radius;
@@ -87,54 +88,103 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
     progress.step("build");
     let sphere = build_sphere(&options)?;
     let build_seconds = started.elapsed().as_secs_f64();
-    let scene = &sphere.scene;
-    let worst = scene
-        .patches()
-        .iter()
-        .flat_map(|p| {
-            p.filled_nodes()
-                .map(|(_, _, q)| (q.as_dvec3().length() - options.radius).abs())
-        })
-        .fold(0.0f64, f64::max);
+    let worst = radial_error_max(&sphere.scene, options.radius);
     let written = encode_and_write(
         &progress,
-        scene,
+        &sphere.scene,
         &WriteOptions::with_compression(super::compression(args.compress)),
         &args.output,
     )?;
     drop(progress);
+    let built = Built {
+        options: &options,
+        sphere: &sphere,
+        worst,
+        build_seconds,
+        written: &written,
+    };
     if args.json {
-        let mut report = Report::new(
-            &tool(),
-            "sphere",
-            "the perfect sphere",
-            SphereDetails {
-                radius: options.radius,
-                grid: options.grid,
-                spacing: options.spacing,
-                step: options.step,
-                radial_error_max: worst,
-                radial_error_bound: options.step / 2.0,
-                coverage_margin: sphere.coverage_margin,
-            },
-        );
-        report.output = Some(args.output.display().to_string());
-        report.counts = Counts::of(scene, written.bytes);
-        report.diagonal = scene_diagonal(scene);
-        report.stages.push("build", build_seconds);
-        report.stages.push("encode", written.encode_seconds);
-        report.stages.push("write", written.write_seconds);
-        report.seconds = started.elapsed().as_secs_f64();
-        report.threads = rayon::current_num_threads();
-        print_json(&report)?;
+        print_json(&report(args, &built, started))?;
     }
+    print_summary(&summary(args, &built), args.json)
+}
+
+/// A built and written sphere, as its report and summary describe it.
+struct Built<'a> {
+    /// The options it was built with.
+    options: &'a SphereOptions,
+    /// The sphere.
+    sphere: &'a Sphere,
+    /// Its largest radial error.
+    worst: f64,
+    /// Seconds spent building it.
+    build_seconds: f64,
+    /// What writing it took.
+    written: &'a SceneWritten,
+}
+
+/// The largest distance of a filled node from the sphere of `radius`.
+fn radial_error_max(scene: &Scene, radius: f64) -> f64 {
+    scene
+        .patches()
+        .iter()
+        .flat_map(|p| {
+            p.filled_nodes()
+                .map(|(_, _, q)| (q.as_dvec3().length() - radius).abs())
+        })
+        .fold(0.0f64, f64::max)
+}
+
+/// The `--json` report (its `seconds` measured from `started` now).
+fn report(args: &SphereArgs, built: &Built<'_>, started: Instant) -> Report<SphereDetails> {
+    let Built {
+        options,
+        sphere,
+        written,
+        ..
+    } = *built;
+    let scene = &sphere.scene;
+    let mut report = Report::new(
+        &tool(),
+        "sphere",
+        "the perfect sphere",
+        SphereDetails {
+            radius: options.radius,
+            grid: options.grid,
+            spacing: options.spacing,
+            step: options.step,
+            radial_error_max: built.worst,
+            radial_error_bound: options.step / 2.0,
+            coverage_margin: sphere.coverage_margin,
+        },
+    );
+    report.output = Some(args.output.display().to_string());
+    report.counts = Counts::of(scene, written.bytes);
+    report.diagonal = scene_diagonal(scene);
+    report.stages.push("build", built.build_seconds);
+    report.stages.push("encode", written.encode_seconds);
+    report.stages.push("write", written.write_seconds);
+    report.seconds = started.elapsed().as_secs_f64();
+    report.threads = rayon::current_num_threads();
+    report
+}
+
+/// The short human summary.
+fn summary(args: &SphereArgs, built: &Built<'_>) -> String {
+    let Built {
+        options,
+        sphere,
+        written,
+        ..
+    } = *built;
+    let scene = &sphere.scene;
     let mut text = format!(
         "{}: {} patches, {} nodes, {} bytes\n  radial error max {:.6} (bound: step/2 = {:.6})\n",
         args.output.display(),
         scene.patches().len(),
         scene.filled_node_count(),
         written.bytes,
-        worst,
+        built.worst,
         options.step / 2.0,
     );
     if sphere.coverage_margin >= 0.0 {
@@ -150,10 +200,10 @@ pub(crate) fn run(args: &SphereArgs) -> anyhow::Result<()> {
     }
     text.push_str(&format!(
         "  time: build {:.1} ms, encode+write {:.1} ms\n",
-        build_seconds * 1e3,
+        built.build_seconds * 1e3,
         (written.encode_seconds + written.write_seconds) * 1e3
     ));
-    print_summary(&text, args.json)
+    text
 }
 
 impl SphereArgs {
