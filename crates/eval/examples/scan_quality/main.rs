@@ -38,13 +38,14 @@ use std::process::ExitCode;
 
 use coverage::Coverage;
 
+use glam::DVec3;
 use spatch_eval::holes::{
     covers, hole_view_camera, standard_views, HoleOptions, HOLE_DEPTH_TOLERANCE,
 };
 use spatch_eval::{find_specks, interior_mask, MEASURES_RADIUS};
 use spatch_render::{
-    Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions, Renderer, Shading,
-    TriangleMesh as RasterMesh,
+    Camera, Culling, MeshColours, PreparedScene, Projection, RenderMode, RenderOptions,
+    RenderedImage, Renderer, Shading, TriangleMesh as RasterMesh,
 };
 
 mod coverage;
@@ -141,6 +142,8 @@ fn scene_options(flags: &[String]) -> Result<(RenderOptions, Option<PathBuf>), S
     Ok((options, cloud))
 }
 
+/// Measures the scene at `scene_path` against the mesh at `mesh_path` over the standard
+/// views, printing a line per view and the totals (see the header).
 fn run(
     scene_path: &str,
     mesh_path: &str,
@@ -161,14 +164,7 @@ fn run(
     )
     .map_err(|e| format!("{mesh_path}: {e}"))?;
     let prepared = PreparedScene::new(&scene);
-    let mut scene_renderer = Renderer::new(options).map_err(|e| e.to_string())?;
-    let mut reference_options = RenderOptions::default();
-    reference_options.culling = Culling::None;
-    let mut reference_renderer = Renderer::new(reference_options).map_err(|e| e.to_string())?;
-    let mut uncull_options = RenderOptions::default();
-    uncull_options.culling = Culling::None;
-    uncull_options.projection = Projection::Exact;
-    let mut uncull_renderer = Renderer::new(uncull_options).map_err(|e| e.to_string())?;
+    let mut renderers = ViewRenderers::new(options)?;
     let radius = raster
         .bounding_sphere()
         .ok_or_else(|| format!("{mesh_path}: nothing to frame"))?
@@ -179,84 +175,168 @@ fn run(
     for (index, direction) in standard_views().into_iter().enumerate() {
         let camera =
             hole_view_camera(&mesh, direction, &options).map_err(|e| format!("camera: {e}"))?;
-        let image = scene_renderer
-            .render(&prepared, &camera)
-            .map_err(|e| e.to_string())?
-            .image;
-        let reference = reference_renderer
-            .rasterize(&raster, &camera)
-            .map_err(|e| e.to_string())?
-            .image;
-        let uncull = uncull_renderer
-            .render(&prepared, &camera)
-            .map_err(|e| e.to_string())?
-            .image;
-        let (width, height) = (image.width() as usize, image.height() as usize);
-        let covered: Vec<bool> = image.pixels().iter().map(|p| p[3] > 0).collect();
-        let reference_covered: Vec<bool> =
-            reference.depth().iter().map(|d| d.is_finite()).collect();
-        let reached: Vec<bool> = reference
-            .depth()
-            .iter()
-            .zip(uncull.depth())
-            .map(|(&s, &p)| covers(s, p, tolerance))
-            .collect();
-        let found = find_specks(image.pixels(), &covered, width, height);
-        let speck_pixels = found.pixels;
-        let mut hole_pixels = Vec::new();
-        let mut counted = Vec::new();
-        let mut view = Tally {
-            specks: Share {
-                part: speck_pixels.len(),
-                whole: found.counted,
-            },
-            holes: count_holes(&reference_covered, &reached, width, height, &mut counted),
-            ..Tally::default()
-        };
-        hole_pixels.extend(counted.iter().copied().filter(|&k| !reached[k]));
-        if let Some(coverage) = coverage {
-            let depth = reference.depth();
-            let unseen = |pixels: &[usize]| Share {
-                part: coverage
-                    .unseen(&camera, depth, pixels)
-                    .into_iter()
-                    .filter(|&u| u)
-                    .count(),
-                whole: pixels.len(),
-            };
-            view.unseen = unseen(&counted);
-            view.unseen_holes = unseen(&hole_pixels);
-        }
-        println!(
-            "view {index:2} ({:+.2},{:+.2},{:+.2}): specks {:.3} % of {}, holes {:.3} % of {}",
-            direction.x,
-            direction.y,
-            direction.z,
-            view.specks.percent(),
-            view.specks.whole,
-            view.holes.percent(),
-            view.holes.whole
-        );
-        if coverage.is_some() {
-            println!(
-                "  unseen by the cloud: {} of {} reference pixels, {} of {} hole pixels",
-                view.unseen.part,
-                view.unseen.whole,
-                view.unseen_holes.part,
-                view.unseen_holes.whole
-            );
-        }
-        total.add(&view);
+        let images = renderers.draw(&prepared, &raster, &camera)?;
+        let view = measure_view(&images, tolerance, coverage, &camera);
+        print_view(index, direction, &view.tally, coverage.is_some());
+        total.add(&view.tally);
         if let Some(dir) = &png_dir {
-            let png = image.encode_png().map_err(|e| e.to_string())?;
-            let path = dir.join(format!("view_{index:02}.png"));
-            std::fs::write(&path, png).map_err(|e| format!("{}: {e}", path.display()))?;
-            let path = dir.join(format!("specks_{index:02}.png"));
-            write_speck_mask(&path, image.pixels(), &speck_pixels, width, height)?;
-            let path = dir.join(format!("holes_{index:02}.png"));
-            write_speck_mask(&path, reference.pixels(), &hole_pixels, width, height)?;
+            write_view_pngs(dir, index, &images, &view)?;
         }
     }
+    print_total(&total, coverage.is_some());
+    Ok(())
+}
+
+/// The three renderers of a view: the scene as asked, the reference mesh without culling,
+/// and the scene without culling with nodes projected exactly (for the holes).
+struct ViewRenderers {
+    scene: Renderer,
+    reference: Renderer,
+    uncull: Renderer,
+}
+
+/// The three images of one view (see [`ViewRenderers`]).
+struct ViewImages {
+    image: RenderedImage,
+    reference: RenderedImage,
+    uncull: RenderedImage,
+}
+
+impl ViewRenderers {
+    /// The renderers, the scene's with `options`.
+    fn new(options: RenderOptions) -> Result<Self, String> {
+        let mut reference_options = RenderOptions::default();
+        reference_options.culling = Culling::None;
+        let mut uncull_options = RenderOptions::default();
+        uncull_options.culling = Culling::None;
+        uncull_options.projection = Projection::Exact;
+        let renderer = |o| Renderer::new(o).map_err(|e| e.to_string());
+        Ok(ViewRenderers {
+            scene: renderer(options)?,
+            reference: renderer(reference_options)?,
+            uncull: renderer(uncull_options)?,
+        })
+    }
+
+    /// Draws the view of `camera`.
+    fn draw(
+        &mut self,
+        prepared: &PreparedScene,
+        raster: &RasterMesh<'_>,
+        camera: &Camera,
+    ) -> Result<ViewImages, String> {
+        let image = self.scene.render(prepared, camera);
+        let image = image.map_err(|e| e.to_string())?.image;
+        let reference = self.reference.rasterize(raster, camera);
+        let reference = reference.map_err(|e| e.to_string())?.image;
+        let uncull = self.uncull.render(prepared, camera);
+        let uncull = uncull.map_err(|e| e.to_string())?.image;
+        Ok(ViewImages {
+            image,
+            reference,
+            uncull,
+        })
+    }
+}
+
+/// What one view measured, and which pixels are its specks and holes.
+struct ViewMeasure {
+    tally: Tally,
+    speck_pixels: Vec<usize>,
+    hole_pixels: Vec<usize>,
+}
+
+/// The specks and holes of one view (and with `coverage`, what the cloud did not see).
+fn measure_view(
+    images: &ViewImages,
+    tolerance: f32,
+    coverage: Option<&Coverage>,
+    camera: &Camera,
+) -> ViewMeasure {
+    let (image, reference) = (&images.image, &images.reference);
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let covered: Vec<bool> = image.pixels().iter().map(|p| p[3] > 0).collect();
+    let reference_covered: Vec<bool> = reference.depth().iter().map(|d| d.is_finite()).collect();
+    let reached: Vec<bool> = reference
+        .depth()
+        .iter()
+        .zip(images.uncull.depth())
+        .map(|(&s, &p)| covers(s, p, tolerance))
+        .collect();
+    let found = find_specks(image.pixels(), &covered, width, height);
+    let speck_pixels = found.pixels;
+    let mut hole_pixels = Vec::new();
+    let mut counted = Vec::new();
+    let mut tally = Tally {
+        specks: Share {
+            part: speck_pixels.len(),
+            whole: found.counted,
+        },
+        holes: count_holes(&reference_covered, &reached, width, height, &mut counted),
+        ..Tally::default()
+    };
+    hole_pixels.extend(counted.iter().copied().filter(|&k| !reached[k]));
+    if let Some(coverage) = coverage {
+        let depth = reference.depth();
+        let unseen = |pixels: &[usize]| Share {
+            part: coverage
+                .unseen(camera, depth, pixels)
+                .into_iter()
+                .filter(|&u| u)
+                .count(),
+            whole: pixels.len(),
+        };
+        tally.unseen = unseen(&counted);
+        tally.unseen_holes = unseen(&hole_pixels);
+    }
+    ViewMeasure {
+        tally,
+        speck_pixels,
+        hole_pixels,
+    }
+}
+
+/// Prints view `index`'s line (and with a cloud, what it did not see).
+fn print_view(index: usize, direction: DVec3, view: &Tally, with_cloud: bool) {
+    println!(
+        "view {index:2} ({:+.2},{:+.2},{:+.2}): specks {:.3} % of {}, holes {:.3} % of {}",
+        direction.x,
+        direction.y,
+        direction.z,
+        view.specks.percent(),
+        view.specks.whole,
+        view.holes.percent(),
+        view.holes.whole
+    );
+    if with_cloud {
+        println!(
+            "  unseen by the cloud: {} of {} reference pixels, {} of {} hole pixels",
+            view.unseen.part, view.unseen.whole, view.unseen_holes.part, view.unseen_holes.whole
+        );
+    }
+}
+
+/// Writes view `index`'s render, speck map and hole map into `dir` (see the header).
+fn write_view_pngs(
+    dir: &std::path::Path,
+    index: usize,
+    images: &ViewImages,
+    view: &ViewMeasure,
+) -> Result<(), String> {
+    let image = &images.image;
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let png = image.encode_png().map_err(|e| e.to_string())?;
+    let path = dir.join(format!("view_{index:02}.png"));
+    std::fs::write(&path, png).map_err(|e| format!("{}: {e}", path.display()))?;
+    let path = dir.join(format!("specks_{index:02}.png"));
+    write_speck_mask(&path, image.pixels(), &view.speck_pixels, width, height)?;
+    let path = dir.join(format!("holes_{index:02}.png"));
+    let reference = images.reference.pixels();
+    write_speck_mask(&path, reference, &view.hole_pixels, width, height)
+}
+
+/// Prints the totals over the views.
+fn print_total(total: &Tally, with_cloud: bool) {
     println!(
         "total: specks {:.3} % ({} of {} covered pixels), holes {:.3} % ({} of {} reference pixels)",
         total.specks.percent(),
@@ -266,7 +346,7 @@ fn run(
         total.holes.part,
         total.holes.whole
     );
-    if coverage.is_some() {
+    if with_cloud {
         println!(
             "unseen by the cloud: {:.3} % of reference pixels ({} of {}), {} of {} hole pixels",
             total.unseen.percent(),
@@ -276,7 +356,6 @@ fn run(
             total.unseen_holes.whole
         );
     }
-    Ok(())
 }
 
 /// A count out of a whole.
