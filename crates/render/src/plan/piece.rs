@@ -84,6 +84,51 @@ fn replan_unlifted(
 /// cells exceed it.
 #[inline(always)]
 fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRange, lift: bool) {
+    if ctx.setup.options.mode == RenderMode::Triangles {
+        emit_cell_triangles(work, ctx, 0, piece, None);
+        work.counters.setup_ns += work.clock.lap();
+        work.counters.mip[0] += 1;
+        return;
+    }
+    let Some(t) = traverse_piece(work, ctx, piece, lift) else {
+        return;
+    };
+    let Some(cut) = cut_piece(work, ctx, piece, &t) else {
+        return;
+    };
+    finish_piece(work, ctx, &t, cut);
+}
+
+/// A piece after its traversal: its level, projected nodes and measured
+/// cells.
+struct Traversed<'a> {
+    choice: LevelChoice,
+    /// The level's name ([`LevelChoice::named`]).
+    named: usize,
+    level: &'a MipLevel,
+    range: NodeRange,
+    /// The range's box heights.
+    d: (u16, u16),
+    proj: Projector,
+    /// Where the piece's nodes, cell flags, row spans and cells by
+    /// quarters begin in the chunk's arrays (see [`drop_planned`]).
+    marks: [usize; 4],
+    measure: CellMeasure,
+    /// The largest cell edges in pixels, widened by the cells by quarters.
+    edges: [f32; 4],
+    smooth: bool,
+}
+
+/// Steps 1 and 2 of the module header: the piece's level, its nodes
+/// projected and its cells measured (`None`: the level holds no node of
+/// the piece).
+#[inline(always)]
+fn traverse_piece<'a>(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'a>,
+    piece: NodeRange,
+    lift: bool,
+) -> Option<Traversed<'a>> {
     let (p, setup) = (ctx.patch, ctx.setup);
     let opts = setup.options;
     let proj0 = Projector {
@@ -92,41 +137,26 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         z_scale: setup.z_scale,
         z_offset: setup.z_offset,
     };
-    if opts.mode == RenderMode::Triangles {
-        emit_cell_triangles(work, ctx, 0, piece, None);
-        work.counters.setup_ns += work.clock.lap();
-        work.counters.mip[0] += 1;
-        return;
-    }
-    // 2. Mip level. (Stage timers: what follows is charged to traversal
+    // 1. Mip level. (Stage timers: what follows is charged to traversal
     // at its laps.)
     let choice = choose_level(ctx, &proj0, piece, lift);
     let named = choice.named();
-    let LevelChoice {
-        m,
-        shift,
-        lifted,
-        quartered_lift,
-    } = choice;
+    let m = choice.m;
     let level = p.level(named);
     let range = if m == 0 {
         piece
     } else {
         NodeRange::whole(level)
     };
-    let Some(d) = range.d_range(level) else {
-        return;
-    };
+    let d = range.d_range(level)?;
     work.counters.mip[m] += 1;
-    // 3. Traversal.
+    // 2. Traversal.
     let proj = Projector {
         map: level_map(&ctx.map, m),
         ..proj0
     };
     let first = work.nodes.len();
     project_piece(work, opts.projection, level, range, d, &proj);
-    let (cols, rows) = range.size();
-    // 4. Subdivision.
     let smooth = opts.cells == CellScheme::Smooth;
     let back_sign = back_face_sign(ctx.cell_test && !smooth, &proj);
     let (flags, spans) = (work.cell_flags.len(), work.row_spans.len());
@@ -141,50 +171,114 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
     work.counters.cells_backface += measure.backfacing_cells;
     // A lifted piece's cells by quarters: the cut covers them too.
     let quarters = work.quartered.len();
-    let edges = if quartered_lift {
+    let edges = if choice.quartered_lift {
+        let cols = range.size().0;
         widen_by_quartered(work, level, cols, back_sign, measure.edges)
     } else {
         measure.edges
     };
-    let edges = edges.map(|e| e as f32 / XY_ONE);
-    let (split, splat) = choose_cut(opts, smooth, edges);
-    let pads = item_pads(smooth, splat);
+    Some(Traversed {
+        choice,
+        named,
+        level,
+        range,
+        d,
+        proj,
+        marks: [first, flags, spans, quarters],
+        measure,
+        edges: edges.map(|e| e as f32 / XY_ONE),
+        smooth,
+    })
+}
+
+/// How a piece is drawn: its cut, splat footprint, item pads and drawer.
+struct PieceCut {
+    /// Sub-cells per cell `(nu, nv)`.
+    cut: (u32, u32),
+    /// The splat footprint's half widths (0: no splats).
+    splat: [i32; 2],
+    /// The item box's pads ([`item_pads`]).
+    pads: [i32; 2],
+    drawer: Drawer,
+}
+
+/// Step 3 of the module header: the piece's cut `nu × nv` and drawer, its
+/// cells marked for the drawer. `None` when the piece is done: nothing to
+/// draw or outside the image's rows (dropped), or planned again another
+/// way (the triangle path, or without its lift).
+#[inline(always)]
+fn cut_piece(
+    work: &mut ChunkWork,
+    ctx: &PatchContext<'_>,
+    piece: NodeRange,
+    t: &Traversed<'_>,
+) -> Option<PieceCut> {
+    let (setup, opts) = (ctx.setup, ctx.setup.options);
+    let (measure, marks) = (&t.measure, t.marks);
+    let (m, quartered_lift) = (t.choice.m, t.choice.quartered_lift);
+    let (split, splat) = choose_cut(opts, t.smooth, t.edges);
+    let pads = item_pads(t.smooth, splat);
     let [x0, y0, x1, y1] = measure.bbox;
-    let marks = [first, flags, spans, quarters];
     // (A lifted piece may draw by quarters only: a small patch whose one
     // level-1 cell holds three of its four level-0 cells.)
-    let nothing = measure.drawable_cells == 0 && work.quartered.len() == quarters;
+    let nothing = measure.drawable_cells == 0 && work.quartered.len() == marks[3];
     if nothing || y1 + pads[1] < 0 || y0 - pads[1] >= setup.view.height as i32 {
         drop_planned(work, marks);
         work.counters.traverse_ns += work.clock.lap();
-        return;
+        return None;
     }
+    let replan = (marks, m, measure.backfacing_cells);
     let Some((nu, nv)) = split else {
-        if lifted < m {
-            return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+        if t.choice.lifted < m {
+            replan_unlifted(work, ctx, piece, replan);
+        } else {
+            plan_oversized(work, ctx, (t.named, t.range), marks);
         }
-        return plan_oversized(work, ctx, (named, range), marks);
+        return None;
     };
-    let drawer = choose_drawer(opts, p, level, (smooth, splat), (nu, nv), &measure);
+    let cut = (t.smooth, splat);
+    let drawer = choose_drawer(opts, ctx.patch, t.level, cut, (nu, nv), measure);
     // The sub-node drawers (with or without open sides) also draw the cells
     // by quarters; a lifted piece that another would take keeps the
     // limit's level.
     if quartered_lift && (!drawer.bilinear || drawer.centres.is_some()) {
-        return replan_unlifted(work, ctx, piece, (marks, m, measure.backfacing_cells));
+        replan_unlifted(work, ctx, piece, replan);
+        return None;
     }
     if drawer.exact {
-        mark_exact_cells(&mut work.cell_flags[flags..]);
+        mark_exact_cells(&mut work.cell_flags[marks[1]..]);
     } else if drawer.open_sides {
-        mark_open_sides(level, range, &mut work.cell_flags[flags..]);
+        mark_open_sides(t.level, t.range, &mut work.cell_flags[marks[1]..]);
     }
     let inside = x0 >= GAP_FILL_REACH && x1 < setup.view.width as i32 - GAP_FILL_REACH;
-    let (nu, nv) = gap_fill_cut(opts, &drawer, inside, edges, (nu, nv));
+    let (nu, nv) = gap_fill_cut(opts, &drawer, inside, t.edges, (nu, nv));
     if quartered_lift && (nu, nv) == (1, 1) {
-        nodes_without_quarters(work, marks, cols);
+        nodes_without_quarters(work, marks, t.range.size().0);
     }
     work.counters.traverse_ns += work.clock.lap();
-    // 5. Attributes.
-    fill_attributes(work, ctx, named, range, first);
+    Some(PieceCut {
+        cut: (nu, nv),
+        splat,
+        pads,
+        drawer,
+    })
+}
+
+/// Step 4 of the module header: the piece's attributes, its counts and
+/// its draw item.
+#[inline(always)]
+fn finish_piece(work: &mut ChunkWork, ctx: &PatchContext<'_>, t: &Traversed<'_>, cut: PieceCut) {
+    let opts = ctx.setup.options;
+    let (measure, marks, range) = (&t.measure, t.marks, t.range);
+    let [first, flags, ..] = marks;
+    let (cols, rows) = range.size();
+    let PieceCut {
+        cut,
+        splat,
+        pads,
+        drawer,
+    } = cut;
+    fill_attributes(work, ctx, t.named, range, first);
     work.counters.normals_ns += work.clock.lap();
     // After the attributes, which it keeps: only positions are dropped.
     if splat[0] > 0 && measure.drawable_cells < ((cols - 1) * (rows - 1)) as u64 {
@@ -193,24 +287,24 @@ fn plan_piece_with(work: &mut ChunkWork, ctx: &PatchContext<'_>, piece: NodeRang
         drop_undrawn_nodes(nodes, cells, cols, rows, &mut work.splat_scratch);
         work.counters.traverse_ns += work.clock.lap();
     }
-    count_piece(work, &measure, splat, (nu, nv), drawer.centres.is_some());
-    let z_near = if smooth || !opts.occlusion_skip {
+    count_piece(work, measure, splat, cut, drawer.centres.is_some());
+    let z_near = if t.smooth || !opts.occlusion_skip {
         i32::MIN
     } else {
-        nearest_box_depth(range, d, &proj)
+        nearest_box_depth(range, t.d, &t.proj)
     };
     let parts = ItemParts {
         marks,
-        levels: (named, shift),
+        levels: (t.named, t.choice.shift),
         range,
-        cut: (nu, nv),
+        cut,
         bbox: measure.bbox,
         pads,
         z_near,
         splat,
         drawer,
     };
-    push_item(work, ctx, level, parts);
+    push_item(work, ctx, t.level, parts);
 }
 
 /// Projects the nodes of `range` (box heights `d`) of `level` into the
