@@ -223,6 +223,37 @@ pub(crate) fn piece_lattice(
     edge_spacing: f32,
     strip: f32,
 ) -> Option<(NodeLattice, Vec<FaceId>)> {
+    let [x, y, z] = piece_frame(sharp, piece)?;
+    let outline = StripOutline::of_piece(mesh, sharp, piece, y, strip);
+    let ([lo, hi], [box_lo, box_hi]) = frame_and_model_bounds(&outline.points, [x, y, z]);
+    // Beyond each end so neighbouring pieces overlap: one column, plus the wedge that opens on
+    // the outer side of a turn between two pieces' rectangles (half the strip covers the
+    // default 15° turn with room to spare).
+    let reach = edge_spacing + 0.5 * strip;
+    let (u0, u1) = (lo.x - reach, hi.x + reach);
+    let (cols, sx) = nodes_over(u1 - u0, edge_spacing);
+    let row_spacing = edge_spacing * outline.foreshortening;
+    let (rows, y0) = rows_along_crease(piece, y, [lo.y, hi.y], row_spacing);
+    let margin = 0.5 * strip + edge_spacing;
+    let lattice = NodeLattice {
+        x,
+        y,
+        z,
+        start: [u0, y0],
+        spacing: [sx, row_spacing],
+        cols,
+        rows,
+        heights: [lo.z - margin, hi.z + margin],
+    };
+    let pad = Vec3::splat(edge_spacing);
+    let faces = faces_near(mesh, adjacency, &outline.seeds, box_lo - pad, box_hi + pad);
+    Some((lattice, faces))
+}
+
+/// The frame `[x, y, z]` of a piece (see the module docs): x along its chord (or its first
+/// segment when the chord is zero), z the length-weighted mean bisector made orthogonal to
+/// x, y = z × x; `None` when x or z is zero.
+fn piece_frame(sharp: &SharpEdges, piece: &EdgePiece) -> Option<[Vec3; 3]> {
     let first = piece.segments.first()?;
     let last = piece.segments.last()?;
     let mut x = (last.b - first.a).normalize_or_zero();
@@ -238,63 +269,77 @@ pub(crate) fn piece_lattice(
     if x == Vec3::ZERO || z == Vec3::ZERO {
         return None;
     }
-    let y = z.cross(x);
+    Some([x, z.cross(x), z])
+}
 
-    let mut points = Vec::with_capacity(piece.segments.len() * 6);
-    let mut foreshortening = 1.0f32;
-    let mut seeds = Vec::with_capacity(piece.segments.len() * 2);
-    for s in &piece.segments {
-        let c = &sharp.creases[s.crease as usize];
-        let t = (s.b - s.a).normalize_or_zero();
-        points.push(s.a);
-        points.push(s.b);
-        for (face, n) in c.faces.iter().zip(c.normals) {
-            seeds.push(*face);
-            let mut d = n.cross(t).normalize_or_zero();
-            if (mesh.face_centroid(*face) - s.a).dot(d) < 0.0 {
-                d = -d;
+/// The strip a piece's patch covers on its faces.
+struct StripOutline {
+    /// The segments' ends and those ends moved `strip` into each face.
+    points: Vec<Vec3>,
+    /// The smallest foreshortening of the strip directions along y, clamped to
+    /// `[MIN_FORESHORTENING, 1]`.
+    foreshortening: f32,
+    /// The faces of the piece's creases (two a segment, in order).
+    seeds: Vec<FaceId>,
+}
+
+impl StripOutline {
+    /// The outline of `piece`'s strip of width `strip` on each face, seen with the frame's
+    /// y axis `y`.
+    fn of_piece(
+        mesh: &TriangleMesh,
+        sharp: &SharpEdges,
+        piece: &EdgePiece,
+        y: Vec3,
+        strip: f32,
+    ) -> Self {
+        let mut points = Vec::with_capacity(piece.segments.len() * 6);
+        let mut foreshortening = 1.0f32;
+        let mut seeds = Vec::with_capacity(piece.segments.len() * 2);
+        for s in &piece.segments {
+            let c = &sharp.creases[s.crease as usize];
+            let t = (s.b - s.a).normalize_or_zero();
+            points.push(s.a);
+            points.push(s.b);
+            for (face, n) in c.faces.iter().zip(c.normals) {
+                seeds.push(*face);
+                let mut d = n.cross(t).normalize_or_zero();
+                if (mesh.face_centroid(*face) - s.a).dot(d) < 0.0 {
+                    d = -d;
+                }
+                foreshortening = foreshortening.min(d.dot(y).abs());
+                points.push(s.a + d * strip);
+                points.push(s.b + d * strip);
             }
-            foreshortening = foreshortening.min(d.dot(y).abs());
-            points.push(s.a + d * strip);
-            points.push(s.b + d * strip);
+        }
+        Self {
+            points,
+            foreshortening: foreshortening.clamp(MIN_FORESHORTENING, 1.0),
+            seeds,
         }
     }
-    let foreshortening = foreshortening.clamp(MIN_FORESHORTENING, 1.0);
-    let ([lo, hi], [box_lo, box_hi]) = frame_and_model_bounds(&points, [x, y, z]);
-    // Beyond each end so neighbouring pieces overlap: one column, plus the wedge that opens on
-    // the outer side of a turn between two pieces' rectangles (half the strip covers the
-    // default 15° turn with room to spare).
-    let reach = edge_spacing + 0.5 * strip;
-    let (u0, u1) = (lo.x - reach, hi.x + reach);
-    let (cols, sx) = nodes_over(u1 - u0, edge_spacing);
-    // Rows placed so that one runs along the crease (its mean offset across the piece): the
-    // nodes of that row land on the crease itself, so no cell cuts the fold's tip where the
-    // piece is straight.
+}
+
+/// The rows (2..=257) spanning `[low, high]` along `y` at `row_spacing`, and the y of the
+/// first, placed so that one row runs along the crease (its mean offset across the piece):
+/// the nodes of that row land on the crease itself, so no cell cuts the fold's tip where
+/// the piece is straight.
+fn rows_along_crease(
+    piece: &EdgePiece,
+    y: Vec3,
+    [low, high]: [f32; 2],
+    row_spacing: f32,
+) -> (usize, f32) {
     let crease_y = piece
         .segments
         .iter()
         .map(|s| (s.a + s.b).dot(y) * 0.5)
         .sum::<f32>()
         / piece.segments.len() as f32;
-    let row_spacing = edge_spacing * foreshortening;
-    let below = ((crease_y - lo.y) / row_spacing).ceil().max(0.0);
-    let above = ((hi.y - crease_y) / row_spacing).ceil().max(0.0);
+    let below = ((crease_y - low) / row_spacing).ceil().max(0.0);
+    let above = ((high - crease_y) / row_spacing).ceil().max(0.0);
     let rows = ((below + above) as usize + 1).clamp(2, 257);
-    let (sy, y0) = (row_spacing, crease_y - below * row_spacing);
-    let margin = 0.5 * strip + edge_spacing;
-    let lattice = NodeLattice {
-        x,
-        y,
-        z,
-        start: [u0, y0],
-        spacing: [sx, sy],
-        cols,
-        rows,
-        heights: [lo.z - margin, hi.z + margin],
-    };
-    let pad = Vec3::splat(edge_spacing);
-    let faces = faces_near(mesh, adjacency, &seeds, box_lo - pad, box_hi + pad);
-    Some((lattice, faces))
+    (rows, crease_y - below * row_spacing)
 }
 
 /// Nodes (2..=257) spanning `length` at spacing at most `target` (wider only when 257 nodes

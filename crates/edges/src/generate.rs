@@ -213,36 +213,13 @@ fn crease_patches(
     options: &EdgeOptions,
     stats: &mut EdgeStats,
 ) -> Result<(Vec<Patch>, usize), EdgeError> {
-    let (mesh, sharp, edge_spacing) = (job.mesh, found.sharp, job.spacing);
-    let strip = found.strip;
-    // A piece plus its overlap at both ends (`edge_patch`) must fit `max_cols` nodes.
-    let overlap = edge_spacing + 0.5 * strip;
-    let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
-    let limits = PieceLimits {
-        max_len,
-        cos_turn: options.max_turn_deg.to_radians().cos(),
-        cos_wide_turn: (options.max_turn_deg * WIDE_TURN)
-            .min(90.0)
-            .to_radians()
-            .cos(),
-        max_stray: options.max_stray * edge_spacing,
-    };
+    let (mesh, sharp) = (job.mesh, found.sharp);
+    let limits = piece_limits(options, job.spacing, found.strip);
     let runs = chain_runs(mesh, sharp, limits.cos_turn);
     let skip = skip_unowned(mesh, sharp, found.covered, found.owns);
     let (pieces, _) = cut_pieces(mesh, sharp, &runs, &skip, &limits);
     stats.pieces = pieces.len();
-    let (lattices, of_piece): (Vec<(NodeLattice, Vec<FaceId>)>, Vec<&EdgePiece>) = pieces
-        .par_iter()
-        .filter_map(|piece| {
-            piece_lattice(mesh, found.adjacency, sharp, piece, edge_spacing, strip)
-                .map(|lattice| (lattice, piece))
-        })
-        .unzip();
-    let made: Vec<(&EdgePiece, Patch)> = of_piece
-        .into_iter()
-        .zip(cast_each(job, &lattices, 0)?)
-        .filter_map(|(piece, patch)| patch.map(|patch| (piece, patch)))
-        .collect();
+    let (made, lattice_count) = cast_pieces(job, found, &pieces)?;
     let made = if options.only_gaps && options.join_pieces {
         let join = JoinJob {
             cast: job,
@@ -250,8 +227,8 @@ fn crease_patches(
             sharp,
             surface: found.surface,
             spacing: found.surface_spacing,
-            edge_spacing,
-            strip,
+            edge_spacing: job.spacing,
+            strip: found.strip,
             soft_crease_deg: options.soft_crease_deg,
         };
         let (groups, joined) = join_pieces(&join, made)?;
@@ -262,11 +239,74 @@ fn crease_patches(
             .map(|(piece, patch)| (piece.clone(), patch))
             .collect()
     };
+    let patches = uncovered_patches(mesh, found, options, made, stats);
+    stats.edge_patches = patches.len();
+    Ok((patches, lattice_count))
+}
+
+/// How far a piece may grow, from the options, the edge spacing and the strip width.
+fn piece_limits(options: &EdgeOptions, edge_spacing: f32, strip: f32) -> PieceLimits {
+    // A piece plus its overlap at both ends (`edge_patch`) must fit `max_cols` nodes.
+    let overlap = edge_spacing + 0.5 * strip;
+    let max_len = ((options.max_cols - 1) as f32 * edge_spacing - 2.0 * overlap).max(edge_spacing);
+    PieceLimits {
+        max_len,
+        cos_turn: options.max_turn_deg.to_radians().cos(),
+        cos_wide_turn: (options.max_turn_deg * WIDE_TURN)
+            .min(90.0)
+            .to_radians()
+            .cos(),
+        max_stray: options.max_stray * edge_spacing,
+    }
+}
+
+/// A piece whose lattice's rays hit something, with its patch.
+type CastPiece<'p> = (&'p EdgePiece, Patch);
+
+/// Every piece's lattice cast: the pieces whose rays hit something with their patches (in
+/// order), and the number of lattices cast.
+fn cast_pieces<'p>(
+    job: &CastJob<'_>,
+    found: &Found<'_>,
+    pieces: &'p [EdgePiece],
+) -> Result<(Vec<CastPiece<'p>>, usize), EdgeError> {
+    let (lattices, of_piece): (Vec<(NodeLattice, Vec<FaceId>)>, Vec<&EdgePiece>) = pieces
+        .par_iter()
+        .filter_map(|piece| {
+            piece_lattice(
+                job.mesh,
+                found.adjacency,
+                found.sharp,
+                piece,
+                job.spacing,
+                found.strip,
+            )
+            .map(|lattice| (lattice, piece))
+        })
+        .unzip();
+    let made = of_piece
+        .into_iter()
+        .zip(cast_each(job, &lattices, 0)?)
+        .filter_map(|(piece, patch)| patch.map(|patch| (piece, patch)))
+        .collect();
+    Ok((made, lattices.len()))
+}
+
+/// The patches of `made` left once those whose piece the surface patches and the other
+/// edge patches already cover are dropped (with `only_gaps` and `drop_covered_pieces`);
+/// counts the dropped ones in `stats`.
+fn uncovered_patches(
+    mesh: &TriangleMesh,
+    found: &Found<'_>,
+    options: &EdgeOptions,
+    made: Vec<(EdgePiece, Patch)>,
+    stats: &mut EdgeStats,
+) -> Vec<Patch> {
     let dropped = if options.only_gaps && options.drop_covered_pieces {
         let soft = options.soft_crease_deg;
         covered_pieces(
             mesh,
-            sharp,
+            found.sharp,
             found.surface,
             &made,
             found.surface_spacing,
@@ -276,14 +316,11 @@ fn crease_patches(
         vec![false; made.len()]
     };
     stats.covered_pieces = dropped.iter().filter(|&&d| d).count();
-    let patches: Vec<Patch> = made
-        .into_iter()
+    made.into_iter()
         .zip(dropped)
         .filter(|(_, dropped)| !dropped)
         .map(|((_, patch), _)| patch)
-        .collect();
-    stats.edge_patches = patches.len();
-    Ok((patches, lattices.len()))
+        .collect()
 }
 
 /// The patches at the corners this part owns that the surface and the

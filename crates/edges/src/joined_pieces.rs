@@ -284,55 +284,14 @@ fn join_patch(
 /// The lattice of a group's `piece` (its segments need not be consecutive) and the faces its
 /// rays may hit, or `None` when a face of it is seen beyond the probes' facing angle.
 fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, Vec<FaceId>)> {
-    let (mesh, sharp, strip) = (job.cast.mesh, job.sharp, job.strip);
-    let z = view_of(sharp, piece);
+    let mesh = job.cast.mesh;
+    let z = view_of(job.sharp, piece);
     let min_facing = MAX_FACING_ANGLE_DEG.to_radians().cos();
-    let mut seeds = Vec::new();
-    let mut points = Vec::new();
-    for s in &piece.segments {
-        let c = &sharp.creases[s.crease as usize];
-        let t = (s.b - s.a).normalize_or_zero();
-        points.extend([s.a, s.b]);
-        for (face, n) in c.faces.iter().zip(c.normals) {
-            if n.dot(z) < min_facing {
-                return None;
-            }
-            seeds.push(*face);
-            let mut d = n.cross(t).normalize_or_zero();
-            if (mesh.face_centroid(*face) - s.a).dot(d) < 0.0 {
-                d = -d;
-            }
-            points.extend([s.a + d * strip, s.b + d * strip]);
-        }
-    }
+    let (seeds, points) = joined_outline(job, piece, z, min_facing)?;
     let x = widest_direction(&points, z)?;
     let y = z.cross(x);
-    // Foreshortening of each face along x and y: a step along the axis climbs its slope.
-    let mut shrink = [1.0f32; 2];
-    for &f in &seeds {
-        let n = mesh.face_normal(f);
-        let nz = n.dot(z);
-        for (k, axis) in [x, y].into_iter().enumerate() {
-            let along = n.dot(axis);
-            shrink[k] = shrink[k].min(nz / (nz * nz + along * along).sqrt());
-        }
-    }
-    let shrink = shrink.map(|c| c.clamp(MIN_FORESHORTENING, 1.0));
-    let kink = piece
-        .segments
-        .iter()
-        .map(|s| {
-            let c = &sharp.creases[s.crease as usize];
-            let g = c.normals.map(|n| {
-                let nz = n.dot(z).max(min_facing);
-                Vec2::new(n.dot(x), n.dot(y)) / nz
-            });
-            (g[0] - g[1]).length()
-        })
-        .fold(0.0f32, f32::max);
-    let fold = (FOLD_CELL / kink.max(1e-3)).min(1.0);
-    let shrink = shrink.map(|c| c.min(fold).max(MIN_FORESHORTENING));
-    let reach = job.edge_spacing + 0.5 * strip;
+    let shrink = joined_shrink(job, piece, &seeds, [x, y, z], min_facing);
+    let reach = job.edge_spacing + 0.5 * job.strip;
     let ([lo, hi], [box_lo, box_hi]) = frame_and_model_bounds(&points, [x, y, z]);
     let (cols, sx) = nodes_over(hi.x - lo.x + 2.0 * reach, job.edge_spacing * shrink[0]);
     let (rows, sy) = nodes_over(hi.y - lo.y + 2.0 * reach, job.edge_spacing * shrink[1]);
@@ -357,6 +316,75 @@ fn joined_lattice(job: &JoinJob<'_>, piece: &EdgePiece) -> Option<(NodeLattice, 
         heights: [h_lo - margin, h_hi + margin],
     };
     Some((lattice, faces))
+}
+
+/// The faces of `piece`'s creases (two a segment, in order) and the outline of its strips
+/// (each segment's ends, and those ends moved `job.strip` into each face), or `None` when a
+/// face's normal is within `min_facing` (a cosine) of being seen edge-on along `z`.
+fn joined_outline(
+    job: &JoinJob<'_>,
+    piece: &EdgePiece,
+    z: Vec3,
+    min_facing: f32,
+) -> Option<(Vec<FaceId>, Vec<Vec3>)> {
+    let (mesh, sharp, strip) = (job.cast.mesh, job.sharp, job.strip);
+    let mut seeds = Vec::new();
+    let mut points = Vec::new();
+    for s in &piece.segments {
+        let c = &sharp.creases[s.crease as usize];
+        let t = (s.b - s.a).normalize_or_zero();
+        points.extend([s.a, s.b]);
+        for (face, n) in c.faces.iter().zip(c.normals) {
+            if n.dot(z) < min_facing {
+                return None;
+            }
+            seeds.push(*face);
+            let mut d = n.cross(t).normalize_or_zero();
+            if (mesh.face_centroid(*face) - s.a).dot(d) < 0.0 {
+                d = -d;
+            }
+            points.extend([s.a + d * strip, s.b + d * strip]);
+        }
+    }
+    Some((seeds, points))
+}
+
+/// The node spacing of a joined lattice along x and y, in edge spacings (see the module
+/// docs): the smallest foreshortening of the `seeds` faces along each axis of the frame
+/// `[x, y, z]`, at most [`FOLD_CELL`] over the sharpest fold, clamped to
+/// `[MIN_FORESHORTENING, 1]`.
+fn joined_shrink(
+    job: &JoinJob<'_>,
+    piece: &EdgePiece,
+    seeds: &[FaceId],
+    [x, y, z]: [Vec3; 3],
+    min_facing: f32,
+) -> [f32; 2] {
+    // Foreshortening of each face along x and y: a step along the axis climbs its slope.
+    let mut shrink = [1.0f32; 2];
+    for &f in seeds {
+        let n = job.cast.mesh.face_normal(f);
+        let nz = n.dot(z);
+        for (k, axis) in [x, y].into_iter().enumerate() {
+            let along = n.dot(axis);
+            shrink[k] = shrink[k].min(nz / (nz * nz + along * along).sqrt());
+        }
+    }
+    let shrink = shrink.map(|c| c.clamp(MIN_FORESHORTENING, 1.0));
+    let kink = piece
+        .segments
+        .iter()
+        .map(|s| {
+            let c = &job.sharp.creases[s.crease as usize];
+            let g = c.normals.map(|n| {
+                let nz = n.dot(z).max(min_facing);
+                Vec2::new(n.dot(x), n.dot(y)) / nz
+            });
+            (g[0] - g[1]).length()
+        })
+        .fold(0.0f32, f32::max);
+    let fold = (FOLD_CELL / kink.max(1e-3)).min(1.0);
+    shrink.map(|c| c.min(fold).max(MIN_FORESHORTENING))
 }
 
 /// The unit direction, across `z`, between the two of `points` farthest apart seen along

@@ -28,7 +28,7 @@ use spatch_fit::{choose_quantizer, quantize_height, sample_colour};
 use spatch_format::{Frame, GridSize, Patch, EMPTY};
 use spatch_mesh::{FaceId, TriangleMesh};
 
-use crate::lattice_raster::raster_hits;
+use crate::lattice_raster::{raster_hits, NodeHit};
 use crate::EdgeError;
 
 /// Faces whose normal · z is at most this are edge-on or facing away and never hit.
@@ -85,16 +85,10 @@ pub(crate) fn cast_lattice_within(
     within: Option<&[bool]>,
     index: usize,
 ) -> Result<Option<Patch>, EdgeError> {
-    let mesh = job.mesh;
-    let hits = raster_hits(mesh, lattice, allowed, within);
-    let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
-    for h in hits.iter().flatten() {
-        h_min = h_min.min(h.height);
-        h_max = h_max.max(h.height);
-    }
-    if h_min > h_max {
+    let hits = raster_hits(job.mesh, lattice, allowed, within);
+    let Some((h_min, h_max)) = height_range(&hits) else {
         return Ok(None);
-    }
+    };
     let quantizer = choose_quantizer(h_max - h_min, job.spacing, job.max_step_error * job.spacing)
         .map_err(|source| EdgeError::Quantize {
             patch: index,
@@ -107,62 +101,17 @@ pub(crate) fn cast_lattice_within(
             None => EMPTY,
         })
         .collect();
-    let at = |i: usize, j: usize| j * lattice.cols + i;
-
-    // Crop to the filled nodes.
-    let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
-    for j in 0..lattice.rows {
-        for i in 0..lattice.cols {
-            if codes[at(i, j)] != EMPTY {
-                i0 = i0.min(i);
-                i1 = i1.max(i);
-                j0 = j0.min(j);
-                j1 = j1.max(j);
-            }
-        }
-    }
-    if i1 <= i0 || j1 <= j0 {
+    let Some(crop) = Crop::of_filled(&codes, lattice) else {
         return Ok(None);
-    }
-    let drawable = (j0..j1).any(|j| {
-        (i0..i1).any(|i| {
-            [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
-                .iter()
-                .all(|&k| codes[k] != EMPTY)
-        })
-    });
-    if !drawable {
-        return Ok(None);
-    }
-    let base = (j0..=j1)
-        .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
-        .map(|(i, j)| codes[at(i, j)])
-        .filter(|&c| c != EMPTY)
-        .min()
-        .unwrap_or(0);
-    let (cols, rows) = (i1 - i0 + 1, j1 - j0 + 1);
-    let mut displacements = Vec::with_capacity(cols * rows);
-    let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
-    for j in j0..=j1 {
-        for i in i0..=i1 {
-            let k = at(i, j);
-            let c = codes[k];
-            displacements.push(if c == EMPTY { EMPTY } else { c - base });
-            if let Some(colours) = colours.as_mut() {
-                colours.push(match &hits[k] {
-                    Some(h) if c != EMPTY => sample_colour(mesh, h.face, h.bary.to_array()),
-                    _ => [0; 4],
-                });
-            }
-        }
-    }
+    };
+    let nodes = crop.nodes(job, &hits, &codes);
     let build = |source| EdgeError::PatchBuild {
         patch: index,
         source,
     };
-    let height = f64::from(h_min) + f64::from(base) * f64::from(quantizer.step());
-    let origin = lattice.x * (lattice.start[0] + i0 as f32 * lattice.spacing[0])
-        + lattice.y * (lattice.start[1] + j0 as f32 * lattice.spacing[1])
+    let height = f64::from(h_min) + f64::from(nodes.base) * f64::from(quantizer.step());
+    let origin = lattice.x * (lattice.start[0] + crop.i0 as f32 * lattice.spacing[0])
+        + lattice.y * (lattice.start[1] + crop.j0 as f32 * lattice.spacing[1])
         + lattice.z * height as f32;
     let frame = Frame::new(
         origin,
@@ -171,10 +120,122 @@ pub(crate) fn cast_lattice_within(
         lattice.z * quantizer.step(),
     )
     .map_err(build)?;
-    let grid = GridSize::new(cols as u32, rows as u32).map_err(build)?;
-    Patch::new(frame, grid, displacements, colours)
+    let grid = GridSize::new(crop.cols() as u32, crop.rows() as u32).map_err(build)?;
+    Patch::new(frame, grid, nodes.displacements, nodes.colours)
         .map(Some)
         .map_err(build)
+}
+
+/// The lowest and highest height of the nodes that hit, or `None` when none did.
+fn height_range(hits: &[Option<NodeHit>]) -> Option<(f32, f32)> {
+    let (mut h_min, mut h_max) = (f32::INFINITY, f32::NEG_INFINITY);
+    for h in hits.iter().flatten() {
+        h_min = h_min.min(h.height);
+        h_max = h_max.max(h.height);
+    }
+    (h_min <= h_max).then_some((h_min, h_max))
+}
+
+/// The nodes of a lattice kept in its patch: columns `i0..=i1`, rows `j0..=j1`.
+struct Crop {
+    /// Nodes along x of the whole lattice (the stride of its rows).
+    stride: usize,
+    i0: usize,
+    i1: usize,
+    j0: usize,
+    j1: usize,
+}
+
+/// A cropped patch's node data: displacements rebased to `base`, and colours when asked.
+struct CroppedNodes {
+    /// The smallest filled code, subtracted from every filled one.
+    base: u16,
+    displacements: Vec<u16>,
+    colours: Option<Vec<[u8; 4]>>,
+}
+
+impl Crop {
+    /// The box of the filled nodes of `codes` (row-major over `lattice`), or `None` when it
+    /// is not at least one cell wide and high or no cell in it has four filled corners.
+    fn of_filled(codes: &[u16], lattice: &NodeLattice) -> Option<Self> {
+        let at = |i: usize, j: usize| j * lattice.cols + i;
+        let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+        for j in 0..lattice.rows {
+            for i in 0..lattice.cols {
+                if codes[at(i, j)] != EMPTY {
+                    i0 = i0.min(i);
+                    i1 = i1.max(i);
+                    j0 = j0.min(j);
+                    j1 = j1.max(j);
+                }
+            }
+        }
+        if i1 <= i0 || j1 <= j0 {
+            return None;
+        }
+        let drawable = (j0..j1).any(|j| {
+            (i0..i1).any(|i| {
+                [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
+                    .iter()
+                    .all(|&k| codes[k] != EMPTY)
+            })
+        });
+        drawable.then_some(Self {
+            stride: lattice.cols,
+            i0,
+            i1,
+            j0,
+            j1,
+        })
+    }
+
+    /// Kept nodes along x.
+    fn cols(&self) -> usize {
+        self.i1 - self.i0 + 1
+    }
+
+    /// Kept nodes along y.
+    fn rows(&self) -> usize {
+        self.j1 - self.j0 + 1
+    }
+
+    /// Index of node `(i, j)` in the whole lattice.
+    fn at(&self, i: usize, j: usize) -> usize {
+        j * self.stride + i
+    }
+
+    /// The kept nodes' displacements (rebased to the smallest filled code) and, with
+    /// `job.with_colour`, their colours sampled at the hits.
+    fn nodes(&self, job: &CastJob<'_>, hits: &[Option<NodeHit>], codes: &[u16]) -> CroppedNodes {
+        let (i0, i1, j0, j1) = (self.i0, self.i1, self.j0, self.j1);
+        let base = (j0..=j1)
+            .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+            .map(|(i, j)| codes[self.at(i, j)])
+            .filter(|&c| c != EMPTY)
+            .min()
+            .unwrap_or(0);
+        let (cols, rows) = (self.cols(), self.rows());
+        let mut displacements = Vec::with_capacity(cols * rows);
+        let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let k = self.at(i, j);
+                let c = codes[k];
+                displacements.push(if c == EMPTY { EMPTY } else { c - base });
+                if let Some(colours) = colours.as_mut() {
+                    colours.push(match &hits[k] {
+                        Some(h) if c != EMPTY => sample_colour(job.mesh, h.face, h.bary.to_array()),
+                        _ => [0; 4],
+                    });
+                }
+            }
+        }
+        CroppedNodes {
+            base,
+            displacements,
+            colours,
+        }
+    }
 }
 
 /// The faces reachable from `seeds` across shared edges whose bounding box meets the box
