@@ -100,32 +100,73 @@ pub(crate) fn merge_regions_with(
         max_extent: options.max_extent,
         min_faces: options.min_region_faces,
     };
-    let mut clusters = init_clusters(mesh, geometry, adjacency, input);
-    let mut parent: Vec<u32> = (0..clusters.len() as u32).collect();
-    let mut heap: BinaryHeap<Candidate> = BinaryHeap::new();
-    for a in 0..clusters.len() as u32 {
-        for &b in clusters[a as usize].neighbours.range(a + 1..) {
-            push_candidate(&clusters, &rules, a, b, &mut heap);
+    let clusters = init_clusters(mesh, geometry, adjacency, input);
+    let mut merging = Merging::new(clusters, rules);
+    merging.run();
+    let root = merging.roots();
+    let labels: Vec<u32> = input.face_region.iter().map(|r| root[r.index()]).collect();
+    let cones: Vec<Option<NormalCone>> = merging.clusters.iter().map(|c| c.cone).collect();
+    build_segmentation(geometry, adjacency, &labels, &cones)
+}
+
+/// The merge in progress: the regions' clusters, which cluster each joined, and the
+/// candidate pairs waiting.
+struct Merging {
+    clusters: Vec<Cluster>,
+    /// For each input region, the cluster it joined (itself while it is alive).
+    parent: Vec<u32>,
+    heap: BinaryHeap<Candidate>,
+    rules: Rules,
+}
+
+impl Merging {
+    /// The merge of `clusters` before any step, every adjacent pair that passes the tests
+    /// waiting.
+    fn new(clusters: Vec<Cluster>, rules: Rules) -> Self {
+        let parent: Vec<u32> = (0..clusters.len() as u32).collect();
+        let mut heap: BinaryHeap<Candidate> = BinaryHeap::new();
+        for a in 0..clusters.len() as u32 {
+            for &b in clusters[a as usize].neighbours.range(a + 1..) {
+                push_candidate(&clusters, &rules, a, b, &mut heap);
+            }
+        }
+        Self {
+            clusters,
+            parent,
+            heap,
+            rules,
         }
     }
-    while let Some(Reverse((_, a, b, version_a, version_b))) = heap.pop() {
-        let (ca, cb) = (&clusters[a as usize], &clusters[b as usize]);
-        if !ca.alive || !cb.alive {
-            continue;
+
+    /// Merges the best candidate until none is left (stale ones re-tested when popped).
+    fn run(&mut self) {
+        while let Some(Reverse((_, a, b, version_a, version_b))) = self.heap.pop() {
+            let (ca, cb) = (&self.clusters[a as usize], &self.clusters[b as usize]);
+            if !ca.alive || !cb.alive {
+                continue;
+            }
+            if ca.version != version_a || cb.version != version_b {
+                push_candidate(&self.clusters, &self.rules, a, b, &mut self.heap);
+                continue;
+            }
+            // The larger region survives (ties: the lower index, which is `a`).
+            let (keep, gone) = if cb.faces > ca.faces { (b, a) } else { (a, b) };
+            let absorbed = self.absorb(keep, gone);
+            self.push_pairs_of(keep, &absorbed);
         }
-        if ca.version != version_a || cb.version != version_b {
-            push_candidate(&clusters, &rules, a, b, &mut heap);
-            continue;
-        }
-        // The larger region survives (ties: the lower index, which is `a`).
-        let (keep, gone) = if cb.faces > ca.faces { (b, a) } else { (a, b) };
+    }
+
+    /// Joins cluster `gone` into `keep` (cone, sphere, faces, neighbours); returns `gone`'s
+    /// former neighbours.
+    fn absorb(&mut self, keep: u32, gone: u32) -> BTreeSet<u32> {
+        let clusters = &mut self.clusters;
         let absorbed = std::mem::take(&mut clusters[gone as usize].neighbours);
         let (gone_cone, gone_sphere, gone_faces) = {
             let g = &mut clusters[gone as usize];
             g.alive = false;
             (g.cone, g.sphere, g.faces)
         };
-        parent[gone as usize] = keep;
+        self.parent[gone as usize] = keep;
         {
             let k = &mut clusters[keep as usize];
             k.cone = union_cone(k.cone, gone_cone);
@@ -143,33 +184,41 @@ pub(crate) fn merge_regions_with(
             n.insert(keep);
             clusters[keep as usize].neighbours.insert(u);
         }
-        if clusters[keep as usize].faces < rules.min_faces {
+        absorbed
+    }
+
+    /// Pushes the new pairs of `keep` after it absorbed a cluster with neighbours
+    /// `absorbed`: all its pairs while it is still small, else those with `absorbed`.
+    fn push_pairs_of(&mut self, keep: u32, absorbed: &BTreeSet<u32>) {
+        let clusters = &self.clusters;
+        if clusters[keep as usize].faces < self.rules.min_faces {
             let all: Vec<u32> = clusters[keep as usize].neighbours.iter().copied().collect();
             for u in all {
-                push_candidate(&clusters, &rules, keep, u, &mut heap);
+                push_candidate(clusters, &self.rules, keep, u, &mut self.heap);
             }
         } else {
-            for &u in &absorbed {
+            for &u in absorbed {
                 if u != keep {
-                    push_candidate(&clusters, &rules, keep, u, &mut heap);
+                    push_candidate(clusters, &self.rules, keep, u, &mut self.heap);
                 }
             }
         }
     }
-    // Resolve every input region to its surviving cluster. Chains are short: a region joins
-    // one with at least as many faces, so each link at least doubles the size (≤ log2 n links).
-    let root: Vec<u32> = (0..parent.len() as u32)
-        .map(|r| {
-            let mut x = r;
-            while parent[x as usize] != x {
-                x = parent[x as usize];
-            }
-            x
-        })
-        .collect();
-    let labels: Vec<u32> = input.face_region.iter().map(|r| root[r.index()]).collect();
-    let cones: Vec<Option<NormalCone>> = clusters.iter().map(|c| c.cone).collect();
-    build_segmentation(geometry, adjacency, &labels, &cones)
+
+    /// Every input region's surviving cluster. Chains are short: a region joins one with at
+    /// least as many faces, so each link at least doubles the size (≤ log2 n links).
+    fn roots(&self) -> Vec<u32> {
+        let parent = &self.parent;
+        (0..parent.len() as u32)
+            .map(|r| {
+                let mut x = r;
+                while parent[x as usize] != x {
+                    x = parent[x as usize];
+                }
+                x
+            })
+            .collect()
+    }
 }
 
 /// Clusters for the input regions: cone (none when every face is degenerate), bounding sphere
