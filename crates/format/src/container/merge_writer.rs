@@ -14,9 +14,9 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use super::layout::{
-    ColourStorage, GridStorage, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN, TAG_COLOURS,
-    TAG_DISPLACEMENTS, TAG_FRAMES, TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
-    TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
+    ColourStorage, GridStorage, SceneFields, WidthStorage, CODEC_PREDICTIVE, CODEC_RAW, FRAME_LEN,
+    TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES, TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS,
+    TAG_SCENE, TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::predictive::{ColourEncoder, DisplacementEncoder};
 use super::records::{
@@ -207,23 +207,83 @@ impl MergeWriter {
 
     /// Every section of the file, headers computed, in file order. Errors (a section
     /// past u32, a failing disk) come here, before any byte of the output is written.
-    fn into_sections(mut self) -> Result<Vec<Section>, FormatError> {
+    fn into_sections(self) -> Result<Vec<Section>, FormatError> {
         let (offset, channel) = self.base.ok_or(FormatError::Bug("merge of no scene"))?;
         let fields = self.shape.fields(offset.to_array(), channel)?;
-        let folder = self.folder.clone();
-        let io_error = |source| FormatError::Io {
-            path: folder.clone(),
-            source,
-        };
-        let compress = self.options.compression == Compression::Predictive;
+        let Self {
+            options,
+            folder,
+            shape,
+            frames,
+            displacements,
+            colours,
+            residuals,
+            sides,
+            openings,
+            inside,
+            patch_count,
+            colour_grids,
+            base: _,
+            scenes: _,
+        } = self;
+        let compress = options.compression == Compression::Predictive;
         let mut payloads = vec![(
             TAG_SCENE,
             CODEC_RAW,
             0,
             Payload::Bytes(fields.to_bytes().to_vec()),
         )];
+        let node_data = NodeData {
+            frames,
+            displacements,
+            colours,
+        };
+        payloads.extend(node_data.payloads(&fields, channel, compress, &folder)?);
+        let tail = Tail {
+            shape,
+            residuals,
+            sides,
+            openings,
+            inside,
+            patch_count,
+            colour_grids,
+        };
+        payloads.extend(tail.payloads(channel.bytes_per_node()));
+        let sections = payloads
+            .into_iter()
+            .map(|(tag, codec, raw, payload)| section(tag, codec, raw, payload, &folder))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(sections)
+    }
+}
+
+/// A section before its header is computed: tag, codec, raw length (0: the stored length)
+/// and payload.
+type PendingSection = ([u8; 4], u8, u64, Payload);
+
+/// The scratch files of the node data: full FRAM records, DISP and COLR.
+struct NodeData {
+    frames: Scratch,
+    displacements: Scratch,
+    colours: Scratch,
+}
+
+impl NodeData {
+    /// FRAM, DISP and (when the colours are per node) COLR, in file order; DISP and COLR
+    /// coded when `compress` asks and it makes them smaller.
+    fn payloads(
+        mut self,
+        fields: &SceneFields,
+        channel: ColourChannel,
+        compress: bool,
+        folder: &Path,
+    ) -> Result<Vec<PendingSection>, FormatError> {
+        let io_error = |source| FormatError::Io {
+            path: folder.to_path_buf(),
+            source,
+        };
         let displacements = if compress {
-            let coded = code_displacements(&mut self.frames, &mut self.displacements, &folder)
+            let coded = code_displacements(&mut self.frames, &mut self.displacements, folder)
                 .map_err(io_error)?;
             smaller(self.displacements, coded)
         } else {
@@ -236,7 +296,7 @@ impl MergeWriter {
         let colours = if fields.colour_storage != ColourStorage::PerNode {
             None
         } else if compress {
-            let coded = code_colours(&mut self.colours, channel.bytes_per_node(), &folder)
+            let coded = code_colours(&mut self.colours, channel.bytes_per_node(), folder)
                 .map_err(io_error)?;
             Some(smaller(self.colours, coded))
         } else {
@@ -247,12 +307,34 @@ impl MergeWriter {
             grid: fields.grid_storage == GridStorage::PerPatch,
             width: fields.width_storage == WidthStorage::PerPatch,
         };
-        payloads.push((TAG_FRAMES, CODEC_RAW, 0, frames));
         let (codec, raw, payload) = displacements;
-        payloads.push((TAG_DISPLACEMENTS, codec, raw, payload));
+        let mut payloads = vec![
+            (TAG_FRAMES, CODEC_RAW, 0, frames),
+            (TAG_DISPLACEMENTS, codec, raw, payload),
+        ];
         if let Some((codec, raw, payload)) = colours {
             payloads.push((TAG_COLOURS, codec, raw, payload));
         }
+        Ok(payloads)
+    }
+}
+
+/// What the sections after the node data are made of.
+struct Tail {
+    shape: SceneShape,
+    residuals: Scratch,
+    sides: Scratch,
+    openings: Vec<Opening>,
+    inside: InsideBoxes,
+    patch_count: usize,
+    colour_grids: Vec<(usize, ColourGrid)>,
+}
+
+impl Tail {
+    /// The optional sections the scene has (ORGR, SIDE, OPEN, IBOX, CGRX), in file order;
+    /// `bytes_per_node` is the colour channel's.
+    fn payloads(self, bytes_per_node: usize) -> Vec<PendingSection> {
+        let mut payloads = Vec::new();
         if self.shape.has_residuals() {
             payloads.push((
                 TAG_ORIGIN_RESIDUALS,
@@ -277,7 +359,7 @@ impl MergeWriter {
             for (k, grid) in &self.colour_grids {
                 grids[*k] = Some(grid);
             }
-            let (codec, raw, bytes) = shared_grids_section(&grids, channel.bytes_per_node());
+            let (codec, raw, bytes) = shared_grids_section(&grids, bytes_per_node);
             payloads.push((
                 TAG_SHARED_COLOUR_GRIDS,
                 codec,
@@ -285,11 +367,7 @@ impl MergeWriter {
                 Payload::Bytes(bytes),
             ));
         }
-        let sections = payloads
-            .into_iter()
-            .map(|(tag, codec, raw, payload)| section(tag, codec, raw, payload, &folder))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(sections)
+        payloads
     }
 }
 

@@ -7,9 +7,9 @@ use std::path::Path;
 
 use super::colour_grids::grids_of;
 use super::layout::{
-    ColourStorage, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS, TAG_FRAMES,
-    TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE, TAG_SHARED_COLOUR_GRIDS,
-    TAG_SIDES,
+    ColourStorage, SceneFields, CODEC_PREDICTIVE, CODEC_RAW, TAG_COLOURS, TAG_DISPLACEMENTS,
+    TAG_FRAMES, TAG_INSIDE_BOX, TAG_OPENINGS, TAG_ORIGIN_RESIDUALS, TAG_SCENE,
+    TAG_SHARED_COLOUR_GRIDS, TAG_SIDES,
 };
 use super::predictive::{encode_colours, encode_displacements, DisplacementLayout};
 use super::records::{
@@ -83,17 +83,59 @@ fn choose_codec(
     (CODEC_RAW, raw_len, raw)
 }
 
+/// A section's codec, raw length and payload.
+type CodedPayload = (u8, usize, Vec<u8>);
+
+/// A scene's node data: its FRAM payload, its DISP section and, when the colours are per
+/// node, its COLR section.
+struct NodeSections {
+    frames: Vec<u8>,
+    disp: CodedPayload,
+    colr: Option<CodedPayload>,
+}
+
 /// Encodes a scene as `.spatch` bytes.
 pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, FormatError> {
-    let patches = scene.patches();
     let mut shape = SceneShape::new();
-    for patch in patches {
+    for patch in scene.patches() {
         shape.add(patch);
     }
     let fields = shape.fields(scene.offset().to_array(), scene.channel())?;
+    let nodes = node_sections(scene, &fields, options.compression)?;
+    let optional = optional_sections(scene, &shape);
+    let colour_grids = encode_grids(scene);
+    let mut tags: Vec<[u8; 4]> = optional
+        .iter()
+        .filter(|(_, p)| p.is_some())
+        .map(|(t, _)| *t)
+        .collect();
+    if colour_grids.is_some() {
+        tags.push(TAG_SHARED_COLOUR_GRIDS);
+    }
+    let section_count = 3 + u32::from(nodes.colr.is_some()) + tags.len() as u32;
+    let mut out = file_header(section_count, super::minor_for(&tags)).to_vec();
+    push_leading_sections(&mut out, &fields, nodes)?;
+    for (tag, payload) in optional {
+        if let Some(payload) = payload {
+            push_section(&mut out, tag, CODEC_RAW, payload.len(), &payload)?;
+        }
+    }
+    if let Some((codec, raw_len, payload)) = colour_grids {
+        push_section(&mut out, TAG_SHARED_COLOUR_GRIDS, codec, raw_len, &payload)?;
+    }
+    Ok(out)
+}
+
+/// The node data of `scene` laid out as `fields` says, DISP and COLR coded when
+/// `compression` asks and it makes them smaller.
+fn node_sections(
+    scene: &Scene,
+    fields: &SceneFields,
+    compression: Compression,
+) -> Result<NodeSections, FormatError> {
+    let patches = scene.patches();
     let (grid_storage, width_storage) = (fields.grid_storage, fields.width_storage);
     let colour_storage = fields.colour_storage;
-
     let mut frames = Vec::new();
     let mut displacements = Vec::new();
     let mut colours = Vec::new();
@@ -106,8 +148,6 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
         }
     }
     let layouts: Vec<DisplacementLayout> = patches.iter().map(displacement_layout).collect();
-
-    let compression = options.compression;
     let disp = choose_codec(displacements, compression, |raw| {
         encode_displacements(raw, &layouts)
     });
@@ -116,52 +156,42 @@ pub fn encode_scene(scene: &Scene, options: &WriteOptions) -> Result<Vec<u8>, Fo
             encode_colours(raw, colour_bytes)
         })
     });
+    Ok(NodeSections { frames, disp, colr })
+}
 
+/// The optional sections before CGRX (ORGR, SIDE, OPEN, IBOX), in file order, each with
+/// its payload when the scene has it.
+fn optional_sections(scene: &Scene, shape: &SceneShape) -> [([u8; 4], Option<Vec<u8>>); 4] {
     let residuals = shape.has_residuals().then(|| encode_residuals(scene));
     let sides = shape
         .has_sides()
         .then(|| scene.patches().iter().map(|p| p.sides().code()).collect());
     let openings = (!scene.openings().is_empty()).then(|| openings_payload(scene.openings()));
     let inside_box = scene.inside_box().map(|b| inside_box_payload(&b));
-    let colour_grids = encode_grids(scene);
-    let optional = [
+    [
         (TAG_ORIGIN_RESIDUALS, residuals),
         (TAG_SIDES, sides),
         (TAG_OPENINGS, openings),
         (TAG_INSIDE_BOX, inside_box),
-    ];
-    let mut tags: Vec<[u8; 4]> = optional
-        .iter()
-        .filter(|(_, p)| p.is_some())
-        .map(|(t, _)| *t)
-        .collect();
-    if colour_grids.is_some() {
-        tags.push(TAG_SHARED_COLOUR_GRIDS);
-    }
-    let section_count = 3 + u32::from(colr.is_some()) + tags.len() as u32;
-    let mut out = file_header(section_count, super::minor_for(&tags)).to_vec();
+    ]
+}
+
+/// Appends SCNE (from `fields`), FRAM, DISP and, when there is one, COLR.
+fn push_leading_sections(
+    out: &mut Vec<u8>,
+    fields: &SceneFields,
+    nodes: NodeSections,
+) -> Result<(), FormatError> {
     let scene_bytes = fields.to_bytes();
-    push_section(
-        &mut out,
-        TAG_SCENE,
-        CODEC_RAW,
-        scene_bytes.len(),
-        &scene_bytes,
-    )?;
-    push_section(&mut out, TAG_FRAMES, CODEC_RAW, frames.len(), &frames)?;
-    push_section(&mut out, TAG_DISPLACEMENTS, disp.0, disp.1, &disp.2)?;
-    if let Some((codec, raw_len, payload)) = colr {
-        push_section(&mut out, TAG_COLOURS, codec, raw_len, &payload)?;
+    push_section(out, TAG_SCENE, CODEC_RAW, scene_bytes.len(), &scene_bytes)?;
+    let frames = nodes.frames;
+    push_section(out, TAG_FRAMES, CODEC_RAW, frames.len(), &frames)?;
+    let disp = nodes.disp;
+    push_section(out, TAG_DISPLACEMENTS, disp.0, disp.1, &disp.2)?;
+    if let Some((codec, raw_len, payload)) = nodes.colr {
+        push_section(out, TAG_COLOURS, codec, raw_len, &payload)?;
     }
-    for (tag, payload) in optional {
-        if let Some(payload) = payload {
-            push_section(&mut out, tag, CODEC_RAW, payload.len(), &payload)?;
-        }
-    }
-    if let Some((codec, raw_len, payload)) = colour_grids {
-        push_section(&mut out, TAG_SHARED_COLOUR_GRIDS, codec, raw_len, &payload)?;
-    }
-    Ok(out)
+    Ok(())
 }
 
 /// The CGRX section of a scene where some patch has a colour grid
