@@ -137,12 +137,7 @@ fn radial_error_max(scene: &Scene, radius: f64) -> f64 {
 
 /// The `--json` report (its `seconds` measured from `started` now).
 fn report(args: &SphereArgs, built: &Built<'_>, started: Instant) -> Report<SphereDetails> {
-    let Built {
-        options,
-        sphere,
-        written,
-        ..
-    } = *built;
+    let (options, sphere, written) = (built.options, built.sphere, built.written);
     let scene = &sphere.scene;
     let mut report = Report::new(
         &tool(),
@@ -171,12 +166,7 @@ fn report(args: &SphereArgs, built: &Built<'_>, started: Instant) -> Report<Sphe
 
 /// The short human summary.
 fn summary(args: &SphereArgs, built: &Built<'_>) -> String {
-    let Built {
-        options,
-        sphere,
-        written,
-        ..
-    } = *built;
+    let (options, sphere, written) = (built.options, built.sphere, built.written);
     let scene = &sphere.scene;
     let mut text = format!(
         "{}: {} patches, {} nodes, {} bytes\n  radial error max {:.6} (bound: step/2 = {:.6})\n",
