@@ -135,79 +135,25 @@ fn main() -> ExitCode {
     }
 }
 
+/// The usage line, printed when the index is missing.
+const USAGE: &str = "usage: seams INDEX.json [--size N] [--band W] [--street EX,EY,TX,TY]";
+
 fn run(args: Vec<String>) -> Result<(), String> {
-    let index_path = PathBuf::from(
-        args.first()
-            .ok_or("usage: seams INDEX.json [--size N] [--band W] [--street EX,EY,TX,TY]")?,
-    );
-    let option = |name: &str| {
-        args.iter()
-            .position(|a| a == name)
-            .and_then(|i| args.get(i + 1))
-    };
-    let size: u32 = option("--size")
-        .map_or(Ok(1000), |s| s.parse())
-        .map_err(|e| format!("--size: {e}"))?;
+    let index_path = PathBuf::from(args.first().ok_or(USAGE)?);
+    let size: u32 = parsed_option(&args, "--size", 1000)?;
     let index = SceneIndex::read(&index_path).map_err(|e| e.to_string())?;
     let layout = Layout::new(&index).ok_or("the index has no patch")?;
-    let band: f64 = option("--band")
-        .map_or(Ok(index.grid.buffer), |s| s.parse())
-        .map_err(|e| format!("--band: {e}"))?;
-    let street = match option("--street") {
-        Some(s) => {
-            let v: Vec<f64> = s
-                .split(',')
-                .map(str::parse)
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("--street: {e}"))?;
-            let [ex, ey, tx, ty] = v[..] else {
-                return Err("--street takes EX,EY,TX,TY".into());
-            };
-            (DVec2::new(ex, ey), DVec2::new(tx, ty))
-        }
-        None => {
-            let x = layout.lo.x + 2.0 * MARGIN;
-            (
-                DVec2::new(x, layout.lo.y + 2.0 * MARGIN),
-                DVec2::new(x, layout.hi.y),
-            )
-        }
-    };
+    let band: f64 = parsed_option(&args, "--band", index.grid.buffer)?;
+    let street = street_ends(&args, &layout)?;
     let scene = read_tiles(&index_path, &index)?;
     let prepared = PreparedScene::new(&scene);
-    let mut options = RenderOptions::default();
-    options.shading = Shading::Flat;
-    options.culling = Culling::None;
-    options.projection = Projection::Exact;
-    options.threads = 2;
-    let mut renderer = Renderer::new(options).map_err(|e| e.to_string())?;
-    let floor = layout.lo.z;
-    let centre = (layout.lo + layout.hi) / 2.0;
-    let half = (layout.hi - layout.lo).truncate().max_element() / 2.0;
-    let top = Camera::look_at(
-        DVec3::new(
-            centre.x,
-            centre.y,
-            layout.hi.z + half / 10f64.to_radians().tan() * 1.02,
-        ),
-        DVec3::new(centre.x, centre.y, floor),
-        DVec3::Y,
-        20.0,
-        size,
-        size,
-    )
-    .map_err(|e| e.to_string())?;
-    let street = Camera::look_at(
-        street.0.extend(floor + 1.7),
-        street.1.extend(floor + 1.0),
-        DVec3::Z,
-        60.0,
-        size,
-        size,
-    )
-    .map_err(|e| e.to_string())?;
+    let mut renderer = hole_renderer()?;
+    let views = [
+        ("top", top_camera(&layout, size)?),
+        ("street", street_camera(&layout, street, size)?),
+    ];
     let mut total = ViewHoles::default();
-    for (name, camera) in [("top", top), ("street", street)] {
+    for (name, camera) in views {
         let depth = renderer
             .render(&prepared, &camera)
             .map_err(|e| e.to_string())?
@@ -220,6 +166,92 @@ fn run(args: Vec<String>) -> Result<(), String> {
     }
     total.print("total", band);
     Ok(())
+}
+
+/// The argument after `name`, if `name` is given with one.
+fn option<'a>(args: &'a [String], name: &str) -> Option<&'a String> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+}
+
+/// The value of option `name` parsed, or `default` when it is not given.
+fn parsed_option<T>(args: &[String], name: &str, default: T) -> Result<T, String>
+where
+    T: std::str::FromStr,
+    T::Err: std::fmt::Display,
+{
+    option(args, name)
+        .map_or(Ok(default), |s| s.parse())
+        .map_err(|e| format!("{name}: {e}"))
+}
+
+/// The street view's eye and target in the plane: `--street`, else the first street.
+fn street_ends(args: &[String], layout: &Layout) -> Result<(DVec2, DVec2), String> {
+    match option(args, "--street") {
+        Some(s) => {
+            let v: Vec<f64> = s
+                .split(',')
+                .map(str::parse)
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("--street: {e}"))?;
+            let [ex, ey, tx, ty] = v[..] else {
+                return Err("--street takes EX,EY,TX,TY".into());
+            };
+            Ok((DVec2::new(ex, ey), DVec2::new(tx, ty)))
+        }
+        None => {
+            let x = layout.lo.x + 2.0 * MARGIN;
+            Ok((
+                DVec2::new(x, layout.lo.y + 2.0 * MARGIN),
+                DVec2::new(x, layout.hi.y),
+            ))
+        }
+    }
+}
+
+/// A renderer drawing as the hole measure does: flat, no culling, exact projection.
+fn hole_renderer() -> Result<Renderer, String> {
+    let mut options = RenderOptions::default();
+    options.shading = Shading::Flat;
+    options.culling = Culling::None;
+    options.projection = Projection::Exact;
+    options.threads = 2;
+    Renderer::new(options).map_err(|e| e.to_string())
+}
+
+/// Straight down from above the bounds' centre, the footprint filling the 20° view.
+fn top_camera(layout: &Layout, size: u32) -> Result<Camera, String> {
+    let floor = layout.lo.z;
+    let centre = (layout.lo + layout.hi) / 2.0;
+    let half = (layout.hi - layout.lo).truncate().max_element() / 2.0;
+    Camera::look_at(
+        DVec3::new(
+            centre.x,
+            centre.y,
+            layout.hi.z + half / 10f64.to_radians().tan() * 1.02,
+        ),
+        DVec3::new(centre.x, centre.y, floor),
+        DVec3::Y,
+        20.0,
+        size,
+        size,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// From 1.7 m above the floor at the street's eye towards its target at 1 m, 60° view.
+fn street_camera(layout: &Layout, street: (DVec2, DVec2), size: u32) -> Result<Camera, String> {
+    let floor = layout.lo.z;
+    Camera::look_at(
+        street.0.extend(floor + 1.7),
+        street.1.extend(floor + 1.0),
+        DVec3::Z,
+        60.0,
+        size,
+        size,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// Every tile of the index with patches, joined.
