@@ -24,7 +24,10 @@ use super::read_sides::{read_inside_box, read_openings, read_sides};
 pub use super::sections::SectionInfo;
 use super::sections::{corrupt, require_raw, split_sections, RawSection};
 use super::shared_colour_grids::read_shared_colour_grids;
-use crate::{ColourChannel, Corruption, FormatError, Patch, Scene, Sides};
+use crate::{
+    ColourChannel, ColourGrid, Corruption, FormatError, Frame, GridSize, InsideBox, Opening, Patch,
+    Scene, Sides,
+};
 
 /// What a file holds besides the scene itself (for `spatch stats`).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -118,17 +121,56 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
     let split = split_sections(bytes)?;
     let known = find_known(&split.sections)?;
     let fields = read_scene_fields(known.scene)?;
-    let channel = match fields.channel {
-        0 => ColourChannel::None,
-        1 => ColourChannel::Rgb8,
-        _ => ColourChannel::Rgba8,
-    };
+    let channel = colour_channel(fields.channel);
     let patch_count = fields.patch_count as usize;
     let residuals = read_residuals(known.residuals, patch_count)?;
     let records = read_frames(known.frames, &fields, known.residuals.zip(residuals))?;
     let codes = read_displacements(known.displacements, &records.layouts)?;
     let bytes_per_colour = channel.bytes_per_node();
     let node_colours = read_colours(known.colours, &fields, bytes_per_colour, codes.filled)?;
+    let visibility = read_visibility(&known, patch_count)?;
+    let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
+    let grids = read_grids(&known, &sizes, bytes_per_colour)?;
+    let patches = assemble_patches(PatchParts {
+        frames: records.frames,
+        codes: codes.per_patch,
+        colours: ColourSource::new(&fields, node_colours.as_deref(), bytes_per_colour),
+        sides: visibility.sides.as_deref(),
+        grids,
+        displacements: known.displacements,
+    })?;
+    let scene = Scene::new(DVec3::from_array(fields.offset), channel, patches)
+        .map_err(|e| corrupt("SCNE", Corruption::Scene(Box::new(e))))?
+        .with_openings(visibility.openings)
+        .with_inside_box(visibility.inside_box);
+    let info = ContainerInfo {
+        version_major: split.major,
+        version_minor: split.minor,
+        sections: split.sections.into_iter().map(|s| s.info).collect(),
+        file_len: bytes.len(),
+        flat_colour: fields.colour_storage == ColourStorage::Flat,
+    };
+    Ok((scene, info))
+}
+
+/// The colour channel of SCNE's channel code.
+fn colour_channel(code: u8) -> ColourChannel {
+    match code {
+        0 => ColourChannel::None,
+        1 => ColourChannel::Rgb8,
+        _ => ColourChannel::Rgba8,
+    }
+}
+
+/// Which sides of the patches may show: SIDE, OPEN and the inside box, each optional.
+struct Visibility {
+    sides: Option<Vec<Sides>>,
+    openings: Vec<Opening>,
+    inside_box: Option<InsideBox>,
+}
+
+/// Reads SIDE (one entry per patch), OPEN and the inside box, in that order.
+fn read_visibility(known: &Known<'_, '_>, patch_count: usize) -> Result<Visibility, FormatError> {
     let sides = match known.sides {
         Some(section) => Some(read_sides(section, patch_count)?),
         None => None,
@@ -138,34 +180,75 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         None => Vec::new(),
     };
     let inside_box = known.inside_box.map(read_inside_box).transpose()?;
+    Ok(Visibility {
+        sides,
+        openings,
+        inside_box,
+    })
+}
 
-    let sizes: Vec<_> = records.frames.iter().map(|(_, g)| *g).collect();
-    let grid_tag = if known.shared_colour_grids.is_some() {
+/// The patches' colour grids, one entry per patch, and the tag of the section they
+/// came from (named by a refused grid's error).
+struct PatchGrids {
+    grids: std::vec::IntoIter<Option<ColourGrid>>,
+    tag: &'static str,
+}
+
+/// Reads CGRD or CGRX (a file holds at most one), or no grid for any patch.
+fn read_grids(
+    known: &Known<'_, '_>,
+    sizes: &[GridSize],
+    bytes_per_colour: usize,
+) -> Result<PatchGrids, FormatError> {
+    let tag = if known.shared_colour_grids.is_some() {
         "CGRX"
     } else {
         "CGRD"
     };
-    let mut grids = match (known.colour_grids, known.shared_colour_grids) {
-        (Some(section), _) => read_colour_grids(section, &sizes, bytes_per_colour)?,
-        (None, Some(section)) => read_shared_colour_grids(section, &sizes, bytes_per_colour)?,
+    let grids = match (known.colour_grids, known.shared_colour_grids) {
+        (Some(section), _) => read_colour_grids(section, sizes, bytes_per_colour)?,
+        (None, Some(section)) => read_shared_colour_grids(section, sizes, bytes_per_colour)?,
         (None, None) => Vec::new(),
     }
     .into_iter();
-    let mut colours = ColourSource::new(&fields, node_colours.as_deref(), bytes_per_colour);
+    Ok(PatchGrids { grids, tag })
+}
+
+/// Everything read for the patches, in file order, before they are joined.
+struct PatchParts<'p, 'a> {
+    frames: Vec<(Frame, GridSize)>,
+    codes: Vec<Vec<u16>>,
+    colours: ColourSource<'p>,
+    sides: Option<&'p [Sides]>,
+    grids: PatchGrids,
+    /// DISP, named by a refused patch's error.
+    displacements: &'p RawSection<'a>,
+}
+
+/// Joins each patch's frame, grid, codes, colours, colour grid and sides into patches.
+fn assemble_patches(parts: PatchParts<'_, '_>) -> Result<Vec<Patch>, FormatError> {
+    let PatchParts {
+        frames,
+        codes,
+        mut colours,
+        sides,
+        mut grids,
+        displacements,
+    } = parts;
     let mut patches = Vec::new();
-    for (k, ((frame, grid), codes)) in records.frames.into_iter().zip(codes.per_patch).enumerate() {
+    for (k, ((frame, grid), codes)) in frames.into_iter().zip(codes).enumerate() {
         let patch_colours = colours.next_patch(&codes);
-        let side = sides.as_deref().map_or(Sides::Front, |s| s[k]);
+        let side = sides.map_or(Sides::Front, |s| s[k]);
         let patch = Patch::new(frame, grid, codes, patch_colours).map_err(|e| {
-            known.displacements.corrupt(Corruption::Patch {
+            displacements.corrupt(Corruption::Patch {
                 patch: k,
                 error: Box::new(e),
             })
         })?;
-        let patch = match grids.next().flatten() {
+        let patch = match grids.grids.next().flatten() {
             Some(g) => patch.with_colour_grid(g).map_err(|e| {
                 corrupt(
-                    grid_tag,
+                    grids.tag,
                     Corruption::Patch {
                         patch: k,
                         error: Box::new(e),
@@ -176,18 +259,7 @@ pub fn inspect(bytes: &[u8]) -> Result<(Scene, ContainerInfo), FormatError> {
         };
         patches.push(patch.with_sides(side));
     }
-    let scene = Scene::new(DVec3::from_array(fields.offset), channel, patches)
-        .map_err(|e| corrupt("SCNE", Corruption::Scene(Box::new(e))))?
-        .with_openings(openings)
-        .with_inside_box(inside_box);
-    let info = ContainerInfo {
-        version_major: split.major,
-        version_minor: split.minor,
-        sections: split.sections.into_iter().map(|s| s.info).collect(),
-        file_len: bytes.len(),
-        flat_colour: fields.colour_storage == ColourStorage::Flat,
-    };
-    Ok((scene, info))
+    Ok(patches)
 }
 
 /// Decodes `.spatch` bytes into a scene.
