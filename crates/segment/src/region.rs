@@ -159,8 +159,45 @@ pub(crate) fn build_segmentation(
     cones: &[Option<NormalCone>],
 ) -> Result<Segmentation, SegmentError> {
     let face_count = geometry.face_count();
-    // Renumber labels in order of first appearance (= lowest face).
-    let mut renumber = vec![UNLABELLED; cones.len()];
+    let Renumbered {
+        face_region,
+        old_of_new,
+    } = renumber_labels(labels, cones.len(), face_count)?;
+    let region_count = old_of_new.len();
+    let by_region = RegionFaces::sort(&face_region, region_count, face_count);
+    let seeds = find_central_faces(geometry, adjacency, &face_region, region_count, None);
+    let mut fit = RegionFit {
+        geometry,
+        normals: Vec::new(),
+        weights: Vec::new(),
+    };
+    let mut regions = Vec::with_capacity(region_count);
+    for (r, &old) in old_of_new.iter().enumerate() {
+        let faces = by_region.faces(r).to_vec();
+        regions.push(fit.region(faces, cones[old as usize], seeds[r]));
+    }
+    Ok(Segmentation {
+        regions,
+        face_region,
+    })
+}
+
+/// A labelling renumbered to region ids.
+struct Renumbered {
+    /// The region of every face.
+    face_region: Vec<RegionId>,
+    /// The label each region had (indexed by region).
+    old_of_new: Vec<u32>,
+}
+
+/// Renumbers the labels (each below `label_count`) in order of first appearance (= lowest
+/// face).
+fn renumber_labels(
+    labels: &[u32],
+    label_count: usize,
+    face_count: usize,
+) -> Result<Renumbered, SegmentError> {
+    let mut renumber = vec![UNLABELLED; label_count];
     let mut old_of_new: Vec<u32> = Vec::new();
     let mut face_region = Vec::with_capacity(face_count);
     for &label in labels {
@@ -175,53 +212,75 @@ pub(crate) fn build_segmentation(
         }
         face_region.push(RegionId(*slot));
     }
-    let region_count = old_of_new.len();
+    Ok(Renumbered {
+        face_region,
+        old_of_new,
+    })
+}
 
-    // Counting sort of faces by region; faces come out ascending within each region.
-    let mut offsets = vec![0u32; region_count + 1];
-    for r in &face_region {
-        offsets[r.index() + 1] += 1;
-    }
-    for i in 0..region_count {
-        offsets[i + 1] += offsets[i];
-    }
-    let mut cursor = offsets.clone();
-    let mut sorted = vec![FaceId(0); face_count];
-    for (f, r) in face_region.iter().enumerate() {
-        sorted[cursor[r.index()] as usize] = FaceId(f as u32);
-        cursor[r.index()] += 1;
+/// The faces bucketed by region: region `r`'s faces are `sorted[offsets[r]..offsets[r + 1]]`.
+struct RegionFaces {
+    offsets: Vec<u32>,
+    sorted: Vec<FaceId>,
+}
+
+impl RegionFaces {
+    /// Counting sort of faces by region; faces come out ascending within each region.
+    fn sort(face_region: &[RegionId], region_count: usize, face_count: usize) -> Self {
+        let mut offsets = vec![0u32; region_count + 1];
+        for r in face_region {
+            offsets[r.index() + 1] += 1;
+        }
+        for i in 0..region_count {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut cursor = offsets.clone();
+        let mut sorted = vec![FaceId(0); face_count];
+        for (f, r) in face_region.iter().enumerate() {
+            sorted[cursor[r.index()] as usize] = FaceId(f as u32);
+            cursor[r.index()] += 1;
+        }
+        RegionFaces { offsets, sorted }
     }
 
-    let seeds = find_central_faces(geometry, adjacency, &face_region, region_count, None);
-    let mut regions = Vec::with_capacity(region_count);
-    let mut normals = Vec::new();
-    let mut weights = Vec::new();
-    for (r, &old) in old_of_new.iter().enumerate() {
-        let faces = sorted[offsets[r] as usize..offsets[r + 1] as usize].to_vec();
-        normals.clear();
-        weights.clear();
+    /// Region `r`'s faces, ascending.
+    fn faces(&self, r: usize) -> &[FaceId] {
+        &self.sorted[self.offsets[r] as usize..self.offsets[r + 1] as usize]
+    }
+}
+
+/// Fits each region's cone and area, reusing the buffers of the normals and their weights.
+struct RegionFit<'g> {
+    geometry: &'g FaceGeometry,
+    normals: Vec<Vec3>,
+    weights: Vec<f32>,
+}
+
+impl RegionFit<'_> {
+    /// The region of `faces` with central face `seed`: its area and its tight cone, never
+    /// wider than `bound` (`+z` with half-angle 0 when every face is degenerate).
+    fn region(&mut self, faces: Vec<FaceId>, bound: Option<NormalCone>, seed: FaceId) -> Region {
+        let geometry = self.geometry;
+        self.normals.clear();
+        self.weights.clear();
         let mut area = 0.0f64;
         for &f in &faces {
             area += f64::from(geometry.areas[f.index()]);
             if let Some(n) = geometry.normals[f.index()] {
-                normals.push(n);
-                weights.push(geometry.areas[f.index()]);
+                self.normals.push(n);
+                self.weights.push(geometry.areas[f.index()]);
             }
         }
-        let cone = fit_cone(&normals, &weights, cones[old as usize]).unwrap_or(NormalCone {
+        let cone = fit_cone(&self.normals, &self.weights, bound).unwrap_or(NormalCone {
             axis: Vec3::Z,
             half_angle: 0.0,
         });
-        regions.push(Region {
+        Region {
             faces,
             axis: cone.axis,
             half_angle: cone.half_angle,
             area: area as f32,
-            seed: seeds[r],
-        });
+            seed,
+        }
     }
-    Ok(Segmentation {
-        regions,
-        face_region,
-    })
 }
