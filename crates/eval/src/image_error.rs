@@ -403,53 +403,106 @@ pub fn compare_views(
     render.normal_counts = false;
     let mut renderer = Renderer::new(render)?;
     let mut views = Vec::with_capacity(source.len());
-    let mut total = PixelSums::default();
-    // Specks and counted pixels of the patches' images, then of the source's.
-    let mut speck_sums = [0usize; 4];
+    let mut pooled = PooledSums::default();
     let mut size = [0, 0];
     for (k, camera) in source.cameras.iter().enumerate() {
         let (patch_ms, image) =
             time_frames(&mut renderer, runs, |r| Ok(r.render(scene, camera)?.image))?;
         size = [image.width(), image.height()];
-        let interior = &source.interiors[k];
-        let sums = compare_images(&source.images[k], interior, &image, source.tolerance);
-        let width = image.width() as usize;
-        let specks = specks_within(image.pixels(), &interior_of(&image), width);
-        let source_specks = &source.specks[k];
-        views.push(ViewError {
-            direction: source.directions[k].to_array(),
-            source_pixels: sums.source,
-            patch_pixels: sums.patch,
-            hole_pixels: sums.holes,
-            hole_fraction: ratio(sums.holes as f64, sums.source as f64),
-            interior_source_pixels: sums.interior,
-            interior_hole_pixels: sums.interior_holes,
-            speck_fraction: specks.fraction(),
-            source_speck_fraction: source_specks.fraction(),
-            psnr_db: psnr(sums.squared, sums.compared),
-            mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
-            patch_ms,
-            source_ms: source.source_ms[k],
-        });
+        views.push(measure_view(source, k, &image, patch_ms, &mut pooled));
+    }
+    let drawn = DrawnViews {
+        size,
+        runs,
+        threads: renderer.threads(),
+    };
+    Ok(pooled_error(source, views, &pooled, drawn))
+}
+
+/// Sums over all views: the pixel sums, then the specks and counted pixels of the
+/// patches' images and of the source's.
+#[derive(Default)]
+struct PooledSums {
+    /// Pixel sums over all views (`patch` is left at 0: nothing pooled reads it).
+    total: PixelSums,
+    /// Specks and counted pixels of the patches' images, then of the source's.
+    speck_sums: [usize; 4],
+}
+
+impl PooledSums {
+    /// Adds one view's pixel sums and the specks of its two images.
+    fn add(&mut self, sums: &PixelSums, specks: &Specks, source_specks: &Specks) {
+        let total = &mut self.total;
         total.source += sums.source;
         total.holes += sums.holes;
         total.interior += sums.interior;
         total.interior_holes += sums.interior_holes;
-        speck_sums[0] += specks.pixels.len();
-        speck_sums[1] += specks.counted;
-        speck_sums[2] += source_specks.pixels.len();
-        speck_sums[3] += source_specks.counted;
+        self.speck_sums[0] += specks.pixels.len();
+        self.speck_sums[1] += specks.counted;
+        self.speck_sums[2] += source_specks.pixels.len();
+        self.speck_sums[3] += source_specks.counted;
         total.compared += sums.compared;
         total.squared += sums.squared;
         total.covered_squared += sums.covered_squared;
         total.depth_pixels += sums.depth_pixels;
         total.depth_sum += sums.depth_sum;
     }
+}
+
+/// How the patches' frames were drawn: the image size, the timed frames per view and
+/// the renderer's threads.
+struct DrawnViews {
+    size: [u32; 2],
+    runs: usize,
+    threads: usize,
+}
+
+/// Compares the patches' `image` of view `k` with the source's, adds its sums to
+/// `pooled` and returns the view's error (`patch_ms`: the patches' frame time).
+fn measure_view(
+    source: &SourceViews,
+    k: usize,
+    image: &RenderedImage,
+    patch_ms: f64,
+    pooled: &mut PooledSums,
+) -> ViewError {
+    let interior = &source.interiors[k];
+    let sums = compare_images(&source.images[k], interior, image, source.tolerance);
+    let width = image.width() as usize;
+    let specks = specks_within(image.pixels(), &interior_of(image), width);
+    let source_specks = &source.specks[k];
+    let view = ViewError {
+        direction: source.directions[k].to_array(),
+        source_pixels: sums.source,
+        patch_pixels: sums.patch,
+        hole_pixels: sums.holes,
+        hole_fraction: ratio(sums.holes as f64, sums.source as f64),
+        interior_source_pixels: sums.interior,
+        interior_hole_pixels: sums.interior_holes,
+        speck_fraction: specks.fraction(),
+        source_speck_fraction: source_specks.fraction(),
+        psnr_db: psnr(sums.squared, sums.compared),
+        mean_depth_error: ratio(sums.depth_sum, sums.depth_pixels as f64),
+        patch_ms,
+        source_ms: source.source_ms[k],
+    };
+    pooled.add(&sums, &specks, source_specks);
+    view
+}
+
+/// The image error over all `views` from the sums `pooled` over them.
+fn pooled_error(
+    source: &SourceViews,
+    views: Vec<ViewError>,
+    pooled: &PooledSums,
+    drawn: DrawnViews,
+) -> ImageError {
+    let (total, speck_sums) = (&pooled.total, &pooled.speck_sums);
     let mean_depth_error = ratio(total.depth_sum, total.depth_pixels as f64);
     let mut patch_ms: Vec<f64> = views.iter().map(|v| v.patch_ms).collect();
     let mut source_ms = source.source_ms.clone();
-    Ok(ImageError {
-        size,
+    ImageError {
+        size: drawn.size,
         psnr_db: psnr(total.squared, total.compared),
         psnr_covered_db: psnr(total.covered_squared, total.depth_pixels),
         hole_fraction: ratio(total.holes as f64, total.source as f64),
@@ -460,11 +513,11 @@ pub fn compare_views(
         mean_depth_error_rel: ratio(mean_depth_error, source.diagonal),
         patch_ms: median(&mut patch_ms),
         source_ms: median(&mut source_ms),
-        runs,
-        threads: renderer.threads(),
+        runs: drawn.runs,
+        threads: drawn.threads,
         source_drawn_with: source.drawing,
         views,
-    })
+    }
 }
 
 /// The median wall time (ms) of `runs` frames (taken into `1..=MAX_RUNS`) `frame` draws
