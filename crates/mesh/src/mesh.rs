@@ -165,45 +165,46 @@ impl TriangleMesh {
 
     /// Checks the invariants listed under `# Guarantees`.
     pub fn validate(&self) -> Result<(), MeshError> {
-        let bad = |problem| Err(MeshError::InvalidMesh { problem });
+        self.check_geometry()?;
+        self.check_attributes()?;
+        self.check_materials()
+    }
+
+    /// The size limits, finite origin and positions, and in-range vertex indices.
+    fn check_geometry(&self) -> Result<(), MeshError> {
         let n = self.positions.len();
         if n >= u32::MAX as usize || self.triangles.len() >= u32::MAX as usize {
-            return bad(MeshProblem::TooLarge);
+            return invalid(MeshProblem::TooLarge);
         }
         if !self.origin.is_finite() {
-            return bad(MeshProblem::NonFinite {
+            return invalid(MeshProblem::NonFinite {
                 element: Element::Vertex(0),
             });
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return bad(MeshProblem::NonFinite {
+            return invalid(MeshProblem::NonFinite {
                 element: Element::Vertex(i as u64),
             });
         }
         for (f, t) in self.triangles.iter().enumerate() {
             if let Some(&index) = t.iter().find(|&&i| i as usize >= n) {
-                return bad(MeshProblem::IndexOutOfRange {
+                return invalid(MeshProblem::IndexOutOfRange {
                     face: f as u32,
                     index,
                     vertex_count: n,
                 });
             }
         }
-        let check_len = |array, len: usize, expected: usize| {
-            if len == expected {
-                Ok(())
-            } else {
-                bad(MeshProblem::LengthMismatch {
-                    array,
-                    len,
-                    expected,
-                })
-            }
-        };
+        Ok(())
+    }
+
+    /// The lengths and finite values of the face UVs, vertex colours and vertex normals.
+    fn check_attributes(&self) -> Result<(), MeshError> {
+        let n = self.positions.len();
         if let Some(uvs) = &self.face_uvs {
             check_len(MeshArray::FaceUvs, uvs.len(), self.triangles.len())?;
             if let Some(f) = uvs.iter().position(|c| c.iter().any(|uv| !uv.is_finite())) {
-                return bad(MeshProblem::NonFinite {
+                return invalid(MeshProblem::NonFinite {
                     element: Element::TexCoord(f as u64),
                 });
             }
@@ -214,24 +215,30 @@ impl TriangleMesh {
         if let Some(normals) = &self.vertex_normals {
             check_len(MeshArray::VertexNormals, normals.len(), n)?;
             if let Some(i) = normals.iter().position(|v| !v.is_finite()) {
-                return bad(MeshProblem::NonFinite {
+                return invalid(MeshProblem::NonFinite {
                     element: Element::Normal(i as u64),
                 });
             }
         }
-        if !self.face_materials.is_empty() {
-            check_len(
-                MeshArray::FaceMaterials,
-                self.face_materials.len(),
-                self.triangles.len(),
-            )?;
-            let m = self.materials.len();
-            if let Some(f) = self.face_materials.iter().position(|id| id.index() >= m) {
-                return bad(MeshProblem::MaterialOutOfRange {
-                    face: f as u32,
-                    material: self.face_materials[f].0,
-                });
-            }
+        Ok(())
+    }
+
+    /// The length of the face materials and their in-range material ids (when any).
+    fn check_materials(&self) -> Result<(), MeshError> {
+        if self.face_materials.is_empty() {
+            return Ok(());
+        }
+        check_len(
+            MeshArray::FaceMaterials,
+            self.face_materials.len(),
+            self.triangles.len(),
+        )?;
+        let m = self.materials.len();
+        if let Some(f) = self.face_materials.iter().position(|id| id.index() >= m) {
+            return invalid(MeshProblem::MaterialOutOfRange {
+                face: f as u32,
+                material: self.face_materials[f].0,
+            });
         }
         Ok(())
     }
@@ -411,6 +418,24 @@ pub(crate) fn world_bounds_centre(points: &[DVec3]) -> DVec3 {
         c
     } else {
         DVec3::ZERO
+    }
+}
+
+/// The invalid-mesh error for `problem`.
+fn invalid(problem: MeshProblem) -> Result<(), MeshError> {
+    Err(MeshError::InvalidMesh { problem })
+}
+
+/// Checks that `array` holds `expected` entries (it holds `len`).
+fn check_len(array: MeshArray, len: usize, expected: usize) -> Result<(), MeshError> {
+    if len == expected {
+        Ok(())
+    } else {
+        invalid(MeshProblem::LengthMismatch {
+            array,
+            len,
+            expected,
+        })
     }
 }
 
