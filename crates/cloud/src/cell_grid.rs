@@ -109,6 +109,16 @@ fn centre_and_half(lo: Vec3, hi: Vec3) -> (DVec3, DVec3) {
     ((lo + hi) * 0.5, (hi - lo) * 0.5)
 }
 
+/// The order to store the items in: the gridded items of `keyed` in its order, then the
+/// `extras`.
+fn stored_order(keyed: Vec<(u64, u32)>, extras: Vec<u32>) -> Vec<u32> {
+    let mut order: Vec<u32> = Vec::with_capacity(keyed.len() + extras.len());
+    order.par_extend(keyed.par_iter().map(|&(_, k)| k));
+    drop(keyed);
+    order.extend(extras);
+    order
+}
+
 impl CellGrid {
     /// Grids `boxes` (`(lo, hi)` per item) and gives the order to store the items in: the
     /// item at each position, grouped by grid cell, the extras last. `None` when there are
@@ -124,6 +134,26 @@ impl CellGrid {
             let (lo, hi) = box_of(k);
             centre_and_half(lo, hi)
         };
+        let median = Self::median_half(len, &half_of)?;
+        let (extras, limit) = Self::split_extras(len, &half_of, median);
+        // Exactly the boxes `split_extras` did not set aside (a NaN extent among them).
+        let in_grid = |k: usize| {
+            let half = half_of(k).1.max_element();
+            half.partial_cmp(&limit) != Some(std::cmp::Ordering::Greater)
+        };
+        let (lo, hi, reach) = Self::gridded_bounds(len, &half_of, &in_grid)?;
+        let mut grid = Self::sized(lo, hi, reach, median);
+        let keyed = grid.sorted_keys(len, &half_of, &in_grid);
+        grid.fill(&keyed);
+        grid.reaches = grid.cell_reaches(&keyed, &half_of);
+        grid.extras = keyed.len()..keyed.len() + extras.len();
+        let order = stored_order(keyed, extras);
+        Some((grid, order))
+    }
+
+    /// The median over the boxes of their largest half-extent; `None` unless it is
+    /// positive and finite.
+    fn median_half(len: usize, half_of: &(impl Fn(usize) -> (DVec3, DVec3) + Sync)) -> Option<f64> {
         let mut halves: Vec<f64> = (0..len)
             .into_par_iter()
             .map(|k| half_of(k).1.max_element())
@@ -134,12 +164,16 @@ impl CellGrid {
         if !(median > 0.0 && median.is_finite()) {
             return None;
         }
-        let (extras, limit) = Self::split_extras(len, &half_of, median);
-        // Exactly the boxes `split_extras` did not set aside (a NaN extent among them).
-        let in_grid = |k: usize| {
-            let half = half_of(k).1.max_element();
-            half.partial_cmp(&limit) != Some(std::cmp::Ordering::Greater)
-        };
+        Some(median)
+    }
+
+    /// The lowest and highest centre and the largest half-extent (per axis) of the gridded
+    /// boxes; `None` when the centres' bounds are not finite.
+    fn gridded_bounds(
+        len: usize,
+        half_of: &(impl Fn(usize) -> (DVec3, DVec3) + Sync),
+        in_grid: &(impl Fn(usize) -> bool + Sync),
+    ) -> Option<(DVec3, DVec3, DVec3)> {
         let (lo, hi, reach) = (0..len)
             .into_par_iter()
             .filter(|&k| in_grid(k))
@@ -154,11 +188,17 @@ impl CellGrid {
         if !lo.is_finite() || !hi.is_finite() {
             return None;
         }
+        Some((lo, hi, reach))
+    }
+
+    /// An empty grid over the centres `lo..=hi`: cells [`GRID_SCALE`] medians wide, or
+    /// wider where the span would need more than 2²¹ − 1 cells an axis.
+    fn sized(lo: DVec3, hi: DVec3, reach: DVec3, median: f64) -> CellGrid {
         let max_cells = f64::from((1u32 << AXIS_BITS) - 1);
         let side = (GRID_SCALE * median).max((hi - lo).max_element() / (max_cells - 1.0));
         let span = ((hi - lo) / side).floor() + DVec3::ONE;
         let dims = [span.x as i64, span.y as i64, span.z as i64];
-        let mut grid = CellGrid {
+        CellGrid {
             origin: lo,
             side,
             dims,
@@ -167,24 +207,27 @@ impl CellGrid {
             reaches: Vec::new(),
             slots: Vec::new(),
             extras: 0..0,
-        };
+        }
+    }
+
+    /// The gridded items, each with the key of the cell holding its box centre, sorted by
+    /// key (then item).
+    fn sorted_keys(
+        &self,
+        len: usize,
+        half_of: &(impl Fn(usize) -> (DVec3, DVec3) + Sync),
+        in_grid: &(impl Fn(usize) -> bool + Sync),
+    ) -> Vec<(u64, u32)> {
         let mut keyed: Vec<(u64, u32)> = (0..len)
             .into_par_iter()
             .filter(|&k| in_grid(k))
             .map(|k| {
                 let c = half_of(k).0;
-                (grid.key_of(grid.cell_of(c)), k as u32)
+                (self.key_of(self.cell_of(c)), k as u32)
             })
             .collect();
         keyed.par_sort_unstable();
-        grid.fill(&keyed);
-        grid.reaches = grid.cell_reaches(&keyed, &half_of);
-        grid.extras = keyed.len()..keyed.len() + extras.len();
-        let mut order: Vec<u32> = Vec::with_capacity(len);
-        order.par_extend(keyed.par_iter().map(|&(_, k)| k));
-        drop(keyed);
-        order.extend(extras);
-        Some((grid, order))
+        keyed
     }
 
     /// The boxes kept out of the grid and the half-extent limit of the rest: the limit

@@ -133,46 +133,69 @@ pub(crate) struct TilePlan {
 /// Assigns every point to its tile and to the buffers of the neighbours it is near (see the
 /// module documentation).
 pub(crate) fn plan_tiles(positions: &[Vec3], origin: DVec3, grid: TileGrid) -> TilePlan {
+    let pairs = tile_pairs(positions, origin, grid);
+    group_tiles(grid, &pairs)
+}
+
+/// One `(packed tile key, point, own)` pair: the point is in the tile, as its own point or
+/// (`own` false) a buffer point.
+type TilePair = (u64, u32, bool);
+
+/// Every point's pairs with its own tile and the neighbours whose buffers hold it, sorted
+/// by packed tile key, then point.
+fn tile_pairs(positions: &[Vec3], origin: DVec3, grid: TileGrid) -> Vec<TilePair> {
     let n = positions.len();
     let world = |i: usize| origin + positions[i].as_dvec3();
     let key_min = (0..n)
         .into_par_iter()
         .map(|i| grid.key_of(world(i)))
         .reduce(|| [i64::MAX; 3], |a, b| [0, 1, 2].map(|k| a[k].min(b[k])));
-    // Packed keys, one axis per 21 bits, shifted so the lowest occupied tile (less one, for
-    // buffers) is 0.
-    let pack = |key: [i64; 3]| {
-        let axis = |k: usize| ((key[k] - key_min[k] + 1).clamp(0, (1 << 21) - 1)) as u64;
-        (axis(2) << 42) | (axis(1) << 21) | axis(0)
-    };
-    let near = grid.buffer / grid.size;
-    let mut pairs: Vec<(u64, u32, bool)> = (0..n)
+    let mut pairs: Vec<TilePair> = (0..n)
         .into_par_iter()
         .flat_map_iter(|i| {
             let w = world(i);
             let key = grid.key_of(w);
-            // Per axis: the neighbour whose buffer holds the point (-1, +1) or none (0).
-            let side = [0, 1, 2].map(|k| {
-                let f = (w[k] - grid.anchor[k]) / grid.size - key[k] as f64;
-                if f < near {
-                    -1
-                } else if f > 1.0 - near {
-                    1
-                } else {
-                    0
-                }
-            });
+            let side = buffer_sides(&grid, w, key);
             (0..8u32).filter_map(move |combo| {
                 let step = [0, 1, 2].map(|k| if combo & (1 << k) != 0 { side[k] } else { 0 });
                 let moves = (0..3).all(|k| combo & (1 << k) == 0 || side[k] != 0);
                 moves.then(|| {
                     let tile = [0, 1, 2].map(|k| key[k] + step[k]);
-                    (pack(tile), i as u32, combo == 0)
+                    (pack_key(tile, key_min), i as u32, combo == 0)
                 })
             })
         })
         .collect();
     pairs.par_sort_unstable_by_key(|p| (p.0, p.1));
+    pairs
+}
+
+/// Per axis, the neighbour of tile `key` whose buffer holds world point `w` (-1, +1) or
+/// none (0).
+fn buffer_sides(grid: &TileGrid, w: DVec3, key: [i64; 3]) -> [i64; 3] {
+    let near = grid.buffer / grid.size;
+    [0, 1, 2].map(|k| {
+        let f = (w[k] - grid.anchor[k]) / grid.size - key[k] as f64;
+        if f < near {
+            -1
+        } else if f > 1.0 - near {
+            1
+        } else {
+            0
+        }
+    })
+}
+
+/// The packed key of tile `key`, one axis per 21 bits, shifted so the lowest occupied tile
+/// `key_min` (less one, for buffers) is 0.
+fn pack_key(key: [i64; 3], key_min: [i64; 3]) -> u64 {
+    let axis = |k: usize| ((key[k] - key_min[k] + 1).clamp(0, (1 << 21) - 1)) as u64;
+    (axis(2) << 42) | (axis(1) << 21) | axis(0)
+}
+
+/// The plan from the sorted `pairs`: each run of one tile key is a tile, or outliers when
+/// it holds fewer than [`OUTLIER_TILE_POINTS`] points (tiles with no own point are left out).
+fn group_tiles(grid: TileGrid, pairs: &[TilePair]) -> TilePlan {
     let mut tiles = Vec::new();
     let (mut outlier_points, mut outlier_tiles) = (0, 0);
     let mut start = 0;
