@@ -26,7 +26,7 @@ use spatch_mesh::{FaceAdjacency, FaceId, TriangleMesh};
 use crate::boundary_reach::reach_past_boundaries;
 use crate::colour::{choose_channel, node_colour, Footprint};
 use crate::colour_grid::{grid_factor, sample_colour_grid, SampleFaces};
-use crate::frame_fit::{basis_from_axis, min_area_rect};
+use crate::frame_fit::{basis_from_axis, min_area_rect, PlaneRect};
 use crate::lattice::Lattice;
 use crate::node_cast::{cast_nodes, Hit};
 use crate::overlap::{needed_nodes, neighbourhood};
@@ -251,11 +251,27 @@ fn fit_region(
     index: usize,
     region: &FitRegion<'_>,
 ) -> Result<RegionPatches, FitError> {
-    let mesh = job.mesh;
     let axis = region.axis.normalize_or_zero();
     if !axis.is_finite() || axis == Vec3::ZERO {
         return Err(FitError::InvalidAxis { region: index });
     }
+    let faces = faces_with_area(job.mesh, index, region)?;
+    if faces.is_empty() {
+        return Ok(RegionPatches::default());
+    }
+    // 1. Frame.
+    let rect = region_rect(job.mesh, axis, &faces);
+    // 2.-6. at the target spacing, then finer while the region gives no patch.
+    fit_refining(job, index, &faces, &rect)
+}
+
+/// The faces of `region` (number `index`) with a positive area; an error when one is not
+/// a face of `mesh`.
+fn faces_with_area(
+    mesh: &TriangleMesh,
+    index: usize,
+    region: &FitRegion<'_>,
+) -> Result<Vec<FaceId>, FitError> {
     if let Some(&bad) = region.faces.iter().find(|f| f.index() >= mesh.face_count()) {
         return Err(FitError::FaceOutOfRange {
             region: index,
@@ -264,20 +280,20 @@ fn fit_region(
         });
     }
     // Faces edge-on or facing away from the axis cannot be seen by the patch.
-    let faces: Vec<FaceId> = region
+    Ok(region
         .faces
         .iter()
         .copied()
         .filter(|&f| mesh.face_area(f) > 0.0)
-        .collect();
-    if faces.is_empty() {
-        return Ok(RegionPatches::default());
-    }
+        .collect())
+}
 
-    // 1. Frame.
+/// The smallest rectangle holding the corners of `faces` projected along the unit `axis`
+/// (step 1: the region's frame).
+fn region_rect(mesh: &TriangleMesh, axis: Vec3, faces: &[FaceId]) -> PlaneRect {
     let basis = basis_from_axis(axis);
     let mut projected: Vec<DVec2> = Vec::with_capacity(faces.len() * 3);
-    for &f in &faces {
+    for &f in faces {
         for p in mesh.face_positions(f) {
             projected.push(DVec2::new(
                 f64::from(p.dot(basis.x)),
@@ -285,12 +301,20 @@ fn fit_region(
             ));
         }
     }
-    let rect = min_area_rect(basis, &mut projected);
+    min_area_rect(basis, &mut projected)
+}
 
-    // 2.-6. at the target spacing, then finer while the region gives no patch.
+/// Steps 2-6 over `rect` at the job's spacing, then at finer spacings while the region
+/// (number `index`) gives no patch; empty when it never does.
+fn fit_refining(
+    job: &RegionJob<'_>,
+    index: usize,
+    faces: &[FaceId],
+    rect: &PlaneRect,
+) -> Result<RegionPatches, FitError> {
     let mut spacing = job.spacing;
     for refinement in 0..=MAX_REFINEMENTS {
-        let (lattice, count) = Lattice::over_rect(&rect, spacing, job.options.overlap);
+        let (lattice, count) = Lattice::over_rect(rect, spacing, job.options.overlap);
         if count > job.options.max_region_nodes as u64 {
             if refinement > 0 {
                 // Finer would cost more nodes than allowed: the region stays empty.
@@ -303,14 +327,14 @@ fn fit_region(
                 limit: job.options.max_region_nodes,
             });
         }
-        let patches = fit_lattice(job, &faces, &lattice, spacing)?;
+        let patches = fit_lattice(job, faces, &lattice, spacing)?;
         if !patches.is_empty() {
             return Ok(RegionPatches {
                 patches,
                 refined: refinement > 0,
             });
         }
-        match finer_spacing(spacing, &rect) {
+        match finer_spacing(spacing, rect) {
             Some(finer) => spacing = finer,
             None => break,
         }
@@ -332,7 +356,7 @@ pub const THIN_REGION_CELLS: f32 = 8.0;
 /// The next spacing to try for a region over `rect` that gave no patch at `spacing`: half of
 /// it, and at most a quarter of the rectangle's narrow side (a region narrower than a cell
 /// cannot hold one with four filled corners); `None` when the region is not thin.
-fn finer_spacing(spacing: f32, rect: &crate::frame_fit::PlaneRect) -> Option<f32> {
+fn finer_spacing(spacing: f32, rect: &PlaneRect) -> Option<f32> {
     let size = rect.max - rect.min;
     let narrow = size.x.min(size.y) as f32;
     if !(narrow > 0.0 && narrow < THIN_REGION_CELLS * spacing) {
