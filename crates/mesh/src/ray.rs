@@ -49,6 +49,8 @@ impl Bvh {
 
     /// The nearest hit with `t` in `[t_min, t_max]` on a face that `accept` returns `true`
     /// for. Rejected faces are see-through: the ray continues behind them.
+    /// One function, though long: a hot kernel (every ray of a conversion walks its
+    /// traversal loop).
     pub fn ray_cast_filtered(
         &self,
         origin: Vec3,

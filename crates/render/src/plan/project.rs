@@ -114,6 +114,8 @@ pub(crate) fn project_nodes_exact(
 /// Projects the nodes of `range` by trilinear interpolation of its box
 /// corners (`d` is the range's displacement range), appending to `out`
 /// (and the positions to `xy`, see [`NodeXY`]).
+/// One function, though long: a hot kernel (every node a frame projects
+/// passes through its inner loop).
 #[inline(always)]
 pub(crate) fn project_nodes_trilinear(
     level: &MipLevel,
