@@ -125,6 +125,20 @@ pub struct PlanOptions {
     pub pixel_factor: f32,
 }
 
+/// The error of a tile too small for the default buffer (`buffer`, from `spacing`): the
+/// user gave no buffer, so the message says which one was taken and what to change.
+fn default_buffer_too_wide(buffer: f64, spacing: f32, tile: f64) -> TilingError {
+    TilingError::InvalidOption {
+        option: "tile size",
+        reason: format!(
+            "{tile} is too small for the default buffer of {TILE_BUFFER_PIXELS} pixels \
+             ({buffer:.4} at the spacing {spacing:.4e}), which must be under half a tile: \
+             take a tile of more than about {:.4} or give a smaller buffer",
+            buffer / 0.49
+        ),
+    }
+}
+
 /// Streams `input` and plans its tiles (see the module documentation).
 ///
 /// Errors: the readers' errors, [`TilingError::NoPoints`], [`TilingError::InvalidOption`]
@@ -150,10 +164,10 @@ pub fn make_plan(input: &Path, options: &PlanOptions) -> Result<Plan, TilingErro
         TILE_BUFFER_PIXELS * spacing * options.pixel_factor,
     ));
     if !(buffer.is_finite() && buffer >= 0.0 && buffer < 0.49 * options.tile) {
-        return Err(invalid(
-            "buffer",
-            "must be 0 or more and under half the tile size",
-        ));
+        return Err(match options.buffer {
+            Some(_) => invalid("buffer", "must be 0 or more and under half the tile size"),
+            None => default_buffer_too_wide(buffer, spacing, options.tile),
+        });
     }
     let grid =
         TileGrid::new(lo, options.tile, buffer).ok_or_else(|| invalid("buffer", "out of range"))?;

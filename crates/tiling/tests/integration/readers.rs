@@ -97,3 +97,44 @@ fn a_plan_counts_every_point_once_and_estimates_the_density() {
         assert!(tile.buffered.min[0] < tile.bounds.min[0]);
     }
 }
+
+#[test]
+fn a_tile_too_small_for_the_default_buffer_is_refused_naming_the_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.ply");
+    let city = Cityscape::new(20_000, 5);
+    write_city_ply(&city, &path);
+    let options = PlanOptions {
+        tile: 0.5,
+        buffer: None,
+        spacing: None,
+        pixel_factor: 2.0,
+    };
+    let Err(TilingError::InvalidOption { option, reason }) = make_plan(&path, &options) else {
+        panic!("a tile of 0.5 with a buffer of 16 pixels of about 0.1 m must be refused");
+    };
+    assert_eq!(option, "tile size");
+    assert!(reason.contains("default buffer"), "{reason}");
+    // The size it names is enough.
+    let least: f64 = reason
+        .split("more than about ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .expect("the least tile size");
+    let options = PlanOptions {
+        tile: least * 1.2,
+        ..options
+    };
+    make_plan(&path, &options).expect("a tile just above the size the message names");
+    // A buffer given keeps the plain message.
+    let options = PlanOptions {
+        tile: 0.5,
+        buffer: Some(0.3),
+        ..options
+    };
+    let Err(TilingError::InvalidOption { option, .. }) = make_plan(&path, &options) else {
+        panic!("a buffer over half a tile must be refused");
+    };
+    assert_eq!(option, "buffer");
+}
