@@ -90,7 +90,9 @@ pub(crate) fn convert_and_write(
     let mut finished = write_and_measure(&progress, conversion, output, args.no_error, started)?;
     warn_over_error_budget(&mut finished, options.fit.max_step_error);
     let holes = if args.holes {
-        Some(timed_holes(&progress, &finished.conversion)?)
+        Some(timed_holes(&progress, || {
+            measure_holes(&finished.conversion)
+        })?)
     } else {
         None
     };
@@ -135,11 +137,14 @@ fn warn_over_error_budget(finished: &mut Measured, max_step_error: f32) {
     }
 }
 
-/// Measures the holes (the `measuring holes` step of `progress`), with the seconds it took.
-fn timed_holes(progress: &Progress, conversion: &Conversion) -> anyhow::Result<(HolePair, f64)> {
+/// Runs `measure` as the `measuring holes` step of `progress`, with the seconds it took.
+pub(crate) fn timed_holes<T>(
+    progress: &Progress,
+    measure: impl FnOnce() -> anyhow::Result<T>,
+) -> anyhow::Result<(T, f64)> {
     progress.step("measuring holes");
     let start = Instant::now();
-    let holes = measure_holes(conversion)?;
+    let holes = measure()?;
     Ok((holes, start.elapsed().as_secs_f64()))
 }
 

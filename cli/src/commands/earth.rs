@@ -14,7 +14,7 @@ use spatch_eval::{hole_fraction, HoleOptions, HoleReport};
 use spatch_format::WriteOptions;
 
 use super::convert::{
-    conversion_steps, report_json, show_event, summary, write_and_measure, Measured,
+    conversion_steps, report_json, show_event, summary, timed_holes, write_and_measure, Measured,
 };
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
@@ -157,7 +157,9 @@ pub(crate) fn run(args: &EarthArgs) -> anyhow::Result<()> {
         started,
     )?;
     let holes = if args.holes {
-        Some(timed_holes(&progress, &finished.conversion)?)
+        Some(timed_holes(&progress, || {
+            globe_holes(&finished.conversion)
+        })?)
     } else {
         None
     };
@@ -200,14 +202,10 @@ fn earth_failure(e: EarthError) -> anyhow::Error {
     }
 }
 
-/// Measures the holes against the globe mesh (the `measuring holes` step of `progress`),
-/// with the seconds it took.
-fn timed_holes(progress: &Progress, c: &Conversion) -> anyhow::Result<(HoleReport, f64)> {
-    progress.step("measuring holes");
-    let start = Instant::now();
-    let holes = hole_fraction(&c.scene, &c.mesh, &HoleOptions::default())
-        .map_err(|e| InternalFailure(format!("measuring holes failed: {e}")))?;
-    Ok((holes, start.elapsed().as_secs_f64()))
+/// The hole fraction of the globe's scene against the globe mesh.
+fn globe_holes(c: &Conversion) -> anyhow::Result<HoleReport> {
+    hole_fraction(&c.scene, &c.mesh, &HoleOptions::default())
+        .map_err(|e| InternalFailure(format!("measuring holes failed: {e}")).into())
 }
 
 /// Writes the report when asked, prints it with `--json`, and prints the summary.
