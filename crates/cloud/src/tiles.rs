@@ -150,12 +150,13 @@ fn tile_pairs(positions: &[Vec3], origin: DVec3, grid: TileGrid) -> Vec<TilePair
         .into_par_iter()
         .map(|i| grid.key_of(world(i)))
         .reduce(|| [i64::MAX; 3], |a, b| [0, 1, 2].map(|k| a[k].min(b[k])));
+    let near = grid.buffer / grid.size;
     let mut pairs: Vec<TilePair> = (0..n)
         .into_par_iter()
         .flat_map_iter(|i| {
             let w = world(i);
             let key = grid.key_of(w);
-            let side = buffer_sides(&grid, w, key);
+            let side = buffer_sides(&grid, near, w, key);
             (0..8u32).filter_map(move |combo| {
                 let step = [0, 1, 2].map(|k| if combo & (1 << k) != 0 { side[k] } else { 0 });
                 let moves = (0..3).all(|k| combo & (1 << k) == 0 || side[k] != 0);
@@ -171,9 +172,8 @@ fn tile_pairs(positions: &[Vec3], origin: DVec3, grid: TileGrid) -> Vec<TilePair
 }
 
 /// Per axis, the neighbour of tile `key` whose buffer holds world point `w` (-1, +1) or
-/// none (0).
-fn buffer_sides(grid: &TileGrid, w: DVec3, key: [i64; 3]) -> [i64; 3] {
-    let near = grid.buffer / grid.size;
+/// none (0); `near` is the buffer in tile sides (computed once per plan, not per point).
+fn buffer_sides(grid: &TileGrid, near: f64, w: DVec3, key: [i64; 3]) -> [i64; 3] {
     [0, 1, 2].map(|k| {
         let f = (w[k] - grid.anchor[k]) / grid.size - key[k] as f64;
         if f < near {
