@@ -37,7 +37,7 @@
 
 use crate::fixed::{Node, EMPTY_NODE};
 use crate::grid::{CELL_DRAW, CELL_RIGHT, CELL_TOP};
-use crate::raster::band::{keep_nearer, splat_sample, BandTarget};
+use crate::raster::band::{keep_nearer, patch_word, splat_sample, BandTarget};
 
 /// Largest subdivision per cell side; bigger cells go to the triangle
 /// rasterizer (cheaper per pixel at that size, and exact).
@@ -83,7 +83,7 @@ pub(crate) fn draw_nodes(
             }
             let (ci, a) = if i + 1 < cols { (i, 0) } else { (i - 1, 1) };
             let sub = sub_word(ci, cj, a, b);
-            splat_sample(t, node[0] >> 16, py, node[2], sub, item);
+            splat_sample(t, node[0] >> 16, py, node[2], patch_word(sub, item));
         }
     }
 }
@@ -214,18 +214,18 @@ pub(super) fn draw_cells<const NU: u32, const NV: u32, const WALK: bool>(
             let c = [&b[0], &b[1], &a[0], &a[1]];
             let right = (f & CELL_RIGHT != 0) as u32;
             let top = (f & CELL_TOP != 0) as u32;
-            let (cut, sub0) = ([nu, right, nv, top], sub_word(i, j, 0, 0));
+            let (cut, word) = ([nu, right, nv, top], patch_word(sub_word(i, j, 0, 0), item));
             if row_inside {
-                draw_cell::<false>(t, c, r, cut, sub0, item);
+                draw_cell::<false>(t, c, r, cut, word);
                 continue;
             }
             let Some(inside) = cell_in_band(t, c, piece.inside_columns) else {
                 continue;
             };
             if inside {
-                draw_cell::<false>(t, c, r, cut, sub0, item);
+                draw_cell::<false>(t, c, r, cut, word);
             } else {
-                draw_cell::<true>(t, c, r, cut, sub0, item);
+                draw_cell::<true>(t, c, r, cut, word);
             }
         }
     }
@@ -259,17 +259,17 @@ pub(crate) fn next_row(start: &mut [i64; 3], step: &mut [i64; 3], channels: [[i6
 /// Places the sub-nodes of one cell, `[nu, right, nv, top]` of `cut`: `nu`
 /// (plus one when `right` is 1) per row, `nv` rows (plus one when `top` is
 /// 1); `CLIP = false` when the caller has checked that the cell lies inside
-/// the band and the image. Why: the unclipped variant drops the per-row
-/// band test and the per-sample bounds compares (callgrind,
-/// `profile_sphere 500 1`: see docs/performance-log.md).
+/// the band and the image; `word0` is the [`patch_word`] of sub-node
+/// `(0, 0)`. Why: the unclipped variant drops the per-row band test and
+/// the per-sample bounds compares (callgrind, `profile_sphere 500 1`: see
+/// docs/performance-log.md).
 #[inline(always)]
 pub(crate) fn draw_cell<const CLIP: bool>(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     r: Reciprocals,
     [nu, right, nv, top]: [u32; 4],
-    sub0: u32,
-    item: u32,
+    word0: u64,
 ) {
     let (mut start, mut step, channels) = cell_differences::<CLIP>(t, c, r);
     let (y_lo, y_hi) = (t.y0 as i64, (t.y0 + t.rows) as i64);
@@ -277,7 +277,6 @@ pub(crate) fn draw_cell<const CLIP: bool>(
         nu,
         right,
         band: [y_lo, y_hi],
-        item,
     };
     // `nv` rows, then the closing one when `top` is 1 (the `break` says so
     // to the compiler). Why a row drawer of its own rather than the loop
@@ -287,7 +286,7 @@ pub(crate) fn draw_cell<const CLIP: bool>(
         if b == nv && top == 0 {
             break;
         }
-        rows.draw::<CLIP>(t, start, step, sub0 + b);
+        rows.draw::<CLIP>(t, start, step, word0 + b as u64);
         next_row(&mut start, &mut step, channels);
     }
 }
@@ -314,13 +313,13 @@ fn cell_differences<const CLIP: bool>(
 /// `nu × nv` (`r` their reciprocals), the run of sub-nodes `a0..=a1` that
 /// `run(b)` names (none when `None`), each sample pushed back by `z_bias`:
 /// the cells drawn by quarters ([`crate::raster::cell_quarters`]). `CLIP`
-/// as for [`draw_cell`].
+/// and `word0` as for [`draw_cell`].
 #[inline(always)]
 pub(crate) fn draw_cell_runs<const CLIP: bool>(
     t: &mut BandTarget<'_>,
     c: [&Node; 4],
     ([_, nv], r, z_bias): ([u32; 2], Reciprocals, i64),
-    (sub0, item): (u32, u32),
+    word0: u64,
     run: impl Fn(u32) -> Option<(u32, u32)>,
 ) {
     let (mut start, mut step, channels) = cell_differences::<CLIP>(t, c, r);
@@ -333,9 +332,8 @@ pub(crate) fn draw_cell_runs<const CLIP: bool>(
                 nu: a1 - a0 + 1,
                 right: 0,
                 band: [y_lo, y_hi],
-                item,
             };
-            row.draw::<CLIP>(t, v, step, sub0 + (a0 << 8) + b);
+            row.draw::<CLIP>(t, v, step, word0 + ((a0 << 8) + b) as u64);
         }
         next_row(&mut start, &mut step, channels);
     }
@@ -347,29 +345,27 @@ struct Row {
     nu: u32,
     right: u32,
     band: [i64; 2],
-    item: u32,
 }
 
 impl Row {
     /// Places one row of sub-nodes starting at `v` with column step
-    /// `step`, the first sample's sub-word `row_word`.
+    /// `step`, the first sample's [`patch_word`] `row_word`.
     #[inline(always)]
     fn draw<const CLIP: bool>(
         self,
         t: &mut BandTarget<'_>,
         mut v: [i64; 3],
         step: [i64; 3],
-        row_word: u32,
+        row_word: u64,
     ) {
         let Row {
             nu,
             right,
             band: [y_lo, y_hi],
-            item,
         } = self;
         let xy_shift = 16 + EXT;
-        // The sub-word of sample (a, b) is `row_word + a << 8`: kept as a
-        // running sum so the loop carries no index.
+        // The word of sample (a, b) is `row_word + a << 8` (the sub-word is
+        // its low half): kept as a running sum so the loop carries no index.
         let mut word = row_word;
         if CLIP {
             let a_end = nu + right;
@@ -379,7 +375,7 @@ impl Row {
             if !(y_first.max(y_last) < y_lo || y_first.min(y_last) >= y_hi) {
                 for _ in 0..a_end {
                     let (px, py) = ((v[0] >> xy_shift) as i32, (v[1] >> xy_shift) as i32);
-                    splat_sample(t, px, py, (v[2] >> EXT) as i32, word, item);
+                    splat_sample(t, px, py, (v[2] >> EXT) as i32, word);
                     word += 1 << 8;
                     v[0] += step[0];
                     v[1] += step[1];
@@ -390,14 +386,14 @@ impl Row {
             // `nu` samples, then the closing one: a loop of a constant
             // count when `nu` is (see `draw_cells_bilinear`).
             for _ in 0..nu {
-                place_inside(t, v, word, item);
+                place_inside(t, v, word);
                 word += 1 << 8;
                 v[0] += step[0];
                 v[1] += step[1];
                 v[2] += step[2];
             }
             if right != 0 {
-                place_inside(t, v, word, item);
+                place_inside(t, v, word);
             }
         }
     }
@@ -435,7 +431,7 @@ pub(crate) fn cell_in_band(
 /// Writes the sample at `v` (forward-difference units, `y` relative to
 /// the band) known to lie inside the band and the image.
 #[inline(always)]
-fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
+fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u64) {
     let xy_shift = 16 + EXT;
     let row = (v[1] >> xy_shift) as usize;
     let idx = row * t.width as usize + (v[0] >> xy_shift) as usize;
@@ -443,7 +439,7 @@ fn place_inside(t: &mut BandTarget<'_>, v: [i64; 3], word: u32, item: u32) {
     let z = (v[2] >> EXT) as i32;
     // The slice index still checks: a broken caller panics, never writes
     // elsewhere.
-    keep_nearer(&mut t.px[idx], z, word, item);
+    keep_nearer(&mut t.px[idx], z, word);
 }
 
 // The row walk of the bilinear cell drawer: a whole row of cells placed
@@ -557,13 +553,13 @@ fn sub_row<const NU: u32>(
         };
         [e(0), e(1) - y_origin, e(2)]
     };
-    let cell = |t: &mut BandTarget<'_>, f: u8, ends: [[i64; 3]; 2], word: u32| {
+    let cell = |t: &mut BandTarget<'_>, f: u8, ends: [[i64; 3]; 2], word: u64| {
         if f & CELL_DRAW != 0 && (b < nv || f & CELL_TOP != 0) {
-            place_span::<NU>(t, ends, [nu, lu], f & CELL_RIGHT != 0, word, item);
+            place_span::<NU>(t, ends, [nu, lu], f & CELL_RIGHT != 0, word);
         }
     };
     let mut left = lerp(&row.below[0], &row.above[0]);
-    let mut word = sub_word(0, row.j, 0, b);
+    let mut word = patch_word(sub_word(0, row.j, 0, b), item);
     let mut tops = 0;
     // Two cells a turn, the edge points taking turns as left and right.
     // Why: no copy of the right edge into the left one per cell.
@@ -589,26 +585,25 @@ fn sub_row<const NU: u32>(
 /// Places one cell's sub-nodes `(a, b)` of one sub-row, from its left edge
 /// point to its right one (`ends`), `a < nu` (`[nu, lu]` with
 /// `nu = 2^lu`), plus `a = nu` when `closing`; `word` is `(0, b)`'s
-/// sub-word.
+/// [`patch_word`].
 #[inline(always)]
 fn place_span<const NU: u32>(
     t: &mut BandTarget<'_>,
     [left, right]: [[i64; 3]; 2],
     [nu, lu]: [u32; 2],
     closing: bool,
-    word: u32,
-    item: u32,
+    word: u64,
 ) {
     let nu = if NU == 0 { nu } else { NU };
     // Exact: the difference is a multiple of `nu` (see the module header).
     let step = [0, 1, 2].map(|k| (right[k] - left[k]) >> lu);
     let (mut v, mut word) = (left, word);
     for _ in 0..nu {
-        place_inside(t, v, word, item);
+        place_inside(t, v, word);
         word += 1 << 8;
         v = [v[0] + step[0], v[1] + step[1], v[2] + step[2]];
     }
     if closing {
-        place_inside(t, right, word, item);
+        place_inside(t, right, word);
     }
 }

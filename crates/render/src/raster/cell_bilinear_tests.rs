@@ -228,7 +228,9 @@ fn rows_inside_a_band_draw_as_the_clipped_path_does() {
                 inside_columns,
             };
             draw_cells_bilinear(&mut t, &piece, 2, 3, PATCH_SAMPLE);
-            px.iter().map(|s| (s.depth, s.w0, s.w2)).collect::<Vec<_>>()
+            px.iter()
+                .map(|s| (s.depth, s.w0(), s.w2()))
+                .collect::<Vec<_>>()
         };
         if inside_columns {
             rows_taken += spans

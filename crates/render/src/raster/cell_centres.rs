@@ -33,7 +33,7 @@
 use std::hint::black_box;
 
 use crate::fixed::{Node, XY_FRAC_BITS};
-use crate::raster::band::{keep_nearer, BandTarget};
+use crate::raster::band::{keep_nearer, patch_word, BandTarget};
 
 /// Steps per cell side of the recorded place `(u, v)` of a pixel centre
 /// (the `nu × nv` the resolve's weight table reads): at most half a step
@@ -266,7 +266,7 @@ fn draw_centre<C: CentreTest>(
         return;
     };
     let s = &mut t.px[((py - t.y0) * t.width + px) as usize];
-    keep_nearer(s, z, sub0 + (a << 8) + b, item);
+    keep_nearer(s, z, patch_word(sub0 + (a << 8) + b, item));
 }
 
 /// Draws one cell as [`draw_cell`] does but always through the general

@@ -152,7 +152,7 @@ fn lazy_cells_write_the_pixels_places_and_depths_of_the_general_set_up() {
             let at = (k % w, k / w, round);
             assert_eq!(f.depth < Z_FAR, p.depth < Z_FAR, "pixel set {at:?}");
             if f.depth < Z_FAR {
-                assert_eq!(f.w0, p.w0, "place {at:?}");
+                assert_eq!(f.w0(), p.w0(), "place {at:?}");
                 assert!((f.depth - p.depth).abs() <= 1, "depth {at:?}");
                 written += 1;
             }
@@ -245,7 +245,7 @@ fn a_pixel_records_its_place_in_the_cell_within_half_a_step() {
             let (dx, dy) = ((k % w) as f32 + 0.5 - p0.0, (k / w) as f32 + 0.5 - p0.1);
             let (su, sv) = ((dx * vy - dy * vx) / det, (ux * dy - uy * dx) / det);
             let steps = CENTRE_STEPS as f32;
-            let (a, b) = (((s.w0 >> 8) & 255) as f32, (s.w0 & 255) as f32);
+            let (a, b) = (((s.w0() >> 8) & 255) as f32, (s.w0() & 255) as f32);
             assert!((a - su * steps).abs() < 0.52, "u {su} recorded {a}");
             assert!((b - sv * steps).abs() < 0.52, "v {sv} recorded {b}");
             let depth = 1000.0 + 49_000.0 * su + 89_000.0 * sv;

@@ -30,7 +30,7 @@ use crate::grid::{
     CELL_DRAW, CELL_EXACT, CELL_OPEN, CELL_OPEN_BOTTOM, CELL_OPEN_LEFT, CELL_OPEN_RIGHT,
     CELL_OPEN_TOP,
 };
-use crate::raster::band::{splat_sample, BandTarget};
+use crate::raster::band::{patch_word, splat_sample, BandTarget};
 use crate::raster::cell_bilinear::{
     cell_in_band, draw_cell, next_row, setup, sub_word, BilinearPiece, Reciprocals, EXT,
 };
@@ -80,8 +80,10 @@ pub(crate) fn draw_cells_open(
                 continue;
             }
             match Shape::of(c, f) {
-                Shape::Plain if inside => draw_cell::<false>(t, c, r, cut, sub0, item),
-                Shape::Plain => draw_cell::<true>(t, c, r, cut, sub0, item),
+                Shape::Plain if inside => {
+                    draw_cell::<false>(t, c, r, cut, patch_word(sub0, item));
+                }
+                Shape::Plain => draw_cell::<true>(t, c, r, cut, patch_word(sub0, item)),
                 Shape::Open(outline) => draw_open_cell(t, c, r, [nu, nv], sub0, item, &outline),
             }
         }
@@ -192,7 +194,7 @@ fn draw_open_cell(
         for _ in 0..=nu {
             let (px, py) = ((v[0] >> xy_shift) as i32, (v[1] >> xy_shift) as i32);
             if clip.covers(px, py) {
-                splat_sample(t, px, py, (v[2] >> EXT) as i32, word, item);
+                splat_sample(t, px, py, (v[2] >> EXT) as i32, patch_word(word, item));
             }
             word += 1 << 8;
             v[0] += step[0];

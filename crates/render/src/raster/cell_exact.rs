@@ -37,7 +37,7 @@
 //! with sub-nodes, 176.7 M with this (callgrind, `--threads 1`, 500²).
 
 use crate::fixed::Node;
-use crate::raster::band::{splat_sample, BandTarget};
+use crate::raster::band::{patch_word, splat_sample, BandTarget};
 use crate::raster::cell_bilinear::{next_row, setup, Reciprocals, EXT, MAX_SUBDIVISION};
 
 /// How far (pixels, along each edge's normal) a sub-quad is grown before
@@ -134,7 +134,8 @@ fn draw_quad_row(
                 let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
                 if quad.covers(x, y) {
                     let sub = sub + (nearest_corner(&q, x, y) << shift);
-                    splat_sample(t, origin[0] + px, origin[1] + py, z, sub, item);
+                    let word = patch_word(sub, item);
+                    splat_sample(t, origin[0] + px, origin[1] + py, z, word);
                 }
             }
         }
@@ -327,7 +328,7 @@ mod tests {
                 (mix(0), mix(1))
             };
             for (k, sample) in samples.iter().enumerate().filter(|(k, _)| covered[*k]) {
-                let (x, y) = at(sample.w0);
+                let (x, y) = at(sample.w0());
                 let (cx, cy) = ((k % w) as f32 + 0.5, (k / w) as f32 + 0.5);
                 nearest = nearest.max((x - cx).hypot(y - cy));
             }

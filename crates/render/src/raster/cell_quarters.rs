@@ -16,7 +16,7 @@
 
 use crate::fixed::Z_FAR;
 use crate::grid::QuarteredCell;
-use crate::raster::band::BandTarget;
+use crate::raster::band::{patch_word, BandTarget};
 use crate::raster::cell_bilinear::{
     cell_in_band, draw_cell_runs, sub_word, BilinearPiece, Reciprocals,
 };
@@ -52,7 +52,7 @@ pub(crate) fn draw_quartered_cells(
         let bias = QUARTER_DEPTH_BIAS.min(Z_FAR as i64 - 1 - deepest).max(0);
         let cut = ([nu, nv], r, bias);
         let run = |b: u32| quarter_run(cell.quarters, [nu, nv], b);
-        let word = (sub_word(ci, cj, 0, 0), item);
+        let word = patch_word(sub_word(ci, cj, 0, 0), item);
         if inside {
             draw_cell_runs::<false>(t, c, cut, word, run);
         } else {

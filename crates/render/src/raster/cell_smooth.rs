@@ -21,7 +21,7 @@
 
 use crate::fixed::{Node, EMPTY_NODE};
 use crate::grid::cell_drawable;
-use crate::raster::band::{splat_sample, BandTarget};
+use crate::raster::band::{patch_word, splat_sample, BandTarget};
 use crate::raster::cell_bilinear::{sub_word, MAX_SUBDIVISION};
 
 /// Catmull-Rom weights at parameter `t` in [0, 1].
@@ -125,7 +125,7 @@ pub(crate) fn draw_cells_smooth(
                     };
                     let (x, y) = (v(0) as i32, v(1) as i32);
                     let sub = sub_word(i, j, a as u32, b as u32);
-                    splat_sample(t, x >> 16, y >> 16, v(2) as i32, sub, item);
+                    splat_sample(t, x >> 16, y >> 16, v(2) as i32, patch_word(sub, item));
                 }
             }
         }

@@ -179,8 +179,8 @@ mod tests {
             assert_eq!(g.depth, q.depth);
             if g.depth < Z_FAR {
                 let scale = CENTRE_STEPS / FOLD_CUT;
-                let (a, b) = ((q.w0 >> 8) & 255, q.w0 & 255);
-                assert_eq!(g.w0, ((a * scale) << 8) | (b * scale));
+                let (a, b) = ((q.w0() >> 8) & 255, q.w0() & 255);
+                assert_eq!(g.w0(), ((a * scale) << 8) | (b * scale));
                 written += 1;
             }
         }

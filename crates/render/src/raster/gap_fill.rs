@@ -324,9 +324,9 @@ fn fill_pixel(px: &mut [Sample], at: Neighbourhood<'_>, (dx, dy): (isize, isize)
     };
     let (mut sample, beyond) = (px[at.index(near)], px[at.index(other)]);
     sample.depth = a / 2 + c / 2;
-    if sample.w2 & PATCH_SAMPLE != 0 && sample.w2 == beyond.w2 && sample.w0 >> 16 == beyond.w0 >> 16
-    {
-        sample.w0 = between(sample.w0, beyond.w0, dn as u32, d_other as u32);
+    let (w0, w2) = (sample.w0(), sample.w2());
+    if w2 & PATCH_SAMPLE != 0 && w2 == beyond.w2() && w0 >> 16 == beyond.w0() >> 16 {
+        sample.set_w0(between(w0, beyond.w0(), dn as u32, d_other as u32));
     }
     px[at.index((0, 0))] = sample;
 }
@@ -381,9 +381,8 @@ mod tests {
     fn drawn(depth: i32, tag: u32) -> Sample {
         Sample {
             depth,
-            w0: tag,
             w1: 0,
-            w2: 0,
+            words: tag as u64,
         }
     }
 
@@ -410,10 +409,8 @@ mod tests {
         for r in (4..=12).step_by(2) {
             for x in (4..=12).step_by(2) {
                 let sub = sub_word(1, 2, x as u32 / 2, r as u32 / 2);
-                px[r * w + x] = Sample {
-                    w2: PATCH_SAMPLE | 5,
-                    ..drawn(1000 + x as i32, sub)
-                };
+                px[r * w + x] = drawn(1000 + x as i32, sub);
+                px[r * w + x].set_words(sub, PATCH_SAMPLE | 5);
             }
         }
         fill(&mut px, w);
@@ -424,7 +421,7 @@ mod tests {
         // Between two sub-nodes of the cell: the sub-node between them, at
         // the mean depth of the two.
         let filled = px[4 * w + 5];
-        assert_eq!((filled.depth, filled.w0), (1005, sub_word(1, 2, 3, 2)));
+        assert_eq!((filled.depth, filled.w0()), (1005, sub_word(1, 2, 3, 2)));
 
         let mut columns = band(w, h);
         for r in 4..=12 {

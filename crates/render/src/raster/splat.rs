@@ -30,7 +30,7 @@
 
 use crate::fixed::{Node, EMPTY_NODE, XY_FRAC_BITS, XY_ONE};
 use crate::grid::CELL_DRAW;
-use crate::raster::band::{keep_nearer, BandTarget};
+use crate::raster::band::{keep_nearer, patch_word, BandTarget};
 use crate::raster::cell_bilinear::sub_word;
 
 /// Half a pixel in position units.
@@ -133,14 +133,14 @@ pub(crate) fn draw_splats(t: &mut BandTarget<'_>, piece: &SplatPiece<'_>, item: 
                 continue;
             }
             let (ci, a) = if i + 1 < cols { (i, 0) } else { (i - 1, 1) };
-            let sub = sub_word(ci, cj, a, b);
+            let word = patch_word(sub_word(ci, cj, a, b), item);
             let z = node[2];
             let (c0, c1) = (c0 as usize, c1 as usize + 1);
             for py in r0..=r1 {
                 let base = (py - t.y0) as usize * width;
                 // One bounds check per row of the footprint.
                 for s in &mut t.px[base + c0..base + c1] {
-                    keep_nearer(s, z, sub, item);
+                    keep_nearer(s, z, word);
                 }
             }
         }

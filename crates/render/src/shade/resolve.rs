@@ -125,16 +125,8 @@ pub(crate) fn resolve_band(
     // Why zipped slices: one length check per band instead of five
     // bounds checks per pixel (callgrind, `profile_sphere 500 1`).
     let pixels = px.iter().zip(rgba.iter_mut().zip(eye_depth.iter_mut()));
-    for (
-        &Sample {
-            depth: z,
-            w0,
-            w1: _,
-            w2,
-        },
-        (rgba, eye),
-    ) in pixels
-    {
+    for (s, (rgba, eye)) in pixels {
+        let (z, w0, w2) = (s.depth, s.w0(), s.w2());
         if z >= Z_FAR {
             *rgba = r.background;
             *eye = f32::INFINITY;
@@ -246,18 +238,18 @@ fn resolve_group<const SQUARINGS: u32, const SHIFTED: bool>(
 ) {
     // Only a sample that passed the depth test holds a patch sample's
     // flag, so four patch samples are four covered pixels.
-    let patches = s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2;
+    let patches = s[0].w2() & s[1].w2() & s[2].w2() & s[3].w2();
     if patches & PATCH_SAMPLE != 0 {
         debug_assert!(s.iter().all(|s| s.depth < Z_FAR));
         let items = &r.phong.items[..];
-        let id = |k: usize| (s[k].w2 & !PATCH_SAMPLE) as usize;
+        let id = |k: usize| (s[k].w2() & !PATCH_SAMPLE) as usize;
         let last = id(0).max(id(1)).max(id(2).max(id(3)));
         assert!(last < items.len(), "item index");
         let it = [&items[id(0)], &items[id(1)], &items[id(2)], &items[id(3)]];
         let uncoloured =
             || it[0].frame & it[1].frame & it[2].frame & it[3].frame & BASE_ALBEDO != 0;
         if r.phong.uncoloured || uncoloured() {
-            let sub = [s[0].w0, s[1].w0, s[2].w0, s[3].w0];
+            let sub = [s[0].w0(), s[1].w0(), s[2].w0(), s[3].w0()];
             *eye = eye_depths(r, s);
             let (weights, offsets) = (&r.phong.weights[..], &r.phong.offsets[..]);
             let normal = |k: usize| it[k].normal::<SHIFTED>(sub[k], weights, offsets);
@@ -304,15 +296,15 @@ fn resolve_flat_group<const SQUARINGS: u32>(
     rgba: &mut [[u8; 4]; 4],
     eye: &mut [f32; 4],
 ) {
-    if s[0].w2 & s[1].w2 & s[2].w2 & s[3].w2 & PATCH_SAMPLE != 0 {
+    if s[0].w2() & s[1].w2() & s[2].w2() & s[3].w2() & PATCH_SAMPLE != 0 {
         return resolve_group::<SQUARINGS, false>(r, s, rgba, eye);
     }
     let depths = eye_depths(r, s);
     for k in 0..4 {
-        (rgba[k], eye[k]) = match (s[k].depth < Z_FAR, s[k].w2 & PATCH_SAMPLE != 0) {
+        (rgba[k], eye[k]) = match (s[k].depth < Z_FAR, s[k].w2() & PATCH_SAMPLE != 0) {
             (false, _) => (r.background, f32::INFINITY),
             (true, true) => (flat_patch_sample(r, &s[k]), depths[k]),
-            (true, false) => (s[k].w0.to_le_bytes(), depths[k]),
+            (true, false) => (s[k].w0().to_le_bytes(), depths[k]),
         };
     }
 }
@@ -353,10 +345,10 @@ fn resolve_coloured_group<const SQUARINGS: u32, const SHIFTED: bool>(
     // Why spelled out: a closure per lane became an out-of-line call,
     // compiled without the band's instruction set (`crate::isa`).
     let g = [
-        it[0].interpolate::<SHIFTED>(s[0].w0, weights, offsets),
-        it[1].interpolate::<SHIFTED>(s[1].w0, weights, offsets),
-        it[2].interpolate::<SHIFTED>(s[2].w0, weights, offsets),
-        it[3].interpolate::<SHIFTED>(s[3].w0, weights, offsets),
+        it[0].interpolate::<SHIFTED>(s[0].w0(), weights, offsets),
+        it[1].interpolate::<SHIFTED>(s[1].w0(), weights, offsets),
+        it[2].interpolate::<SHIFTED>(s[2].w0(), weights, offsets),
+        it[3].interpolate::<SHIFTED>(s[3].w0(), weights, offsets),
     ];
     let normals = [
         g[0].normal_red,
@@ -445,11 +437,11 @@ fn resolve_general_group(
 /// normal and albedo, or a triangle sample's stored ones.
 #[inline(always)]
 fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
-    if s.w2 & PATCH_SAMPLE != 0 {
-        let i = (s.w2 & !PATCH_SAMPLE) as usize;
-        let mut lane = t.items[i].interpolate::<true>(s.w0, &t.weights, &t.offsets);
+    if s.w2() & PATCH_SAMPLE != 0 {
+        let i = (s.w2() & !PATCH_SAMPLE) as usize;
+        let mut lane = t.items[i].interpolate::<true>(s.w0(), &t.weights, &t.offsets);
         if let Some(place) = t.grids.get(i).copied().flatten() {
-            let a = place.albedo(s.w0);
+            let a = place.albedo(s.w0());
             lane.normal_red.w = a.x;
             lane.green_blue = Vec2::new(a.y, a.z);
             lane.frame &= !BASE_ALBEDO;
@@ -458,9 +450,9 @@ fn phong_lane(t: &PhongItems<'_>, s: &Sample) -> Lane {
     }
     let albedo = unpack_rgb(s.w1);
     Lane {
-        normal_red: unpack_normal(s.w0).extend(albedo.x),
+        normal_red: unpack_normal(s.w0()).extend(albedo.x),
         green_blue: Vec2::new(albedo.y, albedo.z),
-        frame: s.w2,
+        frame: s.w2(),
     }
 }
 

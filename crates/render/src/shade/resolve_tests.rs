@@ -173,12 +173,12 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         if choice == 1 {
             // A triangle sample with its own normal, albedo and frame.
             let n = Vec3::new(rng.below(200) as f32, rng.below(200) as f32, 100.0);
-            px.w0 = crate::lighting::pack_normal((n - Vec3::new(100.0, 100.0, 0.0)) / 200.0);
+            let normal = crate::lighting::pack_normal((n - Vec3::new(100.0, 100.0, 0.0)) / 200.0);
             px.w1 = rng.next_u32() & 0xff_ffff;
-            px.w2 = rng.below(2);
+            px.set_words(normal, rng.below(2));
             let c = r.material.shade(
-                unpack_normal(px.w0),
-                &frames[px.w2 as usize],
+                unpack_normal(px.w0()),
+                &frames[px.w2() as usize],
                 unpack_rgb(px.w1),
             );
             expected.push(to_rgba8(c));
@@ -201,9 +201,8 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         let cj = rng.below(item.rows as u32 - 1);
         let a = rng.below(item.nu as u32 + 1);
         let b = rng.below(item.nv as u32 + 1);
-        px.w0 = ci << 24 | cj << 16 | a << 8 | b;
-        px.w2 = id | PATCH_SAMPLE;
-        expected.push(phong_reference(&r, patches, &frames, id, px.w0));
+        px.set_words(ci << 24 | cj << 16 | a << 8 | b, id | PATCH_SAMPLE);
+        expected.push(phong_reference(&r, patches, &frames, id, px.w0()));
     }
     let samples = band.clone();
     let mut rgba = vec![[0u8; 4]; band.len()];
@@ -235,10 +234,10 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             .filter(|g| {
                 let uncoloured = |s: &Sample| {
                     s.depth < Z_FAR
-                        && s.w2 & PATCH_SAMPLE != 0
-                        && chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].uniform_albedo
+                        && s.w2() & PATCH_SAMPLE != 0
+                        && chunks[0].items[(s.w2() & !PATCH_SAMPLE) as usize].uniform_albedo
                 };
-                let frame = |s: &Sample| chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize].frame;
+                let frame = |s: &Sample| chunks[0].items[(s.w2() & !PATCH_SAMPLE) as usize].frame;
                 g.iter().all(uncoloured) && g.iter().any(|s| frame(s) != frame(&g[0])) == mixed
             })
             .count()
@@ -257,9 +256,9 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         samples
             .chunks_exact(4)
             .filter(|g| {
-                let item = |s: &Sample| &chunks[0].items[(s.w2 & !PATCH_SAMPLE) as usize];
+                let item = |s: &Sample| &chunks[0].items[(s.w2() & !PATCH_SAMPLE) as usize];
                 let own = |s: &Sample| {
-                    s.depth < Z_FAR && s.w2 & PATCH_SAMPLE != 0 && !item(s).uniform_albedo
+                    s.depth < Z_FAR && s.w2() & PATCH_SAMPLE != 0 && !item(s).uniform_albedo
                 };
                 g.iter().all(own) && g.iter().any(|s| item(s).frame != item(&g[0]).frame) == mixed
             })
@@ -292,9 +291,8 @@ fn check_box_resolve(r: &Resolve<'_>, band: &[Sample], width: i32, whole: (&[[u8
     };
     let junk = Sample {
         depth: 5,
-        w0: u32::MAX,
         w1: u32::MAX,
-        w2: u32::MAX,
+        words: u64::MAX,
     };
     let px: Vec<Sample> = (0..band.len())
         .map(|k| if inside(k) { band[k] } else { junk })
