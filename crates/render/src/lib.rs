@@ -83,6 +83,8 @@ mod raster;
 mod shade;
 #[cfg(test)]
 mod test_rng;
+#[cfg(target_arch = "x86_64")]
+mod wide;
 
 pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use error::{CameraProblem, RenderError};

@@ -29,6 +29,8 @@
 use glam::{DMat3, DVec3, Vec3, Vec4};
 
 use crate::options::Lighting;
+#[cfg(target_arch = "x86_64")]
+use crate::wide::F8;
 
 /// Light and half vector in the space where normals are expressed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -149,6 +151,20 @@ pub(crate) struct Lanes {
     pub(crate) albedo: [Vec4; 3],
 }
 
+/// [`Lanes`] of eight samples ([`Material::shade8_with`]).
+#[cfg(target_arch = "x86_64")]
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Lanes8 {
+    /// The instruction set the lanes live in.
+    pub(crate) simd: pulp::x86::V3,
+    pub(crate) normal: [F8; 3],
+    pub(crate) light: [F8; 3],
+    pub(crate) half: [F8; 3],
+    /// The frames' directions to the eye (zero: one-sided).
+    pub(crate) view: [F8; 3],
+    pub(crate) albedo: [F8; 3],
+}
+
 impl Material {
     /// The number of squarings that give the specular power (`shininess`
     /// a power of two), else [`ANY_POWER`].
@@ -194,6 +210,65 @@ impl Material {
         );
         let k = Vec4::splat(self.ambient) + Vec4::splat(self.diffuse) * nl;
         l.albedo.map(|a| (a * k + spec).min(Vec4::splat(255.0)))
+    }
+
+    /// [`Self::shade4_with`] of eight samples at once: the same IEEE
+    /// operations in the same order in every lane, so bit-identical to
+    /// [`Self::shade`] (tested). Why: the AVX2 copy of the resolve pass
+    /// shades eight neighbouring pixels per instruction
+    /// ([`crate::shade::resolve_wide`]).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(crate) fn shade8_with<const SQUARINGS: u32>(&self, l: &Lanes8) -> [F8; 3] {
+        let s = l.simd;
+        let [x, y, z] = l.normal;
+        let dot = |a: [F8; 3], b: [F8; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (zero, one) = (F8::splat(s, 0.0), F8::splat(s, 1.0));
+        let rcp = one / (x * x + y * y + z * z).sqrt();
+        let valid = rcp.cmpgt(zero) & rcp.cmplt(F8::splat(s, f32::INFINITY));
+        let n = [
+            F8::select(valid, x * rcp, zero),
+            F8::select(valid, y * rcp, zero),
+            F8::select(valid, z * rcp, zero),
+        ];
+        let side = F8::select(dot(n, l.view).cmplt(zero), F8::splat(s, -1.0), one);
+        let nl = (side * dot(n, l.light)).max(zero);
+        let nh = (side * dot(n, l.half)).max(zero);
+        let p = if SQUARINGS == ANY_POWER {
+            self.power8(nh, one)
+        } else {
+            debug_assert_eq!(SQUARINGS, self.squarings);
+            let mut p = nh;
+            for _ in 0..SQUARINGS {
+                p *= p;
+            }
+            p
+        };
+        let spec = F8::select(nl.cmpgt(zero), F8::splat(s, self.specular) * p, zero);
+        let k = F8::splat(s, self.ambient) + F8::splat(s, self.diffuse) * nl;
+        let max = F8::splat(s, 255.0);
+        let [r, g, b] = l.albedo;
+        [
+            (r * k + spec).min(max),
+            (g * k + spec).min(max),
+            (b * k + spec).min(max),
+        ]
+    }
+
+    /// [`Self::power`] of eight lanes (`one`: lanes of 1), inlined: the
+    /// squarings, or [`powi`]'s sequence for a shininess that is not a
+    /// power of two.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn power8(&self, x: F8, one: F8) -> F8 {
+        if self.squarings == u32::MAX {
+            return powi(x, self.shininess as u32, one);
+        }
+        let mut p = x;
+        for _ in 0..self.squarings {
+            p *= p;
+        }
+        p
     }
 
     /// [`Self::power`] of four lanes. Why a `match` of unrolled squarings:

@@ -343,7 +343,13 @@ impl Renderer {
         let width = view.width as i32;
         let pixels = (view.width * view.height) as usize;
         let (mut rgba, mut eye_depth) = self.image_buffers(pixels);
-        let job = band_job(setup, view, (&self.chunks, &self.bins), &phong, patches);
+        let job = band_job(
+            setup,
+            view,
+            (&self.chunks, &self.bins),
+            (&phong, patches),
+            self.isa,
+        );
         self.skips.resize_with(band_count, SkipTiles::default);
         let tasks = band_tasks(
             (&mut self.bands, &mut self.skips),
@@ -581,13 +587,13 @@ struct FrameWalls {
 
 /// What every band of a frame reads: the planned chunks and their bins,
 /// the frame's drawing options and the resolve pass's inputs (`phong`,
-/// the prepared `patches`).
+/// the prepared `patches`, the bands' instruction set `isa`).
 fn band_job<'a>(
     setup: &FrameSetup<'_>,
     view: &View,
     (chunks, bins): (&'a [ChunkWork], &'a Bins),
-    phong: &'a PhongItems<'a>,
-    patches: &'a [PreparedPatch],
+    (phong, patches): (&'a PhongItems<'a>, &'a [PreparedPatch]),
+    isa: Isa,
 ) -> BandJob<'a> {
     let options = setup.options;
     BandJob {
@@ -614,6 +620,7 @@ fn band_job<'a>(
             background: options.background,
             near: view.near as f32,
             far: view.far as f32,
+            isa,
         },
     }
 }

@@ -6,6 +6,9 @@
 pub(crate) mod colour_grid;
 pub(crate) mod phong_items;
 pub(crate) mod resolve;
+pub(crate) mod resolve_inputs;
 #[cfg(test)]
 mod resolve_tests;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod resolve_wide;
 pub(crate) mod rgba;

@@ -237,6 +237,23 @@ impl<'a> PhongItem<'a> {
         }
         lane
     }
+
+    /// The normal and the albedo (`xyz`) interpolated at sample `sub` of
+    /// an item with colours: [`Self::interpolate`]'s values, as two
+    /// vectors for the eight-pixel groups' transposes
+    /// ([`crate::shade::resolve_wide`]).
+    #[inline(always)]
+    pub(crate) fn normal_colour<const SHIFTED: bool>(
+        &self,
+        sub: u32,
+        weights: &[[Vec4; 4]],
+        offsets: &[u32],
+    ) -> (Vec4, Vec4) {
+        let (k, w) = self.corner(sub, weights, offsets, SHIFTED);
+        let cols = self.cols as usize;
+        let normal = bilinear(self.normals, k, cols, w, |n| n);
+        (normal, bilinear(self.colours, k, cols, w, byte_lanes))
+    }
 }
 
 impl PhongItem<'_> {

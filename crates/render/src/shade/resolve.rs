@@ -6,7 +6,8 @@
 //! sub-node: Gouraud interpolates the colours its corner nodes carry;
 //! Phong interpolates the prepared level's normals and albedos
 //! ([`PhongItems`]) and shades four neighbouring pixels at a time in
-//! lanes, bit-identical to shading them one by one ([`Material::shade`]);
+//! lanes (eight with AVX2, [`crate::shade::resolve_wide`]), bit-identical
+//! to shading them one by one ([`Material::shade`]);
 //! flat does the same with its level's cell normals and every weight on
 //! the first corner. A triangle sample carries its colour, or its normal,
 //! albedo and frame.
@@ -19,11 +20,15 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::fixed::{attr_from_bits, NodeAttributes, Z_FAR};
+use crate::isa::Isa;
 #[cfg(test)]
 use crate::lighting::byte_lanes;
-use crate::lighting::{unpack_normal, unpack_rgb, Lanes, Material, ShadeFrame, ANY_POWER};
+#[cfg(doc)]
+use crate::lighting::Material;
+use crate::lighting::{unpack_normal, unpack_rgb, Lanes, ShadeFrame, ANY_POWER};
 use crate::options::Shading;
-use crate::plan::work::{ChunkWork, Item};
+use crate::plan::work::Item;
+#[cfg(test)]
 use crate::prepare::patch::PreparedPatch;
 use crate::raster::band::{Sample, PATCH_SAMPLE};
 use crate::raster::band_box::PixelBox;
@@ -31,28 +36,11 @@ use crate::shade::colour_grid::{corner_albedo, grid_place, relight};
 #[cfg(test)]
 use crate::shade::phong_items::sub_node_place;
 use crate::shade::phong_items::{sub_node_weights, Lane, PhongItem, PhongItems, BASE_ALBEDO};
+#[cfg(target_arch = "x86_64")]
+use crate::shade::resolve_wide::wide_group;
 use crate::shade::rgba::{pack_rgba, to_rgba8};
 
-/// How the resolve pass turns payloads into colours.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Resolve<'a> {
-    pub(crate) shading: Shading,
-    /// Draw items by index: `(chunk, item)`.
-    pub(crate) items: &'a [(u32, u32)],
-    pub(crate) chunks: &'a [ChunkWork],
-    /// The draw items as the Phong resolve pass reads them.
-    pub(crate) phong: &'a PhongItems<'a>,
-    /// The prepared patches the items draw (for their colour grids; empty
-    /// for a mesh).
-    pub(crate) patches: &'a [PreparedPatch],
-    pub(crate) material: Material,
-    /// The albedo of nodes without colours, as stored in nodes (rounded to
-    /// the attribute grid).
-    pub(crate) base_albedo: Vec3,
-    pub(crate) background: [u8; 4],
-    pub(crate) near: f32,
-    pub(crate) far: f32,
-}
+pub(crate) use crate::shade::resolve_inputs::Resolve;
 
 /// [`resolve_band`] for the pixels of `touched` only, the rest of the
 /// band `whole` (its rows of the image) taking the background without
@@ -141,8 +129,8 @@ pub(crate) fn resolve_band(
     }
 }
 
-/// [`resolve_band`] for Phong and flat: the band in groups of four pixels
-/// ([`resolve_phong_pixels`]).
+/// [`resolve_band`] for Phong and flat: the band in groups of four pixels,
+/// or eight with AVX2 ([`resolve_phong_pixels`]).
 #[inline(always)]
 fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth: &mut [f32]) {
     // The default shininess, 32, is five squarings (see
@@ -178,9 +166,25 @@ fn resolve_phong(r: &Resolve<'_>, px: &[Sample], rgba: &mut [[u8; 4]], eye_depth
 /// Inlined so that it runs with the band's instruction set
 /// ([`crate::isa`]).
 /// With `FLAT`, a group that is not four patch samples is resolved pixel
-/// by pixel ([`resolve_flat_group`]).
+/// by pixel ([`resolve_flat_group`]). With AVX2 (`r.isa`), groups of
+/// eight ([`resolve_phong_wide`]).
 #[inline(always)]
 fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: bool>(
+    r: &Resolve<'_>,
+    px: &[Sample],
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if let Isa::V3(simd) = r.isa {
+        return resolve_phong_wide::<SQUARINGS, SHIFTED, FLAT>(simd, r, px, rgba, eye_depth);
+    }
+    resolve_phong_fours::<SQUARINGS, SHIFTED, FLAT>(r, px, rgba, eye_depth);
+}
+
+/// [`resolve_phong_pixels`] four pixels at a time.
+#[inline(always)]
+fn resolve_phong_fours<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: bool>(
     r: &Resolve<'_>,
     px: &[Sample],
     rgba: &mut [[u8; 4]],
@@ -207,6 +211,55 @@ fn resolve_phong_pixels<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: b
         rgba[done..].copy_from_slice(&c[..n]);
         eye_depth[done..].copy_from_slice(&e[..n]);
     }
+}
+
+/// [`resolve_phong_pixels`] with AVX2: eight neighbours at a time where
+/// they take a fast path ([`wide_group`]), any other group of eight as
+/// two of four, the pixels after the last whole group of eight four at a
+/// time ([`resolve_phong_fours`]).
+/// Why eight: the shading, packing and transposes take one AVX
+/// instruction for eight lanes where the four-lane path takes one for
+/// four. Inlined so that it runs with the band's instruction set.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn resolve_phong_wide<const SQUARINGS: u32, const SHIFTED: bool, const FLAT: bool>(
+    simd: pulp::x86::V3,
+    r: &Resolve<'_>,
+    px: &[Sample],
+    rgba: &mut [[u8; 4]],
+    eye_depth: &mut [f32],
+) {
+    let groups = px
+        .chunks_exact(8)
+        .zip(rgba.chunks_exact_mut(8).zip(eye_depth.chunks_exact_mut(8)));
+    for (s, (rgba, eye)) in groups {
+        let s: &[Sample; 8] = s.try_into().expect("groups of eight");
+        let rgba: &mut [[u8; 4]; 8] = rgba.try_into().expect("groups of eight");
+        let eye: &mut [f32; 8] = eye.try_into().expect("groups of eight");
+        // A flat frame's patch samples take Phong's unshifted path (see
+        // `resolve_flat_group`).
+        let wide = match FLAT {
+            true => wide_group::<SQUARINGS, false>(simd, r, s, rgba, eye),
+            false => wide_group::<SQUARINGS, SHIFTED>(simd, r, s, rgba, eye),
+        };
+        if !wide {
+            let (s0, s1) = s.split_at(4);
+            let (c0, c1) = rgba.split_at_mut(4);
+            let (e0, e1) = eye.split_at_mut(4);
+            let four = "halves of four";
+            let (s0, c0, e0) = (s0.try_into().expect(four), c0.try_into(), e0.try_into());
+            resolve_any_group::<SQUARINGS, SHIFTED, FLAT>(r, s0, c0.expect(four), e0.expect(four));
+            let (s1, c1, e1) = (s1.try_into().expect(four), c1.try_into(), e1.try_into());
+            resolve_any_group::<SQUARINGS, SHIFTED, FLAT>(r, s1, c1.expect(four), e1.expect(four));
+        }
+    }
+    let done = px.len() / 8 * 8;
+    resolve_phong_fours::<SQUARINGS, SHIFTED, FLAT>(
+        r,
+        &px[done..],
+        &mut rgba[done..],
+        &mut eye_depth[done..],
+    );
 }
 
 /// [`resolve_flat_group`] when `FLAT`, else [`resolve_group`].

@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::fixed::Z_FAR;
+use crate::isa::Isa;
 use crate::lighting::{unpack_normal, unpack_rgb, Material, ShadeFrame};
 use crate::options::Shading;
 use crate::plan::work::{ChunkWork, Item};
@@ -67,20 +68,23 @@ enum Mix {
 #[test]
 fn phong_resolve_matches_scalar_shading_per_pixel() {
     // Shininess 32 takes the five squarings of `resolve_phong_pixels`.
-    check_phong_resolve(Mix::Everything, 61, 7);
-    check_phong_resolve(Mix::Everything, 62, 32);
-    check_phong_resolve(Mix::Uncoloured, 64, 32);
-    check_phong_resolve(Mix::Uncoloured, 63, 7);
-    check_phong_resolve(Mix::NoColours, 64, 32);
-    check_phong_resolve(Mix::NoColours, 65, 7);
-    check_phong_resolve(Mix::Coloured, 64, 32);
-    check_phong_resolve(Mix::Coloured, 66, 7);
+    // Four pixels at a time, and eight with AVX2 where the CPU has it.
+    for isa in [Isa::Base, Isa::detect(true)] {
+        check_phong_resolve(Mix::Everything, (61, 7), isa);
+        check_phong_resolve(Mix::Everything, (62, 32), isa);
+        check_phong_resolve(Mix::Uncoloured, (64, 32), isa);
+        check_phong_resolve(Mix::Uncoloured, (63, 7), isa);
+        check_phong_resolve(Mix::NoColours, (64, 32), isa);
+        check_phong_resolve(Mix::NoColours, (65, 7), isa);
+        check_phong_resolve(Mix::Coloured, (64, 32), isa);
+        check_phong_resolve(Mix::Coloured, (66, 7), isa);
+    }
 }
 
 /// Resolves a band of `width × 6` random pixels of `mix`, lit with
-/// `shininess`, and checks every pixel against [`phong_reference`] or
-/// [`Material::shade`].
-fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
+/// `shininess`, with the kernels of `isa`, and checks every pixel against
+/// [`phong_reference`] or [`Material::shade`].
+fn check_phong_resolve(mix: Mix, (width, shininess): (i32, u32), isa: Isa) {
     let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
     let prepared = coloured_scene(&mut rng);
     let patches = &prepared.patches;
@@ -151,6 +155,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
         background: [1, 2, 3, 4],
         near: 0.5,
         far: 10.0,
+        isa,
     };
     let rows = 6;
     let mut band = vec![Sample::EMPTY; (rows * width) as usize];
@@ -207,7 +212,7 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
     let samples = band.clone();
     let mut rgba = vec![[0u8; 4]; band.len()];
     let mut eye = vec![0f32; band.len()];
-    resolve_band(&r, &band, &mut rgba, &mut eye);
+    isa.run(|| resolve_band(&r, &band, &mut rgba, &mut eye));
     for (k, (got, want)) in rgba.iter().zip(&expected).enumerate() {
         assert_eq!(got, want, "pixel {k}: {:?}", samples[k]);
     }
@@ -272,6 +277,14 @@ fn check_phong_resolve(mix: Mix, width: i32, shininess: u32) {
             coloured(true)
         );
     }
+    // Groups of eight covered patch samples (the eight-lane paths).
+    let eights = band
+        .chunks_exact(8)
+        .filter(|g| g.iter().all(|s| s.w2() & PATCH_SAMPLE != 0))
+        .count();
+    if let Mix::Uncoloured | Mix::Coloured = mix {
+        assert!(eights > 10, "{eights}");
+    }
 }
 
 /// `resolve_box` on `band` (`width` wide, from image row 0) with a box
@@ -300,7 +313,8 @@ fn check_box_resolve(r: &Resolve<'_>, band: &[Sample], width: i32, whole: (&[[u8
     let mut rgba = vec![[0u8; 4]; band.len()];
     let mut eye = vec![0f32; band.len()];
     let all_rows = PixelBox::whole(0, rows, width);
-    resolve_box(r, &px, all_rows, touched, &mut rgba, &mut eye);
+    r.isa
+        .run(|| resolve_box(r, &px, all_rows, touched, &mut rgba, &mut eye));
     for k in 0..band.len() {
         if inside(k) {
             assert_eq!(
