@@ -242,6 +242,7 @@ impl<'a> PhongItem<'a> {
     /// an item with colours: [`Self::interpolate`]'s values, as two
     /// vectors for the eight-pixel groups' transposes
     /// ([`crate::shade::resolve_wide`]).
+    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(crate) fn normal_colour<const SHIFTED: bool>(
         &self,

@@ -20,6 +20,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::fixed::{attr_from_bits, NodeAttributes, Z_FAR};
+#[cfg(target_arch = "x86_64")]
 use crate::isa::Isa;
 #[cfg(test)]
 use crate::lighting::byte_lanes;

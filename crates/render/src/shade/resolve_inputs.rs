@@ -35,6 +35,8 @@ pub(crate) struct Resolve<'a> {
     pub(crate) near: f32,
     pub(crate) far: f32,
     /// The instruction set the resolve runs with: eight pixels at a time
-    /// with AVX2 ([`crate::shade::resolve_wide`]), else four.
+    /// with AVX2 ([`crate::shade::resolve_wide`]), else four (read only
+    /// on x86-64).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     pub(crate) isa: Isa,
 }
