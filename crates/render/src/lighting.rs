@@ -197,11 +197,7 @@ impl Material {
             self.power4(nh)
         } else {
             debug_assert_eq!(SQUARINGS, self.squarings);
-            let mut p = nh;
-            for _ in 0..SQUARINGS {
-                p *= p;
-            }
-            p
+            squared(nh, SQUARINGS)
         };
         let spec = Vec4::select(
             nl.cmpgt(Vec4::ZERO),
@@ -235,14 +231,10 @@ impl Material {
         let nl = (side * dot(n, l.light)).max(zero);
         let nh = (side * dot(n, l.half)).max(zero);
         let p = if SQUARINGS == ANY_POWER {
-            self.power8(nh, one)
+            self.power_any(nh, one)
         } else {
             debug_assert_eq!(SQUARINGS, self.squarings);
-            let mut p = nh;
-            for _ in 0..SQUARINGS {
-                p *= p;
-            }
-            p
+            squared(nh, SQUARINGS)
         };
         let spec = F8::select(nl.cmpgt(zero), F8::splat(s, self.specular) * p, zero);
         let k = F8::splat(s, self.ambient) + F8::splat(s, self.diffuse) * nl;
@@ -253,22 +245,6 @@ impl Material {
             (g * k + spec).min(max),
             (b * k + spec).min(max),
         ]
-    }
-
-    /// [`Self::power`] of eight lanes (`one`: lanes of 1), inlined: the
-    /// squarings, or [`powi`]'s sequence for a shininess that is not a
-    /// power of two.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    fn power8(&self, x: F8, one: F8) -> F8 {
-        if self.squarings == u32::MAX {
-            return powi(x, self.shininess as u32, one);
-        }
-        let mut p = x;
-        for _ in 0..self.squarings {
-            p *= p;
-        }
-        p
     }
 
     /// [`Self::power`] of four lanes. Why a `match` of unrolled squarings:
@@ -292,40 +268,46 @@ impl Material {
         }
     }
 
-    /// [`Self::power4`] for any shininess: square-and-multiply as [`powi`].
+    /// [`Self::power4`] for any shininess: [`Self::power_any`] out of line.
     #[inline(never)]
     fn power4_any(&self, x: Vec4) -> Vec4 {
-        if self.squarings != u32::MAX {
-            let mut p = x;
-            for _ in 0..self.squarings {
-                p *= p;
-            }
-            return p;
-        }
-        powi(x, self.shininess as u32, Vec4::ONE)
+        self.power_any(x, Vec4::ONE)
     }
 
-    /// `x^shininess`, bit-identical to [`powi`]. Why: for a power of two
-    /// (the default, 32) square-and-multiply is just repeated squaring,
-    /// which drops the loop's bit tests (callgrind, `profile_sphere 500 1`).
+    /// `x^shininess` of one sample ([`Self::power_any`]).
     #[inline(always)]
     fn power(&self, x: f32) -> f32 {
-        if self.squarings == u32::MAX {
-            return powi(x, self.shininess as u32, 1.0);
-        }
-        let mut r = x;
-        for _ in 0..self.squarings {
-            r *= r;
-        }
-        r
+        self.power_any(x, 1.0)
     }
+
+    /// `x^shininess` in any lanes (`one`: lanes of 1), bit-identical to
+    /// [`powi`]. Why: for a power of two (the default, 32)
+    /// square-and-multiply is just repeated squaring, which drops the
+    /// loop's bit tests (callgrind, `profile_sphere 500 1`).
+    #[inline(always)]
+    fn power_any<T: Copy + std::ops::MulAssign>(&self, x: T, one: T) -> T {
+        if self.squarings == u32::MAX {
+            return powi(x, self.shininess as u32, one);
+        }
+        squared(x, self.squarings)
+    }
+}
+
+/// `x` squared `n` times (`x^(2^n)`), the same multiplications in any
+/// lanes.
+#[inline(always)]
+fn squared<T: Copy + std::ops::MulAssign>(mut x: T, n: u32) -> T {
+    for _ in 0..n {
+        x *= x;
+    }
+    x
 }
 
 /// `x^n` by the same square-and-multiply sequence as `f32::powi` (so the
 /// result is bit-identical), inlined. Why: `powi` with a run-time exponent
 /// is an out-of-line `__powisf2` call per shaded pixel (5 M instructions
 /// per 500² sphere frame, callgrind `profile_sphere 500 1`).
-/// Generic over the lanes: `f32` or `Vec4` (`one` is their 1).
+/// Generic over the lanes: `f32`, `Vec4` or eight lanes (`one` is their 1).
 #[inline]
 fn powi<T: Copy + std::ops::MulAssign>(mut x: T, mut n: u32, one: T) -> T {
     let mut r = one;
