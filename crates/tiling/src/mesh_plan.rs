@@ -22,7 +22,9 @@ use spatch_mesh::{triangulate_polygon, TriangleMesh};
 
 use crate::mesh_stream::{each_polygon, each_vertex, format_of};
 use crate::mesh_tiles::owns;
-use crate::plan::{tiles_of_counts, Plan, PlanGrid, WorldBox, PLAN_VERSION};
+use crate::plan::{
+    buffer_fits, given_buffer_too_wide, tiles_of_counts, Plan, PlanGrid, WorldBox, PLAN_VERSION,
+};
 use crate::TilingError;
 
 /// What a mesh plan needs from its faces: their bounds, their mean area (for a default
@@ -129,11 +131,8 @@ impl MeshCensus {
     /// Errors: [`TilingError::NoPoints`] (no face), [`TilingError::InvalidOption`].
     pub fn plan(&self, input: &Path, buffer: f64, spacing: f32) -> Result<Plan, TilingError> {
         let size = self.grid.size;
-        if !(buffer.is_finite() && buffer >= 0.0 && buffer < 0.49 * size) {
-            return Err(TilingError::InvalidOption {
-                option: "buffer",
-                reason: "must be 0 or more and under half the tile size".to_string(),
-            });
+        if !buffer_fits(buffer, size) {
+            return Err(given_buffer_too_wide());
         }
         let (lo, hi) = self.bounds.ok_or_else(|| TilingError::NoPoints {
             path: input.to_path_buf(),

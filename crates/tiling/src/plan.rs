@@ -125,6 +125,24 @@ pub struct PlanOptions {
     pub pixel_factor: f32,
 }
 
+/// The largest buffer as a share of the tile side: under half a tile, so that a point lies
+/// in the buffer of at most one neighbour per axis.
+const BUFFER_SHARE: f64 = 0.49;
+
+/// Whether `buffer` fits tiles of side `tile`: finite, 0 or more and under
+/// [`BUFFER_SHARE`] of the side.
+pub(crate) fn buffer_fits(buffer: f64, tile: f64) -> bool {
+    buffer.is_finite() && buffer >= 0.0 && buffer < BUFFER_SHARE * tile
+}
+
+/// The error of a buffer the user gave that does not fit the tile ([`buffer_fits`]).
+pub(crate) fn given_buffer_too_wide() -> TilingError {
+    TilingError::InvalidOption {
+        option: "buffer",
+        reason: "must be 0 or more and under half the tile size".to_string(),
+    }
+}
+
 /// The error of a tile too small for the default buffer (`buffer`, from `spacing`): the
 /// user gave no buffer, so the message says which one was taken and what to change.
 fn default_buffer_too_wide(buffer: f64, spacing: f32, tile: f64) -> TilingError {
@@ -134,7 +152,7 @@ fn default_buffer_too_wide(buffer: f64, spacing: f32, tile: f64) -> TilingError 
             "{tile} is too small for the default buffer of {TILE_BUFFER_PIXELS} pixels \
              ({buffer:.4} at the spacing {spacing:.4e}), which must be under half a tile: \
              take a tile of more than about {:.4} or give a smaller buffer",
-            buffer / 0.49
+            buffer / BUFFER_SHARE
         ),
     }
 }
@@ -163,9 +181,9 @@ pub fn make_plan(input: &Path, options: &PlanOptions) -> Result<Plan, TilingErro
     let buffer = options.buffer.unwrap_or(f64::from(
         TILE_BUFFER_PIXELS * spacing * options.pixel_factor,
     ));
-    if !(buffer.is_finite() && buffer >= 0.0 && buffer < 0.49 * options.tile) {
+    if !buffer_fits(buffer, options.tile) {
         return Err(match options.buffer {
-            Some(_) => invalid("buffer", "must be 0 or more and under half the tile size"),
+            Some(_) => given_buffer_too_wide(),
             None => default_buffer_too_wide(buffer, spacing, options.tile),
         });
     }
