@@ -8,7 +8,7 @@ use clap::ValueEnum;
 use glam::DVec3;
 use serde::Serialize;
 use spatch_eval::{Counts, Report};
-use spatch_export::{export_scene, Content, ExportOptions, Format, PositionType};
+use spatch_export::{export_scene, Content, ExportOptions, Exported, Format, PositionType};
 
 use crate::output::{print_json, print_summary, read_spatch, write_output};
 use crate::progress::Progress;
@@ -147,16 +147,7 @@ pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
     let write_seconds = write_started.elapsed().as_secs_f64();
     drop(progress);
     if args.json {
-        let details = ExportDetails {
-            format: options.format.name(),
-            content: if args.cells { "cells" } else { "nodes" },
-            meshes: exported.meshes,
-            vertices: exported.vertices,
-            triangles: exported.triangles,
-            f64_positions: exported.f64_positions,
-            origin: options.origin.to_array(),
-            bytes: exported.bytes.len(),
-        };
+        let details = export_details(args, &options, &exported);
         let mut report = Report::new(
             &tool(),
             "export",
@@ -173,6 +164,29 @@ pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
         report.threads = 1;
         print_json(&report)?;
     }
+    print_summary(&summary(args, &options, &exported), args.json)
+}
+
+/// The `details` of the report of an export that wrote `exported`.
+fn export_details(
+    args: &ExportArgs,
+    options: &ExportOptions,
+    exported: &Exported,
+) -> ExportDetails {
+    ExportDetails {
+        format: options.format.name(),
+        content: if args.cells { "cells" } else { "nodes" },
+        meshes: exported.meshes,
+        vertices: exported.vertices,
+        triangles: exported.triangles,
+        f64_positions: exported.f64_positions,
+        origin: options.origin.to_array(),
+        bytes: exported.bytes.len(),
+    }
+}
+
+/// The one-line summary of an export that wrote `exported`.
+fn summary(args: &ExportArgs, options: &ExportOptions, exported: &Exported) -> String {
     let what = if args.cells {
         format!(
             "{} meshes, {} vertices, {} triangles",
@@ -186,16 +200,13 @@ pub(crate) fn run(args: &ExportArgs) -> anyhow::Result<()> {
     } else {
         ""
     };
-    print_summary(
-        &format!(
-            "{}: {} of {} ({}{precision}), {} bytes\n",
-            args.output.display(),
-            options.format.name(),
-            args.input.display(),
-            what,
-            exported.bytes.len()
-        ),
-        args.json,
+    format!(
+        "{}: {} of {} ({}{precision}), {} bytes\n",
+        args.output.display(),
+        options.format.name(),
+        args.input.display(),
+        what,
+        exported.bytes.len()
     )
 }
 

@@ -69,6 +69,45 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
     let options = WriteOptions::with_compression(super::compression(args.compress));
     let mut writer =
         MergeWriter::new(&scratch_folder(&args.output), options).map_err(write_error)?;
+    let (inputs, totals) = push_inputs(args, &paths, &mut writer, &progress)?;
+    let read_seconds = started.elapsed().as_secs_f64();
+    progress.step("write");
+    let write_started = Instant::now();
+    let bytes = if is_stdout(&args.output) {
+        writer.write_to(&mut std::io::stdout().lock())
+    } else {
+        writer.write_to_file(&args.output)
+    }
+    .map_err(write_error)? as usize;
+    drop(progress);
+    let parts: Vec<String> = inputs.iter().map(|i| i.patches.to_string()).collect();
+    let text = format!(
+        "{}: {} patches ({}), {} bytes\n",
+        args.output.display(),
+        totals.counts.patches,
+        parts.join(" + "),
+        bytes
+    );
+    if args.json {
+        let stages = [
+            ("read", read_seconds),
+            ("write", write_started.elapsed().as_secs_f64()),
+        ];
+        let mut report = merge_report(args, inputs, &totals, bytes, stages);
+        report.seconds = started.elapsed().as_secs_f64();
+        print_json(&report)?;
+    }
+    print_summary(&text, args.json)
+}
+
+/// Reads every input of `paths`, shifted by its `--translate`, into
+/// `writer`: what each brought and the totals.
+fn push_inputs(
+    args: &MergeArgs,
+    paths: &[PathBuf],
+    writer: &mut MergeWriter,
+    progress: &Progress,
+) -> anyhow::Result<(Vec<MergedInput>, Totals)> {
     let mut inputs = Vec::with_capacity(paths.len());
     let mut totals = Totals::default();
     for (k, path) in paths.iter().enumerate() {
@@ -89,46 +128,35 @@ pub(crate) fn run(args: &MergeArgs) -> anyhow::Result<()> {
         })?;
         progress.count(k + 1, paths.len());
     }
-    let read_seconds = started.elapsed().as_secs_f64();
-    progress.step("write");
-    let write_started = Instant::now();
-    let bytes = if is_stdout(&args.output) {
-        writer.write_to(&mut std::io::stdout().lock())
-    } else {
-        writer.write_to_file(&args.output)
+    Ok((inputs, totals))
+}
+
+/// The `--json` report of a merge that wrote `bytes` bytes (its total
+/// seconds left for the caller).
+fn merge_report(
+    args: &MergeArgs,
+    inputs: Vec<MergedInput>,
+    totals: &Totals,
+    bytes: usize,
+    stages: [(&'static str, f64); 2],
+) -> Report<MergeDetails> {
+    let label = inputs
+        .iter()
+        .map(|i| i.input.as_str())
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let mut report = Report::new(&tool(), "merge", &label, MergeDetails { inputs });
+    report.output = Some(args.output.display().to_string());
+    report.counts = Counts {
+        bytes,
+        ..totals.counts
+    };
+    report.diagonal = totals.bounds.map(|(lo, hi)| (hi - lo).length());
+    for (name, seconds) in stages {
+        report.stages.push(name, seconds);
     }
-    .map_err(write_error)? as usize;
-    drop(progress);
-    let parts: Vec<String> = inputs.iter().map(|i| i.patches.to_string()).collect();
-    let text = format!(
-        "{}: {} patches ({}), {} bytes\n",
-        args.output.display(),
-        totals.counts.patches,
-        parts.join(" + "),
-        bytes
-    );
-    if args.json {
-        let label = inputs
-            .iter()
-            .map(|i| i.input.as_str())
-            .collect::<Vec<_>>()
-            .join(" + ");
-        let mut report = Report::new(&tool(), "merge", &label, MergeDetails { inputs });
-        report.output = Some(args.output.display().to_string());
-        report.counts = Counts {
-            bytes,
-            ..totals.counts
-        };
-        report.diagonal = totals.bounds.map(|(lo, hi)| (hi - lo).length());
-        report.stages.push("read", read_seconds);
-        report
-            .stages
-            .push("write", write_started.elapsed().as_secs_f64());
-        report.seconds = started.elapsed().as_secs_f64();
-        report.threads = 1;
-        print_json(&report)?;
-    }
-    print_summary(&text, args.json)
+    report.threads = 1;
+    report
 }
 
 /// The counts and bounds of the merged scene, gathered input by input.

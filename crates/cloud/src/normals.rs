@@ -206,6 +206,41 @@ impl VoxelColumns {
         self.starts[c] as usize..self.starts[c + 1] as usize
     }
 
+    /// Writes the voxel runs `(start, start, end)` of the up to nine
+    /// columns next to column `c` (itself included) into `neighbours` and
+    /// returns how many; `cursors` (one per `dx`) only move forward.
+    #[inline]
+    fn neighbour_columns(
+        &self,
+        c: usize,
+        cursors: &mut [usize; 3],
+        neighbours: &mut [(usize, usize, usize); 9],
+    ) -> usize {
+        let y_mask = (1u64 << self.y_bits) - 1;
+        let (x, y) = (self.columns[c] >> self.y_bits, self.columns[c] & y_mask);
+        let mut count = 0;
+        for (cursor, dx) in cursors.iter_mut().zip([-1i64, 0, 1]) {
+            let nx = x as i64 + dx;
+            if nx < 0 {
+                continue;
+            }
+            // `y + 1` is clamped so that it never carries into the `x` field.
+            let low = (nx as u64) << self.y_bits | y.saturating_sub(1);
+            let high = (nx as u64) << self.y_bits | (y + 1).min(y_mask);
+            while *cursor < self.columns.len() && self.columns[*cursor] < low {
+                *cursor += 1;
+            }
+            let mut n = *cursor;
+            while n < self.columns.len() && self.columns[n] <= high {
+                let voxels = self.column(n);
+                neighbours[count] = (voxels.start, voxels.start, voxels.end);
+                count += 1;
+                n += 1;
+            }
+        }
+        count
+    }
+
     /// `finish` of each voxel's index and the sum of `values` (one per voxel) over its
     /// 3×3×3 block, for every voxel of columns `range`, written to `out` (one slot per voxel
     /// of those columns, in voxel order): the block planes of the voxels' moments, or their
@@ -240,27 +275,7 @@ impl VoxelColumns {
         // `z`) and its end.
         let mut neighbours = [(0usize, 0usize, 0usize); 9];
         for c in range {
-            let (x, y) = split(self.columns[c]);
-            let mut count = 0;
-            for (cursor, dx) in cursors.iter_mut().zip([-1i64, 0, 1]) {
-                let nx = x as i64 + dx;
-                if nx < 0 {
-                    continue;
-                }
-                // `y + 1` is clamped so that it never carries into the `x` field.
-                let low = (nx as u64) << self.y_bits | y.saturating_sub(1);
-                let high = (nx as u64) << self.y_bits | (y + 1).min(y_mask);
-                while *cursor < self.columns.len() && self.columns[*cursor] < low {
-                    *cursor += 1;
-                }
-                let mut n = *cursor;
-                while n < self.columns.len() && self.columns[n] <= high {
-                    let voxels = self.column(n);
-                    neighbours[count] = (voxels.start, voxels.start, voxels.end);
-                    count += 1;
-                    n += 1;
-                }
-            }
+            let count = self.neighbour_columns(c, &mut cursors, &mut neighbours);
             for v in self.column(c) {
                 let z = self.keys[v] & z_mask;
                 let mut block = T::default();

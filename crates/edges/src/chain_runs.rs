@@ -116,6 +116,26 @@ fn pair_ends(
     sharp: &SharpEdges,
     cos_turn: f32,
 ) -> Vec<[Option<(usize, bool)>; 2]> {
+    let at_corner = ends_at_corners(mesh, sharp);
+    let mut links = vec![[None; 2]; sharp.chains.len()];
+    let mut taken = vec![false; at_corner.len()];
+    for (_, i, j) in straightest_pairs(&at_corner, cos_turn) {
+        if taken[i] || taken[j] {
+            continue;
+        }
+        taken[i] = true;
+        taken[j] = true;
+        let (a, b) = (at_corner[i].1, at_corner[j].1);
+        links[a.chain][usize::from(!a.at_start)] = Some((b.chain, b.at_start));
+        links[b.chain][usize::from(!b.at_start)] = Some((a.chain, a.at_start));
+    }
+    links
+}
+
+/// The ends of open chains that lie on a corner vertex, with the
+/// direction the chain leaves in and its crease's bisector, sorted by
+/// vertex (then chain, start first).
+fn ends_at_corners(mesh: &TriangleMesh, sharp: &SharpEdges) -> Vec<(VertexId, ChainEnd)> {
     let mut at_corner: Vec<(VertexId, ChainEnd)> = Vec::new();
     for (k, chain) in sharp.chains.iter().enumerate() {
         if chain.closed || chain.creases.is_empty() {
@@ -138,18 +158,26 @@ fn pair_ends(
             let direction =
                 (mesh.positions[next.index()] - mesh.positions[v.index()]).normalize_or_zero();
             let bisector = (c.normals[0] + c.normals[1]).normalize_or_zero();
-            at_corner.push((
-                v,
-                ChainEnd {
-                    chain: k,
-                    at_start,
-                    direction,
-                    bisector,
-                },
-            ));
+            let end = ChainEnd {
+                chain: k,
+                at_start,
+                direction,
+                bisector,
+            };
+            at_corner.push((v, end));
         }
     }
     at_corner.sort_by_key(|(v, e)| (*v, e.chain, !e.at_start));
+    at_corner
+}
+
+/// Every pair `(straightness, i, j)` of ends of different chains at one
+/// corner of `at_corner` that continue each other within `cos_turn` (in
+/// direction and in crease bisector), straightest first.
+fn straightest_pairs(
+    at_corner: &[(VertexId, ChainEnd)],
+    cos_turn: f32,
+) -> Vec<(f32, usize, usize)> {
     let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
     let mut lo = 0;
     while lo < at_corner.len() {
@@ -170,17 +198,5 @@ fn pair_ends(
         lo = hi;
     }
     pairs.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
-    let mut links = vec![[None; 2]; sharp.chains.len()];
-    let mut taken = vec![false; at_corner.len()];
-    for (_, i, j) in pairs {
-        if taken[i] || taken[j] {
-            continue;
-        }
-        taken[i] = true;
-        taken[j] = true;
-        let (a, b) = (at_corner[i].1, at_corner[j].1);
-        links[a.chain][usize::from(!a.at_start)] = Some((b.chain, b.at_start));
-        links[b.chain][usize::from(!b.at_start)] = Some((a.chain, a.at_start));
-    }
-    links
+    pairs
 }

@@ -46,6 +46,17 @@ pub(crate) struct Node {
 }
 
 impl Node {
+    /// A node over `bounds` whose `first` and `count` are as the type says.
+    fn over(bounds: Aabb, first: usize, count: usize) -> Node {
+        Node {
+            min: bounds.min,
+            first: first as u32,
+            max: bounds.max,
+            count: count as u32,
+        }
+    }
+
+    /// The node's box.
     #[inline]
     pub(crate) fn aabb(&self) -> Aabb {
         Aabb {
@@ -68,6 +79,38 @@ pub struct Bvh {
     pub(crate) scale: f32,
 }
 
+/// The nodes of the tree over the triangles of `boxes` (centroids
+/// `centroids`), node 0 the root, reordering `order` into leaf order. An
+/// empty mesh gets one empty leaf whose box contains nothing.
+fn build_nodes(order: &mut [u32], centroids: &[Vec3], boxes: &[Aabb]) -> Vec<Node> {
+    let count = order.len();
+    let empty = Node::over(Aabb::EMPTY, 0, 0);
+    let mut nodes = Vec::with_capacity(count.max(1) * 2 / MAX_LEAF_SIZE.max(1) + 1);
+    nodes.push(empty);
+    // Work items: (node index, start, end, depth).
+    let mut work = vec![(0usize, 0usize, count, 0usize)];
+    while let Some((node, start, end, depth)) = work.pop() {
+        let bounds = order[start..end]
+            .iter()
+            .fold(Aabb::EMPTY, |b, &t| b.union(boxes[t as usize]));
+        let mid = if end - start <= MAX_LEAF_SIZE || depth >= MAX_DEPTH {
+            None
+        } else {
+            split(&mut order[start..end], centroids, boxes, &bounds)
+        };
+        let Some(mid) = mid else {
+            nodes[node] = Node::over(bounds, start, end - start);
+            continue;
+        };
+        let left = nodes.len();
+        nodes.extend([empty, empty]);
+        nodes[node] = Node::over(bounds, left, 0);
+        work.push((left + 1, start + mid, end, depth + 1));
+        work.push((left, start, start + mid, depth + 1));
+    }
+    nodes
+}
+
 impl Bvh {
     /// Builds the BVH of `mesh`'s triangles (positions relative to the mesh origin; queries use
     /// the same coordinates).
@@ -83,62 +126,7 @@ impl Bvh {
             .map(|c| Aabb::from_points(c.iter().copied()))
             .collect();
         let mut order: Vec<u32> = (0..count as u32).collect();
-        let mut nodes = Vec::with_capacity(count.max(1) * 2 / MAX_LEAF_SIZE.max(1) + 1);
-        nodes.push(Node {
-            min: Vec3::ZERO,
-            first: 0,
-            max: Vec3::ZERO,
-            count: 0,
-        });
-        // Work items: (node index, start, end, depth).
-        let mut work = vec![(0usize, 0usize, count, 0usize)];
-        while let Some((node, start, end, depth)) = work.pop() {
-            let bounds = order[start..end]
-                .iter()
-                .fold(Aabb::EMPTY, |b, &t| b.union(boxes[t as usize]));
-            let leaf = |nodes: &mut Vec<Node>| {
-                nodes[node] = Node {
-                    min: bounds.min,
-                    first: start as u32,
-                    max: bounds.max,
-                    count: (end - start) as u32,
-                };
-            };
-            let n = end - start;
-            if n <= MAX_LEAF_SIZE || depth >= MAX_DEPTH {
-                leaf(&mut nodes);
-                continue;
-            }
-            let Some(mid) = split(&mut order[start..end], &centroids, &boxes, &bounds) else {
-                leaf(&mut nodes);
-                continue;
-            };
-            let left = nodes.len();
-            let empty = Node {
-                min: Vec3::ZERO,
-                first: 0,
-                max: Vec3::ZERO,
-                count: 0,
-            };
-            nodes.push(empty);
-            nodes.push(empty);
-            nodes[node] = Node {
-                min: bounds.min,
-                first: left as u32,
-                max: bounds.max,
-                count: 0,
-            };
-            work.push((left + 1, start + mid, end, depth + 1));
-            work.push((left, start, start + mid, depth + 1));
-        }
-        if count == 0 {
-            nodes[0] = Node {
-                min: Vec3::splat(f32::INFINITY),
-                first: 0,
-                max: Vec3::splat(f32::NEG_INFINITY),
-                count: 0,
-            };
-        }
+        let nodes = build_nodes(&mut order, &centroids, &boxes);
         Bvh {
             nodes,
             corners: order.iter().map(|&t| corners_in[t as usize]).collect(),

@@ -52,7 +52,6 @@ impl Header {
 
 /// Reads the header up to `end_header`.
 fn read_header(path: &Path, reader: &mut impl BufRead) -> Result<Header, TilingError> {
-    let bad = |reason: &str| TilingError::malformed(path, reason);
     let mut line = String::new();
     let mut next = |line: &mut String| -> Result<bool, TilingError> {
         line.clear();
@@ -62,62 +61,94 @@ fn read_header(path: &Path, reader: &mut impl BufRead) -> Result<Header, TilingE
         Ok(n > 0)
     };
     if !next(&mut line)? || line.trim() != "ply" {
-        return Err(bad("not a PLY file (no `ply` magic line)"));
+        return Err(TilingError::malformed(
+            path,
+            "not a PLY file (no `ply` magic line)",
+        ));
     }
-    let mut encoding = None;
-    let mut count = None;
-    let mut in_vertex = false;
-    let mut seen_element = false;
-    let mut properties = Vec::new();
-    let mut record = 0;
+    let mut so_far = HeaderSoFar::default();
     loop {
         if !next(&mut line)? {
-            return Err(bad("the header has no end_header line"));
+            return Err(TilingError::malformed(
+                path,
+                "the header has no end_header line",
+            ));
         }
         let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["end_header"] => break,
+        if words == ["end_header"] {
+            break;
+        }
+        so_far
+            .read(&words)
+            .map_err(|e| TilingError::malformed(path, e))?;
+    }
+    so_far.finish().map_err(|e| TilingError::malformed(path, e))
+}
+
+/// What the header's lines have said so far.
+#[derive(Default)]
+struct HeaderSoFar {
+    encoding: Option<Encoding>,
+    count: Option<u64>,
+    in_vertex: bool,
+    seen_element: bool,
+    properties: Vec<(String, Scalar, usize)>,
+    record: usize,
+}
+
+impl HeaderSoFar {
+    /// Takes in one header line's `words` (other than `end_header`); lines
+    /// the reader does not need (comments, other elements' properties) are
+    /// passed over.
+    fn read(&mut self, words: &[&str]) -> Result<(), &'static str> {
+        match words {
             ["format", f, _] => {
-                encoding = Some(match *f {
+                self.encoding = Some(match *f {
                     "ascii" => Encoding::Ascii,
                     "binary_little_endian" => Encoding::Little,
                     "binary_big_endian" => Encoding::Big,
-                    _ => return Err(bad("unknown PLY format")),
+                    _ => return Err("unknown PLY format"),
                 })
             }
             ["element", name, n] => {
-                if !seen_element && *name != "vertex" {
-                    return Err(bad("the vertex element must come first"));
+                if !self.seen_element && *name != "vertex" {
+                    return Err("the vertex element must come first");
                 }
-                in_vertex = !seen_element;
-                seen_element = true;
-                if in_vertex {
-                    count = Some(n.parse::<u64>().map_err(|_| bad("bad vertex count"))?);
+                self.in_vertex = !self.seen_element;
+                self.seen_element = true;
+                if self.in_vertex {
+                    self.count = Some(n.parse::<u64>().map_err(|_| "bad vertex count")?);
                 }
             }
-            ["property", "list", ..] if in_vertex => {
-                return Err(bad("a list property in the vertex element"))
+            ["property", "list", ..] if self.in_vertex => {
+                return Err("a list property in the vertex element")
             }
-            ["property", ty, name] if in_vertex => {
-                let scalar = Scalar::parse(ty).ok_or_else(|| bad("unknown property type"))?;
-                properties.push((name.to_string(), scalar, record));
-                record += scalar.size();
+            ["property", ty, name] if self.in_vertex => {
+                let scalar = Scalar::parse(ty).ok_or("unknown property type")?;
+                self.properties
+                    .push((name.to_string(), scalar, self.record));
+                self.record += scalar.size();
             }
             _ => {}
         }
+        Ok(())
     }
-    let header = Header {
-        encoding: encoding.ok_or_else(|| bad("no format line"))?,
-        count: count.ok_or_else(|| bad("no vertex element"))?,
-        properties,
-        record,
-    };
-    for axis in ["x", "y", "z"] {
-        header
-            .find(axis)
-            .ok_or_else(|| bad("the vertex element has no x, y, z"))?;
+
+    /// The header, once it has a format, a vertex element and x, y, z.
+    fn finish(self) -> Result<Header, &'static str> {
+        let header = Header {
+            encoding: self.encoding.ok_or("no format line")?,
+            count: self.count.ok_or("no vertex element")?,
+            properties: self.properties,
+            record: self.record,
+        };
+        for axis in ["x", "y", "z"] {
+            header
+                .find(axis)
+                .ok_or("the vertex element has no x, y, z")?;
+        }
+        Ok(header)
     }
-    Ok(header)
 }
 
 /// Where each wanted property sits (indices into the header's properties).

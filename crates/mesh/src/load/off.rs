@@ -69,21 +69,8 @@ fn read_header<'a>(
         path: path.to_path_buf(),
     })?;
     let mut tokens = header.split_ascii_whitespace();
-    let keyword = tokens.next().unwrap_or("");
-    let Some(prefix) = keyword.strip_suffix("OFF") else {
-        return Err(MeshError::syntax(
-            path,
-            line_no,
-            SyntaxProblem::MissingOffHeader,
-        ));
-    };
-    if prefix.contains('4') || prefix.contains('n') {
-        return Err(MeshError::syntax(
-            path,
-            line_no,
-            SyntaxProblem::MissingOffHeader,
-        ));
-    }
+    let prefix = keyword_prefix(tokens.next().unwrap_or(""))
+        .ok_or_else(|| MeshError::syntax(path, line_no, SyntaxProblem::MissingOffHeader))?;
     let mut rest: Vec<&str> = tokens.collect();
     if rest.first() == Some(&"BINARY") {
         return Err(MeshError::syntax(
@@ -100,25 +87,8 @@ fn read_header<'a>(
         counts_line = n;
         rest = l.split_ascii_whitespace().collect();
     }
-    let parse_count = |s: Option<&&str>| s.and_then(|s| s.parse::<u64>().ok());
-    let (Some(vertex_count), Some(face_count)) =
-        (parse_count(rest.first()), parse_count(rest.get(1)))
-    else {
-        return Err(MeshError::syntax(
-            path,
-            counts_line,
-            SyntaxProblem::BadOffCounts,
-        ));
-    };
-    // Each vertex needs at least 6 bytes ("0 0 0\n"); refuse counts the file cannot hold
-    // before sizing anything by them.
-    if vertex_count > budget / 6 + 1 || face_count > budget / 8 + 1 {
-        return Err(MeshError::syntax(
-            path,
-            counts_line,
-            SyntaxProblem::BadOffCounts,
-        ));
-    }
+    let bad_counts = || MeshError::syntax(path, counts_line, SyntaxProblem::BadOffCounts);
+    let (vertex_count, face_count) = parse_counts(&rest, budget).ok_or_else(bad_counts)?;
     Ok(OffHeader {
         has_uv: prefix.contains("ST"),
         has_colour: prefix.contains('C'),
@@ -127,6 +97,24 @@ fn read_header<'a>(
         face_count,
         counts_line,
     })
+}
+
+/// What precedes `OFF` in the header keyword (`ST`, `C`, `N`, in any
+/// mix), or `None` for a keyword that is not an OFF one or names a variant
+/// without a reader here (`4OFF`, `nOFF`).
+fn keyword_prefix(keyword: &str) -> Option<&str> {
+    let prefix = keyword.strip_suffix("OFF")?;
+    (!prefix.contains('4') && !prefix.contains('n')).then_some(prefix)
+}
+
+/// The vertex and face counts at the start of `tokens`, unless missing,
+/// not numbers, or more than a file of `budget` bytes can hold (each
+/// vertex needs at least 6 bytes, "0 0 0\n", each face 8): refused before
+/// anything is sized by them.
+fn parse_counts(tokens: &[&str], budget: u64) -> Option<(u64, u64)> {
+    let count = |k: usize| tokens.get(k).and_then(|s| s.parse::<u64>().ok());
+    let (vertices, faces) = (count(0)?, count(1)?);
+    (vertices <= budget / 6 + 1 && faces <= budget / 8 + 1).then_some((vertices, faces))
 }
 
 /// The vertices of an OFF file: positions, and normals and colours when
