@@ -1,7 +1,8 @@
 //! The grid vocabulary every stage shares: the per-cell flags of a piece
 //! (drawn, closes its right column, closes its top row), which cells of a
 //! grid of displacement codes have four filled corners, how a piece's
-//! flags close its last column and row, the per-node masks of drawn edges,
+//! flags close its last column and row, the cell flags laid out along the
+//! node rows,
 //! and the weight of each node within a displacement range.
 //!
 //! Each drawn cell places its sub-nodes `(a, b)` for `a < nu`, `b < nv`,
@@ -116,39 +117,16 @@ pub(crate) fn close_cells(cell_flags: &mut [u8], ccols: usize, crows: usize) -> 
     counts
 }
 
-/// Per node of a `cols × rows` piece with cell flags `flags`: in `um`,
-/// all ones when a drawn cell has the u edge starting there, and in `vm`
-/// the same for the v edge (see [`crate::plan::measure::piece_edges_masked_small`]).
+/// Appends to `out` the cell flags `rows` (each row `ccols` cells) laid
+/// out along the node rows: per node, [`CELL_DRAW`] when the cell whose
+/// (0, 0) node it is has that bit, and 0 for the last node of each row
+/// (no cell). Why: the measurement takes a piece's cells in one flat pass
+/// over its nodes ([`crate::plan::measure`]).
 #[inline(always)]
-pub(crate) fn drawn_edge_masks(
-    flags: &[u8],
-    cols: usize,
-    rows: usize,
-    um: &mut Vec<i32>,
-    vm: &mut Vec<i32>,
-) {
-    um.clear();
-    um.resize(cols * rows, 0);
-    vm.clear();
-    vm.resize(cols * rows, 0);
-    let ccols = cols - 1;
-    for (cj, row) in flags.chunks_exact(ccols).enumerate() {
-        let lo = cj * cols;
-        let (ul, uh) = um[lo..lo + 2 * cols].split_at_mut(cols);
-        let (ul, uh, vl) = (&mut ul[..ccols], &mut uh[..ccols], &mut vm[lo..lo + cols]);
-        // Why slices of the row's length and the left cell's bit carried:
-        // no bounds check and three stores per cell instead of four
-        // (callgrind, `spatch render bunny.spatch --bench 5`: 3.2 M
-        // instructions per frame before).
-        let mut left = 0;
-        for (i, &f) in row.iter().enumerate() {
-            let d = -((f & CELL_DRAW) as i32);
-            ul[i] |= d;
-            uh[i] |= d;
-            vl[i] |= d | left;
-            left = d;
-        }
-        vl[ccols] |= left;
+pub(crate) fn push_cells_by_node<'a>(rows: impl Iterator<Item = &'a [u8]>, out: &mut Vec<u8>) {
+    for row in rows {
+        out.extend(row.iter().map(|&f| f & CELL_DRAW));
+        out.push(0);
     }
 }
 
@@ -228,14 +206,12 @@ mod tests {
         }
     }
 
-    /// `drawn_edge_masks` marks exactly the u and v edges of drawn cells:
-    /// cell `(i, j)` has the u edges starting at nodes `(i, j)` and
-    /// `(i, j + 1)` and the v edges starting at `(i, j)` and `(i + 1, j)`.
+    /// `push_cells_by_node` puts cell `(i, j)`'s drawn bit at node
+    /// `(i, j)` and 0 at the last node of each row.
     #[test]
-    fn edge_masks_hold_the_edges_of_drawn_cells() {
+    fn cells_by_node_follow_the_node_rows() {
         let mut rng = XorShift(4242);
-        let (mut um, mut vm) = (Vec::new(), Vec::new());
-        let mut marked = 0;
+        let mut out = Vec::new();
         for _ in 0..300 {
             let cols = 2 + rng.below64(18) as usize;
             let rows = 2 + rng.below64(18) as usize;
@@ -243,21 +219,20 @@ mod tests {
             let flags: Vec<u8> = (0..ccols * crows)
                 .map(|_| [0, CELL_DRAW, CELL_DRAW | CELL_RIGHT][rng.below64(3) as usize])
                 .collect();
-            drawn_edge_masks(&flags, cols, rows, &mut um, &mut vm);
-            let drawn = |i: usize, j: usize| {
-                i < ccols && j < crows && flags[j * ccols + i] & CELL_DRAW != 0
-            };
-            for j in 0..rows {
+            out.clear();
+            push_cells_by_node(flags.chunks_exact(ccols), &mut out);
+            assert_eq!(out.len(), crows * cols);
+            for j in 0..crows {
                 for i in 0..cols {
-                    let u = drawn(i, j) || (j > 0 && drawn(i, j - 1));
-                    let v = drawn(i, j) || (i > 0 && drawn(i - 1, j));
-                    let k = j * cols + i;
-                    assert_eq!((um[k], vm[k]), (-(u as i32), -(v as i32)), "{i}, {j}");
-                    marked += u as usize;
+                    let want = if i < ccols {
+                        flags[j * ccols + i] & CELL_DRAW
+                    } else {
+                        0
+                    };
+                    assert_eq!(out[j * cols + i], want, "{i}, {j}");
                 }
             }
         }
-        assert!(marked > 1000);
     }
 
     /// `close_cells` marks exactly the drawn cells whose right or upper

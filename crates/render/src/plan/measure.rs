@@ -8,10 +8,12 @@
 //! straightforward pass over the node array (`measure_cells_reference` in `measure_tests`,
 //! kept for the tests) bit for bit.
 //!
-//! Cost: O(nodes), no allocation once warm: ≈ 27 instructions per node on
-//! the sphere at 500² (callgrind, `profile_sphere 500 1`).
+//! Cost: O(nodes), no allocation once warm: ≈ 36 instructions per node
+//! on the bunny at 500², 2.6 M of a 43.6 M frame with `grid.rs`'s share
+//! (4.3 M before the one-pass cells, [`cells_small`]; callgrind, 1
+//! thread, instructions attributed through their inlined frames).
 
-use crate::grid::{close_cells, drawn_edge_masks, CELL_DRAW};
+use crate::grid::{close_cells, push_cells_by_node, CELL_DRAW};
 use crate::plan::node_xy::{NodeXY, RowStats};
 use crate::plan::split::NodeRange;
 use crate::prepare::mip::MipLevel;
@@ -71,16 +73,16 @@ impl CellMeasure {
 /// same pixels). `back_sign = 0` keeps every cell with four used corners.
 ///
 /// The same decisions as the straightforward measurement over the node
-/// array (`measure_cells_reference` in `measure_tests`, kept for the tests), in fewer
-/// instructions. Why (callgrind, `profile_sphere 500 1`; ≈ 155
-/// instructions per cell before): which cells have four used corners, and
-/// their closing flags without back-face culling, come from the level
-/// ([`MipLevel::cell_flags`]); the row boxes come from the projection when
-/// it kept them ([`NodeXY::row_stats`]); on pieces spanning less than
-/// 2^24 units (256 px) the back-face test runs in `f64` lanes
-/// ([`away_cells_small`]) and the largest edges in flat `f32` passes over
-/// the whole piece ([`piece_edges_small`], [`piece_edges_masked_small`]);
-/// wider pieces take them row by row in `i32` or `i64`.
+/// array (`measure_cells_reference` in `measure_tests`, kept for the
+/// tests), in fewer instructions. Why (callgrind, `profile_sphere 500 1`;
+/// ≈ 155 instructions per cell before): which cells have four used
+/// corners, and their closing flags without back-face culling, come from
+/// the level ([`MipLevel::cell_flags`]); the row boxes come from the
+/// projection when it kept them ([`NodeXY::row_stats`]); on pieces
+/// spanning less than 2^24 units (256 px) the back-face test, the flags,
+/// the counts and the largest edges come from one flat pass over the
+/// piece's cells ([`cells_small`]); wider pieces take them row by row in
+/// `i32` or `i64`.
 #[inline(always)]
 pub(crate) fn measure_cells(
     level: &MipLevel,
@@ -102,24 +104,18 @@ pub(crate) fn measure_cells(
     let small = narrow && (x1 as i64 - x0 as i64) < 1 << 24 && (y1 as i64 - y0 as i64) < 1 << 24;
     let base = flags.len();
     let whole = range.i0 == 0 && range.j0 == 0 && cols == level.cols && rows == level.rows;
-    mark_cells(level, range, xy, back_sign, (small, whole), flags, &mut m);
+    if small {
+        measure_small(level, range, xy, back_sign, whole, flags, &mut m);
+    } else {
+        mark_cells(level, range, xy, back_sign, whole, flags, &mut m);
+        m.edges = largest_edges(xy, &flags[base..], cols, narrow, m.drawable_cells);
+    }
     let out = &mut flags[base..];
-    // The level's own edge masks serve when its flags are the piece's (a
-    // whole level, no back-face test).
-    let own_masks = whole && back_sign == 0;
-    let drawable = m.drawable_cells;
-    m.edges = largest_edges(
-        level,
-        xy,
-        out,
-        (cols, rows),
-        (small, narrow, own_masks),
-        drawable,
-    );
     // Closing flags: the level's own when the piece is the whole level and
-    // no cell faced away (already in `out` when no cell was tested).
+    // no cell faced away (already in `out` but for the row path's tested
+    // cells).
     let [right, top, both] = if whole && m.backfacing_cells == 0 {
-        if back_sign != 0 {
+        if back_sign != 0 && !small {
             out.copy_from_slice(&level.cell_flags);
         }
         level.closing
@@ -183,17 +179,70 @@ fn row_boxes(
     [x0, y0, x1, y1]
 }
 
-/// Appends the flag byte of every cell of `range` to `flags` and counts
-/// the drawable cells and those facing away into `m` (`back_sign` as for
-/// [`measure_cells`]; `small`: the piece spans under 2^24 units, `whole`:
-/// it is the whole level).
+/// [`measure_cells`] for a piece spanning under 2^24 units: appends its
+/// cells' drawn bits to `flags` (the level's flags when it is the whole
+/// level and no cell faces away) and puts the drawn and back-facing counts
+/// and the largest edges into `m`, from one pass of [`cells_small`].
 #[inline(always)]
-fn mark_cells(
+fn measure_small(
     level: &MipLevel,
     range: NodeRange,
     xy: &mut NodeXY,
     back_sign: i64,
-    (small, whole): (bool, bool),
+    whole: bool,
+    flags: &mut Vec<u8>,
+    m: &mut CellMeasure,
+) {
+    let (cols, rows) = range.size();
+    let (ccols, crows) = (cols - 1, rows - 1);
+    let NodeXY {
+        xs,
+        ys,
+        cells,
+        drawn,
+        ..
+    } = xy;
+    let cells: &[u8] = if whole {
+        level.cells_by_node()
+    } else {
+        let lccols = level.cols - 1;
+        let first = range.j0 * lccols + range.i0;
+        cells.clear();
+        push_cells_by_node(
+            (0..crows).map(|j| &level.cell_flags[first + j * lccols..][..ccols]),
+            cells,
+        );
+        cells
+    };
+    // The last node of the last row starts no cell.
+    drawn.clear();
+    drawn.resize(crows * cols - 1, 0);
+    let (edges, n_drawn, n_back) = match back_sign {
+        1 => cells_small::<1>(xs, ys, cols, cells, drawn),
+        -1 => cells_small::<-1>(xs, ys, cols, cells, drawn),
+        _ => cells_small::<0>(xs, ys, cols, cells, drawn),
+    };
+    (m.edges, m.drawable_cells, m.backfacing_cells) = (edges.map(|e| e as i64), n_drawn, n_back);
+    if whole && n_back == 0 {
+        flags.extend_from_slice(&level.cell_flags);
+    } else {
+        for j in 0..crows {
+            flags.extend_from_slice(&drawn[j * cols..][..ccols]);
+        }
+    }
+}
+
+/// The row path of [`measure_cells`] (a piece spanning 2^24 units or
+/// more): appends the flag byte of every cell of `range` to `flags` and
+/// counts the drawable cells and those facing away into `m` (`back_sign`
+/// as for [`measure_cells`]; `whole`: the piece is the whole level).
+#[inline(always)]
+fn mark_cells(
+    level: &MipLevel,
+    range: NodeRange,
+    xy: &NodeXY,
+    back_sign: i64,
+    whole: bool,
     flags: &mut Vec<u8>,
     m: &mut CellMeasure,
 ) {
@@ -209,33 +258,8 @@ fn mark_cells(
     }
     flags.resize(base + ccols * crows, 0);
     let out = &mut flags[base..];
-    if small && back_sign != 0 {
-        // Which cells face away, for the whole piece in `f64` lanes.
-        // Why: the `i64` test per cell cost ≈ 40 instructions (2.7 M
-        // per 500² sphere frame; callgrind, `profile_sphere 500 1`).
-        xy.away.clear();
-        xy.away.resize(crows * cols - 1, 0);
-        if back_sign > 0 {
-            away_cells_small::<1>(&xy.xs, &xy.ys, cols, &mut xy.away);
-        } else {
-            away_cells_small::<-1>(&xy.xs, &xy.ys, cols, &mut xy.away);
-        }
-    }
     for (cj, row) in out.chunks_exact_mut(ccols).enumerate() {
         let mask = &level.cell_flags[(range.j0 + cj) * lccols + range.i0..][..ccols];
-        if small && back_sign != 0 {
-            let away = &xy.away[cj * cols..][..ccols];
-            let (mut drawn, mut back) = (0u32, 0u32);
-            for ((f, &mask), &away) in row.iter_mut().zip(mask).zip(away) {
-                let candidate = mask & CELL_DRAW;
-                *f = candidate & !away;
-                drawn += *f as u32;
-                back += (candidate & away) as u32;
-            }
-            m.drawable_cells += drawn as u64;
-            m.backfacing_cells += back as u64;
-            continue;
-        }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
         let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
         let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
@@ -250,57 +274,16 @@ fn mark_cells(
 }
 
 /// The largest projected edge components `[ux, uy, vx, vy]` (position
-/// units) of the drawn cells `out` of a piece of `cols × rows` nodes of
-/// `level`, `drawable` of them drawn (`small`, `narrow`: the piece's span
-/// fits 2^24 units, `i32`; `own_masks`: the level's edge masks are the
-/// piece's).
+/// units) of the drawn cells `out` of a piece of `cols` nodes per row,
+/// `drawable` of them drawn, row by row (`narrow`: its positions' box fits
+/// `i32`).
 #[inline(always)]
-fn largest_edges(
-    level: &MipLevel,
-    xy: &mut NodeXY,
-    out: &[u8],
-    (cols, rows): (usize, usize),
-    (small, narrow, own_masks): (bool, bool, bool),
-    drawable: u64,
-) -> [i64; 4] {
-    let ccols = cols - 1;
+fn largest_edges(xy: &NodeXY, out: &[u8], cols: usize, narrow: bool, drawable: u64) -> [i64; 4] {
     let mut edges = [0u64; 4];
-    let all_drawn = drawable as usize == ccols * (rows - 1);
-    if small && all_drawn {
-        // Every cell drawn: every edge of the piece, in flat passes. Why:
-        // rows of 17 nodes left a set-up and a remainder per row and per
-        // edge component (callgrind, `profile_sphere 500 1`).
-        if (xy.wrap.len(), xy.wrap_cols) != (cols * rows, cols) {
-            xy.wrap_cols = cols;
-            xy.wrap.clear();
-            xy.wrap
-                .extend((0..cols * rows).map(|k| -((k % cols != cols - 1) as i32)));
-        }
-        edges = piece_edges_small(&xy.xs, &xy.ys, cols, &xy.wrap);
-    } else if small && drawable > 0 {
-        // Some cells not drawn: the same passes, each edge masked by
-        // whether a drawn cell has it. Why: as above, for the pieces the
-        // back-face test cut (callgrind, `profile_sphere 500 1`).
-        // The level's own masks when its flags are the piece's (a whole
-        // level with trimmed cells, no cell facing away). Why: building
-        // them per frame cost ≈ 2 M instructions on the trimmed sphere
-        // (callgrind, `profile_sphere 500 1 1 trimmed`).
-        // (The level's masks are asked for only then: they are built on
-        // first use.)
-        let own = if own_masks { level.edge_masks() } else { None };
-        let (um, vm) = match own {
-            Some(masks) => masks,
-            None => {
-                drawn_edge_masks(out, cols, rows, &mut xy.umask, &mut xy.vmask);
-                (&xy.umask[..], &xy.vmask[..])
-            }
-        };
-        edges = piece_edges_masked_small(&xy.xs, &xy.ys, cols, um, vm);
-    }
-    for (cj, row) in out.chunks_exact(ccols).enumerate() {
-        // Done by the flat passes, or no cell drawn (no edge, nothing to
-        // close: such a piece is dropped).
-        if small || drawable == 0 {
+    for (cj, row) in out.chunks_exact(cols - 1).enumerate() {
+        // No cell drawn: no edge, nothing to close (such a piece is
+        // dropped).
+        if drawable == 0 {
             break;
         }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
@@ -338,66 +321,6 @@ fn row_box(used: &[bool], xs: &[i32], ys: &[i32]) -> (i32, i32, i32, i32, usize)
     (xl, xh, lo, hi, n)
 }
 
-/// Largest `|x|` and `|y|` of every u and v edge (`[ux, uy, vx, vy]`) of
-/// a piece of `cols` nodes per row whose cells are all drawn and whose
-/// positions differ by less than 2^24 (exact in `f32`; `maxps` and `andps`
-/// are single instructions where `u32` lanes need several without
-/// SSE4.1). `wrap[k]` is 0 for the last node of a row (no u edge), else
-/// all ones.
-#[inline(always)]
-pub(crate) fn piece_edges_small(xs: &[i32], ys: &[i32], cols: usize, wrap: &[i32]) -> [u64; 4] {
-    let n = xs.len();
-    let m = n - cols;
-    let d = |a: i32, b: i32| (b.wrapping_sub(a) as f32).abs();
-    let du = |a: i32, b: i32, w: i32| (b.wrapping_sub(a) & w) as f32;
-    // Rows 0..rows - 1: their u edges and the v edges above them.
-    let (x0, x1, xv) = (&xs[..m], &xs[1..m + 1], &xs[cols..cols + m]);
-    let (y0, y1, yv) = (&ys[..m], &ys[1..m + 1], &ys[cols..cols + m]);
-    let w = &wrap[..m];
-    let mut e = [0f32; 4];
-    for k in 0..m {
-        e[0] = e[0].max(du(x0[k], x1[k], w[k]).abs());
-        e[1] = e[1].max(du(y0[k], y1[k], w[k]).abs());
-        e[2] = e[2].max(d(x0[k], xv[k]));
-        e[3] = e[3].max(d(y0[k], yv[k]));
-    }
-    // The last row's u edges.
-    let (x0, x1, y0, y1) = (&xs[m..n - 1], &xs[m + 1..], &ys[m..n - 1], &ys[m + 1..]);
-    for k in 0..cols - 1 {
-        e[0] = e[0].max(d(x0[k], x1[k]));
-        e[1] = e[1].max(d(y0[k], y1[k]));
-    }
-    e.map(|v| v as u64)
-}
-
-/// [`piece_edges_small`] for a piece whose cells are not all drawn:
-/// `um[k]` (`vm[k]`) is all ones when node `k`'s u (v) edge belongs to a
-/// drawn cell, else 0.
-#[inline(always)]
-pub(crate) fn piece_edges_masked_small(
-    xs: &[i32],
-    ys: &[i32],
-    cols: usize,
-    um: &[i32],
-    vm: &[i32],
-) -> [u64; 4] {
-    let n = xs.len();
-    let m = n - cols;
-    let d = |a: i32, b: i32, w: i32| ((b.wrapping_sub(a) & w) as f32).abs();
-    let mut e = [0f32; 4];
-    let (x0, x1, y0, y1, um) = (&xs[..n - 1], &xs[1..], &ys[..n - 1], &ys[1..], &um[..n - 1]);
-    for k in 0..n - 1 {
-        e[0] = e[0].max(d(x0[k], x1[k], um[k]));
-        e[1] = e[1].max(d(y0[k], y1[k], um[k]));
-    }
-    let (x0, xv, y0, yv, vm) = (&xs[..m], &xs[cols..], &ys[..m], &ys[cols..], &vm[..m]);
-    for k in 0..m {
-        e[2] = e[2].max(d(x0[k], xv[k], vm[k]));
-        e[3] = e[3].max(d(y0[k], yv[k], vm[k]));
-    }
-    e.map(|v| v as u64)
-}
-
 /// The smallest and largest values of a non-empty slice. Why through
 /// `f64` (exact for every `i32`): `minpd` and `maxpd` are single
 /// instructions where `i32` lanes need four without SSE4.1 (callgrind,
@@ -413,23 +336,43 @@ fn min_max(v: &[i32]) -> (i32, i32) {
     (lo as i32, hi as i32)
 }
 
-/// For every cell of a piece of `cols` nodes per row (its (0, 0) node at
-/// `k`; `away[k]` for `k` below `(rows - 1) · cols - 1`, the last node of
-/// a row giving a meaningless value), 1 when the cross products of its
-/// edges have sign `BACK` at all four corners (it faces away), as
-/// [`mark_row`] decides. For positions whose differences are below 2^24:
-/// the products are then below 2^48 and their difference below 2^49, exact
-/// in `f64`, so the signs are those of the `i64` form.
+/// One pass over the cells of a piece of `cols` nodes per row whose used
+/// positions differ by less than 2^24 units: cell `k` (its (0, 0) node
+/// `k`, for `k` below `drawn.len()` = `(rows - 1) · cols - 1`) is a
+/// candidate when `cells[k]` has [`CELL_DRAW`] (four used corners; 0 for
+/// the last node of a row, see [`push_cells_by_node`]), and is drawn
+/// (`drawn[k]` = [`CELL_DRAW`], else 0) unless the cross products of its
+/// edges have sign `BACK` at all four corners, as [`mark_row`] decides
+/// (`BACK` 0: no test). Returns the largest `|x|` and `|y|` of the drawn
+/// cells' u and v edges (`[ux, uy, vx, vy]`), the drawn count and the
+/// count facing away.
+///
+/// The products are below 2^48 and their difference below 2^49, exact in
+/// `f64`, so the signs are those of the `i64` form; cells that are not
+/// candidates (unused corners at 0) are masked out whatever their
+/// positions give. Why one pass: the back-face test, the flags, the edge
+/// masks and the masked edges were four passes over the piece (and a
+/// fifth marking the rows), each with its own loop set-up on pieces of a
+/// few dozen nodes (callgrind, bunny 500²).
 #[inline(always)]
-fn away_cells_small<const BACK: i64>(xs: &[i32], ys: &[i32], cols: usize, away: &mut [u8]) {
-    let m = away.len();
+fn cells_small<const BACK: i64>(
+    xs: &[i32],
+    ys: &[i32],
+    cols: usize,
+    cells: &[u8],
+    drawn: &mut [u8],
+) -> ([u32; 4], u64, u64) {
+    let m = drawn.len();
+    let cells = &cells[..m];
     let (xa, xb) = (&xs[..m], &xs[1..m + 1]);
     let (xc, xd) = (&xs[cols..cols + m], &xs[cols + 1..cols + 1 + m]);
     let (ya, yb) = (&ys[..m], &ys[1..m + 1]);
     let (yc, yd) = (&ys[cols..cols + m], &ys[cols + 1..cols + 1 + m]);
     let sign = BACK as f64;
+    let mut e = [0u32; 4];
+    let (mut n_drawn, mut n_back) = (0u32, 0u32);
     for k in 0..m {
-        let d = |p: i32, q: i32| q.wrapping_sub(p) as f64;
+        let d = |p: i32, q: i32| q.wrapping_sub(p);
         let (u0, v0) = (
             (d(xa[k], xb[k]), d(ya[k], yb[k])),
             (d(xa[k], xc[k]), d(ya[k], yc[k])),
@@ -438,9 +381,28 @@ fn away_cells_small<const BACK: i64>(xs: &[i32], ys: &[i32], cols: usize, away: 
             (d(xc[k], xd[k]), d(yc[k], yd[k])),
             (d(xb[k], xd[k]), d(yb[k], yd[k])),
         );
-        let faces = |u: (f64, f64), v: (f64, f64)| (u.0 * v.1 - u.1 * v.0) * sign > 0.0;
-        away[k] = (faces(u0, v0) & faces(u0, v1) & faces(u1, v0) & faces(u1, v1)) as u8;
+        let candidate = cells[k] & CELL_DRAW;
+        let away = if BACK == 0 {
+            0
+        } else {
+            let faces = |u: (i32, i32), v: (i32, i32)| {
+                let (ux, uy, vx, vy) = (u.0 as f64, u.1 as f64, v.0 as f64, v.1 as f64);
+                (ux * vy - uy * vx) * sign > 0.0
+            };
+            (faces(u0, v0) & faces(u0, v1) & faces(u1, v0) & faces(u1, v1)) as u8
+        };
+        let f = candidate & !away;
+        drawn[k] = f;
+        n_drawn += f as u32;
+        n_back += (candidate & away) as u32;
+        let keep = 0u32.wrapping_sub(f as u32);
+        let larger = |a: i32, b: i32| a.unsigned_abs().max(b.unsigned_abs()) & keep;
+        e[0] = e[0].max(larger(u0.0, u1.0));
+        e[1] = e[1].max(larger(u0.1, u1.1));
+        e[2] = e[2].max(larger(v0.0, v1.0));
+        e[3] = e[3].max(larger(v0.1, v1.1));
     }
+    (e, n_drawn as u64, n_back as u64)
 }
 
 /// Draw flags of one row of cells between node rows `(xl, yl)` and

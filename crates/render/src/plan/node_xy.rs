@@ -26,18 +26,12 @@ pub(crate) struct NodeXY {
     pub(crate) ws: Vec<f32>,
     pub(crate) used: Vec<bool>,
     pub(crate) rows: Vec<RowLanes>,
-    /// Scratch of [`measure_cells`](crate::plan::measure::measure_cells): per node, 0 at the end of a row,
-    /// else all ones.
-    pub(crate) wrap: Vec<i32>,
-    /// The row length `wrap` was made for.
-    pub(crate) wrap_cols: usize,
-    /// Scratch of [`measure_cells`](crate::plan::measure::measure_cells): per node, all ones when its u (v)
-    /// edge belongs to a drawn cell.
-    pub(crate) umask: Vec<i32>,
-    pub(crate) vmask: Vec<i32>,
-    /// Scratch of [`measure_cells`](crate::plan::measure::measure_cells): per cell, 1 when it faces away (see
-    /// `away_cells_small`).
-    pub(crate) away: Vec<u8>,
+    /// Scratch of [`measure_cells`](crate::plan::measure::measure_cells):
+    /// a part of a level's cell flags laid out along the node rows
+    /// ([`crate::grid::push_cells_by_node`]), and per cell (at its (0, 0)
+    /// node) whether it is drawn.
+    pub(crate) cells: Vec<u8>,
+    pub(crate) drawn: Vec<u8>,
     /// Per node row, its used positions' box and count, when the
     /// projection found them (the trilinear one within range; else empty,
     /// and [`measure_cells`](crate::plan::measure::measure_cells) scans the positions).

@@ -23,7 +23,7 @@ use std::sync::OnceLock;
 use spatch_format::EMPTY;
 
 use crate::grid::{
-    close_cells, drawn_cells, drawn_edge_masks, push_weights, QuarteredCell, CELL_DRAW,
+    close_cells, drawn_cells, push_cells_by_node, push_weights, QuarteredCell, CELL_DRAW,
 };
 use crate::prepare::corner_fill::{fill_corners, fill_wanted_corners, FinerLevel};
 use crate::prepare::normals::grid_slots;
@@ -69,8 +69,8 @@ pub(crate) struct MipLevel {
     /// not in [`Self::cell_flags`], their corners [`Self::used`]). Empty
     /// at the other levels.
     pub(crate) quartered: Vec<QuarteredCell>,
-    /// The edge masks of [`Self::edge_masks`], found on first use.
-    edge_masks: OnceLock<(Vec<i32>, Vec<i32>)>,
+    /// The flags of [`Self::cells_by_node`], found on first use.
+    cells_by_node: OnceLock<Vec<u8>>,
 }
 
 impl MipLevel {
@@ -174,7 +174,7 @@ impl MipLevel {
             cell_flags,
             closing,
             quartered,
-            edge_masks: OnceLock::new(),
+            cells_by_node: OnceLock::new(),
         }
     }
 
@@ -204,22 +204,17 @@ impl MipLevel {
         })
     }
 
-    /// When some cells are not drawn, the edge masks of
-    /// [`crate::grid::drawn_edge_masks`] for [`Self::cell_flags`], so a
-    /// frame drawing the whole level need not build them. Why on first
-    /// use: as for [`Self::weights`] (the level under a drawn coarse level
-    /// never needs them; 2.3 KB a 17 × 17 level, 515 page faults of a
-    /// one-image bunny render).
-    pub(crate) fn edge_masks(&self) -> Option<(&[i32], &[i32])> {
-        if self.draws_every_cell() {
-            return None;
-        }
-        let (um, vm) = self.edge_masks.get_or_init(|| {
-            let (mut um, mut vm) = (Vec::new(), Vec::new());
-            drawn_edge_masks(&self.cell_flags, self.cols, self.rows, &mut um, &mut vm);
-            (um, vm)
-        });
-        Some((um, vm))
+    /// [`Self::cell_flags`]' drawn bits laid out along the node rows
+    /// ([`crate::grid::push_cells_by_node`]; `(rows - 1) × cols` bytes), so
+    /// a frame measuring the whole level need not lay them out. Why on
+    /// first use: as for [`Self::weights`] (the level under a drawn coarse
+    /// level never needs them).
+    pub(crate) fn cells_by_node(&self) -> &[u8] {
+        self.cells_by_node.get_or_init(|| {
+            let mut out = Vec::with_capacity((self.rows - 1) * self.cols);
+            push_cells_by_node(self.cell_flags.chunks_exact(self.cols - 1), &mut out);
+            out
+        })
     }
 
     /// The level as the halving into the level above reads it.
