@@ -2,8 +2,7 @@
 //! (drawn, closes its right column, closes its top row), which cells of a
 //! grid of displacement codes have four filled corners, how a piece's
 //! flags close its last column and row, the cell flags laid out along the
-//! node rows,
-//! and the weight of each node within a displacement range.
+//! node rows, and the weight of each node within a displacement range.
 //!
 //! Each drawn cell places its sub-nodes `(a, b)` for `a < nu`, `b < nv`,
 //! plus its last column or row when the neighbouring cell on that side is
