@@ -279,13 +279,12 @@ fn mark_cells(
 /// `i32`).
 #[inline(always)]
 fn largest_edges(xy: &NodeXY, out: &[u8], cols: usize, narrow: bool, drawable: u64) -> [i64; 4] {
+    // No cell drawn: no edge, nothing to close (such a piece is dropped).
+    if drawable == 0 {
+        return [0; 4];
+    }
     let mut edges = [0u64; 4];
     for (cj, row) in out.chunks_exact(cols - 1).enumerate() {
-        // No cell drawn: no edge, nothing to close (such a piece is
-        // dropped).
-        if drawable == 0 {
-            break;
-        }
         let (lo, hi) = (cj * cols, (cj + 1) * cols);
         let (xl, yl) = (&xy.xs[lo..lo + cols], &xy.ys[lo..lo + cols]);
         let (xh, yh) = (&xy.xs[hi..hi + cols], &xy.ys[hi..hi + cols]);
