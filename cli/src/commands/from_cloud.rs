@@ -311,12 +311,7 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let measure = args.error || args.report.is_some() || args.json;
     // load, the pipeline's stages (CLOUD_STAGES, consensus included), write, the error.
     let progress = Progress::new(&args.input_label(), 2 + CLOUD_STAGES + usize::from(measure));
-    let started = Instant::now();
-    progress.step("load");
-    let loaded = read_inputs(args)?;
-    options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
-    options.scanners = loaded.sight_lines.then(|| scanners_of(&loaded.scans));
-    let load_seconds = started.elapsed().as_secs_f64();
+    let (loaded, load_seconds) = load_inputs(args, &progress, &mut options)?;
     let label = args.input_label();
     let steps = CloudSteps::new(&progress);
     let on_progress = |p| steps.report(p);
@@ -338,27 +333,67 @@ pub(crate) fn run(args: &FromCloudArgs) -> anyhow::Result<()> {
     let warnings = complete_report(&mut report, dropped_non_finite, &load_warnings, seconds);
     if let Some(cloud) = &mut kept {
         progress.step("measuring error");
-        if args.error_against == ErrorAgainst::Aligned {
-            shift_loaded_scans(cloud, &scans, &report.scan_shifts);
-        }
         let order = conversion.point_order.as_ref();
-        let error = measure_cloud_error_in_order(cloud, &conversion.scene, report.spacing, order)
+        let error = measure_error(args, cloud, &scans, &conversion.scene, order, &report)
             .with_context(|| format!("{label}: measuring the error"))?;
         report.error = Some(error);
     }
     drop(progress);
+    print_results(args, &report, warnings, (scans.len(), points))
+}
+
+/// Reads the inputs (the progress's `load` step) and sets the consensus and the scanners of
+/// `options` from what they hold; with the seconds that took.
+fn load_inputs(
+    args: &FromCloudArgs,
+    progress: &Progress,
+    options: &mut CloudOptions,
+) -> anyhow::Result<(LoadedScans, f64)> {
+    let started = Instant::now();
+    progress.step("load");
+    let loaded = read_inputs(args)?;
+    options.consensus = args.consensus || (!args.no_consensus && loaded.scans.len() > 1);
+    options.scanners = loaded.sight_lines.then(|| scanners_of(&loaded.scans));
+    Ok((loaded, started.elapsed().as_secs_f64()))
+}
+
+/// The error of the converted `scene` (the cloud's points sorted in `order`) against the
+/// loaded `cloud`, first moved by the report's scan shifts when `--error-against aligned`
+/// asks.
+fn measure_error(
+    args: &FromCloudArgs,
+    cloud: &mut PointCloud,
+    scans: &[spatch_scan::ScanSummary],
+    scene: &spatch_format::Scene,
+    order: Option<&spatch_cloud::PointOrder>,
+    report: &CloudReport,
+) -> Result<spatch_cloud::CloudErrorReport, CloudError> {
+    if args.error_against == ErrorAgainst::Aligned {
+        shift_loaded_scans(cloud, scans, &report.scan_shifts);
+    }
+    measure_cloud_error_in_order(cloud, scene, report.spacing, order)
+}
+
+/// Prints the summary (led by the scan count when the `scans` of the inputs are several, and
+/// the `points` read), and writes or prints the JSON report when asked.
+fn print_results(
+    args: &FromCloudArgs,
+    report: &CloudReport,
+    warnings: Vec<String>,
+    (scans, points): (usize, usize),
+) -> anyhow::Result<()> {
     let mut text = String::new();
-    if scans.len() > 1 {
+    if scans > 1 {
         text.push_str(&format!(
             "read {} scans from {} inputs ({} points)\n",
-            scans.len(),
+            scans,
             args.inputs.len(),
             points
         ));
     }
-    text.push_str(&cloud_summary(args, &report, &warnings));
+    text.push_str(&cloud_summary(args, report, &warnings));
     if args.report.is_some() || args.json {
-        let shared = shared_report(args, &report, warnings)?;
+        let shared = shared_report(args, report, warnings)?;
         if let Some(path) = &args.report {
             write_json_report(path, &shared)?;
         }

@@ -213,6 +213,19 @@ impl PointColumns {
         self.x.len()
     }
 
+    /// The columns `[x, y, z, nx, ny, nz]` of the points in `range`.
+    #[inline(always)] // Sets up the vectorised loop of `Projector::project`.
+    fn columns(&self, range: std::ops::Range<usize>) -> [&[f32]; 6] {
+        [
+            &self.x[range.clone()],
+            &self.y[range.clone()],
+            &self.z[range.clone()],
+            &self.nx[range.clone()],
+            &self.ny[range.clone()],
+            &self.nz[range],
+        ]
+    }
+
     /// The normals as vectors.
     pub(crate) fn normals(&self) -> Vec<Vec3> {
         (0..self.len())
@@ -355,17 +368,8 @@ impl Projector {
             width,
             pixel,
         } = *self;
+        let [px, py, pz, nx, ny, nz] = points.columns(range);
         // Every slice cut to `n`, so the loop has no bounds checks (which would stop the SIMD).
-        let (px, py, pz) = (
-            &points.x[range.clone()],
-            &points.y[range.clone()],
-            &points.z[range.clone()],
-        );
-        let (nx, ny, nz) = (
-            &points.nx[range.clone()],
-            &points.ny[range.clone()],
-            &points.nz[range],
-        );
         let (px, py, pz, nx, ny, nz) = (&px[..n], &py[..n], &pz[..n], &nx[..n], &ny[..n], &nz[..n]);
         let (out_pixel, out_height) = (&mut out_pixel[..n], &mut out_height[..n]);
         for j in 0..n {
@@ -378,24 +382,12 @@ impl Projector {
             let n_u = ax * u.x + ay * u.y + az * u.z;
             let n_w = ax * w.x + ay * w.y + az * w.z;
             let is_unknown = ax == 0.0 && ay == 0.0 && az == 0.0;
-            // Points seen at a grazing angle are not drawn (unknown normals always are), nor,
-            // with oriented normals, points seen from behind.
-            let toward = if oriented { n_d } else { n_d.abs() };
-            let facing = is_unknown || toward >= MIN_POINT_COSINE;
+            let facing = faces_view(n_d, is_unknown, oriented);
             // Outside the image: a far outlier beyond the robust bounds.
             let inside = fx >= -0.5 && fy >= -0.5 && fx < right && fy < top;
             // Nearest pixel centre: `⌊f + 0.5⌋` wherever the point is inside.
             let (cx, cy) = (floor_pixel(fx + 0.5), floor_pixel(fy + 0.5));
-            // The depth gradient of the tangent plane, clamped to MAX_GRADIENT.
-            let to_gradient = if is_unknown { 0.0 } else { -1.0 / n_d };
-            let (gx, gy) = (n_u * to_gradient, n_w * to_gradient);
-            let g2 = gx * gx + gy * gy;
-            let clamp = if g2 > MAX_GRADIENT * MAX_GRADIENT {
-                MAX_GRADIENT / g2.sqrt()
-            } else {
-                1.0
-            };
-            let carry = (gx * (cx - fx) + gy * (cy - fy)) * clamp;
+            let carry = tangent_carry(n_u, n_w, n_d, is_unknown, cx - fx, cy - fy);
             out_height[j] = h + carry * pixel;
             let k = pixel_index(cy)
                 .wrapping_mul(width as u32)
@@ -403,6 +395,31 @@ impl Projector {
             out_pixel[j] = if facing && inside { k } else { NOT_DRAWN };
         }
     }
+}
+
+/// Whether a point is drawn in a view, from its normal's component `n_d` along the view
+/// direction: not at a grazing angle nor, with `oriented` normals, seen from behind; always
+/// when its normal `is_unknown`.
+#[inline(always)] // Inside the vectorised loop of `Projector::project`.
+fn faces_view(n_d: f32, is_unknown: bool, oriented: bool) -> bool {
+    let toward = if oriented { n_d } else { n_d.abs() };
+    is_unknown || toward >= MIN_POINT_COSINE
+}
+
+/// The height change, in pixels, from a point to the pixel centre `(dx, dy)` pixels away
+/// along its tangent plane: its normal `(n_u, n_w, n_d)` in the view's axes gives the depth
+/// gradient, clamped to [`MAX_GRADIENT`]; none when the normal `is_unknown`.
+#[inline(always)] // Inside the vectorised loop of `Projector::project`.
+fn tangent_carry(n_u: f32, n_w: f32, n_d: f32, is_unknown: bool, dx: f32, dy: f32) -> f32 {
+    let to_gradient = if is_unknown { 0.0 } else { -1.0 / n_d };
+    let (gx, gy) = (n_u * to_gradient, n_w * to_gradient);
+    let g2 = gx * gx + gy * gy;
+    let clamp = if g2 > MAX_GRADIENT * MAX_GRADIENT {
+        MAX_GRADIENT / g2.sqrt()
+    } else {
+        1.0
+    };
+    (gx * dx + gy * dy) * clamp
 }
 
 /// `2^23`: every `f32` in `[2^23, 2^24)` is an integer, one apart.

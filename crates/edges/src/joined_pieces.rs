@@ -137,6 +137,34 @@ fn next_join(
     groups: &[Group],
     failed: &mut HashSet<(usize, u32, usize, u32)>,
 ) -> Result<Option<(usize, usize, Patch)>, EdgeError> {
+    let pairs = untried_pairs(job, groups, failed);
+    if pairs.is_empty() {
+        return Ok(None);
+    }
+    let mut coverage = live_coverage(job, groups);
+    for (a, b) in pairs {
+        let nodes = groups[a].patch.grid().node_count() + groups[b].patch.grid().node_count();
+        let candidate = join_patch(job, &groups[a].piece, &groups[b].piece, nodes)?;
+        let covered = candidate
+            .as_ref()
+            .is_some_and(|patch| join_covers(job, groups, &mut coverage, (a, b), patch));
+        match candidate {
+            Some(patch) if covered => return Ok(Some((a, b, patch))),
+            _ => {
+                failed.insert((a, groups[a].version, b, groups[b].version));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The adjacent pairs of live groups not already `failed` as they are, most alike view
+/// directions first (then by index).
+fn untried_pairs(
+    job: &JoinJob<'_>,
+    groups: &[Group],
+    failed: &HashSet<(usize, u32, usize, u32)>,
+) -> Vec<(usize, usize)> {
     let mut pairs = adjacent_pairs(groups);
     let views: Vec<Vec3> = groups
         .iter()
@@ -147,9 +175,12 @@ fn next_join(
         let (p, q) = (views[a].dot(views[b]), views[c].dot(views[d]));
         q.total_cmp(&p).then((a, b).cmp(&(c, d)))
     });
-    if pairs.is_empty() {
-        return Ok(None);
-    }
+    pairs
+}
+
+/// The coverage of the surface patches and of the live groups' patches (the groups'
+/// patches follow the surface's, in group order).
+fn live_coverage<'a>(job: &JoinJob<'a>, groups: &'a [Group]) -> SurfaceCoverage<'a> {
     let mut coverage = SurfaceCoverage::new(
         job.surface.iter().chain(groups.iter().map(|g| &g.patch)),
         job.spacing,
@@ -158,45 +189,46 @@ fn next_join(
     for (k, g) in groups.iter().enumerate() {
         coverage.set_enabled(first + k, g.live);
     }
-    for (a, b) in pairs {
-        let nodes = groups[a].patch.grid().node_count() + groups[b].patch.grid().node_count();
-        let candidate = join_patch(job, &groups[a].piece, &groups[b].piece, nodes)?;
-        let covered = candidate.as_ref().is_some_and(|patch| {
-            coverage.set_enabled(first + a, false);
-            coverage.set_enabled(first + b, false);
-            let own = SurfaceCoverage::new([patch], job.spacing);
-            let before = SurfaceCoverage::new([&groups[a].patch, &groups[b].patch], job.spacing);
-            // Every probe the two patches covered (beyond what the others cover) is covered
-            // by the joined one. The small indexes are asked first: most probes end there.
-            let covers = |p: Vec3, n: Vec3, tolerance: f32| {
-                !before.covers(p, n, tolerance)
-                    || own.covers(p, n, tolerance)
-                    || coverage.covers(p, n, tolerance)
-            };
-            let ok = [&groups[a].piece, &groups[b].piece]
-                .into_iter()
-                .all(|piece| {
-                    piece_covered(
-                        job.cast.mesh,
-                        job.sharp,
-                        piece,
-                        job.spacing,
-                        job.soft_crease_deg,
-                        &covers,
-                    )
-                });
-            coverage.set_enabled(first + a, true);
-            coverage.set_enabled(first + b, true);
-            ok
+    coverage
+}
+
+/// Whether the joined `patch` of groups `a` and `b`, with `coverage` (of [`live_coverage`])
+/// less their own patches, covers every probe of their pieces that their two patches
+/// covered. Leaves `coverage` as it found it.
+fn join_covers(
+    job: &JoinJob<'_>,
+    groups: &[Group],
+    coverage: &mut SurfaceCoverage<'_>,
+    (a, b): (usize, usize),
+    patch: &Patch,
+) -> bool {
+    let first = job.surface.len();
+    coverage.set_enabled(first + a, false);
+    coverage.set_enabled(first + b, false);
+    let own = SurfaceCoverage::new([patch], job.spacing);
+    let before = SurfaceCoverage::new([&groups[a].patch, &groups[b].patch], job.spacing);
+    // Every probe the two patches covered (beyond what the others cover) is covered
+    // by the joined one. The small indexes are asked first: most probes end there.
+    let covers = |p: Vec3, n: Vec3, tolerance: f32| {
+        !before.covers(p, n, tolerance)
+            || own.covers(p, n, tolerance)
+            || coverage.covers(p, n, tolerance)
+    };
+    let ok = [&groups[a].piece, &groups[b].piece]
+        .into_iter()
+        .all(|piece| {
+            piece_covered(
+                job.cast.mesh,
+                job.sharp,
+                piece,
+                job.spacing,
+                job.soft_crease_deg,
+                &covers,
+            )
         });
-        match candidate {
-            Some(patch) if covered => return Ok(Some((a, b, patch))),
-            _ => {
-                failed.insert((a, groups[a].version, b, groups[b].version));
-            }
-        }
-    }
-    Ok(None)
+    coverage.set_enabled(first + a, true);
+    coverage.set_enabled(first + b, true);
+    ok
 }
 
 /// Pairs `(a, b)`, `a < b`, of live groups that share a crease vertex.

@@ -564,60 +564,122 @@ fn make_patch(
     if i1 == i0 || j1 == j0 {
         return Ok(None);
     }
-    let (cols, rows) = (i1 - i0 + 1, j1 - j0 + 1);
-    let at = |i: usize, j: usize| lattice.index(i0 + i, j0 + j);
-    let drawable = (0..rows - 1).any(|j| {
-        (0..cols - 1).any(|i| {
-            [at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]
-                .iter()
-                .all(|&k| codes[k] != EMPTY)
-        })
-    });
-    if !drawable {
+    let window = NodeWindow {
+        lattice,
+        corner: (i0, j0),
+        cols: i1 - i0 + 1,
+        rows: j1 - j0 + 1,
+    };
+    if !window.has_drawable_cell(codes) {
         return Ok(None);
     }
-    let mut base = u16::MAX;
-    for j in 0..rows {
-        for i in 0..cols {
-            let c = codes[at(i, j)];
-            if c != EMPTY {
-                base = base.min(c);
-            }
-        }
-    }
-    let b = &lattice.basis;
-    let footprint = Footprint {
-        ax: b.x * lattice.spacing[0],
-        ay: b.y * lattice.spacing[1],
-        axis: b.z,
-    };
-    let job_footprint = job.footprint_colour.then_some(&footprint);
-    let mut displacements = Vec::with_capacity(cols * rows);
-    let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
-    for j in 0..rows {
-        for i in 0..cols {
-            let k = at(i, j);
-            let c = codes[k];
-            displacements.push(if c == EMPTY { EMPTY } else { c - base });
-            if let Some(colours) = colours.as_mut() {
-                colours.push(if c == EMPTY {
-                    [0; 4]
-                } else {
-                    node_colour(job.mesh, hits[k].face, hits[k].bary, job_footprint)
-                });
-            }
-        }
-    }
-    let step = quantizer.step();
-    let origin = lattice.position(i0, j0, f64::from(h_min) + f64::from(base) * f64::from(step));
-    let frame = Frame::new(
-        origin,
-        b.x * lattice.spacing[0],
-        b.y * lattice.spacing[1],
-        b.z * step,
-    )?;
-    let grid = GridSize::new(cols as u32, rows as u32)?;
+    let base = window.lowest_code(codes);
+    let (displacements, colours) = window.node_values(job, hits, codes, base);
+    let frame = window.frame(quantizer, h_min, base)?;
+    let grid = GridSize::new(window.cols as u32, window.rows as u32)?;
     Ok(Some(Patch::new(frame, grid, displacements, colours)?))
+}
+
+/// The nodes of one patch: `cols × rows` nodes of the lattice from node `corner`.
+struct NodeWindow<'a> {
+    lattice: &'a Lattice,
+    /// The lattice node `(i0, j0)` of the patch's node `(0, 0)`.
+    corner: (usize, usize),
+    cols: usize,
+    rows: usize,
+}
+
+impl NodeWindow<'_> {
+    /// The lattice index of the patch's node `(i, j)`.
+    fn at(&self, i: usize, j: usize) -> usize {
+        self.lattice.index(self.corner.0 + i, self.corner.1 + j)
+    }
+
+    /// Whether some cell has its four corners filled.
+    fn has_drawable_cell(&self, codes: &[u16]) -> bool {
+        (0..self.rows - 1).any(|j| {
+            (0..self.cols - 1).any(|i| {
+                [
+                    self.at(i, j),
+                    self.at(i + 1, j),
+                    self.at(i, j + 1),
+                    self.at(i + 1, j + 1),
+                ]
+                .iter()
+                .all(|&k| codes[k] != EMPTY)
+            })
+        })
+    }
+
+    /// The lowest code of the filled nodes (`u16::MAX` when none is filled).
+    fn lowest_code(&self, codes: &[u16]) -> u16 {
+        let mut base = u16::MAX;
+        for j in 0..self.rows {
+            for i in 0..self.cols {
+                let c = codes[self.at(i, j)];
+                if c != EMPTY {
+                    base = base.min(c);
+                }
+            }
+        }
+        base
+    }
+
+    /// Each node's displacement (its code above `base`, or [`EMPTY`]) and, when the job has
+    /// colour, its colour, row by row.
+    fn node_values(
+        &self,
+        job: &RegionJob<'_>,
+        hits: &[Hit],
+        codes: &[u16],
+        base: u16,
+    ) -> (Vec<u16>, Option<Vec<[u8; 4]>>) {
+        let (lattice, cols, rows) = (self.lattice, self.cols, self.rows);
+        let b = &lattice.basis;
+        let footprint = Footprint {
+            ax: b.x * lattice.spacing[0],
+            ay: b.y * lattice.spacing[1],
+            axis: b.z,
+        };
+        let job_footprint = job.footprint_colour.then_some(&footprint);
+        let mut displacements = Vec::with_capacity(cols * rows);
+        let mut colours = job.with_colour.then(|| Vec::with_capacity(cols * rows));
+        for j in 0..rows {
+            for i in 0..cols {
+                let k = self.at(i, j);
+                let c = codes[k];
+                displacements.push(if c == EMPTY { EMPTY } else { c - base });
+                if let Some(colours) = colours.as_mut() {
+                    colours.push(if c == EMPTY {
+                        [0; 4]
+                    } else {
+                        node_colour(job.mesh, hits[k].face, hits[k].bary, job_footprint)
+                    });
+                }
+            }
+        }
+        (displacements, colours)
+    }
+
+    /// The patch's frame: origin at the corner node at the height of code `base` (heights
+    /// from `h_min`), axes one cell and one `quantizer` step long.
+    fn frame(
+        &self,
+        quantizer: &spatch_format::Quantizer,
+        h_min: f32,
+        base: u16,
+    ) -> Result<Frame, FitError> {
+        let (lattice, (i0, j0)) = (self.lattice, self.corner);
+        let b = &lattice.basis;
+        let step = quantizer.step();
+        let origin = lattice.position(i0, j0, f64::from(h_min) + f64::from(base) * f64::from(step));
+        Ok(Frame::new(
+            origin,
+            b.x * lattice.spacing[0],
+            b.y * lattice.spacing[1],
+            b.z * step,
+        )?)
+    }
 }
 
 #[cfg(test)]

@@ -103,16 +103,9 @@ pub(crate) fn cast_face(
     locked: Option<&[bool]>,
     hits: &mut [Hit],
 ) {
-    let p = g.map(|v| DVec2::new(f64::from(v.x), f64::from(v.y)));
-    let area2 = (p[1] - p[0]).perp_dot(p[2] - p[0]);
-    let scale = (p[1] - p[0])
-        .length_squared()
-        .max((p[2] - p[0]).length_squared())
-        .max((p[2] - p[1]).length_squared());
-    // Edge-on in projection: a ray would graze it.
-    if area2.abs() <= 1e-9 * scale || !area2.is_finite() {
+    let Some((p, area2)) = projected_corners(g) else {
         return;
-    }
+    };
     let inv = 1.0 / area2;
     // Weight of corner c at distance d (grid units) outside the opposite edge: -d·|edge|/|area2|.
     let opposite = [(2, 1), (0, 2), (1, 0)];
@@ -120,14 +113,7 @@ pub(crate) fn cast_face(
         let (a, b) = opposite[c];
         -1e-6 - reach.past_edge[c] * (p[a] - p[b]).length() / area2.abs()
     });
-    // The box widened by the reach, so a node just past the face's extreme corner is tested.
-    let widen = reach.past_edge.iter().copied().fold(0.0, f64::max) as f32;
-    let lo = g[0].min(g[1]).min(g[2]) - Vec3::splat(widen);
-    let hi = g[0].max(g[1]).max(g[2]) + Vec3::splat(widen);
-    let Some((i0, i1)) = Lattice::node_range(lo.x, hi.x, lattice.cols) else {
-        return;
-    };
-    let Some((j0, j1)) = Lattice::node_range(lo.y, hi.y, lattice.rows) else {
+    let Some(((i0, i1), (j0, j1))) = node_window(g, reach.past_edge, lattice) else {
         return;
     };
     for j in j0..=j1 {
@@ -159,4 +145,38 @@ pub(crate) fn cast_face(
             }
         }
     }
+}
+
+/// The corners `g` of a face projected on the grid plane, with twice its signed area there;
+/// `None` when the projection is edge-on (a ray would graze it).
+#[inline(always)] // Sets up the node loop of `cast_face`, once per face.
+fn projected_corners(g: [Vec3; 3]) -> Option<([DVec2; 3], f64)> {
+    let p = g.map(|v| DVec2::new(f64::from(v.x), f64::from(v.y)));
+    let area2 = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+    let scale = (p[1] - p[0])
+        .length_squared()
+        .max((p[2] - p[0]).length_squared())
+        .max((p[2] - p[1]).length_squared());
+    // Edge-on in projection: a ray would graze it.
+    if area2.abs() <= 1e-9 * scale || !area2.is_finite() {
+        return None;
+    }
+    Some((p, area2))
+}
+
+/// The lattice nodes `((i0, i1), (j0, j1))` (inclusive) that may hit the face of corners
+/// `g`: its box widened by the largest reach `past_edge`; `None` when it misses the lattice.
+#[inline(always)] // Sets up the node loop of `cast_face`, once per face.
+fn node_window(
+    g: [Vec3; 3],
+    past_edge: [f64; 3],
+    lattice: &Lattice,
+) -> Option<((usize, usize), (usize, usize))> {
+    // The box widened by the reach, so a node just past the face's extreme corner is tested.
+    let widen = past_edge.iter().copied().fold(0.0, f64::max) as f32;
+    let lo = g[0].min(g[1]).min(g[2]) - Vec3::splat(widen);
+    let hi = g[0].max(g[1]).max(g[2]) + Vec3::splat(widen);
+    let columns = Lattice::node_range(lo.x, hi.x, lattice.cols)?;
+    let rows = Lattice::node_range(lo.y, hi.y, lattice.rows)?;
+    Some((columns, rows))
 }

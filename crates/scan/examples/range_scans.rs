@@ -29,11 +29,11 @@
 //! shadowed parts unseen (bun_zipper's far ear, the mannequin's neck).
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use rayon::prelude::*;
-use spatch_mesh::{load_mesh, Bvh, SplitMix64};
+use spatch_mesh::{load_mesh, Bvh, SplitMix64, TriangleMesh};
 
 /// Largest angle between a ray and the surface normal at its hit that a scanner records
 /// (cosine).
@@ -50,76 +50,161 @@ const CANDIDATES: usize = 256;
 const COVER_FACES: usize = 40_000;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let cover = args.iter().any(|a| a == "--cover");
-    args.retain(|a| a != "--cover");
-    if args.len() < 4 {
-        return Err("usage: range_scans MESH SCANS GRID OUT_DIR [NOISE] [SHIFT] [--cover]".into());
-    }
-    let mesh = load_mesh(&args[0])?.mesh;
-    let scans: usize = args[1].parse()?;
-    let grid: usize = args[2].parse()?;
-    let dir = Path::new(&args[3]);
-    let noise: f32 = args.get(4).map_or(Ok(0.0005), |v| v.parse())?;
-    let shift: f32 = args.get(5).map_or(Ok(0.0015), |v| v.parse())?;
-    std::fs::create_dir_all(dir)?;
-    let bvh = Bvh::new(&mesh);
-    let bounds = bvh.bounds();
-    let (centre, radius) = (bounds.centre(), bounds.diagonal() / 2.0);
-    let mut rng = SplitMix64::new(19);
-    let mut gauss = move || {
-        let a = 1.0 - rng.next_f64();
-        let b = rng.next_f64();
-        ((-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()) as f32
-    };
-    let planned = cover.then(|| covering_views(&mesh, &bvh, scans));
+    let job = Job::from_args()?;
+    let mesh = &job.mesh;
+    let bvh = Bvh::new(mesh);
+    let radius = bvh.bounds().diagonal() / 2.0;
+    let mut gauss = gaussian(SplitMix64::new(19));
+    let planned = job.cover.then(|| covering_views(mesh, &bvh, job.scans));
     let mut conf = String::new();
     let mut total = 0;
-    for k in 0..scans {
-        // A Fibonacci direction, turned at random so that no scan lines up with an axis.
-        let z = 1.0 - (2.0 * k as f32 + 1.0) / scans as f32;
-        let phi = k as f32 * std::f32::consts::PI * (3.0 - 5f32.sqrt()) + gauss();
-        let s = (1.0 - z * z).sqrt();
-        let even = Vec3::new(s * phi.cos(), s * phi.sin(), z).normalize();
+    for k in 0..job.scans {
+        let even = spread_direction(k, job.scans, gauss());
         let view = planned.as_ref().map_or(even, |v| v[k]);
         let u = view.any_orthonormal_vector();
-        let w = view.cross(u);
-        let offset = Vec3::new(gauss(), gauss(), gauss()) * shift * radius;
-        let noises: Vec<f32> = (0..grid * grid).map(|_| gauss() * noise * radius).collect();
-        let step = 2.0 * radius / grid as f32;
-        let rays: Vec<(usize, Vec3)> = (0..grid * grid)
-            .into_par_iter()
-            .filter_map(|r| {
-                let (a, b) = ((r % grid) as f32 + 0.5, (r / grid) as f32 + 0.5);
-                let origin = centre
-                    + view * 2.0 * radius
-                    + u * (a * step - radius)
-                    + w * (b * step - radius);
-                let hit = bvh.ray_cast(origin, -view, 0.0, 4.0 * radius)?;
-                let normal = mesh.face_normal(hit.face);
-                (normal.dot(view).abs() >= MIN_COSINE)
-                    .then(|| (r, origin - view * (hit.t + noises[r]) + offset))
-            })
-            .collect();
-        let name = format!("scan_{k:02}.ply");
-        // The scanner's frame: image axes u and w, the scanner on the +view side.
-        let frame = DMat3::from_cols(u.as_dvec3(), w.as_dvec3(), view.as_dvec3());
-        write_ply(&dir.join(&name), &rays, grid, mesh.origin, frame)?;
-        // The .conf gives the conjugate of the frame's rotation (docs/algorithms/scan.md).
-        let q = DQuat::from_mat3(&frame).conjugate();
-        conf.push_str(&format!(
-            "bmesh {name} 0 0 0 {} {} {} {}\n",
-            q.x, q.y, q.z, q.w
-        ));
+        let offset = Vec3::new(gauss(), gauss(), gauss()) * job.shift * radius;
+        let pose = ScanPose {
+            view,
+            u,
+            w: view.cross(u),
+            offset,
+        };
+        let cells = job.grid * job.grid;
+        let noises: Vec<f32> = (0..cells).map(|_| gauss() * job.noise * radius).collect();
+        let rays = cast_scan(mesh, &bvh, &pose, job.grid, &noises);
+        conf.push_str(&write_scan(&job, k, &rays, &pose)?);
         total += rays.len();
     }
-    std::fs::write(dir.join("scans.conf"), conf)?;
-    println!("{scans} scans, {total} points in {}", dir.display());
+    std::fs::write(job.dir.join("scans.conf"), conf)?;
+    println!(
+        "{} scans, {total} points in {}",
+        job.scans,
+        job.dir.display()
+    );
     Ok(())
 }
 
+/// What the command line asks for (see the module docs), the mesh loaded and the output
+/// folder created.
+struct Job {
+    mesh: TriangleMesh,
+    scans: usize,
+    grid: usize,
+    dir: PathBuf,
+    noise: f32,
+    shift: f32,
+    cover: bool,
+}
+
+impl Job {
+    /// Reads the command line, loads the mesh and creates the output folder.
+    fn from_args() -> Result<Job, Box<dyn std::error::Error>> {
+        let mut args: Vec<String> = std::env::args().skip(1).collect();
+        let cover = args.iter().any(|a| a == "--cover");
+        args.retain(|a| a != "--cover");
+        if args.len() < 4 {
+            return Err(
+                "usage: range_scans MESH SCANS GRID OUT_DIR [NOISE] [SHIFT] [--cover]".into(),
+            );
+        }
+        let mesh = load_mesh(&args[0])?.mesh;
+        let scans: usize = args[1].parse()?;
+        let grid: usize = args[2].parse()?;
+        let dir = PathBuf::from(&args[3]);
+        let noise: f32 = args.get(4).map_or(Ok(0.0005), |v| v.parse())?;
+        let shift: f32 = args.get(5).map_or(Ok(0.0015), |v| v.parse())?;
+        std::fs::create_dir_all(&dir)?;
+        Ok(Job {
+            mesh,
+            scans,
+            grid,
+            dir,
+            noise,
+            shift,
+            cover,
+        })
+    }
+}
+
+/// Standard normal samples (Box–Muller) drawn from `rng`.
+fn gaussian(mut rng: SplitMix64) -> impl FnMut() -> f32 {
+    move || {
+        let a = 1.0 - rng.next_f64();
+        let b = rng.next_f64();
+        ((-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()) as f32
+    }
+}
+
+/// Direction `k` of `count` spread evenly over the sphere (a Fibonacci direction), turned by
+/// `turn` radians about z so that no scan lines up with an axis.
+fn spread_direction(k: usize, count: usize, turn: f32) -> Vec3 {
+    let z = 1.0 - (2.0 * k as f32 + 1.0) / count as f32;
+    let phi = k as f32 * std::f32::consts::PI * (3.0 - 5f32.sqrt()) + turn;
+    let s = (1.0 - z * z).sqrt();
+    Vec3::new(s * phi.cos(), s * phi.sin(), z).normalize()
+}
+
+/// One scan's pose: the direction it looks from, its image axes and its misregistration.
+struct ScanPose {
+    /// From the mesh toward the scanner.
+    view: Vec3,
+    /// Image axes.
+    u: Vec3,
+    w: Vec3,
+    /// The shift added to every point of the scan.
+    offset: Vec3,
+}
+
+/// The hits of a `grid × grid` square of rays of the scan `pose` over the mesh's bounding
+/// sphere: per ray hitting the surface at less than 84° from its normal, the ray's index
+/// and the hit moved by its depth noise (`noises`, one per ray) and the scan's offset.
+fn cast_scan(
+    mesh: &TriangleMesh,
+    bvh: &Bvh,
+    pose: &ScanPose,
+    grid: usize,
+    noises: &[f32],
+) -> Vec<(usize, Vec3)> {
+    let bounds = bvh.bounds();
+    let (centre, radius) = (bounds.centre(), bounds.diagonal() / 2.0);
+    let ScanPose { view, u, w, offset } = *pose;
+    let step = 2.0 * radius / grid as f32;
+    (0..grid * grid)
+        .into_par_iter()
+        .filter_map(|r| {
+            let (a, b) = ((r % grid) as f32 + 0.5, (r / grid) as f32 + 0.5);
+            let origin =
+                centre + view * 2.0 * radius + u * (a * step - radius) + w * (b * step - radius);
+            let hit = bvh.ray_cast(origin, -view, 0.0, 4.0 * radius)?;
+            let normal = mesh.face_normal(hit.face);
+            (normal.dot(view).abs() >= MIN_COSINE)
+                .then(|| (r, origin - view * (hit.t + noises[r]) + offset))
+        })
+        .collect()
+}
+
+/// Writes scan `k` of `job` (its `rays`, see [`write_ply`]) as `scan_KK.ply` in the output
+/// folder, in the frame of its `pose`; returns its line of `scans.conf`.
+fn write_scan(
+    job: &Job,
+    k: usize,
+    rays: &[(usize, Vec3)],
+    pose: &ScanPose,
+) -> std::io::Result<String> {
+    let name = format!("scan_{k:02}.ply");
+    // The scanner's frame: image axes u and w, the scanner on the +view side.
+    let frame = DMat3::from_cols(pose.u.as_dvec3(), pose.w.as_dvec3(), pose.view.as_dvec3());
+    write_ply(&job.dir.join(&name), rays, job.grid, job.mesh.origin, frame)?;
+    // The .conf gives the conjugate of the frame's rotation (docs/algorithms/scan.md).
+    let q = DQuat::from_mat3(&frame).conjugate();
+    Ok(format!(
+        "bmesh {name} 0 0 0 {} {} {} {}\n",
+        q.x, q.y, q.z, q.w
+    ))
+}
+
 /// The `count` directions of `--cover` (see the module docs), in the order chosen.
-fn covering_views(mesh: &spatch_mesh::TriangleMesh, bvh: &Bvh, count: usize) -> Vec<Vec3> {
+fn covering_views(mesh: &TriangleMesh, bvh: &Bvh, count: usize) -> Vec<Vec3> {
     let bounds = bvh.bounds();
     let radius = bounds.diagonal() / 2.0;
     let stride = mesh.face_count().div_ceil(COVER_FACES).max(1);

@@ -663,56 +663,15 @@ fn merge_pieces(
     mut materials: Vec<Material>,
     warnings: &mut Vec<LoadWarning>,
 ) -> MeshBuilder {
-    let any_uv = pieces.iter().any(|p| p.uvs.is_some());
-    let any_colour = pieces.iter().any(|p| p.colours.is_some());
-    let all_normals = pieces.iter().all(|p| p.normals.is_some());
-    if !all_normals && pieces.iter().any(|p| p.normals.is_some()) {
-        warnings.push(LoadWarning::NormalsDropped);
-    }
+    let mut b = builder_for(&pieces, warnings);
     let any_material = pieces.iter().any(|p| p.material.is_some());
     let default_material = materials.len() as u32;
     if any_material && pieces.iter().any(|p| p.material.is_none()) {
         materials.push(Material::white("default"));
     }
-    let mut b = MeshBuilder {
-        face_uvs: any_uv.then(Vec::new),
-        vertex_colours: any_colour.then(Vec::new),
-        vertex_normals: all_normals.then(Vec::new),
-        ..MeshBuilder::default()
-    };
     let mut faces_without_uv = 0u64;
     for piece in pieces {
-        let offset = b.positions.len() as u32;
-        let n = piece.positions.len();
-        b.positions.extend_from_slice(&piece.positions);
-        for t in &piece.triangles {
-            b.triangles.push(t.map(|i| i + offset));
-        }
-        if let Some(face_uvs) = b.face_uvs.as_mut() {
-            match &piece.uvs {
-                Some(uvs) => {
-                    face_uvs.extend(piece.triangles.iter().map(|t| t.map(|i| uvs[i as usize])))
-                }
-                None => {
-                    faces_without_uv += piece.triangles.len() as u64;
-                    face_uvs.extend(std::iter::repeat_n([Vec2::ZERO; 3], piece.triangles.len()));
-                }
-            }
-        }
-        if let Some(colours) = b.vertex_colours.as_mut() {
-            match &piece.colours {
-                Some(c) => colours.extend_from_slice(c),
-                None => colours.extend(std::iter::repeat_n([255u8; 4], n)),
-            }
-        }
-        if let (Some(normals), Some(n)) = (b.vertex_normals.as_mut(), &piece.normals) {
-            normals.extend_from_slice(n);
-        }
-        if any_material {
-            let id = MaterialId(piece.material.map_or(default_material, |m| m as u32));
-            b.face_materials
-                .extend(std::iter::repeat_n(id, piece.triangles.len()));
-        }
+        faces_without_uv += append_piece(&mut b, piece, any_material.then_some(default_material));
     }
     if faces_without_uv > 0 {
         warnings.push(LoadWarning::PartialTexCoords {
@@ -723,6 +682,63 @@ fn merge_pieces(
         b.materials = materials;
     }
     b
+}
+
+/// An empty builder holding the optional attributes [`merge_pieces`] keeps of `pieces`; warns
+/// when some pieces' normals are dropped (not all pieces have them).
+fn builder_for(pieces: &[Piece], warnings: &mut Vec<LoadWarning>) -> MeshBuilder {
+    let any_uv = pieces.iter().any(|p| p.uvs.is_some());
+    let any_colour = pieces.iter().any(|p| p.colours.is_some());
+    let all_normals = pieces.iter().all(|p| p.normals.is_some());
+    if !all_normals && pieces.iter().any(|p| p.normals.is_some()) {
+        warnings.push(LoadWarning::NormalsDropped);
+    }
+    MeshBuilder {
+        face_uvs: any_uv.then(Vec::new),
+        vertex_colours: any_colour.then(Vec::new),
+        vertex_normals: all_normals.then(Vec::new),
+        ..MeshBuilder::default()
+    }
+}
+
+/// Appends `piece` to `b`: its vertices, faces and the attributes `b` keeps (missing ones
+/// filled neutrally), and, when materials are kept (`default_material` is given), its faces'
+/// material (`default_material` for a piece without one). Returns how many of its faces got
+/// no texture coordinates of their own where `b` keeps them.
+fn append_piece(b: &mut MeshBuilder, piece: Piece, default_material: Option<u32>) -> u64 {
+    let offset = b.positions.len() as u32;
+    let n = piece.positions.len();
+    b.positions.extend_from_slice(&piece.positions);
+    for t in &piece.triangles {
+        b.triangles.push(t.map(|i| i + offset));
+    }
+    let mut faces_without_uv = 0u64;
+    if let Some(face_uvs) = b.face_uvs.as_mut() {
+        match &piece.uvs {
+            Some(uvs) => {
+                face_uvs.extend(piece.triangles.iter().map(|t| t.map(|i| uvs[i as usize])))
+            }
+            None => {
+                faces_without_uv += piece.triangles.len() as u64;
+                face_uvs.extend(std::iter::repeat_n([Vec2::ZERO; 3], piece.triangles.len()));
+            }
+        }
+    }
+    if let Some(colours) = b.vertex_colours.as_mut() {
+        match &piece.colours {
+            Some(c) => colours.extend_from_slice(c),
+            None => colours.extend(std::iter::repeat_n([255u8; 4], n)),
+        }
+    }
+    if let (Some(normals), Some(n)) = (b.vertex_normals.as_mut(), &piece.normals) {
+        normals.extend_from_slice(n);
+    }
+    if let Some(default_material) = default_material {
+        let id = MaterialId(piece.material.map_or(default_material, |m| m as u32));
+        b.face_materials
+            .extend(std::iter::repeat_n(id, piece.triangles.len()));
+    }
+    faces_without_uv
 }
 
 /// Decodes a glTF image (buffer view bytes, data URI or external file in the model's folder)
