@@ -63,39 +63,16 @@ pub(crate) fn choose_level(
     let mut lifted = usize::MAX;
     if ctx.whole && opts.mip && p.level_count() > 1 {
         let extent = estimate_extent(proj0, piece, p.base_d_range());
-        // The splat path covers cells whose extent (the max-norm sum of
-        // their edges) is up to twice its half-width: a level whose nodes
-        // still land within that reach needs no subdivision.
-        let limit = if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
-            opts.mip_limit.max(2.0 * opts.splat_limit)
-        } else if centre_cells(opts) {
-            opts.mip_limit.max(opts.centre_limit)
-        } else {
-            opts.mip_limit
-        };
-        while m + 1 < p.level_count() && extent * ((1u32 << (m + 1)) as f32) < limit {
-            m += 1;
-        }
+        m = coarsest_level_within(p.level_count(), extent, extent_limit(opts));
         // Only from level 0: the bunny's 26 pieces that went from level 1
         // to levels 2-3 cost 0.7 % more per 500² frame (larger cuts).
-        if lift && exact_levels(opts) && m == 0 {
-            let coarser = coarser_exact_level(ctx, proj0, piece, extent, m);
-            if coarser > m {
-                (m, lifted) = (coarser, m);
+        if lift && m == 0 {
+            if let Some((past, by_quarters)) = lift_past_limit(ctx, proj0, piece, extent) {
+                (m, lifted, quartered_lift) = (past, 0, by_quarters);
             }
         }
-        if lift && m == 0 && quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
-            let gaps = p.quartered_gaps();
-            let scale = pixels_per_code(proj0, piece, p.base_d_range());
-            if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.most * scale <= LEVEL_ONE_MOST {
-                (m, lifted, quartered_lift) = (1, 0, true);
-            }
-        }
-        // Coarse geometry: the level above draws, this one shades.
-        if coarse_geometry(opts) && !quartered_lift && m + 1 < p.level_count() {
-            let near = extent * ((2u32 << m) as f32) < opts.geometry_limit;
-            let tol = opts.geometry_tolerance;
-            shift = (near && (tol == 0.0 || p.coarse_error(m + 1) <= tol)) as usize;
+        if !quartered_lift {
+            shift = coarse_geometry_shift(opts, p, extent, m);
         }
     }
     // A lifted patch with node colours is shaded from level 0 (Phong reads
@@ -114,6 +91,77 @@ pub(crate) fn choose_level(
         lifted,
         quartered_lift,
     }
+}
+
+/// The largest estimated cell extent (pixels) a level may have to be drawn
+/// without subdivision: the mip limit, or the splat path's or the
+/// pixel-centre cells' reach when larger. Why the splat path's: it covers
+/// cells whose extent (the max-norm sum of their edges) is up to twice
+/// its half-width, so a level whose nodes still land within that reach
+/// needs no subdivision.
+#[inline(always)]
+fn extent_limit(opts: &RenderOptions) -> f32 {
+    if opts.splat_limit > 0.0 && opts.cells == CellScheme::Bilinear {
+        opts.mip_limit.max(2.0 * opts.splat_limit)
+    } else if centre_cells(opts) {
+        opts.mip_limit.max(opts.centre_limit)
+    } else {
+        opts.mip_limit
+    }
+}
+
+/// The coarsest of `levels` levels whose cells stay under `limit` pixels,
+/// level 0's measuring `extent` (each level doubles it).
+#[inline(always)]
+fn coarsest_level_within(levels: usize, extent: f32, limit: f32) -> usize {
+    let mut m = 0;
+    while m + 1 < levels && extent * ((1u32 << (m + 1)) as f32) < limit {
+        m += 1;
+    }
+    m
+}
+
+/// The level past the mip limit a whole patch drawn at level 0 (its cells
+/// measuring `extent` pixels) may take, and whether by quarters: a coarser
+/// exact level within [`RenderOptions::mip_tolerance`], else level 1 by
+/// quarters within [`RenderOptions::level_one_limit`] (`None`: level 0
+/// stays).
+#[inline(always)]
+fn lift_past_limit(
+    ctx: &PatchContext<'_>,
+    proj0: &Projector,
+    piece: NodeRange,
+    extent: f32,
+) -> Option<(usize, bool)> {
+    let (p, opts) = (ctx.patch, ctx.setup.options);
+    if exact_levels(opts) {
+        let coarser = coarser_exact_level(ctx, proj0, piece, extent, 0);
+        if coarser > 0 {
+            return Some((coarser, false));
+        }
+    }
+    if quarter_lift(opts, p) && extent * 2.0 < opts.level_one_limit {
+        let gaps = p.quartered_gaps();
+        let scale = pixels_per_code(proj0, piece, p.base_d_range());
+        if gaps.rms * scale <= LEVEL_ONE_TOLERANCE && gaps.most * scale <= LEVEL_ONE_MOST {
+            return Some((1, true));
+        }
+    }
+    None
+}
+
+/// Coarse geometry ([`RenderOptions::geometry_limit`]): 1 when the level
+/// above `m` draws and `m` shades (its cells, measuring `extent` pixels at
+/// level 0, near enough and the coarser level within
+/// [`RenderOptions::geometry_tolerance`]), else 0.
+#[inline(always)]
+fn coarse_geometry_shift(opts: &RenderOptions, p: &PreparedPatch, extent: f32, m: usize) -> usize {
+    if !coarse_geometry(opts) || m + 1 >= p.level_count() {
+        return 0;
+    }
+    let near = extent * ((2u32 << m) as f32) < opts.geometry_limit;
+    let tol = opts.geometry_tolerance;
+    (near && (tol == 0.0 || p.coarse_error(m + 1) <= tol)) as usize
 }
 
 /// Whether the patch `p` may take level 1 past the mip limit, its

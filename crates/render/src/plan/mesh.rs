@@ -16,7 +16,7 @@
 //!
 //! Cost: O(vertices + triangles) to set up, then the rasterizer.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Mat3, Vec3};
 
 use crate::error::RenderError;
 use crate::lighting::{pack_colour, ShadeFrame};
@@ -34,6 +34,20 @@ pub enum MeshColours<'a> {
     PerVertex(&'a [[u8; 4]]),
     /// One RGBA colour per triangle corner (`3 × triangles`).
     PerCorner(&'a [[u8; 4]]),
+}
+
+impl MeshColours<'_> {
+    /// The albedo (0-255 per channel) of corner `corner` of triangle `k`
+    /// (vertices `t`): its vertex's or corner's colour, else `base`.
+    #[inline(always)]
+    fn albedo(&self, t: [u32; 3], k: usize, corner: usize, base: Vec3) -> Vec3 {
+        let c = match *self {
+            MeshColours::None => return base,
+            MeshColours::PerVertex(c) => c[t[corner] as usize],
+            MeshColours::PerCorner(c) => c[3 * k + corner],
+        };
+        Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)
+    }
 }
 
 /// A triangle mesh to rasterize.
@@ -164,7 +178,7 @@ impl<'a> TriangleMesh<'a> {
     }
 }
 
-/// Sets up triangles `first..first + count` of `mesh` into `work`.
+/// Sets up the triangles `range` of `mesh` into `work`.
 pub(crate) fn plan_mesh_chunk(
     work: &mut ChunkWork,
     mesh: &TriangleMesh<'_>,
@@ -174,69 +188,116 @@ pub(crate) fn plan_mesh_chunk(
     setup: &FrameSetup<'_>,
 ) {
     work.reset(setup.options.stage_times);
-    let view = setup.view;
-    let eye_local = (view.eye - mesh.origin).as_vec3();
-    let (map, t0) = view.local_map(mesh.origin, [DVec3::X, DVec3::Y, DVec3::Z]);
-    let near = view.near as f32;
-    let size = (view.width as f32, view.height as f32);
-    let shading = setup.options.shading;
-    let cull = match setup.options.culling {
-        Culling::Auto => mesh.closed,
-        Culling::Back => true,
-        Culling::None => false,
-    };
+    let frame = MeshFrame::new(mesh, normals, world, setup);
     for k in range {
-        let t = mesh.triangles[k];
-        let p = t.map(|v| mesh.positions[v as usize]);
-        let face = (p[1] - p[0]).cross(p[2] - p[0]);
-        let front = face.dot(eye_local - p[0]) > 0.0;
-        if cull && !front {
-            work.counters.triangles_culled += 1;
-            continue;
-        }
-        let sign = if front { 1.0 } else { -1.0 };
-        let albedo = |corner: usize| -> Vec3 {
-            let c = match mesh.colours {
-                MeshColours::None => return setup.base_colour,
-                MeshColours::PerVertex(c) => c[t[corner] as usize],
-                MeshColours::PerCorner(c) => c[3 * k + corner],
-            };
-            Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32)
-        };
-        let face_n = face.normalize_or_zero() * sign;
-        let vertex = |corner: usize| -> ClipVertex {
-            let n = normals[t[corner] as usize] * sign;
-            let a = albedo(corner);
-            let attrs: [f32; TRI_ATTRS] = match shading {
-                Shading::Phong => [n.x, n.y, n.z, a.x, a.y, a.z],
-                Shading::Gouraud => {
-                    let c = setup.material.shade(n, world, a);
-                    [c.x, c.y, c.z, 0.0, 0.0, 0.0]
-                }
-                Shading::Flat => [0.0; TRI_ATTRS],
-            };
-            ClipVertex {
-                clip: map * p[corner] + t0,
-                attrs,
-            }
-        };
-        let flat = if shading == Shading::Flat {
-            let mean = (albedo(0) + albedo(1) + albedo(2)) / 3.0;
-            pack_colour(setup.material.shade(face_n, world, mean))
-        } else {
-            0
-        };
-        let tri = [vertex(0), vertex(1), vertex(2)];
-        match clip_and_project(&tri, near, size, 0, flat, &mut work.triangles) {
-            ClipOutcome::Dropped => {}
-            ClipOutcome::Whole => work.counters.triangles += 1,
-            ClipOutcome::Clipped(c) => {
-                work.counters.triangles += c as u64;
-                work.counters.triangles_clipped += 1;
-            }
-        }
+        plan_triangle(work, mesh, k, &frame);
     }
     work.counters.setup_ns += work.clock.lap();
+}
+
+/// What every triangle of a mesh is set up with in a frame: the camera in
+/// the mesh's coordinates, the shading and the culling.
+struct MeshFrame<'a> {
+    /// The eye relative to the mesh's origin.
+    eye_local: Vec3,
+    /// Mesh position to window clip `(X, Y, W)`: `map · p + t0`.
+    map: Mat3,
+    t0: Vec3,
+    near: f32,
+    /// The image's size in pixels.
+    size: (f32, f32),
+    shading: Shading,
+    /// Triangles facing away are dropped.
+    cull: bool,
+    normals: &'a [Vec3],
+    world: &'a ShadeFrame,
+    setup: &'a FrameSetup<'a>,
+}
+
+impl<'a> MeshFrame<'a> {
+    /// The frame of `mesh` (smooth vertex `normals`, light `world`) under
+    /// `setup`; automatic culling culls closed meshes only.
+    fn new(
+        mesh: &TriangleMesh<'_>,
+        normals: &'a [Vec3],
+        world: &'a ShadeFrame,
+        setup: &'a FrameSetup<'a>,
+    ) -> Self {
+        let view = setup.view;
+        let (map, t0) = view.local_map(mesh.origin, [DVec3::X, DVec3::Y, DVec3::Z]);
+        Self {
+            eye_local: (view.eye - mesh.origin).as_vec3(),
+            map,
+            t0,
+            near: view.near as f32,
+            size: (view.width as f32, view.height as f32),
+            shading: setup.options.shading,
+            cull: match setup.options.culling {
+                Culling::Auto => mesh.closed,
+                Culling::Back => true,
+                Culling::None => false,
+            },
+            normals,
+            world,
+            setup,
+        }
+    }
+}
+
+/// Culls, shades, clips and projects triangle `k` of `mesh` into `work`,
+/// lit from its back side when it faces away, and counts it.
+#[inline(always)]
+fn plan_triangle(work: &mut ChunkWork, mesh: &TriangleMesh<'_>, k: usize, frame: &MeshFrame<'_>) {
+    let t = mesh.triangles[k];
+    let p = t.map(|v| mesh.positions[v as usize]);
+    let face = (p[1] - p[0]).cross(p[2] - p[0]);
+    let front = face.dot(frame.eye_local - p[0]) > 0.0;
+    if frame.cull && !front {
+        work.counters.triangles_culled += 1;
+        return;
+    }
+    let sign = if front { 1.0 } else { -1.0 };
+    let setup = frame.setup;
+    let albedo = |corner: usize| mesh.colours.albedo(t, k, corner, setup.base_colour);
+    let vertex = |corner: usize| -> ClipVertex {
+        let n = frame.normals[t[corner] as usize] * sign;
+        ClipVertex {
+            clip: frame.map * p[corner] + frame.t0,
+            attrs: corner_attributes(frame, n, albedo(corner)),
+        }
+    };
+    let flat = if frame.shading == Shading::Flat {
+        let mean = (albedo(0) + albedo(1) + albedo(2)) / 3.0;
+        let face_n = face.normalize_or_zero() * sign;
+        pack_colour(setup.material.shade(face_n, frame.world, mean))
+    } else {
+        0
+    };
+    let tri = [vertex(0), vertex(1), vertex(2)];
+    let outcome = clip_and_project(&tri, frame.near, frame.size, 0, flat, &mut work.triangles);
+    match outcome {
+        ClipOutcome::Dropped => {}
+        ClipOutcome::Whole => work.counters.triangles += 1,
+        ClipOutcome::Clipped(c) => {
+            work.counters.triangles += c as u64;
+            work.counters.triangles_clipped += 1;
+        }
+    }
+}
+
+/// The attributes a triangle's corner of normal `n` and albedo `a`
+/// interpolates under the frame's shading: normal and albedo (Phong), the
+/// lit colour (Gouraud), or none (flat: one colour per triangle).
+#[inline(always)]
+fn corner_attributes(frame: &MeshFrame<'_>, n: Vec3, a: Vec3) -> [f32; TRI_ATTRS] {
+    match frame.shading {
+        Shading::Phong => [n.x, n.y, n.z, a.x, a.y, a.z],
+        Shading::Gouraud => {
+            let c = frame.setup.material.shade(n, frame.world, a);
+            [c.x, c.y, c.z, 0.0, 0.0, 0.0]
+        }
+        Shading::Flat => [0.0; TRI_ATTRS],
+    }
 }
 
 /// Whether every directed edge of `triangles` appears exactly once and its

@@ -159,6 +159,36 @@ fn traverse_piece<'a>(
     project_piece(work, opts.projection, level, range, d, &proj);
     let smooth = opts.cells == CellScheme::Smooth;
     let back_sign = back_face_sign(ctx.cell_test && !smooth, &proj);
+    let ([flags, spans, quarters], measure, edges) =
+        measure_piece(work, level, range, back_sign, choice.quartered_lift);
+    Some(Traversed {
+        choice,
+        named,
+        level,
+        range,
+        d,
+        proj,
+        marks: [first, flags, spans, quarters],
+        measure,
+        edges,
+        smooth,
+    })
+}
+
+/// Measures the cells of `range` of `level`, the chunk's last projected
+/// nodes (`back_sign` as [`back_face_sign`]), and counts those facing
+/// away. Returns where the piece's cell flags, row spans and cells by
+/// quarters begin in the chunk's arrays, the measure, and the largest cell
+/// edges in pixels, widened by the cells by quarters of a piece lifted by
+/// quarters (`quartered_lift`), which it gathers: the cut covers them too.
+#[inline(always)]
+fn measure_piece(
+    work: &mut ChunkWork,
+    level: &MipLevel,
+    range: NodeRange,
+    back_sign: i64,
+    quartered_lift: bool,
+) -> ([usize; 3], CellMeasure, [f32; 4]) {
     let (flags, spans) = (work.cell_flags.len(), work.row_spans.len());
     let measure = measure_cells(
         level,
@@ -169,26 +199,14 @@ fn traverse_piece<'a>(
         &mut work.row_spans,
     );
     work.counters.cells_backface += measure.backfacing_cells;
-    // A lifted piece's cells by quarters: the cut covers them too.
     let quarters = work.quartered.len();
-    let edges = if choice.quartered_lift {
-        let cols = range.size().0;
-        widen_by_quartered(work, level, cols, back_sign, measure.edges)
+    let edges = if quartered_lift {
+        widen_by_quartered(work, level, range.size().0, back_sign, measure.edges)
     } else {
         measure.edges
     };
-    Some(Traversed {
-        choice,
-        named,
-        level,
-        range,
-        d,
-        proj,
-        marks: [first, flags, spans, quarters],
-        measure,
-        edges: edges.map(|e| e as f32 / XY_ONE),
-        smooth,
-    })
+    let edges = edges.map(|e| e as f32 / XY_ONE);
+    ([flags, spans, quarters], measure, edges)
 }
 
 /// How a piece is drawn: its cut, splat footprint, item pads and drawer.
