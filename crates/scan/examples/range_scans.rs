@@ -156,7 +156,7 @@ struct ScanPose {
 }
 
 /// The hits of a `grid × grid` square of rays of the scan `pose` over the mesh's bounding
-/// sphere: per ray hitting the surface at less than 84° from its normal, the ray's index
+/// sphere: per ray hitting the surface within about 84° of its normal, the ray's index
 /// and the hit moved by its depth noise (`noises`, one per ray) and the scan's offset.
 fn cast_scan(
     mesh: &TriangleMesh,
