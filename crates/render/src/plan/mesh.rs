@@ -206,6 +206,7 @@ struct MeshFrame<'a> {
     near: f32,
     /// The image's size in pixels.
     size: (f32, f32),
+    /// `setup.options.shading`, kept beside the fields read per triangle.
     shading: Shading,
     /// Triangles facing away are dropped.
     cull: bool,

@@ -4,13 +4,14 @@
 //! conversions, the node positions' scratch, projection, cell measurement,
 //! the level-1 cells drawn by quarters, subdivision, counters, the chunk's
 //! work and the per-patch context, the mip level, attributes, cells as
-//! triangles, the piece, the chunk, meshes.
+//! triangles, the drawer of a piece, the piece, the chunk, meshes.
 
 pub(crate) mod attributes;
 pub(crate) mod cell_triangles;
 pub(crate) mod chunk;
 pub(crate) mod counters;
 pub(crate) mod cull;
+pub(crate) mod drawer;
 pub(crate) mod lanes;
 pub(crate) mod level_choice;
 pub(crate) mod measure;

@@ -13,8 +13,8 @@
 //!    ([`crate::plan::subdivision`]); `1 × 1` selects the node-placing
 //!    path, pixel-sized cells the splat path ([`crate::raster::splat`]),
 //!    cells too large the triangle path;
-//!    then the drawer (sub-nodes, open sides, exact outlines, pixel
-//!    centres);
+//!    then the drawer ([`crate::plan::drawer`]: sub-nodes, open sides,
+//!    exact outlines, pixel centres);
 //! 4. per-node attributes ([`crate::plan::attributes`]), and the draw item.
 //!
 //! Cost: O(nodes of the piece).
@@ -25,22 +25,21 @@ use crate::fixed::{XY_FRAC_BITS, XY_ONE};
 use crate::options::{CellScheme, Projection, RenderMode, RenderOptions};
 use crate::plan::attributes::fill_attributes;
 use crate::plan::cell_triangles::emit_cell_triangles;
-use crate::plan::level_choice::{centre_cells, choose_level, LevelChoice};
+use crate::plan::drawer::{choose_drawer, gap_fill_cut, splat_footprint, Drawer};
+use crate::plan::level_choice::{choose_level, LevelChoice};
 use crate::plan::measure::{measure_cells, CellMeasure};
-use crate::plan::open_sides::{exact_outlines, mark_exact_cells, mark_open_sides, OPEN_SIDE_CUT};
+use crate::plan::open_sides::{mark_exact_cells, mark_open_sides};
 use crate::plan::project::{
     level_map, nearest_box_depth, project_nodes_exact, project_nodes_trilinear, Projector,
 };
 use crate::plan::quartered::{drop_quartered_corners, gather_quartered};
 use crate::plan::split::NodeRange;
-use crate::plan::subdivision::{choose_subdivision, GAP_FILL_LIMIT, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
+use crate::plan::subdivision::{choose_subdivision, SMOOTH_MARGIN, SUBPIXEL_LIMIT};
 use crate::plan::work::{ChunkWork, Item, PatchContext, QuarteredRange};
 use crate::prepare::mip::MipLevel;
-use crate::prepare::patch::PreparedPatch;
 use crate::raster::cell_centres::CENTRE_STEPS;
-use crate::raster::centre_piece::CentreStyle;
 use crate::raster::gap_fill::GAP_FILL_REACH;
-use crate::raster::splat::{drop_undrawn_nodes, footprint_half_widths};
+use crate::raster::splat::drop_undrawn_nodes;
 
 /// Plans one piece of the patch of `ctx`: its mip level, its nodes'
 /// traversal and cell measurement, its subdivision (or the splat or
@@ -420,68 +419,6 @@ fn plan_oversized(
     work.counters.setup_ns += work.clock.lap();
 }
 
-/// Which drawer takes a piece cut `nu × nv` (see [`choose_drawer`]).
-#[derive(Debug, Clone, Copy)]
-struct Drawer {
-    /// Bilinear cells drawn by sub-nodes or pixel centres (not smooth, not
-    /// splatted).
-    bilinear: bool,
-    /// Drawn by pixel-centre coverage, and how.
-    centres: Option<CentreStyle>,
-    /// Sub-quads with exact outlines (`--exact-outlines`).
-    exact: bool,
-    /// Sub-nodes with exact outlines where the surface folds away.
-    open_sides: bool,
-}
-
-/// The drawer of a piece of `level` of patch `p` cut `nu × nv`
-/// (`smooth` cells, `splat` footprint, `measure` its cells). Outlines of
-/// magnified cells are drawn exactly where the surface folds away (see
-/// `open_sides` and `raster::cell_edges`); the cells of patches with a
-/// colour grid by pixel-centre coverage (`raster::centre_piece`), or by
-/// sub-quads (`raster::cell_exact`) with `--exact-outlines`, which also
-/// takes the other coloured ones.
-#[inline(always)]
-fn choose_drawer(
-    opts: &RenderOptions,
-    p: &PreparedPatch,
-    level: &MipLevel,
-    (smooth, splat): (bool, [i32; 2]),
-    (nu, nv): (u32, u32),
-    measure: &CellMeasure,
-) -> Drawer {
-    let bilinear = !smooth && splat[0] == 0;
-    let grid_centres = opts.exact_grid_outlines
-        && !opts.exact_outlines
-        && p.colour_grid.is_some()
-        && nu.max(nv) >= GRID_EXACT_CUT;
-    let centres = if !bilinear || (nu, nv) == (1, 1) {
-        None
-    } else if centre_cells(opts) && nu.max(nv) <= CENTRE_CUT {
-        Some(CentreStyle::Cells)
-    } else if grid_centres {
-        Some(CentreStyle::Grid)
-    } else {
-        None
-    };
-    let exact = bilinear
-        && centres.is_none()
-        && opts.exact_outlines
-        && (nu, nv) != (1, 1)
-        && exact_outlines(level);
-    let open_sides = exact
-        || (bilinear
-            && centres.is_none()
-            && nu.max(nv) > OPEN_SIDE_CUT
-            && measure.backfacing_cells > 0);
-    Drawer {
-        bilinear,
-        centres,
-        exact,
-        open_sides,
-    }
-}
-
 /// Adds a planned piece to the chunk's counters: its used nodes, and the
 /// path that draws it (splats, placed nodes, pixel centres, or sub-nodes
 /// with the interpolated ones they add for the cut `nu × nv`).
@@ -505,28 +442,6 @@ fn count_piece(
         c.interpolated += 1;
         let refined = measure.refined_nodes(nu as u64, nv as u64);
         c.interpolated_nodes += refined.saturating_sub(measure.used_nodes);
-    }
-}
-
-/// The cut of a piece the gap fill (`raster::gap_fill`) draws: plain
-/// sub-node pieces (`drawer`) leave it small gaps, cut under
-/// [`GAP_FILL_LIMIT`] instead of `cut` (about half the samples on
-/// magnified cells). The other drawers keep their own coverage, and so do
-/// pieces not `inside` the image's columns by the fill's reach: past the
-/// image no sample is drawn to close a gap against.
-#[inline(always)]
-fn gap_fill_cut(
-    opts: &RenderOptions,
-    drawer: &Drawer,
-    inside: bool,
-    edges: [f32; 4],
-    cut: (u32, u32),
-) -> (u32, u32) {
-    let plain = drawer.bilinear && drawer.centres.is_none() && !drawer.open_sides;
-    if plain && inside && opts.fills_gaps() {
-        choose_subdivision(edges, GAP_FILL_LIMIT).unwrap_or(cut)
-    } else {
-        cut
     }
 }
 
@@ -651,17 +566,6 @@ fn drop_planned(work: &mut ChunkWork, [nodes, flags, spans, quarters]: [usize; 4
     work.quartered.truncate(quarters);
 }
 
-/// Least cut per side of the pieces of a patch with a colour grid drawn by
-/// pixel-centre coverage under [`RenderOptions::exact_grid_outlines`]. Why 4:
-/// fuze (unlit, 14 views) 30.26 dB from a cut of 2, 29.95 dB from 6; pieces
-/// cut 2-3 cost the drawer most (docs/algorithms/render.md).
-const GRID_EXACT_CUT: u32 = 4;
-
-/// Largest cut per side (of the sub-node path) of pieces drawn by
-/// pixel-centre coverage when [`RenderOptions::centre_limit`] is on:
-/// cells of up to about 4 px; larger cells keep sub-nodes.
-const CENTRE_CUT: u32 = 4;
-
 /// Largest screen error (pixels) allowed of the trilinear projection of a
 /// piece; past it the piece is projected exactly. Below it the shortcut
 /// stays the documented trade-off (`--stats` `shortcuts`): the default
@@ -705,25 +609,4 @@ fn trilinear_error(proj: &Projector, range: NodeRange, d: (u16, u16)) -> f32 {
     }
     let span = (max.x - min.x).max(max.y - min.y);
     0.25 * span * (max.z - min.z) / min.z
-}
-
-/// The footprint half-widths (position units) with which the nodes of a
-/// piece whose cells have the largest edges `edges` cover them, when the
-/// splatting path draws it (bilinear cells the nodes alone do not cover,
-/// within [`RenderOptions::splat_limit`]); `[0, 0]` otherwise.
-fn splat_footprint(
-    opts: &RenderOptions,
-    smooth: bool,
-    split: Option<(u32, u32)>,
-    edges: [f32; 4],
-) -> [i32; 2] {
-    if smooth || opts.splat_limit == 0.0 || split == Some((1, 1)) {
-        return [0, 0];
-    }
-    let half = footprint_half_widths(edges);
-    let limit = opts.splat_limit * XY_ONE;
-    if half[0] as f32 > limit || half[1] as f32 > limit {
-        return [0, 0];
-    }
-    half
 }
