@@ -14,7 +14,7 @@ use spatch_eval::{
 };
 use spatch_render::RenderOptions;
 
-use super::render::{CellsArg, CullArg, ModeArg, ProjectionArg, ShadingArg};
+use super::render_values::{CellsArg, CullArg, ModeArg, ProjectionArg, ShadingArg};
 use super::ThreadsArg;
 use crate::failure::InternalFailure;
 use crate::output::{print_json, print_summary, read_spatch, write_json_report, write_output};

@@ -61,7 +61,7 @@ pub(crate) struct ExportArgs {
     cells: bool,
     /// Subtract this model-space point from every position (recorded in the
     /// file): keeps full f32 precision for tools that read f32 only.
-    #[arg(long, value_name = "X,Y,Z", value_parser = super::render::parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = super::render_values::parse_vec3, allow_hyphen_values = true)]
     origin: Option<DVec3>,
     /// PLY position type.
     #[arg(long, value_enum, default_value = "auto")]

@@ -37,7 +37,7 @@ pub(crate) struct MergeArgs {
     compress: bool,
     /// Move an input by X,Y,Z model units (f64, exact) before merging; give
     /// it once per input, in input order, or not at all.
-    #[arg(long, value_name = "X,Y,Z", value_parser = super::render::parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = super::render_values::parse_vec3, allow_hyphen_values = true)]
     translate: Vec<DVec3>,
 }
 

@@ -19,6 +19,7 @@ pub(crate) mod pipeline_args;
 pub(crate) mod plan;
 pub(crate) mod render;
 pub(crate) mod render_output;
+pub(crate) mod render_values;
 pub(crate) mod sphere;
 pub(crate) mod stats;
 pub(crate) mod tiled;
