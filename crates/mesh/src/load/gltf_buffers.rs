@@ -97,6 +97,9 @@ fn is_meshopt_fallback(buffer: &gltf::Buffer) -> bool {
         .unwrap_or(false)
 }
 
+/// Bytes of each buffer view, resolved (meshopt views decoded); `None` when unreadable.
+pub(crate) type Views<'a> = [Option<Cow<'a, [u8]>>];
+
 /// The bytes of each buffer view (`None`: out of range or undecodable).
 pub(crate) fn resolve_views<'a>(
     document: &gltf::Document,

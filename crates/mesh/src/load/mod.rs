@@ -45,6 +45,7 @@ pub use ply_scalar::PlyScalar;
 pub mod gltf;
 mod gltf_accessor;
 mod gltf_buffers;
+mod gltf_primitive;
 mod local_reference;
 mod mtl;
 pub mod obj;
