@@ -9,8 +9,8 @@ use serde_json::{json, Value};
 use spatch_eval::sweep::{Width, SWEEP_CSV_COLUMNS};
 use spatch_eval::{
     evaluate, load_source, per_patch_csv, run_sweep, sweep_csv, sweep_svg, views_for_count, Counts,
-    EvalError, EvalOptions, Evaluation, ImageOptions, PatchError, Report, Source, SweepOptions,
-    SweepResult, MAX_VIEWS,
+    EvalError, EvalOptions, Evaluation, ImageOptions, LoadedSource, PatchError, Report, Source,
+    SweepOptions, SweepResult, MAX_VIEWS,
 };
 use spatch_render::RenderOptions;
 
@@ -277,6 +277,41 @@ fn classify(err: EvalError, context: &Path) -> anyhow::Error {
 }
 
 fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Result<()> {
+    let measured = measure(args, scene_path, source_path)?;
+    let evaluation = &measured.evaluation;
+    if let Some(path) = &args.per_patch {
+        write_output(
+            path,
+            per_patch_csv(&evaluation.patches, evaluation.diagonal).as_bytes(),
+        )?;
+    }
+    let report = eval_report(args, scene_path, source_path, &measured)?;
+    if let Some(path) = &args.report {
+        write_json_report(path, &report)?;
+    }
+    if args.json {
+        return print_json(&report);
+    }
+    print_summary(
+        &summary(args, scene_path, source_path, &report, evaluation),
+        false,
+    )
+}
+
+/// What `spatch eval` read and measured: the scene (of `bytes` bytes), the source, the
+/// evaluation, and the seconds each read took.
+struct Measured {
+    scene: spatch_format::Scene,
+    bytes: usize,
+    loaded: LoadedSource,
+    evaluation: Evaluation,
+    load_seconds: f64,
+    load_source_seconds: f64,
+}
+
+/// Reads the scene and the source and evaluates one against the other, each step shown on
+/// the progress display.
+fn measure(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Result<Measured> {
     let progress = Progress::new("eval", 3);
     progress.step("reading the scene");
     let start = Instant::now();
@@ -299,17 +334,29 @@ fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Resul
     let evaluation = evaluate(&scene, &loaded.source, source_path, &options)
         .map_err(|e| classify(e, scene_path))?;
     drop(progress);
+    Ok(Measured {
+        scene,
+        bytes,
+        loaded,
+        evaluation,
+        load_seconds,
+        load_source_seconds,
+    })
+}
 
-    if let Some(path) = &args.per_patch {
-        write_output(
-            path,
-            per_patch_csv(&evaluation.patches, evaluation.diagonal).as_bytes(),
-        )?;
-    }
+/// The JSON report of an evaluation of `scene_path` against `source_path`: counts, stage
+/// times, error, warnings and details.
+fn eval_report(
+    args: &EvalArgs,
+    scene_path: &Path,
+    source_path: &Path,
+    m: &Measured,
+) -> anyhow::Result<Report<Value>> {
+    let evaluation = &m.evaluation;
     let mut report = new_report("eval", &scene_path.display().to_string());
     report.output = args.per_patch.as_ref().map(|p| p.display().to_string());
-    report.counts = Counts::of(&scene, bytes);
-    report.stages.push("load", load_seconds);
+    report.counts = Counts::of(&m.scene, m.bytes);
+    report.stages.push("load", m.load_seconds);
     report
         .stages
         .push("prepare_render", evaluation.prepare_render_seconds);
@@ -319,7 +366,7 @@ fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Resul
     report.seconds = report.stages.total();
     report
         .measure_stages
-        .push("load_source", load_source_seconds);
+        .push("load_source", m.load_source_seconds);
     for (name, seconds) in &evaluation.stages {
         report.measure_stages.push(name, *seconds);
     }
@@ -327,19 +374,9 @@ fn eval(args: &EvalArgs, scene_path: &Path, source_path: &Path) -> anyhow::Resul
     report.threads = rayon::current_num_threads();
     report.diagonal = Some(evaluation.diagonal);
     report.error = evaluation.error.clone();
-    report.warnings = loaded.warnings.clone();
-    fill_details(&mut report, args, source_path, &loaded.source, &evaluation)?;
-
-    if let Some(path) = &args.report {
-        write_json_report(path, &report)?;
-    }
-    if args.json {
-        return print_json(&report);
-    }
-    print_summary(
-        &summary(args, scene_path, source_path, &report, &evaluation),
-        false,
-    )
+    report.warnings = m.loaded.warnings.clone();
+    fill_details(&mut report, args, source_path, &m.loaded.source, evaluation)?;
+    Ok(report)
 }
 
 /// The worst `WORST_LISTED` patches by `key` (largest first, then by index).

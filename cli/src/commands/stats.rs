@@ -124,6 +124,20 @@ fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> S
         info.version_major, info.version_minor
     );
     let mut row = |k: &str, v: String| t.push_str(&format!("  {k:<22} {v}\n"));
+    count_rows(&mut row, scene, info, s);
+    precision_rows(&mut row, s);
+    extent_rows(&mut row, scene, s);
+    t.push_str(&section_lines(info));
+    t
+}
+
+/// The table's rows of counts: patches, nodes, bytes and colour.
+fn count_rows(
+    row: &mut impl FnMut(&str, String),
+    scene: &Scene,
+    info: &ContainerInfo,
+    s: &SceneSummary,
+) {
     row("patches", s.patches.to_string());
     row(
         "nodes",
@@ -145,6 +159,10 @@ fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> S
             }
         ),
     );
+}
+
+/// The table's rows of precision: displacement widths, grids and bits per node.
+fn precision_rows(row: &mut impl FnMut(&str, String), s: &SceneSummary) {
     let bits: Vec<String> = s
         .displacement_bits
         .iter()
@@ -160,6 +178,10 @@ fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> S
             s.displacement_bits_per_node, s.colour_bits_per_node
         ),
     );
+}
+
+/// The table's rows of extent: bounds, frame lengths and the sides that may show.
+fn extent_rows(row: &mut impl FnMut(&str, String), scene: &Scene, s: &SceneSummary) {
     if let Some((lo, hi)) = s.bounds {
         row("bounds min", format!("{:.6} {:.6} {:.6}", lo.x, lo.y, lo.z));
         row("bounds max", format!("{:.6} {:.6} {:.6}", hi.x, hi.y, hi.z));
@@ -170,7 +192,11 @@ fn table(path: &str, scene: &Scene, info: &ContainerInfo, s: &SceneSummary) -> S
         }
     }
     row("sides", visibility_row(scene));
-    t.push_str("  sections (tag codec stored raw):\n");
+}
+
+/// The table's sections, one line each: tag, codec, stored and raw bytes.
+fn section_lines(info: &ContainerInfo) -> String {
+    let mut t = String::from("  sections (tag codec stored raw):\n");
     for section in &info.sections {
         t.push_str(&format!(
             "    {} {:<10} {:>10} {:>10}\n",

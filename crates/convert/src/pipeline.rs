@@ -268,6 +268,51 @@ fn edge_patches(
     })
 }
 
+/// The edges stage's inputs besides the patches: the prepared source, the spacing of the
+/// edge patches, and the owner of a tile's part.
+struct EdgeStage<'a> {
+    source: &'a Source,
+    spacing: f32,
+    owner: Option<&'a dyn PartOwner>,
+}
+
+impl EdgeStage<'_> {
+    /// The edge patches of `patches` and their counts, timed on `clock`, when `options` asks
+    /// for sharp edges (coloured as `fit_options` says); `None` otherwise.
+    fn run(
+        &self,
+        clock: &mut Clock<'_>,
+        patches: &[Patch],
+        options: &ConvertOptions,
+        fit_options: &FitOptions,
+    ) -> Result<Option<(Vec<Patch>, EdgeStats)>, ConvertError> {
+        let Some(mut edge_options) = options.sharp_edges else {
+            return Ok(None);
+        };
+        edge_options.colour = fit_options.colour;
+        let found = clock.run(Stage::Edges, || {
+            edge_patches(self.source, patches, self.spacing, edge_options, self.owner)
+        })?;
+        Ok(Some(found))
+    }
+}
+
+/// Refuses a conversion that gave neither surface `patches` nor edge patches
+/// ([`ConvertError::NoPatches`] at `spacing`).
+fn require_patches(
+    patches: &[Patch],
+    edges: &Option<(Vec<Patch>, EdgeStats)>,
+    spacing: f32,
+) -> Result<(), ConvertError> {
+    if patches.is_empty() && edges.as_ref().is_none_or(|(e, _)| e.is_empty()) {
+        return Err(ConvertError::NoPatches {
+            spacing,
+            refinements: spatch_fit::MAX_REFINEMENTS,
+        });
+    }
+    Ok(())
+}
+
 /// How the source is wound, for the sides stage: as the winding pass
 /// left it, turned over, or unknown.
 fn source_winding(source: &Source) -> Winding {
@@ -393,22 +438,13 @@ fn run_pipeline(
     // Textured regions may be finer than `spacing`: the edge patches then follow the finest
     // surface spacing, so that their strips match the patches they close.
     let edge_spacing = texture.map_or(spacing, |t| t.finest_spacing.min(spacing));
-    let mut edges = match options.sharp_edges {
-        Some(mut edge_options) => {
-            edge_options.colour = fit_options.colour;
-            let found = clock.run(Stage::Edges, || {
-                edge_patches(&source, &patches, edge_spacing, edge_options, owner)
-            })?;
-            Some(found)
-        }
-        None => None,
+    let edge_stage = EdgeStage {
+        source: &source,
+        spacing: edge_spacing,
+        owner,
     };
-    if patches.is_empty() && edges.as_ref().is_none_or(|(e, _)| e.is_empty()) {
-        return Err(ConvertError::NoPatches {
-            spacing,
-            refinements: spatch_fit::MAX_REFINEMENTS,
-        });
-    }
+    let mut edges = edge_stage.run(&mut clock, &patches, options, &fit_options)?;
+    require_patches(&patches, &edges, spacing)?;
     let sides = clock.run(Stage::Sides, || {
         find_sides(&source, &mut patches, &mut edges)
     });
@@ -425,14 +461,25 @@ fn run_pipeline(
         edges: edges.map(|(_, s)| s),
         sides: sides_counts,
     };
+    Ok(conversion_of(clock, source, encoded, outcome))
+}
+
+/// The conversion: the encoded scene and its file, the prepared mesh, the load warnings and
+/// the report of the stages `clock` timed.
+fn conversion_of(
+    clock: Clock<'_>,
+    source: Source,
+    encoded: Encoded,
+    outcome: Outcome,
+) -> Conversion {
     let report = conversion_report(clock, &source, &encoded, outcome);
-    Ok(Conversion {
+    Conversion {
         scene: encoded.scene,
         bytes: encoded.bytes,
         mesh: source.mesh,
         load_warnings: source.load_warnings,
         report,
-    })
+    }
 }
 
 /// What the stages after the source's preparation found, for the report.

@@ -8,6 +8,7 @@
 //! Pareto-front points are filled red and joined in order of time; the others are hollow
 //! grey. Every point is labelled with its setting.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -110,6 +111,10 @@ fn padded(values: impl Iterator<Item = f64>, from_zero: bool) -> (f64, f64) {
     )
 }
 
+/// The chart of one panel: its axes and points.
+type PanelChart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
 fn draw_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, panel: &Panel) -> Result<(), EvalError> {
     // Time axes are not started at zero: the settings' times are close, and the tick labels
     // give the scale.
@@ -141,6 +146,25 @@ fn draw_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, panel: &Panel) -> Resul
         return Ok(());
     }
     let clamp_y = |y: f64| if y.is_finite() { y } else { y1 };
+    draw_front(&mut chart, panel, clamp_y)?;
+    draw_points(&mut chart, panel, clamp_y)?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .draw()
+        .map_err(plot_error)?;
+    Ok(())
+}
+
+/// Joins the panel's Pareto-front points in order of time (their `y` through `clamp_y`),
+/// with its legend entry.
+fn draw_front(
+    chart: &mut PanelChart<'_, '_>,
+    panel: &Panel,
+    clamp_y: impl Fn(f64) -> f64,
+) -> Result<(), EvalError> {
     let mut front: Vec<(f64, f64)> = panel
         .points
         .iter()
@@ -153,6 +177,16 @@ fn draw_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, panel: &Panel) -> Resul
         .map_err(plot_error)?
         .label("Pareto front")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+    Ok(())
+}
+
+/// Draws every point of the panel (its `y` through `clamp_y`) with its label: filled red
+/// on the front, hollow grey off it.
+fn draw_points(
+    chart: &mut PanelChart<'_, '_>,
+    panel: &Panel,
+    clamp_y: impl Fn(f64) -> f64,
+) -> Result<(), EvalError> {
     chart
         .draw_series(panel.points.iter().map(|p| {
             let style = if p.front {
@@ -164,13 +198,6 @@ fn draw_panel(area: &DrawingArea<SVGBackend<'_>, Shift>, panel: &Panel) -> Resul
                 + Circle::new((0, 0), 5, style)
                 + Text::new(p.label.clone(), (7, -12), ("sans-serif", 11))
         }))
-        .map_err(plot_error)?;
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .draw()
         .map_err(plot_error)?;
     Ok(())
 }

@@ -166,56 +166,9 @@ impl Bvh {
 /// Partitions `order` by the best SAH split; returns the size of the left part, or `None`
 /// when keeping the node whole is cheaper or no axis separates the centroids.
 fn split(order: &mut [u32], centroids: &[Vec3], boxes: &[Aabb], bounds: &Aabb) -> Option<usize> {
-    let centre_bounds = Aabb::from_points(order.iter().map(|&t| centroids[t as usize]));
-    let extent = centre_bounds.size();
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
-    let lo = centre_bounds.min[axis];
-    let width = extent[axis];
-    if width <= 0.0 || !width.is_finite() {
-        return None;
-    }
-    let scale = BIN_COUNT as f32 / width;
-    let bin_of = |t: u32| -> usize {
-        let b = ((centroids[t as usize][axis] - lo) * scale) as usize;
-        b.min(BIN_COUNT - 1)
-    };
-    let mut bin_boxes = [Aabb::EMPTY; BIN_COUNT];
-    let mut bin_counts = [0usize; BIN_COUNT];
-    for &t in order.iter() {
-        let b = bin_of(t);
-        bin_boxes[b] = bin_boxes[b].union(boxes[t as usize]);
-        bin_counts[b] += 1;
-    }
-    // Sweep from the right to get the area and count right of each boundary.
-    let mut right_area = [0.0f32; BIN_COUNT];
-    let mut right_count = [0usize; BIN_COUNT];
-    let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
-    for b in (1..BIN_COUNT).rev() {
-        acc = acc.union(bin_boxes[b]);
-        cnt += bin_counts[b];
-        right_area[b] = half_area(&acc);
-        right_count[b] = cnt;
-    }
-    let (mut best, mut best_cost) = (0usize, f32::INFINITY);
-    let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
-    for b in 0..BIN_COUNT - 1 {
-        acc = acc.union(bin_boxes[b]);
-        cnt += bin_counts[b];
-        if cnt == 0 || right_count[b + 1] == 0 {
-            continue;
-        }
-        let cost = half_area(&acc) * cnt as f32 + right_area[b + 1] * right_count[b + 1] as f32;
-        if cost < best_cost {
-            best_cost = cost;
-            best = b + 1;
-        }
-    }
+    let bins = Bins::of(order, centroids)?;
+    let bin_of = |t: u32| bins.bin(centroids[t as usize]);
+    let (best, best_cost) = BinContents::fill(order, boxes, bin_of).best_boundary();
     // Leaf cost: every triangle tested; a split costs one extra box test on each side.
     let leaf_cost = half_area(bounds) * order.len() as f32;
     if !best_cost.is_finite() || (best_cost >= leaf_cost && order.len() <= 4 * MAX_LEAF_SIZE) {
@@ -228,6 +181,109 @@ fn split(order: &mut [u32], centroids: &[Vec3], boxes: &[Aabb], bounds: &Aabb) -
     left.append(&mut right);
     order.copy_from_slice(&left);
     Some(mid)
+}
+
+/// How a node's centroids fall into its [`BIN_COUNT`] SAH bins: along `axis`, from `lo`,
+/// `scale` bins per unit of length.
+#[derive(Clone, Copy)]
+struct Bins {
+    axis: usize,
+    lo: f32,
+    scale: f32,
+}
+
+impl Bins {
+    /// The bins of the centroids of `order`, along the axis of their largest extent; `None`
+    /// when that extent is zero or not finite (no axis separates them).
+    #[inline]
+    fn of(order: &[u32], centroids: &[Vec3]) -> Option<Bins> {
+        let centre_bounds = Aabb::from_points(order.iter().map(|&t| centroids[t as usize]));
+        let extent = centre_bounds.size();
+        let axis = if extent.x >= extent.y && extent.x >= extent.z {
+            0
+        } else if extent.y >= extent.z {
+            1
+        } else {
+            2
+        };
+        let lo = centre_bounds.min[axis];
+        let width = extent[axis];
+        if width <= 0.0 || !width.is_finite() {
+            return None;
+        }
+        let scale = BIN_COUNT as f32 / width;
+        Some(Bins { axis, lo, scale })
+    }
+
+    /// The bin of a triangle whose centroid is `centroid`.
+    #[inline]
+    fn bin(&self, centroid: Vec3) -> usize {
+        let b = ((centroid[self.axis] - self.lo) * self.scale) as usize;
+        b.min(BIN_COUNT - 1)
+    }
+}
+
+/// What each SAH bin holds: the box and the number of its triangles.
+struct BinContents {
+    boxes: [Aabb; BIN_COUNT],
+    counts: [usize; BIN_COUNT],
+}
+
+impl BinContents {
+    /// The bins of the triangles of `order` (boxes `boxes`), each in bin `bin_of(t)`.
+    #[inline]
+    fn fill(order: &[u32], boxes: &[Aabb], bin_of: impl Fn(u32) -> usize) -> BinContents {
+        let mut bin_boxes = [Aabb::EMPTY; BIN_COUNT];
+        let mut bin_counts = [0usize; BIN_COUNT];
+        for &t in order.iter() {
+            let b = bin_of(t);
+            bin_boxes[b] = bin_boxes[b].union(boxes[t as usize]);
+            bin_counts[b] += 1;
+        }
+        BinContents {
+            boxes: bin_boxes,
+            counts: bin_counts,
+        }
+    }
+
+    /// The best bin boundary by the SAH (the first bin of the right side) and its cost;
+    /// the cost is infinite when no boundary has triangles on both sides.
+    #[inline]
+    fn best_boundary(&self) -> (usize, f32) {
+        let (right_area, right_count) = self.right_of_boundaries();
+        let (mut best, mut best_cost) = (0usize, f32::INFINITY);
+        let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
+        for b in 0..BIN_COUNT - 1 {
+            acc = acc.union(self.boxes[b]);
+            cnt += self.counts[b];
+            if cnt == 0 || right_count[b + 1] == 0 {
+                continue;
+            }
+            let cost = half_area(&acc) * cnt as f32 + right_area[b + 1] * right_count[b + 1] as f32;
+            if cost < best_cost {
+                best_cost = cost;
+                best = b + 1;
+            }
+        }
+        (best, best_cost)
+    }
+
+    /// The half area of the box and the count of the triangles right of each boundary
+    /// `b` (bins `b..`), for `b` from 1.
+    #[inline]
+    fn right_of_boundaries(&self) -> ([f32; BIN_COUNT], [usize; BIN_COUNT]) {
+        // Sweep from the right to get the area and count right of each boundary.
+        let mut right_area = [0.0f32; BIN_COUNT];
+        let mut right_count = [0usize; BIN_COUNT];
+        let (mut acc, mut cnt) = (Aabb::EMPTY, 0);
+        for b in (1..BIN_COUNT).rev() {
+            acc = acc.union(self.boxes[b]);
+            cnt += self.counts[b];
+            right_area[b] = half_area(&acc);
+            right_count[b] = cnt;
+        }
+        (right_area, right_count)
+    }
 }
 
 #[inline]

@@ -37,6 +37,35 @@ pub(crate) const LAS_CHUNK_BYTES: u64 = 1 << 24;
 /// point data offset) would end past `u64::MAX`, before the `las` crate computes that end
 /// unchecked (found by `las_load`). Leaves the file at its start.
 fn check_point_extent(path: &Path, file: &mut std::fs::File) -> Result<(), ScanError> {
+    let header = read_header_start(path, file)?;
+    let (Some(offset), Some(record_len), Some(legacy)) = (
+        u32_at(&header, 96),
+        u16_at(&header, 105),
+        u32_at(&header, 107),
+    ) else {
+        return Ok(()); // too short: the las reader refuses it
+    };
+    let records = PointRecords { offset, record_len };
+    // The header size must hold the version's own fields (227, 235 or 375 bytes): the `las`
+    // crate allocates the difference unchecked.
+    let minor = header.get(25).copied().unwrap_or(0);
+    if u16_at(&header, 94).is_some_and(|size| size < header_size_needed(minor)) {
+        return Err(records.refuse(path, u64::from(legacy)));
+    }
+    // The 64-bit count exists from LAS 1.4 (version minor at byte 25).
+    let large = header
+        .get(247..255)
+        .filter(|_| header.get(25).is_some_and(|&minor| minor >= 4))
+        .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]));
+    if minor >= 4 {
+        check_extended_records(path, file, &header)?;
+    }
+    records.check_ends(path, [Some(u64::from(legacy)), large])
+}
+
+/// The first 255 bytes of the file (fewer when it is shorter): every header field the
+/// checks read. Leaves the file at its start.
+fn read_header_start(path: &Path, file: &mut std::fs::File) -> Result<Vec<u8>, ScanError> {
     use std::io::{Read, Seek, SeekFrom};
     let io = |source| ScanError::Io {
         path: path.to_path_buf(),
@@ -48,58 +77,62 @@ fn check_point_extent(path: &Path, file: &mut std::fs::File) -> Result<(), ScanE
         .read_to_end(&mut header)
         .map_err(io)?;
     file.seek(SeekFrom::Start(0)).map_err(io)?;
-    let u16_at = |k: usize| {
-        header
-            .get(k..k + 2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]))
-    };
-    let u32_at = |k: usize| {
-        header
-            .get(k..k + 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    };
-    let (Some(offset), Some(record_len), Some(legacy)) = (u32_at(96), u16_at(105), u32_at(107))
-    else {
-        return Ok(()); // too short: the las reader refuses it
-    };
-    // The header size must hold the version's own fields (227, 235 or 375 bytes): the `las`
-    // crate allocates the difference unchecked.
-    let minor = header.get(25).copied().unwrap_or(0);
-    let needed: u16 = match minor {
+    Ok(header)
+}
+
+/// The little-endian u16 at byte `k` of `header`, if it holds it.
+fn u16_at(header: &[u8], k: usize) -> Option<u16> {
+    header
+        .get(k..k + 2)
+        .map(|b| u16::from_le_bytes([b[0], b[1]]))
+}
+
+/// The little-endian u32 at byte `k` of `header`, if it holds it.
+fn u32_at(header: &[u8], k: usize) -> Option<u32> {
+    header
+        .get(k..k + 4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
+/// The least header size of LAS 1.`minor`: the bytes of that version's own fields.
+fn header_size_needed(minor: u8) -> u16 {
+    match minor {
         0..=2 => 227,
         3 => 235,
         _ => 375,
-    };
-    if u16_at(94).is_some_and(|size| size < needed) {
-        return Err(ScanError::LasSize {
+    }
+}
+
+/// Where a header says the point records lie: after byte `offset`, `record_len` bytes each.
+struct PointRecords {
+    offset: u32,
+    record_len: u16,
+}
+
+impl PointRecords {
+    /// The [`ScanError::LasSize`] of these records with `points` of them.
+    fn refuse(&self, path: &Path, points: u64) -> ScanError {
+        ScanError::LasSize {
             path: path.to_path_buf(),
-            points: u64::from(legacy),
-            record_len,
-            offset,
-        });
-    }
-    // The 64-bit count exists from LAS 1.4 (version minor at byte 25).
-    let large = header
-        .get(247..255)
-        .filter(|_| header.get(25).is_some_and(|&minor| minor >= 4))
-        .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]));
-    if minor >= 4 {
-        check_extended_records(path, file, &header)?;
-    }
-    for points in [Some(u64::from(legacy)), large].into_iter().flatten() {
-        let end = points
-            .checked_mul(u64::from(record_len))
-            .and_then(|bytes| bytes.checked_add(u64::from(offset)));
-        if end.is_none() {
-            return Err(ScanError::LasSize {
-                path: path.to_path_buf(),
-                points,
-                record_len,
-                offset,
-            });
+            points,
+            record_len: self.record_len,
+            offset: self.offset,
         }
     }
-    Ok(())
+
+    /// Refuses the first of the point `counts` (the ones given) whose records would end
+    /// past `u64::MAX`.
+    fn check_ends(&self, path: &Path, counts: [Option<u64>; 2]) -> Result<(), ScanError> {
+        for points in counts.into_iter().flatten() {
+            let end = points
+                .checked_mul(u64::from(self.record_len))
+                .and_then(|bytes| bytes.checked_add(u64::from(self.offset)));
+            if end.is_none() {
+                return Err(self.refuse(path, points));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Refuses a LAS 1.4 header whose extended variable-length records (start at byte 235,
@@ -154,61 +187,19 @@ fn chunk_points(record_len: u16) -> u64 {
 
 /// Reads a LAS or LAZ file; see the module docs.
 pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError> {
-    let file = std::fs::File::open(path).map_err(|source| ScanError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let refuse = |source| las_error(path, source);
-    let mut file = file;
-    check_point_extent(path, &mut file)?;
-    let mut reader = las::Reader::new(std::io::BufReader::new(file)).map_err(refuse)?;
-    let declared = reader.header().number_of_points();
-    let chunk = chunk_points(reader.header().point_format().len());
-    let mut data = las::PointDataBuilder::new()
-        .for_header(reader.header())
-        .build();
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut rgb: Vec<[u16; 3]> = Vec::new();
-    let mut intensity: Vec<u16> = Vec::new();
-    loop {
-        let n = reader
-            .fill_points(chunk, &mut data)
-            .map_err(|source| truncation_or(path, source, declared, positions.len() as u64))?;
-        if n == 0 {
-            break;
-        }
-        positions.extend(
-            data.x()
-                .zip(data.y())
-                .zip(data.z())
-                .map(|((x, y), z)| DVec3::new(x, y, z)),
-        );
-        match data.rgb() {
-            Some(colours) => rgb.extend(colours.map(|(r, g, b)| [r, g, b])),
-            None => intensity.extend(data.intensity()),
-        }
-    }
-    if positions.is_empty() {
+    let mut reader = open_las(path)?;
+    let points = LasPoints::read(path, &mut reader)?;
+    if points.positions.is_empty() {
         return Err(ScanError::NoPoints {
             path: path.to_path_buf(),
         });
     }
     let mut warnings = Vec::new();
-    let colours = if rgb.is_empty() {
-        let grey = intensity_to_grey(&intensity);
-        if grey.is_some() {
-            warnings.push(ScanWarning::IntensityAsGrey {
-                path: path.to_path_buf(),
-            });
-        }
-        grey
-    } else {
-        Some(rgb16_to_bytes(&rgb))
-    };
+    let colours = points.colours(path, &mut warnings);
     let scan = PosedScan {
         path: path.to_path_buf(),
         index: 0,
-        positions,
+        positions: points.positions,
         colours,
         normals: None,
         viewpoint: None,
@@ -216,6 +207,83 @@ pub fn read_las(path: &Path) -> Result<(PosedScan, Vec<ScanWarning>), ScanError>
         dropped_non_finite: 0,
     };
     Ok((scan, warnings))
+}
+
+/// Opens a LAS or LAZ file and reads its header, once [`check_point_extent`] has passed it.
+fn open_las(path: &Path) -> Result<las::Reader, ScanError> {
+    let file = std::fs::File::open(path).map_err(|source| ScanError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let refuse = |source| las_error(path, source);
+    let mut file = file;
+    check_point_extent(path, &mut file)?;
+    las::Reader::new(std::io::BufReader::new(file)).map_err(refuse)
+}
+
+/// The point records of a file as read: positions, and the 16-bit colours of formats with
+/// RGB or else the intensities.
+struct LasPoints {
+    positions: Vec<DVec3>,
+    rgb: Vec<[u16; 3]>,
+    intensity: Vec<u16>,
+}
+
+impl LasPoints {
+    /// Reads every point of `reader`, in chunks (module docs); an early end of the file is
+    /// [`ScanError::Truncated`].
+    fn read(path: &Path, reader: &mut las::Reader) -> Result<LasPoints, ScanError> {
+        let declared = reader.header().number_of_points();
+        let chunk = chunk_points(reader.header().point_format().len());
+        let mut data = las::PointDataBuilder::new()
+            .for_header(reader.header())
+            .build();
+        let mut points = LasPoints {
+            positions: Vec::new(),
+            rgb: Vec::new(),
+            intensity: Vec::new(),
+        };
+        loop {
+            let n = reader.fill_points(chunk, &mut data).map_err(|source| {
+                truncation_or(path, source, declared, points.positions.len() as u64)
+            })?;
+            if n == 0 {
+                break;
+            }
+            points.append(&data);
+        }
+        Ok(points)
+    }
+
+    /// Appends the points of one chunk.
+    fn append(&mut self, data: &las::PointData) {
+        self.positions.extend(
+            data.x()
+                .zip(data.y())
+                .zip(data.z())
+                .map(|((x, y), z)| DVec3::new(x, y, z)),
+        );
+        match data.rgb() {
+            Some(colours) => self.rgb.extend(colours.map(|(r, g, b)| [r, g, b])),
+            None => self.intensity.extend(data.intensity()),
+        }
+    }
+
+    /// The points' colours as bytes: the RGB when the format has it, else the intensity as
+    /// grey (with a [`ScanWarning::IntensityAsGrey`] into `warnings`), `None` when every
+    /// intensity is zero.
+    fn colours(&self, path: &Path, warnings: &mut Vec<ScanWarning>) -> Option<Vec<[u8; 4]>> {
+        if !self.rgb.is_empty() {
+            return Some(rgb16_to_bytes(&self.rgb));
+        }
+        let grey = intensity_to_grey(&self.intensity);
+        if grey.is_some() {
+            warnings.push(ScanWarning::IntensityAsGrey {
+                path: path.to_path_buf(),
+            });
+        }
+        grey
+    }
 }
 
 /// A `las` error as this crate's: file system errors as [`ScanError::Io`], the rest as

@@ -96,21 +96,55 @@ pub fn merge_scans(
             count: total as u64,
         });
     }
-    let any_colour = scans.iter().any(|s| s.colours.is_some());
-    let all_normals = scans.iter().all(|s| s.normals.is_some());
-    let mut world: Vec<DVec3> = Vec::with_capacity(total);
-    let mut colours: Option<Vec<[u8; 4]>> = any_colour.then(|| Vec::with_capacity(total));
-    let mut normals: Option<Vec<Vec3>> = all_normals.then(|| Vec::with_capacity(total));
+    let mut merged = MergedPoints::for_scans(&scans, total);
     let mut summaries = Vec::with_capacity(scans.len());
     for scan in scans {
-        let start = world.len();
+        let start = merged.world.len();
         let pose = scan.pose;
+        merged.append(&scan, warnings);
+        summaries.push(ScanSummary {
+            path: scan.path,
+            index: scan.index,
+            points: start..merged.world.len(),
+            pose,
+            viewpoint: scan.viewpoint.map(|v| v.posed(&pose)),
+        });
+    }
+    Ok((merged.into_cloud(), summaries))
+}
+
+/// The merged points so far, in the common frame: f64 positions, the colours when any scan
+/// has them, the normals when every scan has them.
+struct MergedPoints {
+    world: Vec<DVec3>,
+    colours: Option<Vec<[u8; 4]>>,
+    normals: Option<Vec<Vec3>>,
+}
+
+impl MergedPoints {
+    /// Empty columns for the `total` points of `scans`, with colours and normals as the
+    /// module docs say they survive.
+    fn for_scans(scans: &[PosedScan], total: usize) -> MergedPoints {
+        let any_colour = scans.iter().any(|s| s.colours.is_some());
+        let all_normals = scans.iter().all(|s| s.normals.is_some());
+        MergedPoints {
+            world: Vec::with_capacity(total),
+            colours: any_colour.then(|| Vec::with_capacity(total)),
+            normals: all_normals.then(|| Vec::with_capacity(total)),
+        }
+    }
+
+    /// Appends the points of `scan`, moved by its pose; a scan without the colours others
+    /// have gets white, and normals that others lack are dropped (each with its warning).
+    fn append(&mut self, scan: &PosedScan, warnings: &mut Vec<ScanWarning>) {
+        let pose = scan.pose;
+        let world = &mut self.world;
         if pose.is_identity() {
             world.extend_from_slice(&scan.positions);
         } else {
             world.extend(scan.positions.iter().map(|&p| pose.apply_point(p)));
         }
-        if let Some(out) = colours.as_mut() {
+        if let Some(out) = self.colours.as_mut() {
             match &scan.colours {
                 Some(c) => out.extend_from_slice(c),
                 None => {
@@ -121,7 +155,7 @@ pub fn merge_scans(
                 }
             }
         }
-        match (normals.as_mut(), &scan.normals) {
+        match (self.normals.as_mut(), &scan.normals) {
             (Some(out), Some(n)) => {
                 out.extend(n.iter().map(|&v| pose.apply_vector(v.as_dvec3()).as_vec3()))
             }
@@ -130,22 +164,19 @@ pub fn merge_scans(
             }),
             _ => {}
         }
-        summaries.push(ScanSummary {
-            path: scan.path,
-            index: scan.index,
-            points: start..world.len(),
-            pose,
-            viewpoint: scan.viewpoint.map(|v| v.posed(&pose)),
-        });
     }
-    let origin = spatch_mesh::robust_centre(world.len(), |k| world[k]);
-    let cloud = PointCloud {
-        origin,
-        positions: world.iter().map(|&p| (p - origin).as_vec3()).collect(),
-        colours,
-        normals,
-    };
-    Ok((cloud, summaries))
+
+    /// The merged cloud: positions f32 relative to the robust centre of the world positions.
+    fn into_cloud(self) -> PointCloud {
+        let world = self.world;
+        let origin = spatch_mesh::robust_centre(world.len(), |k| world[k]);
+        PointCloud {
+            origin,
+            positions: world.iter().map(|&p| (p - origin).as_vec3()).collect(),
+            colours: self.colours,
+            normals: self.normals,
+        }
+    }
 }
 
 #[cfg(test)]

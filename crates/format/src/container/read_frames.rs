@@ -67,43 +67,12 @@ pub(super) fn read_frames(
             record: record_len,
         }));
     }
-    let shared_grid = match fields.grid_storage {
-        GridStorage::Shared => Some(
-            GridSize::new(fields.shared_cols.into(), fields.shared_rows.into())
-                .map_err(|e| super::sections::corrupt("SCNE", Corruption::Scene(Box::new(e))))?,
-        ),
-        GridStorage::PerPatch => None,
-    };
+    let shared_grid = shared_grid(fields)?;
     let mut frames = vec_for_count(patch_count, record_len, bytes, "frames")?;
     let mut layouts = vec_for_count(patch_count, record_len, bytes, "frames")?;
     for (k, record) in section.payload.chunks_exact(record_len).enumerate() {
-        let mut frame = read_frame(record).map_err(|e| patch_error(section, k, e))?;
-        if let Some((orgr, r)) = residuals {
-            let at = k * RESIDUAL_LEN;
-            let residual = Vec3::new(f32_at(r, at), f32_at(r, at + 4), f32_at(r, at + 8));
-            frame = frame
-                .with_residual(residual)
-                .map_err(|e| patch_error(orgr, k, e))?;
-        }
-        let mut at = 40;
-        let grid = match shared_grid {
-            Some(g) => g,
-            None => {
-                let cols = u16::from_le_bytes([record[at], record[at + 1]]);
-                let rows = u16::from_le_bytes([record[at + 2], record[at + 3]]);
-                at += 4;
-                GridSize::new(cols.into(), rows.into()).map_err(|e| patch_error(section, k, e))?
-            }
-        };
-        let bytes_per_code = match fields.width_storage {
-            WidthStorage::All8 => 1,
-            WidthStorage::All16 => 2,
-            WidthStorage::PerPatch => match record[at] {
-                8 => 1,
-                16 => 2,
-                bits => return Err(section.corrupt(Corruption::Width { patch: k, bits })),
-            },
-        };
+        let frame = record_frame(section, record, k, residuals)?;
+        let (grid, bytes_per_code) = record_grid(section, fields, shared_grid, record, k)?;
         frames.push((frame, grid));
         layouts.push(DisplacementLayout {
             cols: grid.cols().into(),
@@ -112,6 +81,66 @@ pub(super) fn read_frames(
         });
     }
     Ok(FrameRecords { frames, layouts })
+}
+
+/// The grid every patch shares, when SCNE says they share one.
+fn shared_grid(fields: &SceneFields) -> Result<Option<GridSize>, FormatError> {
+    Ok(match fields.grid_storage {
+        GridStorage::Shared => Some(
+            GridSize::new(fields.shared_cols.into(), fields.shared_rows.into())
+                .map_err(|e| super::sections::corrupt("SCNE", Corruption::Scene(Box::new(e))))?,
+        ),
+        GridStorage::PerPatch => None,
+    })
+}
+
+/// The frame of FRAM record `k`, moved by its ORGR residual when `residuals` is given.
+fn record_frame(
+    section: &RawSection<'_>,
+    record: &[u8],
+    k: usize,
+    residuals: Option<(&RawSection<'_>, &[u8])>,
+) -> Result<Frame, FormatError> {
+    let mut frame = read_frame(record).map_err(|e| patch_error(section, k, e))?;
+    if let Some((orgr, r)) = residuals {
+        let at = k * RESIDUAL_LEN;
+        let residual = Vec3::new(f32_at(r, at), f32_at(r, at + 4), f32_at(r, at + 8));
+        frame = frame
+            .with_residual(residual)
+            .map_err(|e| patch_error(orgr, k, e))?;
+    }
+    Ok(frame)
+}
+
+/// The grid of FRAM record `k` (the `shared_grid` when there is one) and the bytes of each
+/// of its displacement codes.
+fn record_grid(
+    section: &RawSection<'_>,
+    fields: &SceneFields,
+    shared_grid: Option<GridSize>,
+    record: &[u8],
+    k: usize,
+) -> Result<(GridSize, usize), FormatError> {
+    let mut at = 40;
+    let grid = match shared_grid {
+        Some(g) => g,
+        None => {
+            let cols = u16::from_le_bytes([record[at], record[at + 1]]);
+            let rows = u16::from_le_bytes([record[at + 2], record[at + 3]]);
+            at += 4;
+            GridSize::new(cols.into(), rows.into()).map_err(|e| patch_error(section, k, e))?
+        }
+    };
+    let bytes_per_code = match fields.width_storage {
+        WidthStorage::All8 => 1,
+        WidthStorage::All16 => 2,
+        WidthStorage::PerPatch => match record[at] {
+            8 => 1,
+            16 => 2,
+            bits => return Err(section.corrupt(Corruption::Width { patch: k, bits })),
+        },
+    };
+    Ok((grid, bytes_per_code))
 }
 
 /// The frame of one record: origin (3 × f32), quaternion (4 × f32), lengths (3 × f32).

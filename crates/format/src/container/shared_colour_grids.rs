@@ -350,16 +350,7 @@ fn decode_shared_grids(
         kinds.push(decoder.decode_byte(&mut models.kinds).map_err(ended)?);
     }
     check_raw_length(grids, &kinds, bytes, raw_len)?;
-    let mut sources = Vec::new();
-    for &kind in &kinds {
-        if let Some(Err(_)) = parse_kind(kind)? {
-            let mut le = [0u8; SOURCE_LEN];
-            for byte in &mut le {
-                *byte = decoder.decode_byte(&mut models.sources).map_err(ended)?;
-            }
-            sources.push(u32::from_le_bytes(le));
-        }
-    }
+    let sources = decode_sources(&mut decoder, &mut models, &kinds)?;
     let mut own = Vec::new();
     let mut same = Vec::new();
     for (&grid, &kind) in grids.iter().zip(&kinds) {
@@ -374,32 +365,87 @@ fn decode_shared_grids(
                 raw: raw_len,
                 stored: coded.len(),
             })?;
+        let mut samples = SampleDecoder {
+            decoder: &mut decoder,
+            models: &mut models,
+            bytes,
+        };
+        samples
+            .decode(&mut values, &mut same, cols, cols * rows)
+            .map_err(ended)?;
+        own.push(Some(grid_from(grid, factor, values, bytes)?));
+    }
+    let limit = expansion_limit(coded.len());
+    resolve_references(grids, &kinds, &sources, own, (bytes, limit))
+}
+
+/// The source patch of each reference among `kinds`, in patch order.
+fn decode_sources(
+    decoder: &mut Decoder<'_>,
+    models: &mut Models,
+    kinds: &[u8],
+) -> Result<Vec<u32>, Corruption> {
+    let ended = |_: StreamEnded| Corruption::StreamEndsEarly;
+    let mut sources = Vec::new();
+    for &kind in kinds {
+        if let Some(Err(_)) = parse_kind(kind)? {
+            let mut le = [0u8; SOURCE_LEN];
+            for byte in &mut le {
+                *byte = decoder.decode_byte(&mut models.sources).map_err(ended)?;
+            }
+            sources.push(u32::from_le_bytes(le));
+        }
+    }
+    Ok(sources)
+}
+
+/// Decodes the samples of own grids: the payload's decoder, the codec's models and the
+/// bytes per sample.
+struct SampleDecoder<'d, 'a> {
+    decoder: &'d mut Decoder<'a>,
+    models: &'d mut Models,
+    bytes: usize,
+}
+
+impl SampleDecoder<'_, '_> {
+    /// Decodes the `count` samples of a grid `cols` wide onto the empty `values`, with
+    /// `same` (cleared first) holding each sample's "every channel predicted" decision.
+    fn decode(
+        &mut self,
+        values: &mut Vec<[u8; 4]>,
+        same: &mut Vec<bool>,
+        cols: usize,
+        count: usize,
+    ) -> Result<(), StreamEnded> {
         same.clear();
-        for k in 0..cols * rows {
-            let (p, context, class) = prediction(&values, &same, cols, k);
-            let differs = decoder
-                .decode_bit(&mut models.same[context])
-                .map_err(ended)?;
+        for k in 0..count {
+            let (p, context, class) = prediction(values, same, cols, k);
+            let differs = self.decoder.decode_bit(&mut self.models.same[context])?;
             let mut v = p;
             if differs == 1 {
-                let mut coded = [0u8; 4];
-                for (ch, byte) in coded.iter_mut().enumerate().take(bytes) {
-                    *byte = decoder
-                        .decode_byte(&mut models.channels[ch][class])
-                        .map_err(ended)?;
-                }
-                let r = correlate(coded);
-                for (ch, value) in v.iter_mut().enumerate().take(bytes) {
+                let r = self.residuals(class)?;
+                for (ch, value) in v.iter_mut().enumerate().take(self.bytes) {
                     *value = p[ch].wrapping_add(r[ch]);
                 }
             }
             same.push(differs == 0);
             values.push(v);
         }
-        own.push(Some(grid_from(grid, factor, values, bytes)?));
+        Ok(())
     }
-    let limit = expansion_limit(coded.len());
-    resolve_references(grids, &kinds, &sources, own, (bytes, limit))
+
+    /// The residuals `(v − p) mod 256` of a sample in activity class `class`, decoded from
+    /// their coded form (module docs).
+    #[inline]
+    fn residuals(&mut self, class: usize) -> Result<[u8; 4], StreamEnded> {
+        let mut coded = [0u8; 4];
+        for (ch, byte) in coded.iter_mut().enumerate().take(self.bytes) {
+            *byte = self
+                .decoder
+                .decode_byte(&mut self.models.channels[ch][class])?;
+        }
+        Ok(correlate(coded))
+    }
 }
 
 /// The raw length the kinds imply must be the section's `raw_len`.

@@ -39,7 +39,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
 
-use super::mtl::MtlLibrary;
+use super::mtl::{MtlDef, MtlLibrary};
 use super::texture::load_texture_file;
 use super::{parent_dir, read_file, unit_to_byte, LoadedMesh, MeshBuilder};
 use crate::error::{Element, ElementKind, SyntaxProblem};
@@ -396,44 +396,18 @@ impl<'p> ObjReader<'p> {
     /// material ids, and each material's `-s`/`-o` UV transform applied to its faces.
     fn apply_materials(&mut self, builder: &mut MeshBuilder) {
         let mut texture_cache: HashMap<PathBuf, Option<Texture>> = HashMap::new();
-        let mut uv_transforms = Vec::new();
+        let mut uv_transforms: Vec<UvTransform> = Vec::new();
         for name in &self.used_materials {
-            let mut material = Material::white(name.clone());
-            let mut transform = ([1.0f32; 2], [0.0f32; 2]);
-            match self.library.defs.get(name) {
-                Some(def) => {
-                    if let Some(kd) = def.diffuse {
-                        material.base_colour = [kd[0], kd[1], kd[2], 1.0];
+            let (material, transform) = match self.library.defs.get(name) {
+                Some(def) => defined_material(name, def, &mut texture_cache, &mut self.warnings),
+                None => {
+                    if self.saw_mtllib {
+                        self.warnings
+                            .push(LoadWarning::UnknownMaterial { name: name.clone() });
                     }
-                    if def.transparent {
-                        self.warnings.push(LoadWarning::TransparencyIgnored {
-                            material: name.clone(),
-                        });
-                    }
-                    if let Some(tex_path) = &def.texture {
-                        let warnings = &mut self.warnings;
-                        let texture = texture_cache
-                            .entry(tex_path.clone())
-                            .or_insert_with(|| match load_texture_file(tex_path) {
-                                Ok(t) => Some(t),
-                                Err(w) => {
-                                    warnings.push(w);
-                                    None
-                                }
-                            })
-                            .clone();
-                        if texture.is_some() {
-                            material.base_colour = [1.0; 4];
-                            transform = (def.uv_scale, def.uv_offset);
-                        }
-                        material.texture = texture;
-                    }
+                    (Material::white(name.clone()), ([1.0f32; 2], [0.0f32; 2]))
                 }
-                None if self.saw_mtllib => self
-                    .warnings
-                    .push(LoadWarning::UnknownMaterial { name: name.clone() }),
-                None => {}
-            }
+            };
             builder.materials.push(material);
             uv_transforms.push(transform);
         }
@@ -447,16 +421,7 @@ impl<'p> ObjReader<'p> {
             .iter()
             .map(|m| MaterialId(m.unwrap_or(default_id)))
             .collect();
-        if let Some(uvs) = builder.face_uvs.as_mut() {
-            for (uv, m) in uvs.iter_mut().zip(&builder.face_materials) {
-                let (scale, offset) = uv_transforms[m.index()];
-                if scale != [1.0; 2] || offset != [0.0; 2] {
-                    for c in uv.iter_mut() {
-                        *c = Vec2::new(c.x * scale[0] + offset[0], c.y * scale[1] + offset[1]);
-                    }
-                }
-            }
-        }
+        apply_uv_transforms(builder, &uv_transforms);
     }
 
     /// For an OBJ with UVs and no material library: the lone image beside it, if any, as
@@ -477,6 +442,73 @@ impl<'p> ObjReader<'p> {
                 builder.face_materials = vec![MaterialId(0); builder.triangles.len()];
             }
             Err(w) => self.warnings.push(w),
+        }
+    }
+}
+
+/// A material's UV transform: `(scale, offset)`, as its `-s` and `-o` options give them.
+type UvTransform = ([f32; 2], [f32; 2]);
+
+/// The material `name` as its library entry `def` defines it, with its UV transform (the
+/// identity unless its texture loads); textures come from `texture_cache`, and what is
+/// ignored or cannot be loaded goes to `warnings`.
+fn defined_material(
+    name: &str,
+    def: &MtlDef,
+    texture_cache: &mut HashMap<PathBuf, Option<Texture>>,
+    warnings: &mut Vec<LoadWarning>,
+) -> (Material, UvTransform) {
+    let mut material = Material::white(name.to_owned());
+    let mut transform = ([1.0f32; 2], [0.0f32; 2]);
+    if let Some(kd) = def.diffuse {
+        material.base_colour = [kd[0], kd[1], kd[2], 1.0];
+    }
+    if def.transparent {
+        warnings.push(LoadWarning::TransparencyIgnored {
+            material: name.to_owned(),
+        });
+    }
+    if let Some(tex_path) = &def.texture {
+        let texture = cached_texture(texture_cache, tex_path, warnings);
+        if texture.is_some() {
+            material.base_colour = [1.0; 4];
+            transform = (def.uv_scale, def.uv_offset);
+        }
+        material.texture = texture;
+    }
+    (material, transform)
+}
+
+/// The texture at `tex_path`, loaded the first time it is asked for and kept in
+/// `texture_cache`; `None` when it cannot be loaded (the warning given once).
+fn cached_texture(
+    texture_cache: &mut HashMap<PathBuf, Option<Texture>>,
+    tex_path: &Path,
+    warnings: &mut Vec<LoadWarning>,
+) -> Option<Texture> {
+    texture_cache
+        .entry(tex_path.to_path_buf())
+        .or_insert_with(|| match load_texture_file(tex_path) {
+            Ok(t) => Some(t),
+            Err(w) => {
+                warnings.push(w);
+                None
+            }
+        })
+        .clone()
+}
+
+/// Applies each face's material's UV transform (from `uv_transforms`, by material id) to
+/// the face's UVs, when the mesh has UVs.
+fn apply_uv_transforms(builder: &mut MeshBuilder, uv_transforms: &[UvTransform]) {
+    if let Some(uvs) = builder.face_uvs.as_mut() {
+        for (uv, m) in uvs.iter_mut().zip(&builder.face_materials) {
+            let (scale, offset) = uv_transforms[m.index()];
+            if scale != [1.0; 2] || offset != [0.0; 2] {
+                for c in uv.iter_mut() {
+                    *c = Vec2::new(c.x * scale[0] + offset[0], c.y * scale[1] + offset[1]);
+                }
+            }
         }
     }
 }

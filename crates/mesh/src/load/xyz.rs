@@ -220,29 +220,12 @@ pub fn load_xyz_columns(
             }
             continue;
         }
-        let tokens: Vec<&str> = line
-            .split(|c: char| c.is_ascii_whitespace() || c == ',')
-            .filter(|t| !t.is_empty())
-            .collect();
+        let tokens = split_tokens(line);
         let Some(columns) = layout else {
-            if first_line {
-                if pts && tokens.len() == 1 && tokens[0].parse::<u64>().is_ok() {
-                    continue;
-                }
-                if let Some(named) = header_columns(line) {
-                    header = Some(named);
-                    continue;
-                }
+            if first_line && skips_first_line(line, &tokens, pts, &mut header) {
+                continue;
             }
-            let chosen = match header {
-                Some(named) => named,
-                None => Columns::from_first_line(&tokens, pts).ok_or(err(
-                    line_no,
-                    SyntaxProblem::UnsupportedColumnCount {
-                        found: tokens.len(),
-                    },
-                ))?,
-            };
+            let chosen = first_layout(header, &tokens, pts).map_err(|p| err(line_no, p))?;
             layout = Some(chosen);
             push_values(&tokens, chosen.width, &mut values).map_err(|p| err(line_no, p))?;
             continue;
@@ -255,6 +238,43 @@ pub fn load_xyz_columns(
         });
     };
     build_from_rows(path, &values, &columns)
+}
+
+/// The values of a point line: split at ASCII whitespace and commas.
+fn split_tokens(line: &str) -> Vec<&str> {
+    line.split(|c: char| c.is_ascii_whitespace() || c == ',')
+        .filter(|t| !t.is_empty())
+        .collect()
+}
+
+/// Whether the first line of a file read without a given layout holds no points: a Leica
+/// point count (when `pts`), or a header of column names (then kept in `header`).
+fn skips_first_line(line: &str, tokens: &[&str], pts: bool, header: &mut Option<Columns>) -> bool {
+    if pts && tokens.len() == 1 && tokens[0].parse::<u64>().is_ok() {
+        return true;
+    }
+    if let Some(named) = header_columns(line) {
+        *header = Some(named);
+        return true;
+    }
+    false
+}
+
+/// The layout of a file read without a given one, from its first point line's `tokens`:
+/// the `header`'s when it had one, else guessed from the number of values.
+fn first_layout(
+    header: Option<Columns>,
+    tokens: &[&str],
+    pts: bool,
+) -> Result<Columns, SyntaxProblem> {
+    match header {
+        Some(named) => Ok(named),
+        None => {
+            Columns::from_first_line(tokens, pts).ok_or(SyntaxProblem::UnsupportedColumnCount {
+                found: tokens.len(),
+            })
+        }
+    }
 }
 
 /// A header line's layout: every token a name (no numbers), with x, y and z among them.
