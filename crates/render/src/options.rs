@@ -364,7 +364,15 @@ impl RenderOptions {
 
     /// Checks every field's range.
     pub fn validate(&self) -> Result<(), RenderError> {
-        let bad = |name, reason| Err(RenderError::InvalidOption { name, reason });
+        self.validate_sampling()?;
+        self.validate_limits()?;
+        self.validate_work()?;
+        self.validate_lighting()
+    }
+
+    /// Checks the supersampling factor, the guard band and the mip limit
+    /// and tolerance.
+    fn validate_sampling(&self) -> Result<(), RenderError> {
         if !(1..=Self::MAX_SSAA).contains(&self.ssaa) {
             return bad("ssaa", "must be in 1..=4");
         }
@@ -378,6 +386,12 @@ impl RenderOptions {
         if !(tol.is_finite() && (0.0..=2.0).contains(&tol)) {
             return bad("mip_tolerance", "must be in 0..=2 pixels");
         }
+        Ok(())
+    }
+
+    /// Checks the level-one, splat, geometry and centre limits and the
+    /// geometry tolerance (each 0 or in its range).
+    fn validate_limits(&self) -> Result<(), RenderError> {
         let l1 = self.level_one_limit;
         if !(l1.is_finite() && (l1 == 0.0 || (0.1..=16.0).contains(&l1))) {
             return bad("level_one_limit", "must be 0 (off) or in 0.1..=16 pixels");
@@ -401,12 +415,23 @@ impl RenderOptions {
         if !(c.is_finite() && (c == 0.0 || (0.5..=4.0).contains(&c))) {
             return bad("centre_limit", "must be 0 (off) or in 0.5..=4 pixels");
         }
+        Ok(())
+    }
+
+    /// Checks the band height and the thread count.
+    fn validate_work(&self) -> Result<(), RenderError> {
         if !(self.tile_rows == 0 || (4..=256).contains(&self.tile_rows)) {
             return bad("tile_rows", "must be 0 (automatic) or in 4..=256");
         }
         if self.threads > 1024 {
             return bad("threads", "must be in 0..=1024 (0 = all cores)");
         }
+        Ok(())
+    }
+
+    /// Checks the lighting: factors in 0..=1, shininess in 1..=256 and a
+    /// finite, non-zero direction.
+    fn validate_lighting(&self) -> Result<(), RenderError> {
         let l = &self.lighting;
         let unit = |v: f32| v.is_finite() && (0.0..=1.0).contains(&v);
         if !(unit(l.ambient) && unit(l.diffuse) && unit(l.specular)) {
@@ -424,6 +449,11 @@ impl RenderOptions {
         }
         Ok(())
     }
+}
+
+/// The error of option `name`, out of range: `reason`.
+fn bad(name: &'static str, reason: &'static str) -> Result<(), RenderError> {
+    Err(RenderError::InvalidOption { name, reason })
 }
 
 impl Default for RenderOptions {

@@ -127,32 +127,7 @@ impl MipLevel {
         cell_flags.truncate(ccols * crows);
         let drawn = &cell_flags[..];
         let drawable_cells = drawn.iter().map(|&d| u32::from(d)).sum::<u32>();
-        // A node is used when a drawn cell of the row of cells below or
-        // above it has it as a corner. Why by rows of nodes: four indexed
-        // stores per drawn cell were a third of this function (callgrind,
-        // `profile_sphere 500 1 1 trimmed`).
-        let mut used = vec![false; cols * rows];
-        // On the stack for grids up to 64 nodes a row.
-        let (mut stack, mut heap) = ([false; 64], Vec::new());
-        let corner: &mut [bool] = if cols <= 64 {
-            &mut stack[..cols]
-        } else {
-            heap.resize(cols, false);
-            &mut heap
-        };
-        for (j, row) in drawn.chunks_exact(ccols).enumerate() {
-            // Nodes of this row of cells that are a corner of a drawn cell.
-            corner[0] = row[0] != 0;
-            corner[ccols] = row[ccols - 1] != 0;
-            for (c, pair) in corner[1..ccols].iter_mut().zip(row.windows(2)) {
-                *c = pair[0] | pair[1] != 0;
-            }
-            let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
-            for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(corner.iter()) {
-                *b |= c;
-                *a |= c;
-            }
-        }
+        let mut used = corners_of_drawn(drawn, [cols, rows]);
         if !quartered.is_empty() {
             let corners = quartered_corners(&quartered, [cols, rows]);
             used.iter_mut().zip(corners).for_each(|(u, c)| *u |= c);
@@ -238,6 +213,40 @@ impl MipLevel {
     pub(crate) fn cell_is_drawable(&self, i: usize, j: usize) -> bool {
         self.cell_flags[j * (self.cols - 1) + i] & CELL_DRAW != 0
     }
+}
+
+/// Per node of a `cols × rows` grid, whether it is a corner of a cell
+/// flagged in `drawn` (one flag per cell, 0: not drawn).
+#[inline(always)]
+fn corners_of_drawn(drawn: &[u8], [cols, rows]: [usize; 2]) -> Vec<bool> {
+    let ccols = cols - 1;
+    // A node is used when a drawn cell of the row of cells below or
+    // above it has it as a corner. Why by rows of nodes: four indexed
+    // stores per drawn cell were a third of this function (callgrind,
+    // `profile_sphere 500 1 1 trimmed`).
+    let mut used = vec![false; cols * rows];
+    // On the stack for grids up to 64 nodes a row.
+    let (mut stack, mut heap) = ([false; 64], Vec::new());
+    let corner: &mut [bool] = if cols <= 64 {
+        &mut stack[..cols]
+    } else {
+        heap.resize(cols, false);
+        &mut heap
+    };
+    for (j, row) in drawn.chunks_exact(ccols).enumerate() {
+        // Nodes of this row of cells that are a corner of a drawn cell.
+        corner[0] = row[0] != 0;
+        corner[ccols] = row[ccols - 1] != 0;
+        for (c, pair) in corner[1..ccols].iter_mut().zip(row.windows(2)) {
+            *c = pair[0] | pair[1] != 0;
+        }
+        let (below, above) = used[j * cols..(j + 2) * cols].split_at_mut(cols);
+        for ((b, a), &c) in below.iter_mut().zip(above.iter_mut()).zip(corner.iter()) {
+            *b |= c;
+            *a |= c;
+        }
+    }
+    used
 }
 
 /// The smallest and largest of `displacements` where `used` (`(u16::MAX,

@@ -196,37 +196,59 @@ pub(super) fn draw_cells<const NU: u32, const NV: u32, const WALK: bool>(
         // of 64 rows, cells of 1–3 px); 86.0 → 83.0 M instructions per frame
         // (callgrind, `profile_sphere 500 1`).
         let row_inside = piece.inside_columns && lo > y_lo && hi < y_hi - 1;
+        let row = CellRow {
+            flags: row_flags,
+            below,
+            above,
+            j,
+        };
         if WALK && row_inside {
-            let row = CellRow {
-                flags: row_flags,
-                below,
-                above,
-                j,
-            };
             walk_row::<NU, NV>(t, row, nu, nv, item);
             continue;
         }
-        let cells = row_flags.iter().zip(below.windows(2)).zip(above.windows(2));
-        for (i, ((&f, b), a)) in cells.enumerate() {
-            if f & CELL_DRAW == 0 {
-                continue;
-            }
-            let c = [&b[0], &b[1], &a[0], &a[1]];
-            let right = (f & CELL_RIGHT != 0) as u32;
-            let top = (f & CELL_TOP != 0) as u32;
-            let (cut, word) = ([nu, right, nv, top], patch_word(sub_word(i, j, 0, 0), item));
-            if row_inside {
-                draw_cell::<false>(t, c, r, cut, word);
-                continue;
-            }
-            let Some(inside) = cell_in_band(t, c, piece.inside_columns) else {
-                continue;
-            };
-            if inside {
-                draw_cell::<false>(t, c, r, cut, word);
-            } else {
-                draw_cell::<true>(t, c, r, cut, word);
-            }
+        let inside = (row_inside, piece.inside_columns);
+        draw_row_cells(t, row, inside, (r, nu, nv), item);
+    }
+}
+
+/// Draws the drawn cells of `row` one at a time, cut `nu × nv`
+/// (reciprocals `r`): `row_inside`, every cell lies in the band; else
+/// each is tested ([`cell_in_band`]; `inside_columns` as in
+/// [`BilinearPiece`]) and clipped when it crosses the band's edges.
+#[inline(always)]
+fn draw_row_cells(
+    t: &mut BandTarget<'_>,
+    row: CellRow<'_>,
+    (row_inside, inside_columns): (bool, bool),
+    (r, nu, nv): (Reciprocals, u32, u32),
+    item: u32,
+) {
+    let CellRow {
+        flags,
+        below,
+        above,
+        j,
+    } = row;
+    let cells = flags.iter().zip(below.windows(2)).zip(above.windows(2));
+    for (i, ((&f, b), a)) in cells.enumerate() {
+        if f & CELL_DRAW == 0 {
+            continue;
+        }
+        let c = [&b[0], &b[1], &a[0], &a[1]];
+        let right = (f & CELL_RIGHT != 0) as u32;
+        let top = (f & CELL_TOP != 0) as u32;
+        let (cut, word) = ([nu, right, nv, top], patch_word(sub_word(i, j, 0, 0), item));
+        if row_inside {
+            draw_cell::<false>(t, c, r, cut, word);
+            continue;
+        }
+        let Some(inside) = cell_in_band(t, c, inside_columns) else {
+            continue;
+        };
+        if inside {
+            draw_cell::<false>(t, c, r, cut, word);
+        } else {
+            draw_cell::<true>(t, c, r, cut, word);
         }
     }
 }

@@ -242,27 +242,7 @@ fn flag_row(rows: &[Vec<i32>; 5], (tol, loose): (i32, i32), flags: &mut [u8]) ->
             s1[k].min(s2[k]),
             se1[k].min(se2[k]),
         ];
-        // Each direction's farther side where its pair spans (else MAX):
-        // a pixel between two surfaces takes the near one.
-        let far = |a: i32, c: i32| {
-            if spans(a, c, h, tol) {
-                a.max(c)
-            } else {
-                i32::MAX
-            }
-        };
-        let fars = [
-            far(sides[4], sides[0]),
-            far(sides[6], sides[2]),
-            far(sides[5], sides[1]),
-            far(sides[7], sides[3]),
-        ];
-        let (mut code, mut best) = ((fars[0] != i32::MAX) as u8, fars[0]);
-        for (d, &f) in fars.iter().enumerate().skip(1) {
-            let nearer = f < best;
-            code = if nearer { d as u8 + 1 } else { code };
-            best = if nearer { f } else { best };
-        }
+        let mut code = nearest_span(&sides, h, tol);
         let (surrounded, farthest) = surround(&sides, loose);
         let surrounded = surrounded && (h == Z_FAR || farthest + (tol >> 2) < h);
         code = if code == 0 && surrounded {
@@ -274,6 +254,35 @@ fn flag_row(rows: &[Vec<i32>; 5], (tol, loose): (i32, i32), flags: &mut [u8]) ->
         any |= code;
     }
     any != 0
+}
+
+/// The direction of [`DIRECTIONS`] (1-based, the first on a tie; 0 for
+/// none) whose pair of `sides` (counterclockwise from east) spans a pixel
+/// of depth `h` ([`spans`], `tol`) with the nearest farther side: a pixel
+/// between two surfaces takes the near one.
+#[inline(always)]
+fn nearest_span(sides: &[i32; 8], h: i32, tol: i32) -> u8 {
+    // Each direction's farther side where its pair spans (else MAX).
+    let far = |a: i32, c: i32| {
+        if spans(a, c, h, tol) {
+            a.max(c)
+        } else {
+            i32::MAX
+        }
+    };
+    let fars = [
+        far(sides[4], sides[0]),
+        far(sides[6], sides[2]),
+        far(sides[5], sides[1]),
+        far(sides[7], sides[3]),
+    ];
+    let (mut code, mut best) = ((fars[0] != i32::MAX) as u8, fars[0]);
+    for (d, &f) in fars.iter().enumerate().skip(1) {
+        let nearer = f < best;
+        code = if nearer { d as u8 + 1 } else { code };
+        best = if nearer { f } else { best };
+    }
+    code
 }
 
 /// Whether the `sides` (counterclockwise, one per 45°) within `loose` of
