@@ -14,13 +14,13 @@ use spatch_format::Scene;
 
 use crate::camera::{Camera, View};
 use crate::error::RenderError;
-use crate::fixed::{attr_from_bits, attr_to_bits};
+use crate::frame::band_tasks::{band_job, band_tasks, BandTask};
 use crate::frame::image::RenderedImage;
 use crate::frame::occlusion::{self, Frame, OcclusionStats};
 use crate::frame::occlusion_skip::SkipTiles;
 use crate::frame::schedule::{run_in_order, BandOrder};
 use crate::frame::stats::{BandStats, RenderStats};
-use crate::frame::tiles::{render_band, BandJob, Bins};
+use crate::frame::tiles::{render_band, Bins};
 use crate::isa::Isa;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
@@ -35,7 +35,6 @@ use crate::prepare::scene::PreparedScene;
 use crate::raster::band::{Band, Sample};
 use crate::raster::gap_fill::GAP_FILL_REACH;
 use crate::shade::phong_items::PhongItems;
-use crate::shade::resolve::Resolve;
 
 /// Triangles per unit of parallel set-up work for meshes.
 const TRIANGLE_CHUNK: usize = 4096;
@@ -497,46 +496,6 @@ impl Renderer {
     }
 }
 
-/// One band's buffers and its rows of the image, handed to a thread.
-struct BandTask<'a> {
-    index: usize,
-    band: &'a mut Band,
-    skip: &'a mut SkipTiles,
-    rgba: &'a mut [[u8; 4]],
-    eye_depth: &'a mut [f32],
-    y0: i32,
-    rows: i32,
-}
-
-/// Pairs each of `count` bands of `tile_rows` rows of a `width × height`
-/// image with its rows of the image buffers.
-fn band_tasks<'a>(
-    (bands, skips): (&'a mut Vec<Band>, &'a mut [SkipTiles]),
-    count: usize,
-    tile_rows: u32,
-    (width, height): (u32, u32),
-    rgba: &'a mut [[u8; 4]],
-    eye_depth: &'a mut [f32],
-) -> Vec<BandTask<'a>> {
-    bands.resize_with(count, Band::default);
-    let n = (tile_rows * width) as usize;
-    let rows = rgba.chunks_mut(n).zip(eye_depth.chunks_mut(n));
-    (bands.iter_mut().zip(skips).zip(rows).enumerate())
-        .map(|(index, ((band, skip), (rgba, eye_depth)))| {
-            let y0 = index as u32 * tile_rows;
-            BandTask {
-                index,
-                band,
-                skip,
-                rgba,
-                eye_depth,
-                y0: y0 as i32,
-                rows: (height - y0).min(tile_rows) as i32,
-            }
-        })
-        .collect()
-}
-
 /// Renders `scene` once (prepares it, builds a thread pool). For repeated
 /// frames, keep a [`PreparedScene`] and a [`Renderer`].
 pub fn render(
@@ -583,46 +542,6 @@ struct FrameWalls {
     raster: std::time::Duration,
     gather: std::time::Duration,
     total: std::time::Duration,
-}
-
-/// What every band of a frame reads: the planned chunks and their bins,
-/// the frame's drawing options and the resolve pass's inputs (`phong`,
-/// the prepared `patches`, the bands' instruction set `isa`).
-fn band_job<'a>(
-    setup: &FrameSetup<'_>,
-    view: &View,
-    (chunks, bins): (&'a [ChunkWork], &'a Bins),
-    (phong, patches): (&'a PhongItems<'a>, &'a [PreparedPatch]),
-    isa: Isa,
-) -> BandJob<'a> {
-    let options = setup.options;
-    BandJob {
-        chunks,
-        bins,
-        shading: options.shading,
-        cells: options.cells,
-        occlusion_skip: options.occlusion_skip,
-        depth_map: (setup.z_scale, setup.z_offset),
-        has_grids: patches.iter().any(|p| p.colour_grid.is_some()),
-        resolve: Resolve {
-            shading: options.shading,
-            items: &bins.all_items,
-            chunks,
-            phong,
-            patches,
-            material: setup.material,
-            base_albedo: Vec3::from_array(
-                setup
-                    .base_colour
-                    .to_array()
-                    .map(|c| attr_from_bits(attr_to_bits(c))),
-            ),
-            background: options.background,
-            near: view.near as f32,
-            far: view.far as f32,
-            isa,
-        },
-    }
 }
 
 #[cfg(test)]
