@@ -405,7 +405,7 @@ impl<'p> ObjReader<'p> {
                         self.warnings
                             .push(LoadWarning::UnknownMaterial { name: name.clone() });
                     }
-                    (Material::white(name.clone()), ([1.0f32; 2], [0.0f32; 2]))
+                    (Material::white(name.clone()), NO_UV_TRANSFORM)
                 }
             };
             builder.materials.push(material);
@@ -414,7 +414,7 @@ impl<'p> ObjReader<'p> {
         let default_id = builder.materials.len() as u32;
         if self.face_material.iter().any(Option::is_none) {
             builder.materials.push(Material::white("default"));
-            uv_transforms.push(([1.0; 2], [0.0; 2]));
+            uv_transforms.push(NO_UV_TRANSFORM);
         }
         builder.face_materials = self
             .face_material
@@ -449,6 +449,9 @@ impl<'p> ObjReader<'p> {
 /// A material's UV transform: `(scale, offset)`, as its `-s` and `-o` options give them.
 type UvTransform = ([f32; 2], [f32; 2]);
 
+/// The identity UV transform: scale 1, offset 0.
+const NO_UV_TRANSFORM: UvTransform = ([1.0; 2], [0.0; 2]);
+
 /// The material `name` as its library entry `def` defines it, with its UV transform (the
 /// identity unless its texture loads); textures come from `texture_cache`, and what is
 /// ignored or cannot be loaded goes to `warnings`.
@@ -459,7 +462,7 @@ fn defined_material(
     warnings: &mut Vec<LoadWarning>,
 ) -> (Material, UvTransform) {
     let mut material = Material::white(name.to_owned());
-    let mut transform = ([1.0f32; 2], [0.0f32; 2]);
+    let mut transform = NO_UV_TRANSFORM;
     if let Some(kd) = def.diffuse {
         material.base_colour = [kd[0], kd[1], kd[2], 1.0];
     }
@@ -504,7 +507,7 @@ fn apply_uv_transforms(builder: &mut MeshBuilder, uv_transforms: &[UvTransform])
     if let Some(uvs) = builder.face_uvs.as_mut() {
         for (uv, m) in uvs.iter_mut().zip(&builder.face_materials) {
             let (scale, offset) = uv_transforms[m.index()];
-            if scale != [1.0; 2] || offset != [0.0; 2] {
+            if (scale, offset) != NO_UV_TRANSFORM {
                 for c in uv.iter_mut() {
                     *c = Vec2::new(c.x * scale[0] + offset[0], c.y * scale[1] + offset[1]);
                 }

@@ -240,7 +240,7 @@ pub fn load_xyz_columns(
     build_from_rows(path, &values, &columns)
 }
 
-/// The values of a point line: split at ASCII whitespace and commas.
+/// The tokens of a line (values or column names): split at ASCII whitespace and commas.
 fn split_tokens(line: &str) -> Vec<&str> {
     line.split(|c: char| c.is_ascii_whitespace() || c == ',')
         .filter(|t| !t.is_empty())
@@ -279,10 +279,7 @@ fn first_layout(
 
 /// A header line's layout: every token a name (no numbers), with x, y and z among them.
 fn header_columns(line: &str) -> Option<Columns> {
-    let names: Vec<&str> = line
-        .split(|c: char| c.is_ascii_whitespace() || c == ',')
-        .filter(|t| !t.is_empty())
-        .collect();
+    let names = split_tokens(line);
     if names.is_empty() || names.iter().any(|n| n.parse::<f64>().is_ok()) {
         return None;
     }
