@@ -45,13 +45,14 @@ mod ray;
 mod robust_centre;
 mod sample;
 mod triangulate;
+mod warning;
 
 pub use adjacency::{build_face_adjacency, Edge, FaceAdjacency, FULL_LINK_LIMIT};
 pub use bvh::{Bvh, BIN_COUNT, MAX_DEPTH, MAX_LEAF_SIZE};
 pub use closest_point::ClosestPoint;
 pub use error::{
-    BufferProblem, Element, ElementKind, GltfAttribute, GltfProblem, LoadWarning, MeshArray,
-    MeshError, MeshProblem, OutsideReason, PlyProblem, SyntaxProblem,
+    BufferProblem, Element, ElementKind, GltfAttribute, GltfProblem, MeshArray, MeshError,
+    MeshProblem, OutsideReason, PlyProblem, SyntaxProblem,
 };
 pub use ids::{EdgeId, FaceId, MaterialId, VertexId};
 pub use load::{load_mesh, load_point_cloud, FileFormat, LoadedMesh, LoadedPointCloud, MAX_EXTENT};
@@ -64,3 +65,4 @@ pub use ray::{RayHit, EDGE_TOLERANCE};
 pub use robust_centre::{robust_centre, CENTRE_SAMPLES};
 pub use sample::{band_of, sample_surface, SplitMix64, SurfaceSample, SurfaceSampler};
 pub use triangulate::{triangulate_polygon, PolygonSplit};
+pub use warning::LoadWarning;
