@@ -30,6 +30,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::normals::VoxelPlanes;
+use crate::CloudOptions;
 
 /// Fewest points in a block for its plane to move points.
 pub const CONSENSUS_MIN_POINTS: u32 = 8;
@@ -46,6 +47,17 @@ pub(crate) struct ConsensusLimits {
     pub(crate) max_spread: f32,
     /// Largest distance a point moves.
     pub(crate) max_move: f32,
+}
+
+impl ConsensusLimits {
+    /// The limits for points of spacing `spacing` ([`CloudOptions::CONSENSUS_MAX_SPREAD`] and
+    /// [`CloudOptions::CONSENSUS_MAX_MOVE`] spacings).
+    pub(crate) fn at_spacing(spacing: f32) -> ConsensusLimits {
+        ConsensusLimits {
+            max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
+            max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
+        }
+    }
 }
 
 /// Moves `positions` onto their block planes in place, and gives how many moved (see the

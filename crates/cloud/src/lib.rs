@@ -77,6 +77,8 @@ mod scan_shifts;
 mod scanners;
 mod smooth;
 mod spacing;
+mod stage_laps;
+mod surface_stages;
 mod tile_convert;
 mod tiles;
 mod warning;

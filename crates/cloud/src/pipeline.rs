@@ -4,7 +4,7 @@
 //! Input: a [`PointCloud`] and [`CloudOptions`]. Output: a [`CloudConversion`] (the scene,
 //! its encoded bytes and a [`CloudReport`]).
 //!
-//! Stages:
+//! Stages (3–5 in `surface_stages.rs`; each timed on the clock of `stage_laps.rs`):
 //! 1. `filter` (`keep_finite`, `finite.rs`): points with a non-finite coordinate or normal
 //!    are dropped and counted.
 //! 2. `sort` (`sort_spatially`): the points are put in Morton order, so that every later
@@ -42,27 +42,22 @@
 use std::borrow::Cow;
 use std::time::Instant;
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use spatch_format::{encode_scene, ColourChannel, Patch, Scene};
 use spatch_mesh::{Aabb, PointCloud};
-use spatch_report::StageClock;
 
-use crate::consensus::{project_to_consensus, ConsensusLimits};
 use crate::directions::view_directions;
 use crate::finite::{check_extent, keep_finite};
 use crate::morton_order::{morton_order, PointOrder};
-use crate::normals::{estimate_planes, VoxelPlanes};
-use crate::progress::{Progress, ProgressFn, Stage, StageCounter};
+use crate::progress::{ProgressFn, Stage, StageCounter};
 use crate::range_image::{ImageGeometry, PointColumns};
-use crate::scan_shifts::{align_scans, shift_scans, Sights};
 use crate::scanners::PointScans;
-use crate::spacing::estimate_spacing;
+use crate::stage_laps::StageLaps;
+use crate::surface_stages::{shape_surface, ShapedSurface, SIGHT_SOURCE};
 use crate::tile_convert::{convert_tile, TileContext, TileJob, TileOutput};
 use crate::tiles::{bounds_of_members, plan_tiles, TileGrid, TilePlan, TilePoints};
-use crate::{
-    CloudError, CloudOptions, CloudReport, CloudWarning, Counts, Scanners, TILE_BUFFER_PIXELS,
-};
+use crate::{CloudError, CloudOptions, CloudReport, CloudWarning, Counts, TILE_BUFFER_PIXELS};
 
 /// Largest total number of range-image pixels over all views of one tile (about 150 MB of
 /// images). A cloud whose images fit is converted as one tile.
@@ -95,43 +90,6 @@ pub struct CloudConversion {
     ///
     /// [`measure_cloud_error_in_order`]: crate::measure_cloud_error_in_order
     pub point_order: Option<PointOrder>,
-}
-
-/// Times consecutive stages on the shared [`StageClock`] and reports each sequential one as
-/// done.
-struct StageLaps<'a> {
-    last: Instant,
-    clock: StageClock,
-    progress: ProgressFn<'a>,
-}
-
-impl<'a> StageLaps<'a> {
-    fn new(progress: ProgressFn<'a>) -> StageLaps<'a> {
-        StageLaps {
-            last: Instant::now(),
-            clock: StageClock::new(),
-            progress,
-        }
-    }
-
-    /// Ends the sequential stage `stage`.
-    fn lap(&mut self, stage: Stage) {
-        let now = Instant::now();
-        self.record(stage.name(), (now - self.last).as_secs_f64());
-        self.last = now;
-        (self.progress)(Progress {
-            stage,
-            done: 1,
-            total: 1,
-        });
-    }
-
-    /// Adds `seconds` to the stage `name` (the stages of the tiles alternate), and restarts
-    /// the clock.
-    fn record(&mut self, name: &'static str, seconds: f64) {
-        self.clock.add(name, seconds);
-        self.last = Instant::now();
-    }
 }
 
 /// Turns a point cloud into a scene of patches (see the module documentation).
@@ -253,59 +211,6 @@ fn filter_and_sort(
     })
 }
 
-/// What the `spacing`, `normals` and `consensus` stages found (the normals themselves go
-/// to the tiles on their own).
-struct ShapedSurface {
-    /// The point spacing (given or estimated).
-    spacing: f32,
-    /// The mean nearest-neighbour distance (0 when the spacing was given).
-    mean_nearest: f32,
-    /// Where the normals came from (`file`, `pca` or [`SIGHT_SOURCE`]).
-    source: &'static str,
-    /// The translation of each scan (empty when the scans were not aligned).
-    scan_shifts: Vec<DVec3>,
-    /// Points the consensus moved.
-    consensus_points: usize,
-}
-
-/// The `spacing`, `normals` and `consensus` stages over the sorted `cloud` (its positions
-/// moved by the scan alignment and the consensus); gives the findings and the normals.
-/// `scans` (the points' scans) are dropped once the normals are known.
-fn shape_surface(
-    cloud: &mut PointCloud,
-    scans: Option<PointScans>,
-    options: &CloudOptions,
-    clock: &mut StageLaps<'_>,
-) -> Result<(ShapedSurface, Vec<Vec3>), CloudError> {
-    let (spacing, mean_nearest) = measure_spacing(&cloud.positions, options)?;
-    clock.lap(Stage::Spacing);
-
-    let sights = scans.as_ref().zip(options.scanners.as_ref());
-    let scan_shifts = match sights.filter(|_| options.consensus && options.align_scans) {
-        Some(sights) => move_scans(
-            (&mut cloud.positions, cloud.origin),
-            sights,
-            options,
-            spacing,
-        )?,
-        None => Vec::new(),
-    };
-    let surface = estimate_surface(cloud, options, spacing, sights)?;
-    drop(scans);
-    clock.lap(Stage::Normals);
-
-    let consensus_points = apply_consensus(&mut cloud.positions, surface.planes, options, spacing);
-    clock.lap(Stage::Consensus);
-    let shaped = ShapedSurface {
-        spacing,
-        mean_nearest,
-        source: surface.source,
-        scan_shifts,
-        consensus_points,
-    };
-    Ok((shaped, surface.normals))
-}
-
 /// What the `tiles`, `range_images` and `extract` stages produced.
 struct PlannedOutput {
     /// The tiles' patches and counts, summed.
@@ -410,148 +315,6 @@ fn cloud_report(
         diagonal: f64::from(sorted.bounds.diagonal()),
         warnings: tiled.warnings,
         error: None,
-    }
-}
-
-/// The spacing (given or estimated) and the mean nearest-neighbour distance (0 when given).
-fn measure_spacing(positions: &[Vec3], options: &CloudOptions) -> Result<(f32, f32), CloudError> {
-    Ok(match options.spacing {
-        Some(s) => (s, 0.0),
-        None => {
-            let estimate = estimate_spacing(positions)?;
-            (estimate.spacing, estimate.mean_nearest)
-        }
-    })
-}
-
-/// The scan alignment: each scan moved by its translation, given
-/// ([`CloudOptions::scan_shifts`]) or computed (`scan_shifts.rs`); gives the translations.
-fn move_scans(
-    (positions, origin): (&mut [Vec3], DVec3),
-    (scans, scanners): (&PointScans, &Scanners),
-    options: &CloudOptions,
-    spacing: f32,
-) -> Result<Vec<DVec3>, CloudError> {
-    let count = scanners.runs.len();
-    match &options.scan_shifts {
-        Some(given) if given.len() != count => Err(CloudError::InvalidOption {
-            option: "scan_shifts",
-            reason: "must hold one translation per scan",
-        }),
-        Some(given) => {
-            shift_scans(positions, scans, given);
-            Ok(given.clone())
-        }
-        None => Ok(align_scans(
-            positions,
-            &Sights {
-                origin,
-                scans,
-                scanners,
-            },
-            options.normal_voxel * spacing,
-            consensus_limits(spacing),
-        )),
-    }
-}
-
-/// The report's name for normals turned toward the points' scanners.
-const SIGHT_SOURCE: &str = "pca+sight";
-
-/// Normals per point and, when the consensus needs them or the file has no normals, the
-/// voxel blocks' planes.
-struct Surface {
-    /// Unit normals (zero where unknown).
-    normals: Vec<Vec3>,
-    /// `file` or `pca`.
-    source: &'static str,
-    /// The blocks' planes, when computed.
-    planes: Option<VoxelPlanes>,
-}
-
-/// The `normals` stage: the file's normals (normalised) or the PCA normals of voxel blocks,
-/// turned toward each point's scanner when `sights` gives the points' scans and the scanners
-/// (only for a cloud without normals).
-fn estimate_surface(
-    cloud: &PointCloud,
-    options: &CloudOptions,
-    spacing: f32,
-    sights: Option<(&PointScans, &Scanners)>,
-) -> Result<Surface, CloudError> {
-    let planes = (options.consensus || cloud.normals.is_none()).then(|| {
-        estimate_planes(&cloud.positions, options.normal_voxel * spacing).without_layout()
-    });
-    let (normals, source) = match (&cloud.normals, &planes, sights) {
-        (None, Some(planes), Some(sights)) => (turn_to_sight(planes, cloud, sights), SIGHT_SOURCE),
-        (Some(given), _, _) => (
-            given.iter().map(|n| n.normalize_or_zero()).collect(),
-            "file",
-        ),
-        (None, Some(planes), None) => (
-            planes
-                .point_voxel
-                .par_iter()
-                .map(|&v| planes.planes[v as usize].normal)
-                .collect(),
-            "pca",
-        ),
-        (None, None, _) => {
-            return Err(CloudError::Internal {
-                what: "normals without planes",
-            })
-        }
-    };
-    Ok(Surface {
-        normals,
-        source,
-        planes,
-    })
-}
-
-/// Each point's block-plane normal turned to its scanner's side (the point's sight line,
-/// from its scan's scanner in `sights`); zero (unknown, drawn by every view) where the block
-/// has no plane.
-fn turn_to_sight(
-    planes: &VoxelPlanes,
-    cloud: &PointCloud,
-    (scans, scanners): (&PointScans, &Scanners),
-) -> Vec<Vec3> {
-    planes
-        .point_voxel
-        .par_iter()
-        .zip(&cloud.positions)
-        .enumerate()
-        .map(|(i, (&v, &p))| {
-            let toward = scanners.runs[scans.scan(i)].0.sight_line(cloud.origin, p);
-            let normal = planes.planes[v as usize].normal;
-            if normal.dot(toward) < 0.0 {
-                -normal
-            } else {
-                normal
-            }
-        })
-        .collect()
-}
-
-/// The `consensus` stage: moves the (sorted) positions onto their block planes when it is on,
-/// and gives how many moved.
-fn apply_consensus(
-    positions: &mut [Vec3],
-    planes: Option<VoxelPlanes>,
-    options: &CloudOptions,
-    spacing: f32,
-) -> usize {
-    match (&planes, options.consensus) {
-        (Some(planes), true) => project_to_consensus(positions, planes, consensus_limits(spacing)),
-        _ => 0,
-    }
-}
-
-/// The consensus limits for points of spacing `spacing`.
-pub(crate) fn consensus_limits(spacing: f32) -> ConsensusLimits {
-    ConsensusLimits {
-        max_spread: CloudOptions::CONSENSUS_MAX_SPREAD * spacing,
-        max_move: CloudOptions::CONSENSUS_MAX_MOVE * spacing,
     }
 }
 

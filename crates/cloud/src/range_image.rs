@@ -7,7 +7,8 @@
 //! surface nearest the viewer at the pixel centre (larger is nearer), or empty; per pixel the
 //! mean colour of the points that made it.
 //!
-//! Method, per view, in three passes:
+//! Method, per view, in three passes (pass 1's projection is `range_image/projector.rs`,
+//! pass 3 `range_image/see_through.rs`):
 //! 1. Every point is projected to its nearest pixel centre. Its height is carried from the
 //!    point to the pixel centre along the point's tangent plane (its normal gives the depth
 //!    gradient, clamped to [`MAX_GRADIENT`]), so a point that is off-centre on a slope does
@@ -49,6 +50,12 @@ use spatch_mesh::Aabb;
 
 use crate::directions::ViewBasis;
 use crate::normal_cones::NormalCones;
+
+mod projector;
+mod see_through;
+
+use projector::{Projector, NOT_DRAWN};
+use see_through::remove_see_through;
 
 /// The height of an empty pixel.
 pub(crate) const EMPTY_DEPTH: f32 = f32::NEG_INFINITY;
@@ -295,161 +302,9 @@ impl FlushScratch {
 /// 70 MB more peak (97 instead of 80 bytes a point) on 2 threads.
 const KEPT_POINTS: usize = 1 << 20;
 
-/// Marks a point that is not drawn in a view.
-const NOT_DRAWN: u32 = u32::MAX;
-
 /// Points projected at a time: a chunk's pixels and heights are still in the cache when
 /// the z-buffer reads them.
 const FLUSH_CHUNK: usize = 16_384;
-
-/// The projection of points onto one view's pixels (pass 1a of the module documentation).
-struct Projector {
-    u: Vec3,
-    w: Vec3,
-    d: Vec3,
-    /// Image axes divided by the pixel size.
-    su: Vec3,
-    sw: Vec3,
-    /// Image origin in pixels.
-    sx0: f32,
-    sy0: f32,
-    /// Upper bounds of the pixel coordinates (`width − 0.5`, `height − 0.5`).
-    right: f32,
-    top: f32,
-    width: usize,
-    pixel: f32,
-}
-
-impl Projector {
-    fn new(geometry: &ImageGeometry) -> Projector {
-        let basis = geometry.basis;
-        // `floor_pixel` is exact below 2^23 (a side within the pixel budget is).
-        debug_assert!(geometry.width.max(geometry.height) < INTEGER_FLOAT as usize);
-        // The projection with the pixel size folded in: `fx = p · su − sx0`.
-        let inv = 1.0 / geometry.pixel;
-        // Pixel centres lie at integers; the image spans [−0.5, width − 0.5) × [−0.5,
-        // height − 0.5).
-        Projector {
-            u: basis.u,
-            w: basis.w,
-            d: basis.direction,
-            su: basis.u * inv,
-            sw: basis.w * inv,
-            sx0: geometry.x0 * inv,
-            sy0: geometry.y0 * inv,
-            right: geometry.width as f32 - 0.5,
-            top: geometry.height as f32 - 0.5,
-            width: geometry.width,
-            pixel: geometry.pixel,
-        }
-    }
-
-    /// Each point of `range`: its pixel (or [`NOT_DRAWN`]) and its height carried to the
-    /// pixel centre, into `out_pixel` and `out_height` (`range.len()` long). Branch-free over
-    /// the columns, so it vectorises; the z-buffer is left to the caller.
-    fn project(
-        &self,
-        points: &PointColumns,
-        range: std::ops::Range<usize>,
-        oriented: bool,
-        (out_pixel, out_height): (&mut [u32], &mut [f32]),
-    ) {
-        let n = range.len();
-        let Projector {
-            u,
-            w,
-            d,
-            su,
-            sw,
-            sx0,
-            sy0,
-            right,
-            top,
-            width,
-            pixel,
-        } = *self;
-        let [px, py, pz, nx, ny, nz] = points.columns(range);
-        // Every slice cut to `n`, so the loop has no bounds checks (which would stop the SIMD).
-        let (px, py, pz, nx, ny, nz) = (&px[..n], &py[..n], &pz[..n], &nx[..n], &ny[..n], &nz[..n]);
-        let (out_pixel, out_height) = (&mut out_pixel[..n], &mut out_height[..n]);
-        for j in 0..n {
-            let (x, y, z) = (px[j], py[j], pz[j]);
-            let (ax, ay, az) = (nx[j], ny[j], nz[j]);
-            let fx = x * su.x + y * su.y + z * su.z - sx0;
-            let fy = x * sw.x + y * sw.y + z * sw.z - sy0;
-            let h = x * d.x + y * d.y + z * d.z;
-            let n_d = ax * d.x + ay * d.y + az * d.z;
-            let n_u = ax * u.x + ay * u.y + az * u.z;
-            let n_w = ax * w.x + ay * w.y + az * w.z;
-            let is_unknown = ax == 0.0 && ay == 0.0 && az == 0.0;
-            let facing = faces_view(n_d, is_unknown, oriented);
-            // Outside the image: a far outlier beyond the robust bounds.
-            let inside = fx >= -0.5 && fy >= -0.5 && fx < right && fy < top;
-            // Nearest pixel centre: `⌊f + 0.5⌋` wherever the point is inside.
-            let (cx, cy) = (floor_pixel(fx + 0.5), floor_pixel(fy + 0.5));
-            let carry = tangent_carry(n_u, n_w, n_d, is_unknown, cx - fx, cy - fy);
-            out_height[j] = h + carry * pixel;
-            let k = pixel_index(cy)
-                .wrapping_mul(width as u32)
-                .wrapping_add(pixel_index(cx));
-            out_pixel[j] = if facing && inside { k } else { NOT_DRAWN };
-        }
-    }
-}
-
-/// Whether a point is drawn in a view, from its normal's component `n_d` along the view
-/// direction: not at a grazing angle nor, with `oriented` normals, seen from behind; always
-/// when its normal `is_unknown`.
-#[inline(always)] // Inside the vectorised loop of `Projector::project`.
-fn faces_view(n_d: f32, is_unknown: bool, oriented: bool) -> bool {
-    let toward = if oriented { n_d } else { n_d.abs() };
-    is_unknown || toward >= MIN_POINT_COSINE
-}
-
-/// The height change, in pixels, from a point to the pixel centre `(dx, dy)` pixels away
-/// along its tangent plane: its normal `(n_u, n_w, n_d)` in the view's axes gives the depth
-/// gradient, clamped to [`MAX_GRADIENT`]; none when the normal `is_unknown`.
-#[inline(always)] // Inside the vectorised loop of `Projector::project`.
-fn tangent_carry(n_u: f32, n_w: f32, n_d: f32, is_unknown: bool, dx: f32, dy: f32) -> f32 {
-    let to_gradient = if is_unknown { 0.0 } else { -1.0 / n_d };
-    let (gx, gy) = (n_u * to_gradient, n_w * to_gradient);
-    let g2 = gx * gx + gy * gy;
-    let clamp = if g2 > MAX_GRADIENT * MAX_GRADIENT {
-        MAX_GRADIENT / g2.sqrt()
-    } else {
-        1.0
-    };
-    (gx * dx + gy * dy) * clamp
-}
-
-/// `2^23`: every `f32` in `[2^23, 2^24)` is an integer, one apart.
-const INTEGER_FLOAT: f32 = 8_388_608.0;
-
-/// `⌊t⌋` of a pixel coordinate `t`, exact for `0 ≤ t < 2^23` (an image side is at most
-/// [`PIXEL_BUDGET`](crate::PIXEL_BUDGET)` / 2` pixels); `t` is clamped to that range (a point
-/// outside it is outside the image and not drawn).
-///
-/// Why not `t as i32`: Rust's saturating conversion has no packed SSE2 form, so the
-/// projection loop converted each lane alone: 18 of its 46 instructions a point (723 M of
-/// 9.32 G for the evenly spread 1 M scan set, callgrind). Adding `2^23` rounds to the nearest
-/// integer (the FPU's rounding), one step down when that rounded up: all packed operations.
-#[inline(always)] // Inside the vectorised loop of `Projector::project`.
-fn floor_pixel(t: f32) -> f32 {
-    let t = t.clamp(0.0, INTEGER_FLOAT - 1.0);
-    let nearest = (t + INTEGER_FLOAT) - INTEGER_FLOAT;
-    if nearest > t {
-        nearest - 1.0
-    } else {
-        nearest
-    }
-}
-
-/// The integer of a [`floor_pixel`] result (`0 ≤ c < 2^23`, an integer), from the bits of
-/// `c + 2^23` (whose mantissa is `c`): a packed integer subtraction.
-#[inline(always)] // Inside the vectorised loop of `Projector::project`.
-fn pixel_index(c: f32) -> u32 {
-    (c + INTEGER_FLOAT).to_bits() - INTEGER_FLOAT.to_bits()
-}
 
 /// Builds the range image of one view (see the module documentation).
 pub(crate) fn flush_points(
@@ -624,49 +479,6 @@ impl FrontSums {
         }
     }
 }
-
-/// Empties pixels that see a farther surface through a hole of the front one (pass 3).
-fn remove_see_through(image: &mut RangeImage, jump: f32) {
-    let (w, h) = (image.geometry.width, image.geometry.height);
-    let depth = &image.depth;
-    let mut cleared = Vec::new();
-    for j in 1..h.saturating_sub(1) {
-        for i in 1..w - 1 {
-            let d = depth[j * w + i];
-            if !d.is_finite() {
-                continue;
-            }
-            let mut nearer = 0;
-            for (di, dj) in NEIGHBOURS_8 {
-                let n = depth[(j as isize + dj) as usize * w + (i as isize + di) as usize];
-                if n > d + jump {
-                    nearer += 1;
-                }
-            }
-            if nearer >= SEE_THROUGH_NEIGHBOURS {
-                cleared.push(j * w + i);
-            }
-        }
-    }
-    for k in cleared {
-        image.depth[k] = EMPTY_DEPTH;
-        if let Some(c) = image.colour.as_mut() {
-            c[k] = [0; 4];
-        }
-    }
-}
-
-/// Offsets of the 8 neighbours of a pixel.
-pub(crate) const NEIGHBOURS_8: [(isize, isize); 8] = [
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-    (-1, 0),
-    (1, 0),
-    (-1, 1),
-    (0, 1),
-    (1, 1),
-];
 
 #[cfg(test)]
 mod tests {

@@ -202,7 +202,7 @@ pub fn scan_shift_sums(
     }
     let scans = PointScans::of(scanners, cloud.len())?;
     let planes = crate::normals::estimate_planes(&cloud.positions, options.normal_voxel * spacing);
-    let limits = crate::pipeline::consensus_limits(spacing);
+    let limits = ConsensusLimits::at_spacing(spacing);
     let sights = Sights {
         origin: cloud.origin,
         scans: &scans,

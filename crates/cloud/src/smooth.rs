@@ -40,21 +40,7 @@ pub(crate) fn smooth_range_image(
     jump: f32,
 ) {
     let (w, h) = (image.geometry.width, image.geometry.height);
-    let r = options.radius as isize;
-    let sigma = 0.6 * options.radius as f32;
-    let taps: Vec<(isize, isize, f32, f32)> = (-r..=r)
-        .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
-        .map(|(di, dj)| {
-            let d2 = (di * di + dj * dj) as f32;
-            let steps = di.abs().max(dj.abs()) as f32;
-            (
-                (di),
-                (dj),
-                (-d2 / (2.0 * sigma * sigma)).exp(),
-                jump * steps * 1.5,
-            )
-        })
-        .collect();
+    let taps = filter_taps(options.radius, jump);
     // A floor far below any measurable noise keeps the weights finite on exact data.
     let c = (options.range * estimate_noise(image)).max(1e-6 * spacing);
     let inv_c2 = 1.0 / (c * c);
@@ -64,35 +50,71 @@ pub(crate) fn smooth_range_image(
         for j in 0..h as isize {
             for i in 0..w as isize {
                 let k = j as usize * w + i as usize;
-                let d = source[k];
-                if !d.is_finite() {
-                    continue;
+                if source[k].is_finite() {
+                    image.depth[k] = smoothed_height(&source, (w, h), (i, j), &taps, inv_c2);
                 }
-                let (mut sum, mut weight) = (0.0f32, 0.0f32);
-                for &(di, dj, spatial, limit) in &taps {
-                    let (a, b) = (i + di, j + dj);
-                    if a < 0 || b < 0 || a >= w as isize || b >= h as isize {
-                        continue;
-                    }
-                    let n = source[b as usize * w + a as usize];
-                    let delta = n - d;
-                    // Empty neighbours are -inf: `delta.abs()` is then infinite.
-                    if delta.abs() > limit {
-                        continue;
-                    }
-                    let t = delta * delta * inv_c2;
-                    if t >= 1.0 {
-                        continue;
-                    }
-                    let wgt = spatial * (1.0 - t) * (1.0 - t);
-                    sum += wgt * n;
-                    weight += wgt;
-                }
-                // The centre tap always has weight 1, so `weight > 0`.
-                image.depth[k] = sum / weight;
             }
         }
     }
+}
+
+/// One tap of the filter: its offset `(di, dj)` in pixels, its spatial (Gaussian) weight
+/// and the largest height difference it takes (`jump` per pixel step, times 1.5).
+type Tap = (isize, isize, f32, f32);
+
+/// The taps of a `(2·radius + 1)²` window, row by row (the order of the sums).
+fn filter_taps(radius: u32, jump: f32) -> Vec<Tap> {
+    let r = radius as isize;
+    let sigma = 0.6 * radius as f32;
+    (-r..=r)
+        .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
+        .map(|(di, dj)| {
+            let d2 = (di * di + dj * dj) as f32;
+            let steps = di.abs().max(dj.abs()) as f32;
+            (
+                di,
+                dj,
+                (-d2 / (2.0 * sigma * sigma)).exp(),
+                jump * steps * 1.5,
+            )
+        })
+        .collect()
+}
+
+/// The filtered height of the filled pixel `(i, j)` of the `w × h` heights `source`: the
+/// taps' neighbours within their jump limit, weighted by the spatial weight times the
+/// biweight of the height difference (`inv_c2`: one over the biweight's scale squared).
+#[inline(always)] // The per-pixel body of `smooth_range_image`'s loop.
+fn smoothed_height(
+    source: &[f32],
+    (w, h): (usize, usize),
+    (i, j): (isize, isize),
+    taps: &[Tap],
+    inv_c2: f32,
+) -> f32 {
+    let d = source[j as usize * w + i as usize];
+    let (mut sum, mut weight) = (0.0f32, 0.0f32);
+    for &(di, dj, spatial, limit) in taps {
+        let (a, b) = (i + di, j + dj);
+        if a < 0 || b < 0 || a >= w as isize || b >= h as isize {
+            continue;
+        }
+        let n = source[b as usize * w + a as usize];
+        let delta = n - d;
+        // Empty neighbours are -inf: `delta.abs()` is then infinite.
+        if delta.abs() > limit {
+            continue;
+        }
+        let t = delta * delta * inv_c2;
+        if t >= 1.0 {
+            continue;
+        }
+        let wgt = spatial * (1.0 - t) * (1.0 - t);
+        sum += wgt * n;
+        weight += wgt;
+    }
+    // The centre tap always has weight 1, so `weight > 0`.
+    sum / weight
 }
 
 /// Robust noise estimate of the heights (see the module documentation); 0 when fewer than
