@@ -86,7 +86,7 @@ pub(crate) enum Command {
     #[command(
         after_help = "Example:\n  spatch eval bunny.spatch --source bun_zipper.ply\n  spatch eval bunny.spatch --source bun_zipper.ply --views 6 --json --per-patch patches.csv\n  spatch eval scan.spatch --source bun000.ply        # a point cloud: cloud error, no image error\n  spatch eval --sweep bun_zipper.ply --out sweep --threads 2"
     )]
-    Eval(commands::eval::EvalArgs),
+    Eval(commands::eval_args::EvalArgs),
     /// Look around scenes in a window on the CPU: drag to orbit, right/middle drag to pan,
     /// wheel to zoom; keys r reset, 1-6 axis views, s shading, t patches/triangles, m mip,
     /// a supersampling, p print the `spatch render` command, q/Esc quit.

@@ -8,7 +8,8 @@ use anyhow::Context;
 use serde_json::{json, Value};
 use spatch_cloud::{
     cloud_to_scene_owned, cloud_to_scene_with_progress, measure_cloud_error_in_order,
-    CloudConversion, CloudError, CloudOptions, CloudReport, ProgressFn, SmoothOptions, StageTime,
+    CloudConversion, CloudError, CloudErrorReport, CloudOptions, CloudReport, ProgressFn,
+    SmoothOptions, StageTime,
 };
 use spatch_eval::{cloud_error_entries, Report};
 use spatch_format::WriteOptions;
@@ -449,22 +450,29 @@ fn cloud_summary(args: &FromCloudArgs, report: &CloudReport, warnings: &[String]
         stages.join(", ")
     ));
     if let Some(error) = &report.error {
-        let c = &error.cloud_to_patch;
-        text.push_str(&format!(
-            "  cloud_to_patch: rms {:.3e} ({:.2} spacings), max {:.3e}, p95 {:.3e}, {:.2} % beyond 2 spacings\n",
-            c.distance.rms,
-            c.distance.rms / error.spacing,
-            c.distance.max,
-            c.distance.p95,
-            c.share_beyond_2x_spacing * 100.0,
-        ));
-        let n = &error.node_to_cloud;
-        text.push_str(&format!(
-            "  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s, against the {} points)\n",
-            n.rms, n.max, n.p95, error.seconds, args.error_against.name()
-        ));
+        text.push_str(&error_lines(error, args.error_against.name()));
     }
     text
+}
+
+/// The summary's two lines of the measured error (cloud to patches, nodes to the cloud, the
+/// latter `against` the input or the kept points).
+fn error_lines(error: &CloudErrorReport, against: &str) -> String {
+    let c = &error.cloud_to_patch;
+    let n = &error.node_to_cloud;
+    format!(
+        "  cloud_to_patch: rms {:.3e} ({:.2} spacings), max {:.3e}, p95 {:.3e}, {:.2} % beyond 2 spacings\n  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s, against the {} points)\n",
+        c.distance.rms,
+        c.distance.rms / error.spacing,
+        c.distance.max,
+        c.distance.p95,
+        c.share_beyond_2x_spacing * 100.0,
+        n.rms,
+        n.max,
+        n.p95,
+        error.seconds,
+        against
+    )
 }
 
 /// `--plan` / `--plan-tile` runs (`tiled.rs`): one input; as the untiled run, the consensus

@@ -9,6 +9,7 @@ pub(crate) mod convert_plan;
 pub(crate) mod demo;
 pub(crate) mod earth;
 pub(crate) mod eval;
+pub(crate) mod eval_args;
 pub(crate) mod export;
 pub(crate) mod frame_bench;
 pub(crate) mod from_cloud;
