@@ -1,19 +1,22 @@
 //! What the bands of a frame are handed: each band its buffers and its
 //! rows of the image ([`BandTask`]), all bands the frame's planned work and
-//! the resolve pass's inputs ([`band_job`]).
+//! the resolve pass's inputs ([`band_job`]); how a pool thread runs one
+//! ([`run_band_task`]).
 //!
 //! Cost: O(bands) per frame.
+
+use std::sync::{Mutex, PoisonError};
 
 use glam::Vec3;
 
 use crate::camera::View;
 use crate::fixed::{attr_from_bits, attr_to_bits};
 use crate::frame::occlusion_skip::SkipTiles;
-use crate::frame::tiles::{BandJob, Bins};
+use crate::frame::tiles::{render_band, BandJob, Bins};
 use crate::isa::Isa;
 use crate::plan::work::{ChunkWork, FrameSetup};
 use crate::prepare::patch::PreparedPatch;
-use crate::raster::band::Band;
+use crate::raster::band::{Band, Sample};
 use crate::shade::phong_items::PhongItems;
 use crate::shade::resolve::Resolve;
 
@@ -95,4 +98,38 @@ pub(crate) fn band_job<'a>(
             isa,
         },
     }
+}
+
+/// Draws and resolves one band `task` of `job` on the calling pool thread: the band
+/// borrows that thread's sample store from `thread_samples` for the time of the draw, is
+/// sized to its rows of an image `width` wide (with `apron` rows on each side), and runs
+/// with the instruction set `isa`.
+pub(crate) fn run_band_task(
+    task: BandTask<'_>,
+    job: &BandJob<'_>,
+    isa: Isa,
+    thread_samples: &[Mutex<Vec<Sample>>],
+    (width, apron): (i32, i32),
+) {
+    let BandTask {
+        index,
+        band,
+        skip,
+        rgba,
+        eye_depth,
+        y0,
+        rows,
+    } = task;
+    let thread = rayon::current_thread_index().unwrap_or(0);
+    let mut samples = thread_samples[thread.min(thread_samples.len() - 1)]
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner);
+    band.swap_samples(&mut samples);
+    band.size_for(y0, rows, width, apron);
+    band.thread = thread;
+    isa.run(
+        #[inline(always)]
+        || render_band((band, skip), index, job, rgba, eye_depth),
+    );
+    band.swap_samples(&mut samples);
 }

@@ -5,7 +5,7 @@
 //! A [`Renderer`] owns its thread pool and every scratch buffer, so
 //! rendering frame after frame allocates almost nothing.
 
-use std::sync::{Mutex, PoisonError};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
@@ -14,13 +14,13 @@ use spatch_format::Scene;
 
 use crate::camera::{Camera, View};
 use crate::error::RenderError;
-use crate::frame::band_tasks::{band_job, band_tasks, BandTask};
+use crate::frame::band_tasks::{band_job, band_tasks, run_band_task};
 use crate::frame::image::RenderedImage;
 use crate::frame::occlusion::{self, Frame, OcclusionStats};
 use crate::frame::occlusion_skip::SkipTiles;
 use crate::frame::schedule::{run_in_order, BandOrder};
 use crate::frame::stats::{BandStats, RenderStats};
-use crate::frame::tiles::{render_band, Bins};
+use crate::frame::tiles::Bins;
 use crate::isa::Isa;
 use crate::lighting::{Material, ShadeFrame, WorldLight};
 use crate::options::RenderOptions;
@@ -358,30 +358,8 @@ impl Renderer {
             &mut rgba,
             &mut eye_depth,
         );
-        let isa = self.isa;
-        let thread_samples = &self.thread_samples;
-        let draw = |BandTask {
-                        index,
-                        band,
-                        skip,
-                        rgba,
-                        eye_depth,
-                        y0,
-                        rows,
-                    }: BandTask<'_>| {
-            let thread = rayon::current_thread_index().unwrap_or(0);
-            let mut samples = thread_samples[thread.min(thread_samples.len() - 1)]
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner);
-            band.swap_samples(&mut samples);
-            band.size_for(y0, rows, width, apron);
-            band.thread = thread;
-            isa.run(
-                #[inline(always)]
-                || render_band((band, skip), index, &job, rgba, eye_depth),
-            );
-            band.swap_samples(&mut samples);
-        };
+        let (isa, thread_samples) = (self.isa, &self.thread_samples);
+        let draw = |task| run_band_task(task, &job, isa, thread_samples, (width, apron));
         run_in_order(&self.pool, tasks, &self.order.order, draw);
         (rgba, eye_depth)
     }

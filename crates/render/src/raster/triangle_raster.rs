@@ -25,7 +25,7 @@
 use glam::Vec3;
 
 use crate::fixed::{attr_to_fixed, depth_to_fixed};
-use crate::raster::band::{store_if_nearer, BandTarget, Payload};
+use crate::raster::band::{store_if_nearer, BandTarget, Payload, Sample};
 
 /// Attributes carried per vertex (the most any shading model needs).
 pub(crate) const TRI_ATTRS: usize = 6;
@@ -198,6 +198,40 @@ fn edge_x(p: &[f32; 3], q: &[f32; 3], y: f32) -> f32 {
     }
 }
 
+/// How a triangle's `1/w` and attributes change across the screen: each `(d/dx, d/dy)`.
+struct Gradients<const N: usize> {
+    /// Of `1/w`.
+    w: (f32, f32),
+    /// Of each attribute (already divided by `w`).
+    attrs: [(f32, f32); N],
+}
+
+impl<const N: usize> Gradients<N> {
+    /// The gradients of `tri`, or `None` when it has no area.
+    #[inline(always)]
+    fn of(tri: &ScreenTriangle) -> Option<Gradients<N>> {
+        let e1 = [tri.v[1][0] - tri.v[0][0], tri.v[1][1] - tri.v[0][1]];
+        let e2 = [tri.v[2][0] - tri.v[0][0], tri.v[2][1] - tri.v[0][1]];
+        let det = e1[0] * e2[1] - e2[0] * e1[1];
+        if det == 0.0 {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        // Plane of a quantity q with values q0, q1, q2: (dq/dx, dq/dy).
+        let plane = |q0: f32, q1: f32, q2: f32| {
+            let (d1, d2) = (q1 - q0, q2 - q0);
+            (
+                (d1 * e2[1] - d2 * e1[1]) * inv_det,
+                (d2 * e1[0] - d1 * e2[0]) * inv_det,
+            )
+        };
+        Some(Gradients {
+            w: plane(tri.v[0][2], tri.v[1][2], tri.v[2][2]),
+            attrs: std::array::from_fn(|c| plane(tri.a[0][c], tri.a[1][c], tri.a[2][c])),
+        })
+    }
+}
+
 /// Fills a projected triangle into the band.
 #[inline(always)]
 pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
@@ -209,28 +243,12 @@ pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| tri.v[a][1].total_cmp(&tri.v[b][1]));
     let [p0, p1, p2] = order.map(|k| tri.v[k]);
-    let e1 = [tri.v[1][0] - tri.v[0][0], tri.v[1][1] - tri.v[0][1]];
-    let e2 = [tri.v[2][0] - tri.v[0][0], tri.v[2][1] - tri.v[0][1]];
-    let det = e1[0] * e2[1] - e2[0] * e1[1];
-    if det == 0.0 {
+    let Some(gradients) = Gradients::<N>::of(tri) else {
         return;
-    }
-    let inv_det = 1.0 / det;
-    // Plane of a quantity q with values q0, q1, q2: (dq/dx, dq/dy).
-    let plane = |q0: f32, q1: f32, q2: f32| {
-        let (d1, d2) = (q1 - q0, q2 - q0);
-        (
-            (d1 * e2[1] - d2 * e1[1]) * inv_det,
-            (d2 * e1[0] - d1 * e2[0]) * inv_det,
-        )
     };
-    let w_plane = plane(tri.v[0][2], tri.v[1][2], tri.v[2][2]);
-    let a_planes: [(f32, f32); N] =
-        std::array::from_fn(|c| plane(tri.a[0][c], tri.a[1][c], tri.a[2][c]));
     let (ox, oy) = (tri.v[0][0], tri.v[0][1]);
     let row_lo = ceil_i32(p0[1] - 0.5).max(t.y0);
     let row_hi = ceil_i32(p2[1] - 0.5).min(t.y0 + t.rows);
-    let (zs, zo) = depth_map;
     for y in row_lo..row_hi {
         let yc = y as f32 + 0.5;
         let xa = edge_x(&p0, &p2, yc);
@@ -246,22 +264,37 @@ pub(crate) fn draw_triangle<const N: usize, P: Payload<N>>(
             continue;
         }
         let (dx, dy) = (x_lo as f32 + 0.5 - ox, yc - oy);
-        let mut iw = tri.v[0][2] + w_plane.0 * dx + w_plane.1 * dy;
-        let mut av: [f32; N] =
-            std::array::from_fn(|c| tri.a[0][c] + a_planes[c].0 * dx + a_planes[c].1 * dy);
+        let w_plane = gradients.w;
+        let iw = tri.v[0][2] + w_plane.0 * dx + w_plane.1 * dy;
+        let av: [f32; N] = std::array::from_fn(|c| {
+            tri.a[0][c] + gradients.attrs[c].0 * dx + gradients.attrs[c].1 * dy
+        });
         // The span lies in the band's row `y` and in the image's columns,
         // so its pixels are one slice (no bounds test per pixel).
         let start = (y - t.y0) as usize * t.width as usize;
         let span = &mut t.px[start + x_lo as usize..start + x_hi as usize];
-        for s in span {
-            let w = 1.0 / iw;
-            let z = depth_to_fixed(w * zs + zo);
-            let attrs = || std::array::from_fn(|c| attr_to_fixed(av[c] * w));
-            store_if_nearer(s, z, attrs, payload);
-            iw += w_plane.0;
-            for c in 0..N {
-                av[c] += a_planes[c].0;
-            }
+        fill_span(span, (iw, av), &gradients, depth_map, payload);
+    }
+}
+
+/// Depth-tests and writes one row's `span` of a triangle, starting from the `1/w` and
+/// attributes at its first pixel centre and stepping them by the x gradients.
+#[inline(always)]
+fn fill_span<const N: usize, P: Payload<N>>(
+    span: &mut [Sample],
+    (mut iw, mut av): (f32, [f32; N]),
+    gradients: &Gradients<N>,
+    (zs, zo): (f32, f32),
+    payload: &P,
+) {
+    for s in span {
+        let w = 1.0 / iw;
+        let z = depth_to_fixed(w * zs + zo);
+        let attrs = || std::array::from_fn(|c| attr_to_fixed(av[c] * w));
+        store_if_nearer(s, z, attrs, payload);
+        iw += gradients.w.0;
+        for (a, g) in av.iter_mut().zip(&gradients.attrs) {
+            *a += g.0;
         }
     }
 }
