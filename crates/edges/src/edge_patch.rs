@@ -135,54 +135,76 @@ pub(crate) fn cut_pieces(
     let mut pieces = Vec::new();
     let mut knives = 0;
     for chain in runs {
-        let mut current: Vec<Segment> = Vec::new();
-        let (mut length, mut b0) = (0.0f32, Vec3::ZERO);
-        // Every face of the current piece is within SQUARE_FACE_DOT of `b0`.
-        let mut square = false;
+        let mut cut = PieceCut::default();
         for (k, &ci) in chain.creases.iter().enumerate() {
             let crease = &sharp.creases[ci as usize];
             let knife = crease.is_knife();
             if knife || skip[ci as usize] {
                 knives += usize::from(knife);
-                flush(&mut pieces, &mut current);
+                flush(&mut pieces, &mut cut.current);
                 continue;
             }
             let a = mesh.positions[chain.vertices[k].index()];
             let b = mesh.positions[chain.vertices[k + 1].index()];
             let seg_len = (b - a).length();
             let parts = (seg_len / limits.max_len).ceil().max(1.0) as usize;
-            let bisector = (crease.normals[0] + crease.normals[1]).normalize_or_zero();
             for p in 0..parts {
                 let segment = Segment {
                     a: a.lerp(b, p as f32 / parts as f32),
                     b: a.lerp(b, (p + 1) as f32 / parts as f32),
                     crease: ci,
                 };
-                let part_len = seg_len / parts as f32;
-                let turn = bisector.dot(b0);
-                let squarely =
-                    square && crease.normals.iter().all(|n| n.dot(b0) >= SQUARE_FACE_DOT);
-                let fits = length + part_len <= limits.max_len
-                    && (turn >= limits.cos_turn || (squarely && turn >= limits.cos_wide_turn))
-                    && crease.normals.iter().all(|n| n.dot(b0) >= MIN_FACE_DOT)
-                    && stays_near_chord(&current, segment.b, b0, limits.stray(squarely));
-                if !fits {
-                    flush(&mut pieces, &mut current);
-                }
-                if current.is_empty() {
-                    length = 0.0;
-                    b0 = bisector;
-                    square = crease.normals.iter().all(|n| n.dot(b0) >= SQUARE_FACE_DOT);
-                } else {
-                    square = squarely;
-                }
-                current.push(segment);
-                length += part_len;
+                let part = (segment, seg_len / parts as f32);
+                cut.extend(&mut pieces, part, crease.normals, limits);
             }
         }
-        flush(&mut pieces, &mut current);
+        flush(&mut pieces, &mut cut.current);
     }
     (pieces, knives)
+}
+
+/// The piece being cut along a chain: its segments, their length, the bisector of its first
+/// crease (`b0`) and whether every face of it is within [`SQUARE_FACE_DOT`] of `b0`.
+#[derive(Default)]
+struct PieceCut {
+    current: Vec<Segment>,
+    length: f32,
+    b0: Vec3,
+    square: bool,
+}
+
+impl PieceCut {
+    /// Adds a `(segment, its length)` of a crease whose faces have `normals`, first ending
+    /// the piece into `pieces` when the segment does not fit it (too long, turned too far,
+    /// a face too steep, or straying from the chord).
+    fn extend(
+        &mut self,
+        pieces: &mut Vec<EdgePiece>,
+        (segment, part_len): (Segment, f32),
+        normals: [Vec3; 2],
+        limits: &PieceLimits,
+    ) {
+        let bisector = (normals[0] + normals[1]).normalize_or_zero();
+        let b0 = self.b0;
+        let turn = bisector.dot(b0);
+        let squarely = self.square && normals.iter().all(|n| n.dot(b0) >= SQUARE_FACE_DOT);
+        let fits = self.length + part_len <= limits.max_len
+            && (turn >= limits.cos_turn || (squarely && turn >= limits.cos_wide_turn))
+            && normals.iter().all(|n| n.dot(b0) >= MIN_FACE_DOT)
+            && stays_near_chord(&self.current, segment.b, b0, limits.stray(squarely));
+        if !fits {
+            flush(pieces, &mut self.current);
+        }
+        if self.current.is_empty() {
+            self.length = 0.0;
+            self.b0 = bisector;
+            self.square = normals.iter().all(|n| n.dot(bisector) >= SQUARE_FACE_DOT);
+        } else {
+            self.square = squarely;
+        }
+        self.current.push(segment);
+        self.length += part_len;
+    }
 }
 
 /// Ends the piece being built, if any.

@@ -96,26 +96,48 @@ fn raster_face(
                 continue;
             }
             let p = Vec2::new(i as f32, y);
-            let w1 = (p - a).perp_dot(c - a) / area;
-            let w2 = (b - a).perp_dot(p - a) / area;
-            let w0 = 1.0 - w1 - w2;
-            if w0 < -EDGE_TOLERANCE || w1 < -EDGE_TOLERANCE || w2 < -EDGE_TOLERANCE {
-                continue;
-            }
-            let bary = clamp_bary(w0, w1, w2);
-            let height = bary.dot(Vec3::from(heights));
-            if !(lattice.heights[0]..=lattice.heights[1]).contains(&height) {
-                continue;
-            }
-            let slot = &mut hits[j * lattice.cols + i];
-            let better = match slot {
-                None => true,
-                Some(h) => height > h.height || (height == h.height && face < h.face),
-            };
-            if better {
-                *slot = Some(NodeHit { height, face, bary });
+            if let Some((height, bary)) = face_at_node(p, (&grid, area), heights, lattice) {
+                keep_higher(
+                    &mut hits[j * lattice.cols + i],
+                    NodeHit { height, face, bary },
+                );
             }
         }
+    }
+}
+
+/// The height and clamped barycentric weights of the face (corners `grid` in node-index
+/// coordinates, signed `area`, corner `heights`) at the node `p`, or `None` when `p` lies
+/// outside the face by more than [`EDGE_TOLERANCE`] or the height outside the lattice's range.
+fn face_at_node(
+    p: Vec2,
+    (grid, area): (&[Vec2; 3], f32),
+    heights: [f32; 3],
+    lattice: &NodeLattice,
+) -> Option<(f32, Vec3)> {
+    let [a, b, c] = *grid;
+    let w1 = (p - a).perp_dot(c - a) / area;
+    let w2 = (b - a).perp_dot(p - a) / area;
+    let w0 = 1.0 - w1 - w2;
+    if w0 < -EDGE_TOLERANCE || w1 < -EDGE_TOLERANCE || w2 < -EDGE_TOLERANCE {
+        return None;
+    }
+    let bary = clamp_bary(w0, w1, w2);
+    let height = bary.dot(Vec3::from(heights));
+    (lattice.heights[0]..=lattice.heights[1])
+        .contains(&height)
+        .then_some((height, bary))
+}
+
+/// Keeps `hit` in `slot` when it is higher than what is there (equal heights: the lower
+/// face id, so the result does not depend on the faces' order).
+fn keep_higher(slot: &mut Option<NodeHit>, hit: NodeHit) {
+    let better = match slot {
+        None => true,
+        Some(h) => hit.height > h.height || (hit.height == h.height && hit.face < h.face),
+    };
+    if better {
+        *slot = Some(hit);
     }
 }
 

@@ -47,7 +47,7 @@ use spatch_render::{
 
 use crate::holes::{covers, standard_views, view_camera, HoleOptions, HOLE_DEPTH_TOLERANCE};
 use crate::interior::interior_of;
-use crate::source_colours::{colour_source, SourceDrawing};
+use crate::source_colours::{colour_source, ColouredSource, SourceDrawing};
 use crate::specks::{specks_within, Specks};
 
 /// Most timed frames per view ([`ImageOptions::runs`] is taken into `1..=MAX_RUNS`).
@@ -146,6 +146,28 @@ pub struct SourceViews {
     drawing: SourceDrawing,
 }
 
+/// The source as the triangle rasterizer draws it: with its per-corner colours when
+/// `coloured` gives them, else grey.
+fn raster_mesh<'a>(
+    source: &'a spatch_mesh::TriangleMesh,
+    coloured: Option<&'a ColouredSource>,
+) -> Result<RasterMesh<'a>, RenderError> {
+    match coloured {
+        Some(c) => RasterMesh::new(
+            source.origin,
+            &c.positions,
+            &c.triangles,
+            MeshColours::PerCorner(&c.corner_colours),
+        ),
+        None => RasterMesh::new(
+            source.origin,
+            &source.positions,
+            &source.triangles,
+            MeshColours::None,
+        ),
+    }
+}
+
 impl SourceViews {
     /// Renders `source` from every view of `options` with the triangle rasterizer.
     pub fn render(
@@ -156,20 +178,7 @@ impl SourceViews {
             .colour_source
             .then(|| colour_source(source))
             .flatten();
-        let mesh = match &coloured {
-            Some(c) => RasterMesh::new(
-                source.origin,
-                &c.positions,
-                &c.triangles,
-                MeshColours::PerCorner(&c.corner_colours),
-            )?,
-            None => RasterMesh::new(
-                source.origin,
-                &source.positions,
-                &source.triangles,
-                MeshColours::None,
-            )?,
-        };
+        let mesh = raster_mesh(source, coloured.as_ref())?;
         let (centre, radius) = mesh
             .bounding_sphere()
             .ok_or(spatch_render::CameraProblem::NothingToFrame)?;
@@ -195,18 +204,23 @@ impl SourceViews {
             let (ms, image) = time_frames(&mut renderer, options.runs, |r| {
                 Ok(r.rasterize(&mesh, &camera)?.image)
             })?;
-            views.source_ms.push(ms);
-            let interior = interior_of(&image);
-            let width = image.width() as usize;
-            views
-                .specks
-                .push(specks_within(image.pixels(), &interior, width));
-            views.interiors.push(interior);
-            views.images.push(image);
-            views.cameras.push(camera);
-            views.directions.push(direction.normalize());
+            views.push(camera, direction, (ms, image));
         }
         Ok(views)
+    }
+
+    /// Adds the view from `direction` seen by `camera`: its image, drawn in `ms`, with the
+    /// image's interior and specks.
+    fn push(&mut self, camera: Camera, direction: DVec3, (ms, image): (f64, RenderedImage)) {
+        self.source_ms.push(ms);
+        let interior = interior_of(&image);
+        let width = image.width() as usize;
+        self.specks
+            .push(specks_within(image.pixels(), &interior, width));
+        self.interiors.push(interior);
+        self.images.push(image);
+        self.cameras.push(camera);
+        self.directions.push(direction.normalize());
     }
 
     /// Number of views.

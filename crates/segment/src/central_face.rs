@@ -36,24 +36,44 @@ pub(crate) fn find_central_faces(
     region_count: usize,
     ignore: Option<RegionId>,
 ) -> Vec<FaceId> {
-    let face_count = face_region.len();
-    let mut distance = vec![f32::INFINITY; face_count];
+    let distance = border_distances(geometry, adjacency, face_region, ignore);
+    farthest_faces(&distance, face_region, region_count)
+}
+
+/// Whether `face` (of `region`) lies on its region's border: one of its edges is a boundary,
+/// non-manifold or shared with another region, or one of its neighbours is of another region.
+fn on_region_border(
+    adjacency: &FaceAdjacency,
+    face_region: &[RegionId],
+    face: FaceId,
+    region: RegionId,
+) -> bool {
+    adjacency.face_edges(face).iter().any(|&e| {
+        e.is_valid() && {
+            let faces = adjacency.edge(e).faces;
+            faces.len() != 2 || faces.iter().any(|g| face_region[g.index()] != region)
+        }
+    }) || adjacency
+        .neighbours(face)
+        .iter()
+        .any(|g| face_region[g.index()] != region)
+}
+
+/// Each face's distance from its region's border, along centroid-to-centroid steps between
+/// neighbours of the same region (Dijkstra from every border face); infinite for faces of
+/// `ignore` and of regions without a border.
+fn border_distances(
+    geometry: &FaceGeometry,
+    adjacency: &FaceAdjacency,
+    face_region: &[RegionId],
+    ignore: Option<RegionId>,
+) -> Vec<f32> {
+    let mut distance = vec![f32::INFINITY; face_region.len()];
     let mut heap: BinaryHeap<Reverse<(u32, u32)>> = BinaryHeap::new();
     for (f, &region) in face_region.iter().enumerate() {
-        if Some(region) == ignore {
-            continue;
-        }
-        let face = FaceId(f as u32);
-        let on_border = adjacency.face_edges(face).iter().any(|&e| {
-            e.is_valid() && {
-                let faces = adjacency.edge(e).faces;
-                faces.len() != 2 || faces.iter().any(|g| face_region[g.index()] != region)
-            }
-        }) || adjacency
-            .neighbours(face)
-            .iter()
-            .any(|g| face_region[g.index()] != region);
-        if on_border {
+        if Some(region) != ignore
+            && on_region_border(adjacency, face_region, FaceId(f as u32), region)
+        {
             distance[f] = 0.0;
             heap.push(Reverse((0, f as u32)));
         }
@@ -76,8 +96,13 @@ pub(crate) fn find_central_faces(
             }
         }
     }
-    // Per region: the largest finite distance, ties to the lowest face (faces scanned in
-    // ascending order, replaced only on a strictly larger distance); else the lowest face.
+    distance
+}
+
+/// Per region: the face of the largest finite `distance`, ties to the lowest face (faces
+/// scanned in ascending order, replaced only on a strictly larger distance); else the lowest
+/// face.
+fn farthest_faces(distance: &[f32], face_region: &[RegionId], region_count: usize) -> Vec<FaceId> {
     let mut best: Vec<(FaceId, f32)> = vec![(FaceId::INVALID, -1.0); region_count];
     for (f, &region) in face_region.iter().enumerate() {
         let slot = &mut best[region.index()];
