@@ -420,32 +420,35 @@ fn convert_tiles(
     let mut normals = Some(normals);
     for tile in plan.tiles {
         let output = if tile.members.is_empty() {
-            // The whole cloud: no copy; the normals go once the columns hold them.
             let normals = normals.take().unwrap_or_default();
-            let job = TileJob {
-                positions: cloud.positions,
-                points: PointColumns::new(cloud.positions, &normals),
-                colours: cloud.colours,
-                own: None,
-                bounds: *cloud.bounds,
-            };
-            drop(normals);
-            convert_tile(job, &context, warnings)?
+            convert_whole_cloud(cloud, normals, &context, warnings)?
         } else {
             let normals = normals.as_deref().unwrap_or_default();
             convert_member_tile(tile, cloud, normals, &context, warnings)?
         };
-        total.patches.extend(output.patches);
-        total.counts.covered += output.counts.covered;
-        total.counts.split_tiles += output.counts.split_tiles;
-        total.counts.wide_patches += output.counts.wide_patches;
-        total.gap_pixels_filled += output.gap_pixels_filled;
-        total.uncovered += output.uncovered;
-        total.pixel = total.pixel.max(output.pixel);
         clock.record(Stage::RangeImages.name(), output.image_seconds);
         clock.record(Stage::Extract.name(), output.extract_seconds);
+        total.absorb(output);
     }
     Ok(total)
+}
+
+/// The whole cloud as one tile: no copy; the `normals` go once the columns hold them.
+fn convert_whole_cloud(
+    cloud: &TiledCloud<'_>,
+    normals: Vec<Vec3>,
+    context: &TileContext<'_>,
+    warnings: &mut Vec<CloudWarning>,
+) -> Result<TileOutput, CloudError> {
+    let job = TileJob {
+        positions: cloud.positions,
+        points: PointColumns::new(cloud.positions, &normals),
+        colours: cloud.colours,
+        own: None,
+        bounds: *cloud.bounds,
+    };
+    drop(normals);
+    convert_tile(job, context, warnings)
 }
 
 /// One tile of a grid: its members' points gathered, then converted.

@@ -98,6 +98,20 @@ pub(crate) struct TileOutput {
     pub(crate) extract_seconds: f64,
 }
 
+impl TileOutput {
+    /// Adds the next tile's `output`: its patches after these, its counts to these, the
+    /// larger pixel (its times are the caller's to record).
+    pub(crate) fn absorb(&mut self, output: TileOutput) {
+        self.patches.extend(output.patches);
+        self.counts.covered += output.counts.covered;
+        self.counts.split_tiles += output.counts.split_tiles;
+        self.counts.wide_patches += output.counts.wide_patches;
+        self.gap_pixels_filled += output.gap_pixels_filled;
+        self.uncovered += output.uncovered;
+        self.pixel = self.pixel.max(output.pixel);
+    }
+}
+
 /// Converts one tile (see the module documentation).
 pub(crate) fn convert_tile(
     job: TileJob<'_>,
