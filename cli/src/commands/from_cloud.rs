@@ -460,19 +460,19 @@ fn cloud_summary(args: &FromCloudArgs, report: &CloudReport, warnings: &[String]
 fn error_lines(error: &CloudErrorReport, against: &str) -> String {
     let c = &error.cloud_to_patch;
     let n = &error.node_to_cloud;
-    format!(
-        "  cloud_to_patch: rms {:.3e} ({:.2} spacings), max {:.3e}, p95 {:.3e}, {:.2} % beyond 2 spacings\n  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s, against the {} points)\n",
+    let cloud = format!(
+        "  cloud_to_patch: rms {:.3e} ({:.2} spacings), max {:.3e}, p95 {:.3e}, {:.2} % beyond 2 spacings\n",
         c.distance.rms,
         c.distance.rms / error.spacing,
         c.distance.max,
         c.distance.p95,
         c.share_beyond_2x_spacing * 100.0,
-        n.rms,
-        n.max,
-        n.p95,
-        error.seconds,
-        against
-    )
+    );
+    let nodes = format!(
+        "  node_to_cloud: rms {:.3e}, max {:.3e}, p95 {:.3e} (measured in {:.2} s, against the {} points)\n",
+        n.rms, n.max, n.p95, error.seconds, against
+    );
+    cloud + &nodes
 }
 
 /// `--plan` / `--plan-tile` runs (`tiled.rs`): one input; as the untiled run, the consensus

@@ -1,4 +1,5 @@
-//! What can be wrong in a PLY file's structure, as carried by [`MeshError`](crate::MeshError).
+//! What can be wrong in a PLY file's structure, as carried by
+//! [`MeshError`](crate::MeshError).
 
 use std::fmt;
 

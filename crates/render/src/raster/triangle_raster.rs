@@ -293,9 +293,7 @@ fn fill_span<const N: usize, P: Payload<N>>(
         let attrs = || std::array::from_fn(|c| attr_to_fixed(av[c] * w));
         store_if_nearer(s, z, attrs, payload);
         iw += gradients.w.0;
-        for (a, g) in av.iter_mut().zip(&gradients.attrs) {
-            *a += g.0;
-        }
+        av = std::array::from_fn(|c| av[c] + gradients.attrs[c].0);
     }
 }
 
