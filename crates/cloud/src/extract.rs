@@ -91,6 +91,23 @@ pub(crate) struct ExtractCounts {
     pub(crate) wide_patches: usize,
 }
 
+impl std::ops::AddAssign for ExtractCounts {
+    /// Adds another extraction's counts (a tile's, into the whole cloud's).
+    fn add_assign(&mut self, other: Self) {
+        self.covered += other.covered;
+        self.split_tiles += other.split_tiles;
+        self.wide_patches += other.wide_patches;
+    }
+}
+
+impl std::ops::AddAssign<CutCounts> for ExtractCounts {
+    /// Adds the counts of cutting one view's cells into patches.
+    fn add_assign(&mut self, cut: CutCounts) {
+        self.split_tiles += cut.split_tiles;
+        self.wide_patches += cut.wide_patches;
+    }
+}
+
 /// A valid cell's corner heights `[h00, h10, h01, h11]` and depth gradient.
 #[derive(Clone, Copy, Debug)]
 struct CellSurface {

@@ -103,9 +103,7 @@ impl TileOutput {
     /// larger pixel (its times are the caller's to record).
     pub(crate) fn absorb(&mut self, output: TileOutput) {
         self.patches.extend(output.patches);
-        self.counts.covered += output.counts.covered;
-        self.counts.split_tiles += output.counts.split_tiles;
-        self.counts.wide_patches += output.counts.wide_patches;
+        self.counts += output.counts;
         self.gap_pixels_filled += output.gap_pixels_filled;
         self.uncovered += output.uncovered;
         self.pixel = self.pixel.max(output.pixel);
@@ -308,8 +306,7 @@ fn extract_passes(
         .collect();
     for result in cut {
         let (found, cut_counts) = result?;
-        counts.split_tiles += cut_counts.split_tiles;
-        counts.wide_patches += cut_counts.wide_patches;
+        *counts += cut_counts;
         patches.extend(found);
     }
     Ok(patches)

@@ -103,11 +103,10 @@ pub(crate) fn band_job<'a>(
 /// Draws and resolves one band `task` of `job` on the calling pool thread: the band
 /// borrows that thread's sample store from `thread_samples` for the time of the draw, is
 /// sized to its rows of an image `width` wide (with `apron` rows on each side), and runs
-/// with the instruction set `isa`.
+/// with the job's instruction set.
 pub(crate) fn run_band_task(
     task: BandTask<'_>,
     job: &BandJob<'_>,
-    isa: Isa,
     thread_samples: &[Mutex<Vec<Sample>>],
     (width, apron): (i32, i32),
 ) {
@@ -127,7 +126,7 @@ pub(crate) fn run_band_task(
     band.swap_samples(&mut samples);
     band.size_for(y0, rows, width, apron);
     band.thread = thread;
-    isa.run(
+    job.resolve.isa.run(
         #[inline(always)]
         || render_band((band, skip), index, job, rgba, eye_depth),
     );

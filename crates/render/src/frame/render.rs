@@ -358,8 +358,8 @@ impl Renderer {
             &mut rgba,
             &mut eye_depth,
         );
-        let (isa, thread_samples) = (self.isa, &self.thread_samples);
-        let draw = |task| run_band_task(task, &job, isa, thread_samples, (width, apron));
+        let thread_samples = &self.thread_samples;
+        let draw = |task| run_band_task(task, &job, thread_samples, (width, apron));
         run_in_order(&self.pool, tasks, &self.order.order, draw);
         (rgba, eye_depth)
     }
