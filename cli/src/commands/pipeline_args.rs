@@ -27,6 +27,12 @@ pub(crate) struct PipelineArgs {
     /// Extra rings of nodes each patch reaches into its neighbours.
     #[arg(long, default_value_t = FitOptions::DEFAULT_OVERLAP, value_parser = clap::value_parser!(u32).range(0..=64))]
     pub(crate) overlap: u32,
+    /// Steepest tilt in degrees, from a patch's axis, of the faces that may fill its outer
+    /// nodes past its region (0-90]. 75 on coarse meshes keeps cells from bridging steep
+    /// walls as fins; at sharp creases it leaves the patches ending on the crease, where
+    /// patch mode shows more dark specks.
+    #[arg(long, value_name = "DEGREES", default_value_t = FitOptions::DEFAULT_MAX_NEIGHBOUR_TILT_DEG, value_parser = neighbour_tilt)]
+    pub(crate) max_neighbour_tilt: f32,
     /// Half-angle in degrees of the normal cone of a region (0-89].
     #[arg(long, value_name = "DEGREES", default_value_t = spatch_segment::DEFAULT_CONE_ANGLE_DEG)]
     pub(crate) cone_angle: f32,
@@ -130,6 +136,15 @@ fn crease_angle(s: &str) -> Result<f32, String> {
         Ok(v)
     } else {
         Err("must be between 0 and 180 degrees (exclusive)".to_owned())
+    }
+}
+
+fn neighbour_tilt(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
+    if v.is_finite() && v > 0.0 && v <= 90.0 {
+        Ok(v)
+    } else {
+        Err("must be above 0 and at most 90 degrees".to_owned())
     }
 }
 
@@ -250,6 +265,7 @@ impl PipelineArgs {
         options.fit.spacing = self.spacing;
         options.fit.grid = self.grid;
         options.fit.overlap = self.overlap;
+        options.fit.max_neighbour_tilt_deg = self.max_neighbour_tilt;
         options.fit.colour = !self.no_colour;
         options.fit.texels_per_node = self.texels_per_node;
         options.fit.texture_budget = self.texture_budget;
@@ -285,6 +301,15 @@ mod tests {
         assert!(positive_f32("0").is_err());
         assert!(positive_f32("nan").is_err());
         assert_eq!(positive_f32("0.5"), Ok(0.5));
+    }
+
+    #[test]
+    fn the_neighbour_tilt_is_above_0_and_at_most_90_degrees() {
+        for bad in ["0", "-1", "90.01", "nan", "inf", "x"] {
+            assert!(neighbour_tilt(bad).is_err(), "{bad}");
+        }
+        assert_eq!(neighbour_tilt("75"), Ok(75.0));
+        assert_eq!(neighbour_tilt("90"), Ok(90.0));
     }
 
     #[test]

@@ -421,13 +421,13 @@ fn cast_lattice(
     let needed = needed_nodes(mesh, faces, lattice, job.options.overlap);
     let mut hits = vec![Hit::NONE; lattice.cols * lattice.rows];
     cast_nodes(mesh, faces, lattice, &needed, None, &mut hits);
+    let options = job.options;
     let around = neighbourhood(
         mesh,
         job.adjacency,
         faces,
-        lattice,
-        &needed,
-        job.options.neighbourhood_rings,
+        (lattice, &needed),
+        (options.neighbourhood_rings, options.max_neighbour_tilt_deg),
     );
     let locked: Vec<bool> = hits.iter().map(Hit::is_hit).collect();
     cast_nodes(mesh, &around, lattice, &needed, Some(&locked), &mut hits);

@@ -35,6 +35,14 @@ pub struct FitOptions {
     /// stops at faces whose footprint covers no node the patch needs, so a large value costs
     /// little.
     pub neighbourhood_rings: u32,
+    /// Steepest tilt in degrees, from a patch's axis, of a face outside the region that may
+    /// fill the patch's outer nodes, in (0, 90]. Default
+    /// [`FitOptions::DEFAULT_MAX_NEIGHBOUR_TILT_DEG`] (90: every face that faces the axis
+    /// at all). Lower (75 on coarse meshes): no cell bridges a steep wall with a chord that
+    /// stands out of the surface as a fin, but patches stop exactly at sharp creases, where
+    /// the renderer's outline reach then shows more dark specks (docs/algorithms/fitter.md,
+    /// "Steep neighbours").
+    pub max_neighbour_tilt_deg: f32,
     /// Whether to sample colour when the source has any. Default `true`. A source without
     /// colour never gets a colour channel.
     pub colour: bool,
@@ -72,6 +80,8 @@ impl FitOptions {
     pub const DEFAULT_STEP_ERROR: f32 = 0.1;
     /// Default [`FitOptions::neighbourhood_rings`].
     pub const DEFAULT_NEIGHBOURHOOD_RINGS: u32 = 64;
+    /// Default [`FitOptions::max_neighbour_tilt_deg`]: no limit but facing the axis.
+    pub const DEFAULT_MAX_NEIGHBOUR_TILT_DEG: f32 = 90.0;
     /// Default [`FitOptions::max_region_nodes`]: 16 Mi nodes.
     pub const DEFAULT_MAX_REGION_NODES: usize = 1 << 24;
     /// Default [`FitOptions::texels_per_node`]: one node per texel.
@@ -122,6 +132,12 @@ impl FitOptions {
                 reason: "colour_grid_texels must be a finite number >= 0 (0 = off)",
             });
         }
+        let tilt = self.max_neighbour_tilt_deg;
+        if !(tilt.is_finite() && tilt > 0.0 && tilt <= 90.0) {
+            return Err(FitError::InvalidOptions {
+                reason: "max_neighbour_tilt_deg must be in (0, 90] degrees",
+            });
+        }
         if self.overlap > 64 {
             return Err(FitError::InvalidOptions {
                 reason: "overlap must be at most 64 node rings",
@@ -139,6 +155,7 @@ impl Default for FitOptions {
             overlap: Self::DEFAULT_OVERLAP,
             max_step_error: Self::DEFAULT_STEP_ERROR,
             neighbourhood_rings: Self::DEFAULT_NEIGHBOURHOOD_RINGS,
+            max_neighbour_tilt_deg: Self::DEFAULT_MAX_NEIGHBOUR_TILT_DEG,
             colour: true,
             max_region_nodes: Self::DEFAULT_MAX_REGION_NODES,
             texels_per_node: Self::DEFAULT_TEXELS_PER_NODE,

@@ -126,6 +126,14 @@ fn options_are_checked() {
     assert!(
         spatch_fit::fit_regions(&mesh, &adjacency, &[bad_axis], &FitOptions::default()).is_err()
     );
+    for tilt in [0.0, -5.0, 90.5, f32::NAN] {
+        let mut steep = FitOptions::default();
+        steep.max_neighbour_tilt_deg = tilt;
+        assert!(
+            spatch_fit::fit_regions(&mesh, &adjacency, &[region], &steep).is_err(),
+            "{tilt}"
+        );
+    }
     let mut tiny = FitOptions::default();
     tiny.spacing = Some(1e-6);
     assert!(matches!(
