@@ -8,9 +8,9 @@
 //! between patches.
 //!
 //! The surface under those outer nodes comes from the region's neighbourhood: faces reached
-//! from the region across shared edges, ring by ring, that face the patch's z axis (at no
-//! more than [`crate::FitOptions::max_neighbour_tilt_deg`] from it) and whose footprint covers at
-//! least one needed node. Walking only across edges and only through faces that face the axis
+//! from the region across shared edges, ring by ring, that face the patch's z axis (tilted
+//! at most [`crate::FitOptions::max_neighbour_tilt_deg`] from it) and whose footprint covers
+//! at least one needed node. Walking only across edges and only through faces that face the axis
 //! means the neighbourhood is one sheet of surface connected to the region: another layer of
 //! the model (the back of a thin part, a fold behind) is never reached, so its faces can never
 //! fill a node.
@@ -21,9 +21,9 @@
 //! bunny's 948- and 3,851-triangle versions) such cells stand out of the surface as fins and
 //! saw-teeth, drawn up to 0.55 % of the reference's pixels past its silhouette; 75° removes
 //! them. On CAD parts the same limit stops patches exactly at sharp creases, where the
-//! renderer's half-pixel outline reach lets the far face's patch win pixels of the near face
-//! (dark specks), so it is not the default.
-
+//! renderer's half-pixel outline reach lets samples of one face's patch win pixels of the
+//! other (more dark specks in patch mode), so it is not the default.
+//!
 //! Cost: O(cells touched) for the mask, O(faces visited × their node footprint) for the walk.
 
 use std::collections::HashSet;
