@@ -31,7 +31,7 @@ pub(crate) struct PipelineArgs {
     /// nodes past its region (0-90]. 75 on coarse meshes keeps cells from bridging steep
     /// walls as fins; at sharp creases it leaves the patches ending on the crease, where
     /// patch mode shows more dark specks.
-    #[arg(long, value_name = "DEGREES", default_value_t = FitOptions::DEFAULT_MAX_NEIGHBOUR_TILT_DEG, value_parser = neighbour_tilt)]
+    #[arg(long, value_name = "DEGREES", default_value_t = FitOptions::DEFAULT_MAX_NEIGHBOUR_TILT_DEG, value_parser = up_to_right_angle)]
     pub(crate) max_neighbour_tilt: f32,
     /// Half-angle in degrees of the normal cone of a region (0-89].
     #[arg(long, value_name = "DEGREES", default_value_t = spatch_segment::DEFAULT_CONE_ANGLE_DEG)]
@@ -75,7 +75,7 @@ pub(crate) struct PipelineArgs {
     /// Largest turn of the two faces' bisector within one edge patch, in degrees (above 0,
     /// at most 90). Smaller: more, shorter patches, each seeing its faces squarely; larger:
     /// fewer patches, but faces seen obliquely may leave holes along steep rims.
-    #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().max_turn_deg, value_parser = edge_max_turn)]
+    #[arg(long, value_name = "DEGREES", default_value_t = EdgeOptions::default().max_turn_deg, value_parser = up_to_right_angle)]
     pub(crate) edge_max_turn: f32,
     /// Creases under this angle in degrees are soft (0-180, 0 = none): a surface patch that
     /// reaches over one covers it within the corner cut of its cells, so it gets no edge
@@ -139,15 +139,6 @@ fn crease_angle(s: &str) -> Result<f32, String> {
     }
 }
 
-fn neighbour_tilt(s: &str) -> Result<f32, String> {
-    let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
-    if v.is_finite() && v > 0.0 && v <= 90.0 {
-        Ok(v)
-    } else {
-        Err("must be above 0 and at most 90 degrees".to_owned())
-    }
-}
-
 fn soft_crease(s: &str) -> Result<f32, String> {
     let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
     if v.is_finite() && (0.0..180.0).contains(&v) {
@@ -169,7 +160,8 @@ fn edge_max_stray(s: &str) -> Result<f32, String> {
     in_range(s, 0.0, 4.0)
 }
 
-fn edge_max_turn(s: &str) -> Result<f32, String> {
+/// An angle above 0 and at most 90 degrees (`--edge-max-turn`, `--max-neighbour-tilt`).
+fn up_to_right_angle(s: &str) -> Result<f32, String> {
     let v: f32 = s.parse().map_err(|e| format!("{e}"))?;
     if v.is_finite() && v > 0.0 && v <= 90.0 {
         Ok(v)
@@ -304,12 +296,12 @@ mod tests {
     }
 
     #[test]
-    fn the_neighbour_tilt_is_above_0_and_at_most_90_degrees() {
+    fn tilts_and_turns_are_above_0_and_at_most_90_degrees() {
         for bad in ["0", "-1", "90.01", "nan", "inf", "x"] {
-            assert!(neighbour_tilt(bad).is_err(), "{bad}");
+            assert!(up_to_right_angle(bad).is_err(), "{bad}");
         }
-        assert_eq!(neighbour_tilt("75"), Ok(75.0));
-        assert_eq!(neighbour_tilt("90"), Ok(90.0));
+        assert_eq!(up_to_right_angle("75"), Ok(75.0));
+        assert_eq!(up_to_right_angle("90"), Ok(90.0));
     }
 
     #[test]
