@@ -251,39 +251,18 @@ fn colour_grids_are_written_reported_and_budgeted() {
     assert!(!t.path("x.spatch").exists());
 }
 
-/// A unit square of 8 × 8 quads facing +z, flat up to its diagonal x + y = 1 and falling
-/// steeply (85° from z) beyond it, as OBJ.
-fn write_folded_square_obj(t: &TestCommand, name: &str) -> String {
-    let n = 8;
-    let slope = 85f64.to_radians().tan();
-    let mut text = String::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (f64::from(i) / f64::from(n), f64::from(j) / f64::from(n));
-            let past = ((x + y - 1.0) / std::f64::consts::SQRT_2).max(0.0);
-            text.push_str(&format!("v {x} {y} {}\n", -slope * past));
-        }
-    }
-    let at = |i: u32, j: u32| j * (n + 1) + i + 1;
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            text.push_str(&format!("f {a} {b} {c}\nf {a} {c} {d}\n"));
-        }
-    }
-    std::fs::write(t.path(name), text).unwrap();
-    name.to_owned()
-}
-
 /// `--max-neighbour-tilt` reaches the fitter: under 75° the flat half's outer nodes no
 /// longer take the steep fall past the diagonal, so fewer nodes are filled; out of range
 /// it is refused.
 #[test]
 fn a_neighbour_tilt_limit_leaves_steep_outer_nodes_empty() {
     let t = TestCommand::new();
-    let obj = write_folded_square_obj(&t, "fold.obj");
+    // Flat up to the diagonal, falling 85° from z beyond it.
+    let fold = spatch_fixtures::shapes::folded_square(8, 85.0);
+    std::fs::write(t.path("fold.obj"), fold.to_obj([0.0; 3])).unwrap();
+    let obj = "fold.obj";
     let filled = |extra: &[&str]| {
-        let mut args = vec!["convert", &obj, "-o", "fold.spatch", "--report", "r.json"];
+        let mut args = vec!["convert", obj, "-o", "fold.spatch", "--report", "r.json"];
         args.extend_from_slice(&["--no-error", "--no-sharp-edges", "--spacing", "0.05"]);
         args.extend_from_slice(extra);
         t.run(&args).success();
@@ -300,7 +279,7 @@ fn a_neighbour_tilt_limit_leaves_steep_outer_nodes_empty() {
     for bad in ["0", "91", "nan"] {
         let run = t.run(&[
             "convert",
-            &obj,
+            obj,
             "-o",
             "bad.spatch",
             "--max-neighbour-tilt",

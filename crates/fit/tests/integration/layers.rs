@@ -114,30 +114,6 @@ fn a_thin_slab_never_takes_its_back_face() {
     }
 }
 
-/// A unit square of 8 × 8 quads facing +z, flat (z = 0) up to its diagonal x + y = 1 and
-/// falling beyond it, away from the diagonal, `tilt_deg` from the z axis.
-fn folded_square(tilt_deg: f32) -> TriangleMesh {
-    let n = 8;
-    let slope = tilt_deg.to_radians().tan();
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
-            let past = ((x + y - 1.0) / std::f32::consts::SQRT_2).max(0.0);
-            positions.push(Vec3::new(x, y, -slope * past));
-        }
-    }
-    let at = |i: u32, j: u32| j * (n + 1) + i;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-        }
-    }
-    TriangleMesh::new(positions, triangles).unwrap()
-}
-
 #[test]
 fn a_tilt_limit_keeps_steep_folds_out_of_the_outer_nodes() {
     // The region is the flat staircase below the diagonal; its rectangle is the whole
@@ -146,7 +122,7 @@ fn a_tilt_limit_keeps_steep_folds_out_of_the_outer_nodes() {
     // fin). With a 75° limit those corners stay empty; a 45° fall still fills them, and so
     // does the 85° one without the limit (the default).
     for (tilt, limit, filled) in [(85.0, 75.0, false), (45.0, 75.0, true), (85.0, 90.0, true)] {
-        let mesh = folded_square(tilt);
+        let mesh = crate::support::mesh_of(&spatch_fixtures::shapes::folded_square(8, tilt));
         let flat = faces_where(&mesh, |n| n.z > 0.9999);
         assert_eq!(flat.len(), 56);
         let out = fit_one(&mesh, &flat, Vec3::Z, 0.05, |o| {
